@@ -1,0 +1,3 @@
+//! The `bondgraph` command-line program.
+
+fn main() {}
