@@ -1,3 +1,203 @@
-//! The `bondgraph` command-line program.
+//! `bondgraph`: bond-graph models in RON to symbolic state equations.
+//!
+//! This binary only parses arguments, calls the libraries and writes their results in the
+//! requested format; diagnostics from the libraries are rendered here with a snippet of the
+//! model file, and any failure exits non-zero.
 
-fn main() {}
+mod diagnostics;
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+
+use bondgraph_core::diagnostics::Diagnostics;
+use bondgraph_core::equations::{self, OutputSpec, Variables};
+use bondgraph_core::model::{self, Model};
+use bondgraph_core::source::SourceFile;
+use bondgraph_core::{laws, Diagnostic, DiagnosticKind};
+use clap::{Parser, Subcommand, ValueEnum};
+
+/// Bond-graph models in, state equations out.
+#[derive(Parser, Debug)]
+#[command(name = "bondgraph", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Parse and validate a model; print a one-line summary or its diagnostics.
+    Check {
+        /// The model file (RON).
+        model: PathBuf,
+    },
+    /// Derive the state equations dx/dt = A x + B u + c of a model.
+    Equations {
+        /// The model file (RON).
+        model: PathBuf,
+        /// Energy variables (momenta p, displacements q) or co-energy (velocities v, forces f).
+        #[arg(long, value_enum, default_value_t = StatesArg::Energy)]
+        states: StatesArg,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+        /// Also derive an output equation: effort:ELEMENT, flow:ELEMENT or effort:FROM->TO.
+        #[arg(long = "output", value_name = "SPEC")]
+        outputs: Vec<String>,
+    },
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum StatesArg {
+    Energy,
+    Coenergy,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Format {
+    Text,
+    Latex,
+    Json,
+}
+
+/// A failure to report: diagnostics, and the source they point into when there is one.
+struct Failure {
+    diagnostics: Diagnostics,
+    source: Option<Arc<SourceFile>>,
+}
+
+impl From<Diagnostics> for Failure {
+    fn from(diagnostics: Diagnostics) -> Self {
+        Self {
+            diagnostics,
+            source: None,
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(failure) => {
+            let mut stderr = std::io::stderr().lock();
+            for diagnostic in failure.diagnostics.iter() {
+                let _ = writeln!(
+                    stderr,
+                    "{}",
+                    diagnostics::render(diagnostic, failure.source.as_deref())
+                );
+            }
+            let count = failure.diagnostics.0.len();
+            if count > 1 {
+                let _ = writeln!(stderr, "error: {count} problems found");
+            }
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<(), Failure> {
+    match cli.command {
+        Command::Check { model } => {
+            let (model, source) = load(&model)?;
+            let laws = laws::plain_laws(&model);
+            let equations = equations::derive(&model, &laws, &equations::Options::default())
+                .map_err(|d| with_source(d, &source))?;
+            println!(
+                "{}: ok: model '{}' with {} elements, {} bonds, {} parameters, {} inputs, {} states",
+                source.name(),
+                model.name,
+                model.elements.len(),
+                model.bonds.len(),
+                model.parameters.len(),
+                model.inputs.len(),
+                equations.state_count()
+            );
+            Ok(())
+        }
+        Command::Equations {
+            model,
+            states,
+            format,
+            outputs,
+        } => {
+            let (model, source) = load(&model)?;
+            let options = equations::Options {
+                variables: match states {
+                    StatesArg::Energy => Variables::Energy,
+                    StatesArg::Coenergy => Variables::CoEnergy,
+                },
+            };
+            let laws = laws::plain_laws(&model);
+            let equations = equations::derive(&model, &laws, &options)
+                .map_err(|d| with_source(d, &source))?;
+            let outputs = outputs
+                .iter()
+                .map(|spec| {
+                    let spec = OutputSpec::parse(&model, spec)?;
+                    equations.output(&model, &spec)
+                })
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(|d| with_source(d, &source))?;
+            let text = match format {
+                Format::Text => {
+                    let mut text = equations.to_text();
+                    if !outputs.is_empty() {
+                        text.push_str("\noutputs:\n");
+                        for output in &outputs {
+                            text.push_str(&format!("  {}\n", equations.output_text(output)));
+                        }
+                    }
+                    text
+                }
+                Format::Latex => equations.to_latex(),
+                Format::Json => json(&equations.to_json("", &outputs))?,
+            };
+            print(&text);
+            Ok(())
+        }
+    }
+}
+
+/// Reads and validates a model file.
+fn load(path: &Path) -> Result<(Model, Arc<SourceFile>), Failure> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|error| {
+        Failure::from(Diagnostics::from(Diagnostic::new(
+            DiagnosticKind::Io,
+            format!("cannot read model file '{name}': {error}"),
+        )))
+    })?;
+    let source = SourceFile::new(name, text);
+    let model = model::load_source(&source).map_err(|d| with_source(d, &source))?;
+    Ok((model, source))
+}
+
+fn with_source(diagnostics: Diagnostics, source: &Arc<SourceFile>) -> Failure {
+    Failure {
+        diagnostics,
+        source: Some(source.clone()),
+    }
+}
+
+fn json(value: &impl serde::Serialize) -> Result<String, Failure> {
+    serde_json::to_string_pretty(value)
+        .map(|mut s| {
+            s.push('\n');
+            s
+        })
+        .map_err(|error| {
+            Failure::from(Diagnostics::from(Diagnostic::new(
+                DiagnosticKind::Io,
+                format!("cannot write JSON: {error}"),
+            )))
+        })
+}
+
+/// Writes to stdout, ignoring a closed pipe (`bondgraph ... | head`).
+fn print(text: &str) {
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+}

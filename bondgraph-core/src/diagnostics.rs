@@ -24,6 +24,8 @@ pub enum DiagnosticKind {
     UnknownElementKind,
     /// A required field is missing.
     MissingField,
+    /// Two fields that exclude each other are both given (a compliance and a stiffness).
+    ConflictingFields,
     /// A field has the wrong type (a number where a string is expected, ...).
     WrongType,
     /// A bond names an element that is not defined.

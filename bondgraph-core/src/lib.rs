@@ -1,5 +1,58 @@
 //! Bond-graph models, from RON model files to symbolic state equations.
+//!
+//! `bondgraph-core` reads a lumped-parameter model written as a bond graph (sources,
+//! inertias, compliances, resistors, transformers, gyrators and junctions, in a RON file),
+//! checks it, assigns causality, and derives its state equations
+//! `dx/dt = A x + B u + c` with entries that read like a textbook: `-(b + K_p)/M`.
+//!
+//! Each stage is a value that can be printed and tested on its own:
+//! [`model`] (the checked model), [`causality`] (causal strokes, derivative causality,
+//! arbitrary choices), [`equations`] (symbolic, sparse state equations, printable as text,
+//! LaTeX and JSON).
+//!
+//! # Example
+//!
+//! ```
+//! use bondgraph_core::{equations, laws, model};
+//!
+//! let model = model::load_str("msd.ron", r#"Model(
+//!     name: "mass_spring_damper",
+//!     parameters: {
+//!         "m": (value: 2.0, unit: "kg"),
+//!         "k": (value: 200.0, unit: "N/m"),
+//!         "b": (value: 4.0, unit: "N*s/m"),
+//!     },
+//!     inputs: { "F": (unit: "N") },
+//!     elements: {
+//!         "force": Se(effort: "F"),
+//!         "v": One,
+//!         "mass": I(inertance: "m"),
+//!         "spring": C(stiffness: "k"),
+//!         "damper": R(resistance: "b"),
+//!     },
+//!     bonds: [("force", "v"), ("v", "mass"), ("v", "spring"), ("v", "damper")],
+//! )"#).unwrap();
+//!
+//! let options = equations::Options { variables: equations::Variables::CoEnergy };
+//! let eq = equations::derive(&model, &laws::plain_laws(&model), &options).unwrap();
+//! let a: Vec<Vec<String>> = eq.a().iter()
+//!     .map(|row| row.iter().map(|e| e.text(&eq.symbols)).collect())
+//!     .collect();
+//! assert_eq!(a, [["-b/m", "-1/m"], ["k", "0"]]);
+//! assert_eq!(eq.form_text(&eq.derivatives[0]), "-b/m*v_mass - f_spring/m + F/m");
+//! ```
+//!
+//! # Crate features
+//! None: the crate has no optional parts.
 
+pub mod causality;
 pub mod diagnostics;
+pub mod equations;
 pub mod expr;
+pub mod laws;
+pub mod linear;
+pub mod model;
 pub mod source;
+pub mod symbolic;
+
+pub use diagnostics::{Diagnostic, DiagnosticKind, Diagnostics};

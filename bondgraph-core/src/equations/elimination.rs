@@ -1,0 +1,378 @@
+//! From causal bond graph to every bond variable as an affine function of the states.
+//!
+//! Causality gives every bond effort and flow exactly one defining equation: the element
+//! that imposes it computes it from what the element receives. Sorting those equations by
+//! dependency (strongly connected components of the "uses" graph) evaluates them in one
+//! pass; a component with more than one variable is an algebraic loop, a small linear system
+//! solved symbolically by Gaussian elimination.
+//!
+//! # Arguments
+//! The model, the laws of the mode, its causality and the numbering of its states and
+//! dependent storage.
+//!
+//! # Returns
+//! The effort and flow of every bond as [`LinearForm`]s over [`Var::State`],
+//! [`Var::Input`], [`Var::Dependent`] and [`Var::Constant`], and the algebraic loops solved.
+//!
+//! # Errors
+//! [`DiagnosticKind::SingularLoop`] when a loop's system is singular,
+//! [`DiagnosticKind::InvalidValue`] when a resistor must set a flow but has zero resistance.
+//!
+//! # Complexity
+//! Linear in the number of bonds for loop-free graphs (each definition is substituted once);
+//! `O(k³)` symbolic operations for a loop of `k` variables.
+
+use petgraph::algo::tarjan_scc;
+use petgraph::graph::DiGraph;
+
+use crate::causality::Causality;
+use crate::diagnostics::{Diagnostic, DiagnosticKind, Result};
+use crate::laws::Law;
+use crate::linear::{LinearForm, Var};
+use crate::model::{BondId, ElementId, Model};
+use crate::symbolic::RatFunc;
+
+/// The effort variable of `bond`.
+pub(crate) fn effort(bond: BondId) -> Var {
+    Var::Bond(2 * bond.0)
+}
+
+/// The flow variable of `bond`.
+pub(crate) fn flow(bond: BondId) -> Var {
+    Var::Bond(2 * bond.0 + 1)
+}
+
+/// The numbering of the mode's states and dependent storage, by element.
+pub(crate) struct Numbering {
+    /// `Some(i)` if the element contributes state `i` before merging.
+    pub state: Vec<Option<u32>>,
+    /// `Some(i)` if the element is the `i`-th dependent storage element.
+    pub dependent: Vec<Option<u32>>,
+}
+
+/// An algebraic loop that was solved, by the elements whose equations formed it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct AlgebraicLoop {
+    /// The elements whose equations form the loop, in element order.
+    pub elements: Vec<ElementId>,
+}
+
+/// Every bond variable solved, and the loops met on the way.
+pub(crate) struct Solved {
+    /// Effort (index `2b`) and flow (`2b + 1`) of every bond.
+    pub bond_vars: Vec<LinearForm>,
+    pub loops: Vec<AlgebraicLoop>,
+}
+
+fn ratio(n: i64) -> RatFunc {
+    RatFunc::integer(n)
+}
+
+/// Builds the defining equation of every bond variable and solves them all.
+pub(crate) fn solve(
+    model: &Model,
+    laws: &[Law],
+    causal: &Causality,
+    numbering: &Numbering,
+) -> Result<Solved> {
+    let definitions = define(model, laws, causal, numbering)?;
+    let variable_count = definitions.len();
+
+    // Edges from each variable to the variables its definition uses.
+    let mut graph = DiGraph::<(), ()>::with_capacity(variable_count, 2 * variable_count);
+    for _ in 0..variable_count {
+        graph.add_node(());
+    }
+    for (index, (_, definition)) in definitions.iter().enumerate() {
+        for (var, _) in definition.terms() {
+            if let Var::Bond(used) = var {
+                graph.add_edge((index as u32).into(), (*used).into(), ());
+            }
+        }
+    }
+
+    let mut solved: Vec<Option<LinearForm>> = vec![None; variable_count];
+    let mut loops = Vec::new();
+    // Tarjan yields components in reverse topological order of the "uses" edges: every
+    // component comes after the components it uses.
+    for component in tarjan_scc(&graph) {
+        let members: Vec<u32> = component.iter().map(|n| n.index() as u32).collect();
+        let is_loop = members.len() > 1
+            || definitions[members[0] as usize]
+                .1
+                .get(Var::Bond(members[0]))
+                .is_some();
+        if !is_loop {
+            let index = members[0] as usize;
+            solved[index] = Some(substitute_solved(&definitions[index].1, &solved));
+            continue;
+        }
+        let solution = solve_loop(model, &definitions, &members, &solved)?;
+        for (member, form) in members.iter().zip(solution) {
+            solved[*member as usize] = Some(form);
+        }
+        let mut elements: Vec<ElementId> = members
+            .iter()
+            .map(|m| definitions[*m as usize].0)
+            .collect();
+        elements.sort();
+        elements.dedup();
+        loops.push(AlgebraicLoop { elements });
+    }
+
+    Ok(Solved {
+        bond_vars: solved
+            .into_iter()
+            .map(|s| s.expect("every variable lies in some component"))
+            .collect(),
+        loops,
+    })
+}
+
+fn substitute_solved(form: &LinearForm, solved: &[Option<LinearForm>]) -> LinearForm {
+    form.substitute(|var| match var {
+        Var::Bond(i) => solved[i as usize].clone(),
+        _ => None,
+    })
+}
+
+/// Solves the linear system of one algebraic loop by Gaussian elimination.
+fn solve_loop(
+    model: &Model,
+    definitions: &[(ElementId, LinearForm)],
+    members: &[u32],
+    solved: &[Option<LinearForm>],
+) -> Result<Vec<LinearForm>> {
+    // Each equation as `form = 0` with the loop's variables still symbolic:
+    // var - definition(var) = 0.
+    let mut equations: Vec<LinearForm> = members
+        .iter()
+        .map(|&m| {
+            let mut equation = LinearForm::var(Var::Bond(m));
+            let definition = substitute_solved(&definitions[m as usize].1, solved);
+            equation.add_scaled(&definition, &RatFunc::integer(-1));
+            equation
+        })
+        .collect();
+
+    // Forward elimination: variable k is expressed from equation k.
+    let count = members.len();
+    for k in 0..count {
+        let unknown = Var::Bond(members[k]);
+        let Some(pivot_row) = (k..count).find(|&r| equations[r].get(unknown).is_some()) else {
+            return Err(singular_loop(model, definitions, members));
+        };
+        equations.swap(k, pivot_row);
+        let pivot = equations[k].coefficient(unknown);
+        let normalised = equations[k].scaled(&pivot.inv().expect("pivot is non-zero"));
+        equations[k] = normalised;
+        for r in 0..count {
+            if r == k {
+                continue;
+            }
+            let factor = equations[r].coefficient(unknown);
+            if !factor.is_zero() {
+                let pivot_equation = equations[k].clone();
+                equations[r].add_scaled(&pivot_equation, &-factor);
+            }
+        }
+    }
+    // Equation k now reads: member_k + rest_k = 0, with rest free of loop variables.
+    Ok((0..count)
+        .map(|k| {
+            let mut rest = equations[k].clone();
+            rest.take(Var::Bond(members[k]));
+            rest.scaled(&RatFunc::integer(-1))
+        })
+        .collect())
+}
+
+fn singular_loop(
+    model: &Model,
+    definitions: &[(ElementId, LinearForm)],
+    members: &[u32],
+) -> crate::diagnostics::Diagnostics {
+    let mut elements: Vec<ElementId> = members
+        .iter()
+        .map(|m| definitions[*m as usize].0)
+        .collect();
+    elements.sort();
+    elements.dedup();
+    let names: Vec<String> = elements
+        .iter()
+        .map(|e| format!("'{}'", model.element(*e).name))
+        .collect();
+    Diagnostic::new(
+        DiagnosticKind::SingularLoop,
+        format!(
+            "the algebraic loop through {} has no unique solution (its equations are singular)",
+            names.join(", ")
+        ),
+    )
+    .at_location(model.locate_element(elements[0]))
+    .element(model.element(elements[0]).name.clone())
+    .note("the loop's resistors, transformers or gyrators cancel each other; check their values and bond directions")
+    .into()
+}
+
+/// Writes the defining equation of every bond variable, per the causality.
+fn define(
+    model: &Model,
+    laws: &[Law],
+    causal: &Causality,
+    numbering: &Numbering,
+) -> Result<Vec<(ElementId, LinearForm)>> {
+    let mut definitions: Vec<Option<(ElementId, LinearForm)>> = vec![None; 2 * model.bonds.len()];
+    let mut define = |var: Var, element: ElementId, form: LinearForm| {
+        let Var::Bond(index) = var else {
+            unreachable!("only bond variables are defined")
+        };
+        debug_assert!(
+            definitions[index as usize].is_none(),
+            "bond variable {var} defined twice"
+        );
+        definitions[index as usize] = Some((element, form));
+    };
+
+    for element in model.element_ids() {
+        let bonds = &model.element(element).bonds;
+        let receives = |bond: BondId| causal.receives_effort(model, bond, element);
+        let sign = |bond: BondId| ratio(model.bond(bond).sign_into(element));
+        match &laws[element.index()] {
+            Law::EffortSource(value) => define(effort(bonds[0]), element, value.clone()),
+            Law::FlowSource(value) => {
+                // The source's value is its flow out of the element.
+                define(flow(bonds[0]), element, value.scaled(&-sign(bonds[0])));
+            }
+            Law::SlackStorage => define(effort(bonds[0]), element, LinearForm::zero()),
+            Law::Inertia(inertance) => {
+                let bond = bonds[0];
+                match (numbering.state[element.index()], numbering.dependent[element.index()]) {
+                    (Some(state), _) => {
+                        let coefficient = sign(bond)
+                            .checked_div(inertance)
+                            .expect("inertance validated non-zero");
+                        define(flow(bond), element, LinearForm::term(Var::State(state), coefficient));
+                    }
+                    (None, Some(dependent)) => {
+                        define(effort(bond), element, LinearForm::var(Var::Dependent(dependent)));
+                    }
+                    (None, None) => unreachable!("storage is either a state or dependent"),
+                }
+            }
+            Law::Compliance(compliance) => {
+                let bond = bonds[0];
+                match (numbering.state[element.index()], numbering.dependent[element.index()]) {
+                    (Some(state), _) => {
+                        let coefficient = compliance.inv().expect("compliance validated non-zero");
+                        define(effort(bond), element, LinearForm::term(Var::State(state), coefficient));
+                    }
+                    (None, Some(dependent)) => {
+                        define(
+                            flow(bond),
+                            element,
+                            LinearForm::term(Var::Dependent(dependent), sign(bond)),
+                        );
+                    }
+                    (None, None) => unreachable!("storage is either a state or dependent"),
+                }
+            }
+            Law::Resistor { resistance, offset } => {
+                let bond = bonds[0];
+                if receives(bond) {
+                    // Conductance causality: f = (e - offset) / R.
+                    let Some(conductance) = resistance.inv() else {
+                        return Err(zero_resistance(model, element));
+                    };
+                    if model.evaluate(resistance) == 0.0 {
+                        return Err(zero_resistance(model, element));
+                    }
+                    let mut form = LinearForm::var(effort(bond));
+                    form.add_scaled(offset, &RatFunc::integer(-1));
+                    define(flow(bond), element, form.scaled(&(&conductance * &sign(bond))));
+                } else {
+                    // Resistance causality: e = R f + offset.
+                    let mut form = LinearForm::term(flow(bond), resistance * &sign(bond));
+                    form.add(offset);
+                    define(effort(bond), element, form);
+                }
+            }
+            Law::Transformer(n) => {
+                let (input, output) = two_port_bonds(model, element);
+                let inverse = n.inv().expect("ratio validated non-zero");
+                if receives(input) {
+                    define(effort(output), element, LinearForm::term(effort(input), inverse.clone()));
+                    define(flow(input), element, LinearForm::term(flow(output), inverse));
+                } else {
+                    define(effort(input), element, LinearForm::term(effort(output), n.clone()));
+                    define(flow(output), element, LinearForm::term(flow(input), n.clone()));
+                }
+            }
+            Law::Gyrator(r) => {
+                let (input, output) = two_port_bonds(model, element);
+                if receives(input) {
+                    let inverse = r.inv().expect("ratio validated non-zero");
+                    define(flow(output), element, LinearForm::term(effort(input), inverse.clone()));
+                    define(flow(input), element, LinearForm::term(effort(output), inverse));
+                } else {
+                    define(effort(input), element, LinearForm::term(flow(output), r.clone()));
+                    define(effort(output), element, LinearForm::term(flow(input), r.clone()));
+                }
+            }
+            Law::ZeroJunction | Law::OneJunction => {
+                let zero = matches!(laws[element.index()], Law::ZeroJunction);
+                // The unique bond: effort in for a 0-junction, effort out for a 1-junction.
+                let unique = *bonds
+                    .iter()
+                    .find(|&&b| receives(b) == zero)
+                    .expect("causality leaves every junction one unique bond");
+                let (common, summed): (fn(BondId) -> Var, fn(BondId) -> Var) =
+                    if zero { (effort, flow) } else { (flow, effort) };
+                // Σ σ_j x_j = 0 over the junction's bonds (σ = +1 into the junction), solved
+                // for the unique bond's summed variable.
+                let mut sum = LinearForm::zero();
+                let unique_sign = sign(unique);
+                for &bond in bonds {
+                    if bond == unique {
+                        continue;
+                    }
+                    define(common(bond), element, LinearForm::var(common(unique)));
+                    sum.add_scaled(
+                        &LinearForm::var(summed(bond)),
+                        &-(&sign(bond) * &unique_sign),
+                    );
+                }
+                define(summed(unique), element, sum);
+            }
+        }
+    }
+    Ok(definitions
+        .into_iter()
+        .map(|d| d.expect("causality defines every bond variable exactly once"))
+        .collect())
+}
+
+/// The bond into and the bond out of a two-port (validated: one of each).
+pub(crate) fn two_port_bonds(model: &Model, element: ElementId) -> (BondId, BondId) {
+    let bonds = &model.element(element).bonds;
+    if model.bond(bonds[0]).to == element {
+        (bonds[0], bonds[1])
+    } else {
+        (bonds[1], bonds[0])
+    }
+}
+
+fn zero_resistance(model: &Model, element: ElementId) -> crate::diagnostics::Diagnostics {
+    let name = &model.element(element).name;
+    Diagnostic::new(
+        DiagnosticKind::InvalidValue,
+        format!(
+            "resistor '{name}' must set its flow from its effort (conductance causality), \
+             but its resistance is zero"
+        ),
+    )
+    .at_location(model.locate_element(element))
+    .element(name.clone())
+    .note("a zero resistance is a rigid connection: replace the resistor by a bond")
+    .into()
+}

@@ -1,0 +1,480 @@
+//! Dependent storage, merged into the independent states it follows.
+//!
+//! An inertia in derivative causality has its velocity imposed by the rest of the graph:
+//! `f_d = Σₖ T_dk f_k + s_d` where `f_k` are velocities of independent inertias and `s_d`
+//! comes from sources. It has no state of its own. Instead of differentiating (which would
+//! make the equations implicit), its inertia is merged into the inertias it follows. With
+//! `M' = diag(m_k) + Tᵀ diag(m_d) T` the group's mass matrix, the generalised momentum
+//! `p' = M' f + Tᵀ diag(m_d) s` obeys `dp'/dt = e_k + Σ_d T_dk e_d`, and by power
+//! conservation of the junction structure the unknown efforts `e_d` cancel from that sum.
+//! So the group keeps one state per independent inertia, its momentum now including the
+//! dependent ones: two masses on one 1-junction become one mass `m1 + m2`, and a catheter
+//! stuck to a robot tip becomes the single body `M = m_ct + m_ge` of that mode.
+//!
+//! Compliances are merged the same way with efforts and flows exchanged. Storage whose
+//! flow is fixed by sources alone (`T = 0`, a mass held by a stuck contact) is *held*: it
+//! has no state, and its effort is zero for constant sources.
+//!
+//! # Errors
+//! [`DiagnosticKind::DependentStorage`] when a dependent element follows a storage element
+//! of the other kind (an inertia whose velocity is set by a spring through a damper), or
+//! when resolving it would need the time derivative of an input.
+
+use std::collections::BTreeMap;
+
+use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
+use crate::equations::elimination::{effort, flow, Numbering};
+use crate::equations::matrix::{self, Matrix};
+use crate::laws::Law;
+use crate::linear::{LinearForm, Var};
+use crate::model::{ElementId, Model};
+use crate::symbolic::RatFunc;
+
+/// The kind of a state, which decides what it may be merged with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Domain {
+    /// Momentum of an inertia.
+    Kinetic,
+    /// Displacement of a compliance.
+    Potential,
+    /// Slack length of a tension-only element gone slack (never merged).
+    Slack,
+}
+
+/// A group of states whose energy variables are tied by a (possibly merged) storage matrix:
+/// `x_energy[states[i]] = Σⱼ matrix[i][j] · y[states[j]] + offset[i]` where `y` are the
+/// co-energy variables (velocities, efforts).
+#[derive(Clone, Debug)]
+pub(crate) struct Block {
+    pub states: Vec<u32>,
+    pub matrix: Matrix,
+    pub inverse: Matrix,
+    /// Affine in inputs and constants only.
+    pub offset: Vec<LinearForm>,
+}
+
+/// The equations after merging, in energy variables.
+pub(crate) struct Merged {
+    /// The derivative of each state, over [`Var::State`], [`Var::Input`], [`Var::Constant`].
+    pub derivatives: Vec<LinearForm>,
+    /// Every bond variable in the same terms; `None` where it would need an input derivative.
+    pub bond_vars: Vec<Option<LinearForm>>,
+    /// Dependent elements merged into each state (by state index).
+    pub merged_into: Vec<Vec<ElementId>>,
+    /// Held storage: dependent elements following no state.
+    pub held: Vec<ElementId>,
+    /// The storage blocks, covering every state once.
+    pub blocks: Vec<Block>,
+    /// The energy variable of every storage element of the mode (states and dependents),
+    /// as a form over the new states: for reconstructing the full physical state.
+    pub storage_energy: BTreeMap<ElementId, Option<LinearForm>>,
+}
+
+struct Dependent {
+    element: ElementId,
+    /// The dependent's flow (inertia) or effort (compliance), before merging.
+    driven: LinearForm,
+    storage: RatFunc,
+}
+
+/// Merges dependent storage into the states it follows; see the module documentation.
+pub(crate) fn merge(
+    model: &Model,
+    laws: &[Law],
+    numbering: &Numbering,
+    state_elements: &[ElementId],
+    bond_vars: &[LinearForm],
+) -> Result<Merged> {
+    let state_count = state_elements.len();
+    let domain_of_state: Vec<Domain> = state_elements
+        .iter()
+        .map(|e| domain(&laws[e.index()]))
+        .collect();
+    let storage_of_state: Vec<RatFunc> = state_elements
+        .iter()
+        .map(|e| storage_coefficient(&laws[e.index()]))
+        .collect();
+
+    // Old derivatives: dp/dt = e for an inertia, dq/dt = f (into the element) otherwise.
+    let derivatives_old: Vec<LinearForm> = state_elements
+        .iter()
+        .map(|&e| {
+            let bond = model.element(e).bonds[0];
+            match laws[e.index()] {
+                Law::Inertia(_) => bond_vars[effort(bond).bond_index()].clone(),
+                _ => bond_vars[flow(bond).bond_index()]
+                    .scaled(&RatFunc::integer(model.bond(bond).sign_into(e))),
+            }
+        })
+        .collect();
+
+    let mut dependents: Vec<Dependent> = Vec::new();
+    for element in model.element_ids() {
+        let Some(index) = numbering.dependent[element.index()] else {
+            continue;
+        };
+        debug_assert_eq!(index as usize, dependents.len());
+        let law = &laws[element.index()];
+        let bond = model.element(element).bonds[0];
+        let driven = match law {
+            Law::Inertia(_) => bond_vars[flow(bond).bond_index()]
+                .scaled(&RatFunc::integer(model.bond(bond).sign_into(element))),
+            _ => bond_vars[effort(bond).bond_index()].clone(),
+        };
+        let own = domain(law);
+        for (var, _) in driven.terms() {
+            let offending = match var {
+                Var::State(k) if domain_of_state[*k as usize] != own => {
+                    Some(state_elements[*k as usize])
+                }
+                Var::Dependent(j) => Some(dependents.get(*j as usize).map_or(element, |d| d.element)),
+                _ => None,
+            };
+            if let Some(other) = offending {
+                return Err(cross_domain(model, element, other));
+            }
+        }
+        dependents.push(Dependent {
+            element,
+            driven,
+            storage: storage_coefficient(law),
+        });
+    }
+
+    // Group states connected through dependents (union-find).
+    let mut parent: Vec<usize> = (0..state_count).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for dependent in &dependents {
+        let followed: Vec<usize> = followed_states(&dependent.driven);
+        for pair in followed.windows(2) {
+            let (a, b) = (root(&mut parent, pair[0]), root(&mut parent, pair[1]));
+            parent[a.max(b)] = a.min(b);
+        }
+    }
+    let mut members: BTreeMap<usize, Vec<u32>> = BTreeMap::new();
+    for state in 0..state_count {
+        let r = root(&mut parent, state);
+        members.entry(r).or_default().push(state as u32);
+    }
+    let mut group_dependents: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    let mut held: Vec<usize> = Vec::new();
+    for (j, dependent) in dependents.iter().enumerate() {
+        match followed_states(&dependent.driven).first() {
+            Some(&k) => group_dependents
+                .entry(root(&mut parent, k))
+                .or_default()
+                .push(j),
+            None => held.push(j),
+        }
+    }
+
+    // Blocks, and each old energy variable in terms of the new (generalised) states.
+    let mut blocks = Vec::new();
+    let mut old_state_form: Vec<LinearForm> = vec![LinearForm::zero(); state_count];
+    let mut merged_into: Vec<Vec<ElementId>> = vec![Vec::new(); state_count];
+    // Per group: (states, T rows by dependent, inverse) for resolving dependent efforts.
+    let mut group_solutions: Vec<(Vec<u32>, Vec<(usize, Vec<RatFunc>)>, Matrix)> = Vec::new();
+    for (group_root, states) in &members {
+        let deps = group_dependents.get(group_root).cloned().unwrap_or_default();
+        let n = states.len();
+        // T_dk = τ_dk · storage_k, where the dependent follows f_k = x_k / storage_k.
+        let t_rows: Vec<(usize, Vec<RatFunc>)> = deps
+            .iter()
+            .map(|&j| {
+                let row = states
+                    .iter()
+                    .map(|&k| &dependents[j].driven.coefficient(Var::State(k)) * &storage_of_state[k as usize])
+                    .collect();
+                (j, row)
+            })
+            .collect();
+        let mut mass: Matrix = (0..n)
+            .map(|a| {
+                (0..n)
+                    .map(|b| {
+                        if a == b {
+                            storage_of_state[states[a] as usize].clone()
+                        } else {
+                            RatFunc::zero()
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut offset = vec![LinearForm::zero(); n];
+        for (j, row) in &t_rows {
+            let dependent = &dependents[*j];
+            let sources = dependent
+                .driven
+                .filtered(|v| matches!(v, Var::Input(_) | Var::Constant));
+            for a in 0..n {
+                for b in 0..n {
+                    let term = &(&row[a] * &row[b]) * &dependent.storage;
+                    mass[a][b] += term;
+                }
+                offset[a].add_scaled(&sources, &(&row[a] * &dependent.storage));
+            }
+            // The dependent is reported under the first state it follows.
+            let first_followed = row.iter().position(|c| !c.is_zero()).unwrap_or(0);
+            merged_into[states[first_followed] as usize].push(dependent.element);
+        }
+        let Some(inverse) = matrix::inverse(&mass) else {
+            let element = deps
+                .first()
+                .map_or(state_elements[states[0] as usize], |&j| dependents[j].element);
+            return Err(singular_merge(model, element));
+        };
+        // x_old_k = storage_k · f_k and f = M'⁻¹ (p' - offset).
+        for (a, &k) in states.iter().enumerate() {
+            let mut velocity = LinearForm::zero();
+            for (b, &l) in states.iter().enumerate() {
+                let mut shifted = LinearForm::var(Var::State(l));
+                shifted.add_scaled(&offset[b], &RatFunc::integer(-1));
+                velocity.add_scaled(&shifted, &inverse[a][b]);
+            }
+            old_state_form[k as usize] = velocity.scaled(&storage_of_state[k as usize]);
+        }
+        if !t_rows.is_empty() {
+            group_solutions.push((states.clone(), t_rows, inverse.clone()));
+        }
+        blocks.push(Block {
+            states: states.clone(),
+            matrix: mass,
+            inverse,
+            offset,
+        });
+    }
+
+    let to_new_states = |form: &LinearForm| {
+        form.substitute(|var| match var {
+            Var::State(k) => Some(old_state_form[k as usize].clone()),
+            _ => None,
+        })
+    };
+
+    // New derivatives: dx'_k/dt = dx_k/dt + Σ_d T_dk e_d, where the e_d cancel.
+    let mut derivatives: Vec<LinearForm> = derivatives_old.iter().map(&to_new_states).collect();
+    for (states, t_rows, _) in &group_solutions {
+        for (a, &k) in states.iter().enumerate() {
+            for (j, row) in t_rows {
+                derivatives[k as usize].add_scaled(&LinearForm::var(Var::Dependent(*j as u32)), &row[a]);
+            }
+            for (j, _) in t_rows {
+                if derivatives[k as usize].get(Var::Dependent(*j as u32)).is_some() {
+                    return Err(internal(
+                        model,
+                        dependents[*j].element,
+                        "the effort of a merged element did not cancel (junction structure not power-conserving)",
+                    ));
+                }
+            }
+        }
+    }
+
+    // Each dependent's own effort (inertia) or flow (compliance): storage · d/dt(driven).
+    let mut dependent_value: Vec<Option<LinearForm>> = vec![None; dependents.len()];
+    for &j in &held {
+        let has_input = dependents[j].driven.mentions(|v| matches!(v, Var::Input(_)));
+        dependent_value[j] = (!has_input).then(LinearForm::zero);
+    }
+    let held_values = dependent_value.clone();
+    let resolve_held = |form: &LinearForm| -> Option<LinearForm> {
+        let mut ok = true;
+        let result = form.substitute(|var| match var {
+            Var::Dependent(j) if held.contains(&(j as usize)) => match &held_values[j as usize] {
+                Some(v) => Some(v.clone()),
+                None => {
+                    ok = false;
+                    Some(LinearForm::zero())
+                }
+            },
+            _ => None,
+        });
+        ok.then_some(result)
+    };
+    for (states, t_rows, inverse) in &group_solutions {
+        let rates: Vec<LinearForm> = states
+            .iter()
+            .map(|&k| derivatives[k as usize].clone())
+            .collect();
+        let accelerations = matrix::apply(inverse, &rates);
+        for (j, row) in t_rows {
+            let dependent = &dependents[*j];
+            if dependent.driven.mentions(|v| matches!(v, Var::Input(_))) {
+                continue; // needs an input derivative: left unavailable
+            }
+            let mut value = LinearForm::zero();
+            for (a, acceleration) in accelerations.iter().enumerate() {
+                value.add_scaled(acceleration, &row[a]);
+            }
+            dependent_value[*j] = resolve_held(&value.scaled(&dependent.storage));
+        }
+    }
+
+    let resolve = |form: &LinearForm| -> Option<LinearForm> {
+        let mut ok = true;
+        let result = form.substitute(|var| match var {
+            Var::Dependent(j) => match &dependent_value[j as usize] {
+                Some(v) => Some(v.clone()),
+                None => {
+                    ok = false;
+                    Some(LinearForm::zero())
+                }
+            },
+            _ => None,
+        });
+        ok.then_some(result)
+    };
+
+    for (k, derivative) in derivatives.iter_mut().enumerate() {
+        match resolve(derivative) {
+            Some(resolved) => *derivative = resolved,
+            None => {
+                let j = derivative
+                    .terms()
+                    .iter()
+                    .find_map(|(v, _)| match v {
+                        Var::Dependent(j) if dependent_value[*j as usize].is_none() => Some(*j),
+                        _ => None,
+                    })
+                    .unwrap_or(0);
+                return Err(needs_input_derivative(
+                    model,
+                    dependents[j as usize].element,
+                    state_elements[k],
+                ));
+            }
+        }
+    }
+
+    let bond_vars_new: Vec<Option<LinearForm>> = bond_vars
+        .iter()
+        .map(|form| resolve(&to_new_states(form)))
+        .collect();
+
+    let mut storage_energy = BTreeMap::new();
+    for (k, &element) in state_elements.iter().enumerate() {
+        storage_energy.insert(element, Some(old_state_form[k].clone()));
+    }
+    for dependent in &dependents {
+        // x_d = storage_d · driven_d, with the followed states rewritten.
+        let energy = to_new_states(&dependent.driven.scaled(&dependent.storage));
+        storage_energy.insert(dependent.element, Some(energy));
+    }
+
+    Ok(Merged {
+        derivatives,
+        bond_vars: bond_vars_new,
+        merged_into,
+        held: held.iter().map(|&j| dependents[j].element).collect(),
+        blocks,
+        storage_energy,
+    })
+}
+
+/// The states a dependent's driven variable follows.
+fn followed_states(driven: &LinearForm) -> Vec<usize> {
+    driven
+        .terms()
+        .iter()
+        .filter_map(|(v, _)| match v {
+            Var::State(k) => Some(*k as usize),
+            _ => None,
+        })
+        .collect()
+}
+
+pub(crate) fn domain(law: &Law) -> Domain {
+    match law {
+        Law::Inertia(_) => Domain::Kinetic,
+        Law::Compliance(_) => Domain::Potential,
+        _ => Domain::Slack,
+    }
+}
+
+/// The inertance or compliance of a storage law; 1 for slack storage (its state is its own
+/// co-energy variable).
+pub(crate) fn storage_coefficient(law: &Law) -> RatFunc {
+    match law {
+        Law::Inertia(m) | Law::Compliance(m) => m.clone(),
+        _ => RatFunc::one(),
+    }
+}
+
+fn cross_domain(model: &Model, dependent: ElementId, other: ElementId) -> Diagnostics {
+    let d = model.element(dependent);
+    let o = model.element(other);
+    Diagnostic::new(
+        DiagnosticKind::DependentStorage,
+        format!(
+            "{} '{}' is in derivative causality and follows {} '{}' of another kind; it cannot be merged into one state",
+            d.kind.description(),
+            d.name,
+            o.kind.description(),
+            o.name
+        ),
+    )
+    .at_location(model.locate_element(dependent))
+    .element(d.name.clone())
+    .note("add a compliance or resistor next to it so that it can keep its own state")
+    .into()
+}
+
+fn needs_input_derivative(model: &Model, dependent: ElementId, state: ElementId) -> Diagnostics {
+    let d = model.element(dependent);
+    Diagnostic::new(
+        DiagnosticKind::DependentStorage,
+        format!(
+            "{} '{}' is driven directly by an input source, and the equation of '{}' would need the input's time derivative",
+            d.kind.description(),
+            d.name,
+            model.element(state).name
+        ),
+    )
+    .at_location(model.locate_element(dependent))
+    .element(d.name.clone())
+    .note("put a compliance or resistor between the source and the storage element")
+    .into()
+}
+
+fn singular_merge(model: &Model, element: ElementId) -> Diagnostics {
+    let name = &model.element(element).name;
+    Diagnostic::new(
+        DiagnosticKind::DependentStorage,
+        format!("merging '{name}' into the states it follows gives a singular storage matrix"),
+    )
+    .at_location(model.locate_element(element))
+    .element(name.clone())
+    .into()
+}
+
+fn internal(model: &Model, element: ElementId, what: &str) -> Diagnostics {
+    let name = &model.element(element).name;
+    Diagnostic::new(
+        DiagnosticKind::DependentStorage,
+        format!("internal error while merging '{name}': {what}"),
+    )
+    .at_location(model.locate_element(element))
+    .element(name.clone())
+    .note("please report this model as a bug")
+    .into()
+}
+
+trait BondIndex {
+    fn bond_index(self) -> usize;
+}
+
+impl BondIndex for Var {
+    fn bond_index(self) -> usize {
+        match self {
+            Var::Bond(i) => i as usize,
+            _ => unreachable!("only bond variables index bond_vars"),
+        }
+    }
+}

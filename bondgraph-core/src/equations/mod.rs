@@ -1,0 +1,388 @@
+//! State equations `dx/dt = A x + B u + c` of one mode, with symbolic entries.
+//!
+//! The derivation runs in four steps, each in its own module:
+//! 1. [`causality`](crate::causality) assigns causal strokes (SCAP);
+//! 2. [`elimination`] expresses every bond variable through states, inputs and the unknown
+//!    efforts of dependent storage, solving algebraic loops symbolically;
+//! 3. [`merging`] folds dependent storage into the states it follows;
+//! 4. optionally, the states change from energy variables (momenta `p`, displacements `q`)
+//!    to co-energy variables (velocities `v`, efforts `f`), as textbooks and papers write them.
+//!
+//! Everything stays sparse ([`LinearForm`]) until a caller asks for dense matrices, so a
+//! 2000-state chain derives in linear time.
+
+mod coenergy;
+pub(crate) mod elimination;
+pub(crate) mod matrix;
+pub(crate) mod merging;
+mod outputs;
+mod print;
+
+use serde::Serialize;
+
+use crate::causality::{self, Causality};
+use crate::diagnostics::Result;
+use crate::laws::Law;
+use crate::linear::{LinearForm, Var};
+use crate::model::{BondId, ElementId, Model};
+use crate::symbolic::{RatFunc, SymbolTable};
+
+pub use elimination::AlgebraicLoop;
+pub use outputs::{OutputEquation, OutputQuantity, OutputSpec};
+pub use print::{EquationsJson, OutputJson, StateJson};
+
+use elimination::Numbering;
+use merging::Domain;
+
+/// Which variables the states are written in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Variables {
+    /// Momenta `p` of inertias and displacements `q` of compliances (the default).
+    #[default]
+    Energy,
+    /// Velocities `v` of inertias and efforts (forces) `f` of compliances.
+    #[serde(rename = "coenergy")]
+    CoEnergy,
+}
+
+/// The physical quantity a state measures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+pub enum Quantity {
+    /// Momentum (generalised momentum) of an inertia.
+    #[serde(rename = "p")]
+    Momentum,
+    /// Displacement (generalised) of a compliance, or slack length of a slack element.
+    #[serde(rename = "q")]
+    Displacement,
+    /// Velocity (flow) of an inertia.
+    #[serde(rename = "v")]
+    Velocity,
+    /// Force (effort) of a compliance.
+    #[serde(rename = "f")]
+    Force,
+}
+
+impl Quantity {
+    /// The letter that prefixes state names (`p`, `q`, `v`, `f`).
+    pub fn letter(self) -> &'static str {
+        match self {
+            Quantity::Momentum => "p",
+            Quantity::Displacement => "q",
+            Quantity::Velocity => "v",
+            Quantity::Force => "f",
+        }
+    }
+
+    /// A readable name of the quantity.
+    pub fn description(self) -> &'static str {
+        match self {
+            Quantity::Momentum => "momentum",
+            Quantity::Displacement => "displacement",
+            Quantity::Velocity => "velocity",
+            Quantity::Force => "force",
+        }
+    }
+}
+
+/// One state of the equations.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StateVariable {
+    /// The state's name: the quantity's letter and the element's name (`p_mass`).
+    pub name: String,
+    /// The storage element the state belongs to.
+    pub element: String,
+    /// What it measures.
+    pub quantity: Quantity,
+    /// Storage elements in derivative causality merged into this state.
+    pub merged: Vec<String>,
+    /// The state's (merged) inertance or compliance: `m1 + m2` for two merged masses.
+    pub storage: RatFunc,
+}
+
+/// Something the derivation did that the reader should know.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Note {
+    /// Dependent storage merged into a state.
+    Merged {
+        /// The state that absorbed them.
+        state: String,
+        /// The independent element.
+        element: String,
+        /// The dependent elements.
+        merged: Vec<String>,
+        /// The merged inertance or compliance.
+        storage: RatFunc,
+    },
+    /// Storage held by sources: no state in this mode.
+    Held {
+        /// The element.
+        element: String,
+    },
+    /// An algebraic loop solved symbolically.
+    AlgebraicLoop {
+        /// The elements whose equations formed it.
+        elements: Vec<String>,
+    },
+}
+
+impl Note {
+    /// The note as a sentence, with symbolic values in plain text.
+    pub fn text(&self, symbols: &SymbolTable) -> String {
+        match self {
+            Note::Merged {
+                state,
+                element,
+                merged,
+                storage,
+            } => format!(
+                "derivative causality: {} merged into '{element}'; state {state} has storage {}",
+                quote_list(merged),
+                storage.text(symbols)
+            ),
+            Note::Held { element } => format!(
+                "'{element}' is held by sources (its flow or effort is imposed): no state in this mode"
+            ),
+            Note::AlgebraicLoop { elements } => format!(
+                "algebraic loop through {} solved symbolically",
+                quote_list(elements)
+            ),
+        }
+    }
+}
+
+fn quote_list(names: &[String]) -> String {
+    names
+        .iter()
+        .map(|n| format!("'{n}'"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Options of a derivation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Options {
+    /// Energy (default) or co-energy states.
+    pub variables: Variables,
+}
+
+/// The state equations of one mode: `dx/dt = A x + B u + c`, kept sparse.
+#[derive(Clone, Debug)]
+pub struct StateEquations {
+    /// The model's name.
+    pub model: String,
+    /// The variables the states are written in.
+    pub variables: Variables,
+    /// The states, in element order.
+    pub states: Vec<StateVariable>,
+    /// The model's inputs, in file order.
+    pub inputs: Vec<String>,
+    /// `dx_i/dt` as an affine form of [`Var::State`], [`Var::Input`] and [`Var::Constant`].
+    pub derivatives: Vec<LinearForm>,
+    /// What the derivation merged, held and solved.
+    pub notes: Vec<Note>,
+    /// The causality the equations were derived from.
+    pub causality: Causality,
+    /// The parameter symbols (for printing).
+    pub symbols: SymbolTable,
+    /// The parameter values, indexed by symbol.
+    pub values: Vec<f64>,
+    /// Effort (`2b`) and flow (`2b + 1`) of every bond; `None` where unavailable.
+    bond_vars: Vec<Option<LinearForm>>,
+    /// Energy variable of each storage element of the mode, as a form over the states.
+    storage_energy: Vec<(ElementId, Option<LinearForm>)>,
+}
+
+/// Derives the state equations of the mode given by `laws`.
+///
+/// # Errors
+/// Causal conflicts, unresolvable dependent storage, singular algebraic loops, and zero
+/// resistances that must set a flow; each names the elements concerned.
+pub fn derive(model: &Model, laws: &[Law], options: &Options) -> Result<StateEquations> {
+    let causal = causality::assign(model, laws)?;
+    derive_with(model, laws, causal, options)
+}
+
+/// Derives the state equations from an already assigned causality.
+pub fn derive_with(
+    model: &Model,
+    laws: &[Law],
+    causal: Causality,
+    options: &Options,
+) -> Result<StateEquations> {
+    let mut numbering = Numbering {
+        state: vec![None; model.elements.len()],
+        dependent: vec![None; model.elements.len()],
+    };
+    let mut state_elements = Vec::new();
+    for element in model.element_ids() {
+        if !laws[element.index()].has_state() {
+            continue;
+        }
+        if causal.dependent.contains(&element) {
+            let index = numbering.dependent.iter().flatten().count() as u32;
+            numbering.dependent[element.index()] = Some(index);
+        } else {
+            numbering.state[element.index()] = Some(state_elements.len() as u32);
+            state_elements.push(element);
+        }
+    }
+
+    let solved = elimination::solve(model, laws, &causal, &numbering)?;
+    let merged = merging::merge(model, laws, &numbering, &state_elements, &solved.bond_vars)?;
+
+    let mut notes = Vec::new();
+    let domains: Vec<Domain> = state_elements
+        .iter()
+        .map(|e| merging::domain(&laws[e.index()]))
+        .collect();
+    let states: Vec<StateVariable> = state_elements
+        .iter()
+        .enumerate()
+        .map(|(k, &element)| {
+            let quantity = match (domains[k], options.variables) {
+                (Domain::Kinetic, Variables::Energy) => Quantity::Momentum,
+                (Domain::Kinetic, Variables::CoEnergy) => Quantity::Velocity,
+                (Domain::Potential, Variables::CoEnergy) => Quantity::Force,
+                _ => Quantity::Displacement,
+            };
+            let name = &model.element(element).name;
+            let block = merged
+                .blocks
+                .iter()
+                .find(|b| b.states.contains(&(k as u32)))
+                .expect("every state is in a block");
+            let position = block
+                .states
+                .iter()
+                .position(|&s| s == k as u32)
+                .expect("state in its block");
+            StateVariable {
+                name: format!("{}_{name}", quantity.letter()),
+                element: name.clone(),
+                quantity,
+                merged: merged.merged_into[k]
+                    .iter()
+                    .map(|e| model.element(*e).name.clone())
+                    .collect(),
+                storage: block.matrix[position][position].clone(),
+            }
+        })
+        .collect();
+    for state in &states {
+        if !state.merged.is_empty() {
+            notes.push(Note::Merged {
+                state: state.name.clone(),
+                element: state.element.clone(),
+                merged: state.merged.clone(),
+                storage: state.storage.clone(),
+            });
+        }
+    }
+    for element in &merged.held {
+        notes.push(Note::Held {
+            element: model.element(*element).name.clone(),
+        });
+    }
+    for algebraic_loop in &solved.loops {
+        notes.push(Note::AlgebraicLoop {
+            elements: algebraic_loop
+                .elements
+                .iter()
+                .map(|e| model.element(*e).name.clone())
+                .collect(),
+        });
+    }
+
+    let mut derivatives = merged.derivatives;
+    let mut bond_vars = merged.bond_vars;
+    let mut storage_energy: Vec<(ElementId, Option<LinearForm>)> =
+        merged.storage_energy.into_iter().collect();
+    if options.variables == Variables::CoEnergy {
+        let converted = coenergy::convert(
+            model,
+            &merged.blocks,
+            &state_elements,
+            &derivatives,
+            &bond_vars,
+            &storage_energy,
+        )?;
+        derivatives = converted.derivatives;
+        bond_vars = converted.bond_vars;
+        storage_energy = converted.storage_energy;
+    }
+
+    Ok(StateEquations {
+        model: model.name.clone(),
+        variables: options.variables,
+        states,
+        inputs: model.inputs.iter().map(|i| i.name.clone()).collect(),
+        derivatives,
+        notes,
+        causality: causal,
+        symbols: model.symbols.clone(),
+        values: model.values.clone(),
+        bond_vars,
+        storage_energy,
+    })
+}
+
+impl StateEquations {
+    /// Number of states.
+    pub fn state_count(&self) -> usize {
+        self.states.len()
+    }
+
+    /// The dense matrix `A` (states × states).
+    pub fn a(&self) -> Vec<Vec<RatFunc>> {
+        self.dense(|j| Var::State(j as u32), self.states.len())
+    }
+
+    /// The dense matrix `B` (states × inputs).
+    pub fn b(&self) -> Vec<Vec<RatFunc>> {
+        self.dense(|j| Var::Input(j as u32), self.inputs.len())
+    }
+
+    /// The affine term `c` (one entry per state).
+    pub fn c(&self) -> Vec<RatFunc> {
+        self.derivatives
+            .iter()
+            .map(|row| row.coefficient(Var::Constant))
+            .collect()
+    }
+
+    fn dense(&self, var: impl Fn(usize) -> Var, columns: usize) -> Vec<Vec<RatFunc>> {
+        self.derivatives
+            .iter()
+            .map(|row| (0..columns).map(|j| row.coefficient(var(j))).collect())
+            .collect()
+    }
+
+    /// Evaluates a symbolic entry with the model's parameter values.
+    pub fn evaluate(&self, value: &RatFunc) -> f64 {
+        value.eval(&self.values)
+    }
+
+    /// The effort of `bond` in this mode's states, if it is available (it is not when it
+    /// would need an input's time derivative).
+    pub fn bond_effort(&self, bond: BondId) -> Option<&LinearForm> {
+        self.bond_vars[2 * bond.index()].as_ref()
+    }
+
+    /// The flow of `bond` in this mode's states, if available.
+    pub fn bond_flow(&self, bond: BondId) -> Option<&LinearForm> {
+        self.bond_vars[2 * bond.index() + 1].as_ref()
+    }
+
+    /// The energy variable (momentum or displacement) of every storage element that has
+    /// one in this mode, as an affine form of the states (and inputs): how to rebuild the
+    /// full physical state from this mode's states.
+    pub fn storage_energy(&self) -> &[(ElementId, Option<LinearForm>)] {
+        &self.storage_energy
+    }
+
+    /// The index of the state called `name`.
+    pub fn state_named(&self, name: &str) -> Option<usize> {
+        self.states.iter().position(|s| s.name == name)
+    }
+}

@@ -1,0 +1,143 @@
+//! Output equations: any bond's effort or flow as `y = C x + D u + d`.
+//!
+//! Outputs are named on the command line and in scenarios as `effort:ELEMENT`,
+//! `flow:ELEMENT` (the one bond of a one-port, e.g. `effort:damper` is the damper force) or
+//! `effort:FROM->TO` for any bond (e.g. `flow:j1->j2`).
+
+use crate::diagnostics::{Diagnostic, DiagnosticKind, Result};
+use crate::equations::StateEquations;
+use crate::linear::LinearForm;
+use crate::model::{BondId, Model};
+
+/// Which variable of a bond an output is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum OutputQuantity {
+    /// The bond's effort.
+    Effort,
+    /// The bond's flow (positive in the bond's direction).
+    Flow,
+}
+
+/// A requested output: one bond variable.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct OutputSpec {
+    /// The output's name, as the user wrote it (`effort:damper`).
+    pub name: String,
+    /// Effort or flow.
+    pub quantity: OutputQuantity,
+    /// The bond.
+    pub bond: BondId,
+}
+
+/// One output equation, an affine form of the states, inputs and the constant 1.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutputEquation {
+    /// The output's name.
+    pub name: String,
+    /// `y` as an affine form.
+    pub row: LinearForm,
+}
+
+impl OutputSpec {
+    /// Parses `effort:ELEMENT`, `flow:ELEMENT`, `effort:FROM->TO` or `flow:FROM->TO`
+    /// (`e:` and `f:` for short).
+    ///
+    /// # Errors
+    /// [`DiagnosticKind::BadOutput`] naming what is wrong: an unknown quantity, element or
+    /// bond, or an element with more than one bond named without its bond.
+    pub fn parse(model: &Model, text: &str) -> Result<Self> {
+        let bad = |message: String| Diagnostic::new(DiagnosticKind::BadOutput, message);
+        let Some((quantity, target)) = text.split_once(':') else {
+            return Err(bad(format!(
+                "output '{text}' must be written effort:ELEMENT, flow:ELEMENT or effort:FROM->TO"
+            ))
+            .into());
+        };
+        let quantity = match quantity.trim() {
+            "effort" | "e" => OutputQuantity::Effort,
+            "flow" | "f" => OutputQuantity::Flow,
+            other => {
+                return Err(bad(format!(
+                    "output '{text}': unknown quantity '{other}'; expected effort or flow"
+                ))
+                .into());
+            }
+        };
+        let target = target.trim();
+        let element_id = |name: &str| {
+            model.element_named(name.trim()).ok_or_else(|| {
+                bad(format!(
+                    "output '{text}': the model has no element '{}'",
+                    name.trim()
+                ))
+                .element(name.trim())
+            })
+        };
+        let bond = if let Some((from, to)) = target.split_once("->") {
+            let (from, to) = (element_id(from)?, element_id(to)?);
+            model
+                .bond_ids()
+                .find(|&b| model.bond(b).from == from && model.bond(b).to == to)
+                .ok_or_else(|| {
+                    bad(format!(
+                        "output '{text}': there is no bond from '{}' to '{}'",
+                        model.element(from).name,
+                        model.element(to).name
+                    ))
+                })?
+        } else {
+            let element = element_id(target)?;
+            match model.element(element).bonds.as_slice() {
+                [bond] => *bond,
+                bonds => {
+                    let choices: Vec<String> = bonds
+                        .iter()
+                        .map(|b| format!("'{}'", model.bond_label(*b)))
+                        .collect();
+                    return Err(bad(format!(
+                        "output '{text}': '{target}' has {} bonds; name one as FROM->TO: {}",
+                        bonds.len(),
+                        choices.join(", ")
+                    ))
+                    .element(target)
+                    .into());
+                }
+            }
+        };
+        Ok(Self {
+            name: text.to_string(),
+            quantity,
+            bond,
+        })
+    }
+}
+
+impl StateEquations {
+    /// The output equation of `spec` in this mode.
+    ///
+    /// # Errors
+    /// [`DiagnosticKind::DependentStorage`] when the bond variable would need an input's
+    /// time derivative in this mode.
+    pub fn output(&self, model: &Model, spec: &OutputSpec) -> Result<OutputEquation> {
+        let form = match spec.quantity {
+            OutputQuantity::Effort => self.bond_effort(spec.bond),
+            OutputQuantity::Flow => self.bond_flow(spec.bond),
+        };
+        match form {
+            Some(row) => Ok(OutputEquation {
+                name: spec.name.clone(),
+                row: row.clone(),
+            }),
+            None => Err(Diagnostic::new(
+                DiagnosticKind::DependentStorage,
+                format!(
+                    "output '{}' (bond {}) would need the time derivative of an input in this mode",
+                    spec.name,
+                    model.bond_label(spec.bond)
+                ),
+            )
+            .at_location(model.locate_bond(spec.bond))
+            .into()),
+        }
+    }
+}

@@ -1,0 +1,406 @@
+//! State equations as a reader wants them: plain text, LaTeX, and a JSON document.
+//!
+//! Text lists one equation per state (`dp_mass/dt = -b/m*p_mass - k*q_spring + F`) and then
+//! the matrices; LaTeX writes the matrix form the way papers do, one input column at a time;
+//! JSON carries the fields other programs rely on (`states`, `inputs`, `A`, `B`, `c` and
+//! their numeric `_value` twins).
+
+use serde::Serialize;
+
+use crate::equations::{OutputEquation, Quantity, StateEquations, Variables};
+use crate::linear::{LinearForm, Var};
+use crate::symbolic::{latex_name, RatFunc};
+
+/// The JSON document of `bondgraph equations`.
+#[derive(Clone, Debug, Serialize)]
+#[allow(non_snake_case)]
+pub struct EquationsJson {
+    /// The model's name.
+    pub model: String,
+    /// The mode, as a specification (`fr=stuck,...`); empty for a model without switching.
+    pub mode: String,
+    /// `energy` or `coenergy`.
+    pub variables: Variables,
+    /// The states.
+    pub states: Vec<StateJson>,
+    /// The inputs' names.
+    pub inputs: Vec<String>,
+    /// `A`, symbolic, row by row.
+    pub A: Vec<Vec<String>>,
+    /// `B`, symbolic.
+    pub B: Vec<Vec<String>>,
+    /// `c`, symbolic.
+    pub c: Vec<String>,
+    /// `A` with the parameter values substituted.
+    pub A_value: Vec<Vec<f64>>,
+    /// `B` with the parameter values substituted.
+    pub B_value: Vec<Vec<f64>>,
+    /// `c` with the parameter values substituted.
+    pub c_value: Vec<f64>,
+    /// Output equations requested.
+    pub outputs: Vec<OutputJson>,
+    /// What the derivation merged, held and solved.
+    pub notes: Vec<String>,
+}
+
+/// One state in the JSON document.
+#[derive(Clone, Debug, Serialize)]
+pub struct StateJson {
+    /// The state's name.
+    pub name: String,
+    /// Its storage element.
+    pub element: String,
+    /// `p`, `q`, `v` or `f`.
+    pub quantity: Quantity,
+    /// Elements merged into it.
+    pub merged: Vec<String>,
+    /// Its (merged) inertance or compliance.
+    pub storage: String,
+}
+
+/// One output equation `y = C x + D u + d` in the JSON document.
+#[derive(Clone, Debug, Serialize)]
+#[allow(non_snake_case)]
+pub struct OutputJson {
+    /// The output's name.
+    pub name: String,
+    /// The row of `C`.
+    pub C: Vec<String>,
+    /// The row of `D`.
+    pub D: Vec<String>,
+    /// The constant `d`.
+    pub d: String,
+    /// `C` evaluated.
+    pub C_value: Vec<f64>,
+    /// `D` evaluated.
+    pub D_value: Vec<f64>,
+    /// `d` evaluated.
+    pub d_value: f64,
+}
+
+impl StateEquations {
+    fn var_name(&self, var: Var) -> &str {
+        match var {
+            Var::State(i) => &self.states[i as usize].name,
+            Var::Input(i) => &self.inputs[i as usize],
+            _ => "1",
+        }
+    }
+
+    /// An affine form as text: `-b/m*p_mass - k*q_spring + F`.
+    pub fn form_text(&self, form: &LinearForm) -> String {
+        let mut out = String::new();
+        for (var, coefficient) in form.terms() {
+            let (negative, magnitude) = coefficient.signed_text(&self.symbols);
+            let term = match var {
+                Var::Constant => magnitude,
+                _ => product_text(&magnitude, self.var_name(*var)),
+            };
+            match (out.is_empty(), negative) {
+                (true, false) => out.push_str(&term),
+                (true, true) => {
+                    out.push('-');
+                    out.push_str(&term);
+                }
+                (false, false) => {
+                    out.push_str(" + ");
+                    out.push_str(&term);
+                }
+                (false, true) => {
+                    out.push_str(" - ");
+                    out.push_str(&term);
+                }
+            }
+        }
+        if out.is_empty() {
+            out.push('0');
+        }
+        out
+    }
+
+    /// The equations and matrices as plain text.
+    pub fn to_text(&self) -> String {
+        let mut out = String::new();
+        let variables = match self.variables {
+            Variables::Energy => "energy variables",
+            Variables::CoEnergy => "co-energy variables",
+        };
+        out.push_str(&format!(
+            "model '{}': {} state{} in {variables}, {} input{}\n",
+            self.model,
+            self.states.len(),
+            plural(self.states.len()),
+            self.inputs.len(),
+            plural(self.inputs.len())
+        ));
+        if !self.states.is_empty() {
+            out.push_str("\nstates:\n");
+            let width = self.states.iter().map(|s| s.name.len()).max().unwrap_or(0);
+            for state in &self.states {
+                let merged = if state.merged.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        ", with {} merged (storage {})",
+                        quoted(&state.merged),
+                        state.storage.text(&self.symbols)
+                    )
+                };
+                out.push_str(&format!(
+                    "  {:width$}  {} of '{}'{merged}\n",
+                    state.name,
+                    state.quantity.description(),
+                    state.element
+                ));
+            }
+        }
+        if !self.inputs.is_empty() {
+            out.push_str(&format!("inputs: {}\n", self.inputs.join(", ")));
+        }
+        out.push('\n');
+        let lhs: Vec<String> = self.states.iter().map(|s| format!("d{}/dt", s.name)).collect();
+        let width = lhs.iter().map(String::len).max().unwrap_or(0);
+        for (name, row) in lhs.iter().zip(&self.derivatives) {
+            out.push_str(&format!("{name:width$} = {}\n", self.form_text(row)));
+        }
+        if self.states.is_empty() {
+            out.push_str("(no states in this mode)\n");
+        } else if self.states.len() <= MAX_DENSE_TEXT {
+            out.push('\n');
+            out.push_str(&matrix_text("A", &self.text_entries(&self.a())));
+            if !self.inputs.is_empty() {
+                out.push_str(&matrix_text("B", &self.text_entries(&self.b())));
+            }
+            let c: Vec<Vec<RatFunc>> = self.c().into_iter().map(|e| vec![e]).collect();
+            out.push_str(&matrix_text("c", &self.text_entries(&c)));
+        } else {
+            out.push_str(&format!(
+                "\n(matrices of {} states not printed as text; use --format json)\n",
+                self.states.len()
+            ));
+        }
+        if !self.notes.is_empty() {
+            out.push_str("\nnotes:\n");
+            for note in &self.notes {
+                out.push_str(&format!("  - {}\n", note.text(&self.symbols)));
+            }
+        }
+        out
+    }
+
+    fn text_entries(&self, matrix: &[Vec<RatFunc>]) -> Vec<Vec<String>> {
+        matrix
+            .iter()
+            .map(|row| row.iter().map(|e| e.text(&self.symbols)).collect())
+            .collect()
+    }
+
+    /// The matrix form `d/dt x = A x + B u + c` in LaTeX, one input column at a time.
+    pub fn to_latex(&self) -> String {
+        let states: Vec<String> = self.states.iter().map(|s| latex_name(&s.name)).collect();
+        let mut out = String::from("\\begin{equation}\n");
+        if self.states.is_empty() {
+            out.push_str("\\text{no states in this mode}\n\\end{equation}\n");
+            return out;
+        }
+        let column = |entries: &[String]| {
+            format!("\\begin{{bmatrix}} {} \\end{{bmatrix}}", entries.join(" \\\\ "))
+        };
+        out.push_str(&format!("\\frac{{d}}{{dt}} {} =\n", column(&states)));
+        let a = self.a();
+        let rows: Vec<String> = a
+            .iter()
+            .map(|row| {
+                row.iter()
+                    .map(|e| e.latex(&self.symbols))
+                    .collect::<Vec<_>>()
+                    .join(" & ")
+            })
+            .collect();
+        out.push_str(&format!(
+            "\\begin{{bmatrix}} {} \\end{{bmatrix}} {}\n",
+            rows.join(" \\\\ "),
+            column(&states)
+        ));
+        let b = self.b();
+        for (j, input) in self.inputs.iter().enumerate() {
+            let entries: Vec<&RatFunc> = b.iter().map(|row| &row[j]).collect();
+            if let Some(text) = signed_column(&entries, &self.symbols) {
+                out.push_str(&format!("{text} {}\n", latex_name(input)));
+            }
+        }
+        let c = self.c();
+        if let Some(text) = signed_column(&c.iter().collect::<Vec<_>>(), &self.symbols) {
+            out.push_str(&text);
+            out.push('\n');
+        }
+        out.push_str("\\end{equation}\n");
+        out
+    }
+
+    /// The JSON document; `mode` is the mode's specification (empty for plain models).
+    pub fn to_json(&self, mode: &str, outputs: &[OutputEquation]) -> EquationsJson {
+        let texts = |m: &[Vec<RatFunc>]| self.text_entries(m);
+        let values = |m: &[Vec<RatFunc>]| -> Vec<Vec<f64>> {
+            m.iter()
+                .map(|row| row.iter().map(|e| self.evaluate(e)).collect())
+                .collect()
+        };
+        let (a, b, c) = (self.a(), self.b(), self.c());
+        EquationsJson {
+            model: self.model.clone(),
+            mode: mode.to_string(),
+            variables: self.variables,
+            states: self
+                .states
+                .iter()
+                .map(|s| StateJson {
+                    name: s.name.clone(),
+                    element: s.element.clone(),
+                    quantity: s.quantity,
+                    merged: s.merged.clone(),
+                    storage: s.storage.text(&self.symbols),
+                })
+                .collect(),
+            inputs: self.inputs.clone(),
+            A: texts(&a),
+            B: texts(&b),
+            c: c.iter().map(|e| e.text(&self.symbols)).collect(),
+            A_value: values(&a),
+            B_value: values(&b),
+            c_value: c.iter().map(|e| self.evaluate(e)).collect(),
+            outputs: outputs.iter().map(|o| self.output_json(o)).collect(),
+            notes: self.notes.iter().map(|n| n.text(&self.symbols)).collect(),
+        }
+    }
+
+    fn output_json(&self, output: &OutputEquation) -> OutputJson {
+        let row = |var: &dyn Fn(usize) -> Var, n: usize| -> Vec<RatFunc> {
+            (0..n).map(|j| output.row.coefficient(var(j))).collect()
+        };
+        let c = row(&|j| Var::State(j as u32), self.states.len());
+        let d = row(&|j| Var::Input(j as u32), self.inputs.len());
+        let constant = output.row.coefficient(Var::Constant);
+        OutputJson {
+            name: output.name.clone(),
+            C: c.iter().map(|e| e.text(&self.symbols)).collect(),
+            D: d.iter().map(|e| e.text(&self.symbols)).collect(),
+            d: constant.text(&self.symbols),
+            C_value: c.iter().map(|e| self.evaluate(e)).collect(),
+            D_value: d.iter().map(|e| self.evaluate(e)).collect(),
+            d_value: self.evaluate(&constant),
+        }
+    }
+
+    /// An output equation as text: `effort:damper = b/m*p_mass`.
+    pub fn output_text(&self, output: &OutputEquation) -> String {
+        format!("{} = {}", output.name, self.form_text(&output.row))
+    }
+}
+
+/// Dense matrices wider than this are not printed as text.
+const MAX_DENSE_TEXT: usize = 16;
+
+/// `coefficient * name`, written the way a textbook would: `p_mass/m` rather than
+/// `1/m*p_mass`, parentheses around a bare sum.
+fn product_text(magnitude: &str, name: &str) -> String {
+    if magnitude == "1" {
+        name.to_string()
+    } else if let Some(denominator) = magnitude.strip_prefix("1/") {
+        format!("{name}/{denominator}")
+    } else if has_top_level_sum(magnitude) {
+        format!("({magnitude})*{name}")
+    } else {
+        format!("{magnitude}*{name}")
+    }
+}
+
+/// Whether `text` has a `+` or `-` outside parentheses (after its first character).
+fn has_top_level_sum(text: &str) -> bool {
+    let mut depth = 0i32;
+    for (i, c) in text.char_indices() {
+        match c {
+            '(' => depth += 1,
+            ')' => depth -= 1,
+            '+' | '-' if depth == 0 && i > 0 => return true,
+            _ => {}
+        }
+    }
+    false
+}
+
+/// A column vector with its sign pulled out when every non-zero entry is negative, as papers
+/// write `- [F_C/m; 0] sgn(v)`; `None` for an all-zero column.
+fn signed_column(entries: &[&RatFunc], symbols: &crate::symbolic::SymbolTable) -> Option<String> {
+    if entries.iter().all(|e| e.is_zero()) {
+        return None;
+    }
+    let all_negative = entries
+        .iter()
+        .filter(|e| !e.is_zero())
+        .all(|e| e.signed_latex(symbols).0);
+    let texts: Vec<String> = entries
+        .iter()
+        .map(|e| {
+            if all_negative {
+                (-(*e).clone()).latex(symbols)
+            } else {
+                e.latex(symbols)
+            }
+        })
+        .collect();
+    Some(format!(
+        "{} \\begin{{bmatrix}} {} \\end{{bmatrix}}",
+        if all_negative { "-" } else { "+" },
+        texts.join(" \\\\ ")
+    ))
+}
+
+fn matrix_text(name: &str, entries: &[Vec<String>]) -> String {
+    let columns = entries.first().map_or(0, Vec::len);
+    let widths: Vec<usize> = (0..columns)
+        .map(|j| entries.iter().map(|row| row[j].len()).max().unwrap_or(0))
+        .collect();
+    let mut out = String::new();
+    for (i, row) in entries.iter().enumerate() {
+        let prefix = if i == 0 {
+            format!("{name} = ")
+        } else {
+            " ".repeat(name.len() + 3)
+        };
+        let cells: Vec<String> = row
+            .iter()
+            .zip(&widths)
+            .map(|(cell, w)| format!("{cell:>w$}"))
+            .collect();
+        out.push_str(&format!("{prefix}[ {} ]\n", cells.join("  ")));
+    }
+    out
+}
+
+fn plural(n: usize) -> &'static str {
+    if n == 1 { "" } else { "s" }
+}
+
+fn quoted(names: &[String]) -> String {
+    names
+        .iter()
+        .map(|n| format!("'{n}'"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn products_read_like_a_textbook() {
+        assert_eq!(product_text("1", "p"), "p");
+        assert_eq!(product_text("1/m", "p"), "p/m");
+        assert_eq!(product_text("1/(m_1 + m_2)", "p"), "p/(m_1 + m_2)");
+        assert_eq!(product_text("(b + K_p)/M", "v"), "(b + K_p)/M*v");
+        assert_eq!(product_text("a + b", "v"), "(a + b)*v");
+        assert_eq!(product_text("k", "q"), "k*q");
+    }
+}

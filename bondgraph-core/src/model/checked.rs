@@ -1,0 +1,300 @@
+//! The validated model: names resolved, expressions turned into symbolic values, parameter
+//! values bound and checked, every item remembering where in the file it came from.
+//!
+//! Nothing past the loader sees raw input: causality, equations and modes work on a
+//! [`Model`], which cannot hold a bond to an undefined element, an unknown symbol or a
+//! zero mass.
+
+use std::sync::Arc;
+
+use crate::linear::{LinearForm, Var};
+use crate::source::{Location, SourceFile, Span};
+use crate::symbolic::{RatFunc, Symbol, SymbolTable};
+
+/// Index of an element in [`Model::elements`] (and of its node in the bond graph).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ElementId(pub u32);
+
+/// Index of a bond in [`Model::bonds`] (and of its edge in the bond graph).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct BondId(pub u32);
+
+/// Index of an input in [`Model::inputs`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct InputId(pub u32);
+
+impl ElementId {
+    /// The index as `usize`.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+impl BondId {
+    /// The index as `usize`.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+impl InputId {
+    /// The index as `usize`.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// A checked, self-contained model.
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// The model's name.
+    pub name: String,
+    /// What the model describes.
+    pub description: Option<String>,
+    /// The file it was read from (for locating diagnostics).
+    pub source: Arc<SourceFile>,
+    /// The parameter symbols, in print order.
+    pub symbols: SymbolTable,
+    /// Parameters in file order.
+    pub parameters: Vec<Parameter>,
+    /// Inputs in file order.
+    pub inputs: Vec<Input>,
+    /// Elements in file order.
+    pub elements: Vec<Element>,
+    /// Bonds in file order.
+    pub bonds: Vec<Bond>,
+    /// Parameter values indexed by [`Symbol::index`].
+    pub values: Vec<f64>,
+}
+
+/// A named parameter with its value.
+#[derive(Clone, Debug)]
+pub struct Parameter {
+    /// The name used in expressions.
+    pub name: String,
+    /// Its value (finite).
+    pub value: f64,
+    /// Its unit, as written.
+    pub unit: Option<String>,
+    /// What it is.
+    pub description: Option<String>,
+    /// Its symbol in [`Model::symbols`].
+    pub symbol: Symbol,
+    /// The span of its name in the file.
+    pub span: Span,
+}
+
+/// A named input (a time-varying quantity that drives sources).
+#[derive(Clone, Debug)]
+pub struct Input {
+    /// The name used in expressions.
+    pub name: String,
+    /// Its unit, as written.
+    pub unit: Option<String>,
+    /// What it is.
+    pub description: Option<String>,
+    /// The span of its name in the file.
+    pub span: Span,
+}
+
+/// A named element with its constitutive law.
+#[derive(Clone, Debug)]
+pub struct Element {
+    /// The element's name.
+    pub name: String,
+    /// What it is.
+    pub kind: ElementKind,
+    /// The span of its name in the file.
+    pub span: Span,
+    /// Its bonds, in file order.
+    pub bonds: Vec<BondId>,
+}
+
+/// A coefficient written as a parameter expression (`1/k_ge`), with its text and place.
+#[derive(Clone, Debug)]
+pub struct Coefficient {
+    /// Its symbolic value.
+    pub value: RatFunc,
+    /// The expression as written.
+    pub text: String,
+    /// The span of the expression text in the file.
+    pub span: Span,
+}
+
+/// A source value: affine in the inputs with parameter coefficients (`A*P_s`, `F_0 + F`).
+///
+/// Only [`Var::Input`] and [`Var::Constant`] appear in it.
+#[derive(Clone, Debug)]
+pub struct SourceValue {
+    /// Its value as an affine form of the inputs.
+    pub value: LinearForm,
+    /// The expression as written.
+    pub text: String,
+    /// The span of the expression text in the file.
+    pub span: Span,
+}
+
+/// The kinds of element, with their parameters.
+#[derive(Clone, Debug)]
+pub enum ElementKind {
+    /// `Se`: imposes an effort.
+    EffortSource(SourceValue),
+    /// `Sf`: imposes a flow.
+    FlowSource(SourceValue),
+    /// `I`: stores kinetic energy, `p = inertance · f`.
+    Inertia(Coefficient),
+    /// `C`: stores potential energy, `q = compliance · e`.
+    Compliance(Coefficient),
+    /// `R`: dissipates, `e = resistance · f`.
+    Resistor(Coefficient),
+    /// `TF`: `e_in = ratio · e_out`, `f_out = ratio · f_in`.
+    Transformer(Coefficient),
+    /// `GY`: `e_in = ratio · f_out`, `e_out = ratio · f_in`.
+    Gyrator(Coefficient),
+    /// A 0-junction: common effort, flows sum to zero.
+    ZeroJunction,
+    /// A 1-junction: common flow, efforts sum to zero.
+    OneJunction,
+}
+
+impl ElementKind {
+    /// The kind as written in model files (`Se`, `I`, `Zero`, ...).
+    pub fn keyword(&self) -> &'static str {
+        match self {
+            ElementKind::EffortSource(_) => "Se",
+            ElementKind::FlowSource(_) => "Sf",
+            ElementKind::Inertia(_) => "I",
+            ElementKind::Compliance(_) => "C",
+            ElementKind::Resistor(_) => "R",
+            ElementKind::Transformer(_) => "TF",
+            ElementKind::Gyrator(_) => "GY",
+            ElementKind::ZeroJunction => "Zero",
+            ElementKind::OneJunction => "One",
+        }
+    }
+
+    /// A readable description of the kind ("inertia", "0-junction", ...).
+    pub fn description(&self) -> &'static str {
+        match self {
+            ElementKind::EffortSource(_) => "effort source",
+            ElementKind::FlowSource(_) => "flow source",
+            ElementKind::Inertia(_) => "inertia",
+            ElementKind::Compliance(_) => "compliance",
+            ElementKind::Resistor(_) => "resistor",
+            ElementKind::Transformer(_) => "transformer",
+            ElementKind::Gyrator(_) => "gyrator",
+            ElementKind::ZeroJunction => "0-junction",
+            ElementKind::OneJunction => "1-junction",
+        }
+    }
+
+    /// How many bonds the element takes: `Some(n)` for a fixed number, `None` for a
+    /// junction (two or more).
+    pub fn port_count(&self) -> Option<usize> {
+        match self {
+            ElementKind::Transformer(_) | ElementKind::Gyrator(_) => Some(2),
+            ElementKind::ZeroJunction | ElementKind::OneJunction => None,
+            _ => Some(1),
+        }
+    }
+}
+
+/// A bond: power flows from `from` to `to` (the half-arrow points at `to`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Bond {
+    /// The element at the tail.
+    pub from: ElementId,
+    /// The element at the head (the half-arrow).
+    pub to: ElementId,
+    /// The span of the bond in the file.
+    pub span: Span,
+}
+
+impl Bond {
+    /// The end of the bond that is not `element`.
+    pub fn other(&self, element: ElementId) -> ElementId {
+        if self.from == element {
+            self.to
+        } else {
+            self.from
+        }
+    }
+
+    /// `+1` if the bond points into `element`, `-1` if it points out of it.
+    pub fn sign_into(&self, element: ElementId) -> i64 {
+        if self.to == element { 1 } else { -1 }
+    }
+}
+
+impl Model {
+    /// The element with id `id`.
+    pub fn element(&self, id: ElementId) -> &Element {
+        &self.elements[id.index()]
+    }
+
+    /// The bond with id `id`.
+    pub fn bond(&self, id: BondId) -> &Bond {
+        &self.bonds[id.index()]
+    }
+
+    /// The element called `name`.
+    pub fn element_named(&self, name: &str) -> Option<ElementId> {
+        self.elements
+            .iter()
+            .position(|e| e.name == name)
+            .map(|i| ElementId(i as u32))
+    }
+
+    /// The input called `name`.
+    pub fn input_named(&self, name: &str) -> Option<InputId> {
+        self.inputs
+            .iter()
+            .position(|e| e.name == name)
+            .map(|i| InputId(i as u32))
+    }
+
+    /// Where element `id` is defined.
+    pub fn locate_element(&self, id: ElementId) -> Location {
+        self.source.locate(self.element(id).span)
+    }
+
+    /// Where bond `id` is defined.
+    pub fn locate_bond(&self, id: BondId) -> Location {
+        self.source.locate(self.bond(id).span)
+    }
+
+    /// A readable name for bond `id`: `from -> to`.
+    pub fn bond_label(&self, id: BondId) -> String {
+        let bond = self.bond(id);
+        format!(
+            "{} -> {}",
+            self.element(bond.from).name,
+            self.element(bond.to).name
+        )
+    }
+
+    /// Evaluates a symbolic coefficient with the model's parameter values.
+    pub fn evaluate(&self, value: &RatFunc) -> f64 {
+        value.eval(&self.values)
+    }
+
+    /// The ids of all elements.
+    pub fn element_ids(&self) -> impl Iterator<Item = ElementId> + '_ {
+        (0..self.elements.len() as u32).map(ElementId)
+    }
+
+    /// The ids of all bonds.
+    pub fn bond_ids(&self) -> impl Iterator<Item = BondId> + '_ {
+        (0..self.bonds.len() as u32).map(BondId)
+    }
+}
+
+/// A source value that is constant: `value · 1`.
+pub fn constant_source(value: RatFunc) -> LinearForm {
+    LinearForm::constant(value)
+}
+
+/// Whether a source value depends on no input.
+pub fn is_constant_source(value: &LinearForm) -> bool {
+    !value.mentions(|v| matches!(v, Var::Input(_)))
+}

@@ -1,0 +1,818 @@
+//! From the raw serde structures to a checked [`Model`].
+//!
+//! Every independent problem is collected, so a user sees all of them at once: duplicate
+//! names, invalid names, unparsable expressions, unknown symbols, expressions that depend on
+//! inputs where they may not, non-positive masses and compliances, bonds to undefined
+//! elements, wrong bond counts, and graphs in pieces. Each diagnostic points at the exact
+//! place in the file: the symbol inside the expression, the end of the bond.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
+use crate::expr::{self, Expr, ExprKind};
+use crate::linear::{LinearForm, Var};
+use crate::model::checked::{
+    Bond, BondId, Coefficient, Element, ElementId, ElementKind, Input, Model, Parameter,
+    SourceValue,
+};
+use crate::model::raw::{RawElement, RawModel};
+use crate::model::source_map::{EntrySpans, SourceMap};
+use crate::source::{SourceFile, Span};
+use crate::symbolic::{RatFunc, SymbolTable};
+
+/// Checks `raw` (parsed from `file`, with positions in `map`) and builds the [`Model`].
+///
+/// # Errors
+/// Every problem found, each naming its element and line.
+pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Result<Model> {
+    let mut v = Validator {
+        file: file.clone(),
+        map,
+        problems: Vec::new(),
+    };
+
+    if raw.elements.is_empty() {
+        let span = v.field_span("elements").unwrap_or(map.model);
+        v.problems.push(
+            Diagnostic::new(
+                DiagnosticKind::EmptyModel,
+                format!("model '{}' has no elements", raw.name),
+            )
+            .at(file, span)
+            .note("add elements such as \"mass\": I(inertance: \"m\") and bonds between them"),
+        );
+        return Err(Diagnostics(v.problems));
+    }
+
+    // Parameters and inputs share the namespace of expressions.
+    let mut seen: HashMap<String, (Span, &'static str)> = HashMap::new();
+    let mut parameters = Vec::new();
+    for (index, (name, raw_parameter)) in raw.parameters.iter().enumerate() {
+        let span = v.entry_span(&map.parameters, index);
+        if !v.check_name(name, "parameter", span) || !v.check_unique(&mut seen, name, "parameter", span)
+        {
+            continue;
+        }
+        if !raw_parameter.value.is_finite() {
+            v.problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::InvalidValue,
+                    format!(
+                        "parameter '{name}' has value {} which is not a finite number",
+                        raw_parameter.value
+                    ),
+                )
+                .at(file, v.field_value_span(&map.parameters, index, "value").unwrap_or(span))
+                .element(name.clone()),
+            );
+        }
+        parameters.push((name.clone(), raw_parameter.clone(), span));
+    }
+    let mut inputs = Vec::new();
+    for (index, (name, raw_input)) in raw.inputs.iter().enumerate() {
+        let span = v.entry_span(&map.inputs, index);
+        if !v.check_name(name, "input", span) || !v.check_unique(&mut seen, name, "input", span) {
+            continue;
+        }
+        inputs.push(Input {
+            name: name.clone(),
+            unit: raw_input.unit.clone(),
+            description: raw_input.description.clone(),
+            span,
+        });
+    }
+
+    let symbols = SymbolTable::new(parameters.iter().map(|(n, _, _)| n.clone()));
+    let mut values = vec![f64::NAN; symbols.len()];
+    let parameters: Vec<Parameter> = parameters
+        .into_iter()
+        .map(|(name, raw_parameter, span)| {
+            let symbol = symbols.get(&name).expect("every parameter has a symbol");
+            values[symbol.index()] = raw_parameter.value;
+            Parameter {
+                name,
+                value: raw_parameter.value,
+                unit: raw_parameter.unit,
+                description: raw_parameter.description,
+                symbol,
+                span,
+            }
+        })
+        .collect();
+    let input_ids: HashMap<&str, u32> = inputs
+        .iter()
+        .enumerate()
+        .map(|(i, input)| (input.name.as_str(), i as u32))
+        .collect();
+    let scope = Scope {
+        symbols: &symbols,
+        inputs: &input_ids,
+        values: &values,
+    };
+
+    // Elements.
+    let mut element_names: HashMap<String, (Span, &'static str)> = HashMap::new();
+    let mut elements: Vec<Element> = Vec::new();
+    let mut element_index: HashMap<String, ElementId> = HashMap::new();
+    for (index, (name, raw_element)) in raw.elements.iter().enumerate() {
+        let span = v.entry_span(&map.elements, index);
+        let named_ok = v.check_name(name, "element", span)
+            && v.check_unique(&mut element_names, name, "element", span);
+        let kind = v.element_kind(name, raw_element, index, &scope);
+        if let (true, Some(kind)) = (named_ok, kind) {
+            element_index.insert(name.clone(), ElementId(elements.len() as u32));
+            elements.push(Element {
+                name: name.clone(),
+                kind,
+                span,
+                bonds: Vec::new(),
+            });
+        } else if named_ok {
+            // Keep the name known so bonds to it are not reported as undefined.
+            element_index.insert(name.clone(), ElementId(u32::MAX));
+        }
+    }
+
+    // Bonds.
+    let mut bonds = Vec::new();
+    for (index, raw_bond) in raw.bonds.iter().enumerate() {
+        let bond_spans = map.bonds.get(index);
+        let span = bond_spans.map_or(map.model, |b| b.span);
+        let mut ends = [ElementId(u32::MAX); 2];
+        let mut ok = true;
+        for (side, name) in [&raw_bond.0, &raw_bond.1].into_iter().enumerate() {
+            let end_span = bond_spans
+                .and_then(|b| b.ends.get(side))
+                .map_or(span, |(_, s)| *s);
+            match element_index.get(name) {
+                Some(id) if id.0 != u32::MAX => ends[side] = *id,
+                Some(_) => ok = false, // the element itself was already reported
+                None => {
+                    ok = false;
+                    let mut diagnostic = Diagnostic::new(
+                        DiagnosticKind::UndefinedElement,
+                        format!(
+                            "bond {} -> {} names '{name}', which is not an element of the model",
+                            raw_bond.0, raw_bond.1
+                        ),
+                    )
+                    .at(file, end_span)
+                    .element(name.clone());
+                    if let Some(suggestion) =
+                        suggest(name, element_index.keys().map(String::as_str))
+                    {
+                        diagnostic = diagnostic.note(format!("did you mean '{suggestion}'?"));
+                    }
+                    v.problems.push(diagnostic);
+                }
+            }
+        }
+        if !ok {
+            continue;
+        }
+        if ends[0] == ends[1] {
+            v.problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::SelfBond,
+                    format!("bond {} -> {} connects an element to itself", raw_bond.0, raw_bond.1),
+                )
+                .at(file, span)
+                .element(raw_bond.0.clone()),
+            );
+            continue;
+        }
+        let id = BondId(bonds.len() as u32);
+        elements[ends[0].index()].bonds.push(id);
+        elements[ends[1].index()].bonds.push(id);
+        bonds.push(Bond {
+            from: ends[0],
+            to: ends[1],
+            span,
+        });
+    }
+
+    let model = Model {
+        name: raw.name,
+        description: raw.description,
+        source: file.clone(),
+        symbols,
+        parameters,
+        inputs,
+        elements,
+        bonds,
+        values,
+    };
+    for element in model.element_ids() {
+        v.check_ports(&model, element);
+    }
+    if v.problems.is_empty() {
+        v.check_connected(&model);
+    }
+    if v.problems.is_empty() {
+        Ok(model)
+    } else {
+        Err(Diagnostics(v.problems))
+    }
+}
+
+/// What expressions may name.
+struct Scope<'a> {
+    symbols: &'a SymbolTable,
+    inputs: &'a HashMap<&'a str, u32>,
+    values: &'a [f64],
+}
+
+struct Validator<'a> {
+    file: Arc<SourceFile>,
+    map: &'a SourceMap,
+    problems: Vec<Diagnostic>,
+}
+
+/// What an element's coefficient must satisfy, numerically.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Sign {
+    Positive,
+    NonNegative,
+    NonZero,
+}
+
+impl Validator<'_> {
+    fn entry_span(&self, entries: &[EntrySpans], index: usize) -> Span {
+        entries.get(index).map_or(self.map.model, |e| e.key_span)
+    }
+
+    fn field_span(&self, name: &str) -> Option<Span> {
+        self.map
+            .fields
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, s)| *s)
+    }
+
+    fn field_value_span(&self, entries: &[EntrySpans], index: usize, field: &str) -> Option<Span> {
+        entries
+            .get(index)?
+            .fields
+            .iter()
+            .find(|f| f.name == field)
+            .map(|f| f.value_span)
+    }
+
+    /// The span of a field's string contents, to shift expression spans onto the file.
+    fn string_span(&self, index: usize, field: &str) -> Option<Span> {
+        let entry = self.map.elements.get(index)?;
+        let field = entry.fields.iter().find(|f| f.name == field)?;
+        Some(field.string_content.unwrap_or(field.value_span))
+    }
+
+    fn check_name(&mut self, name: &str, what: &str, span: Span) -> bool {
+        let valid = name
+            .chars()
+            .next()
+            .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+            && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+        if !valid {
+            self.problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::InvalidName,
+                    format!(
+                        "{what} name '{name}' is not a valid name: use letters, digits and '_', starting with a letter"
+                    ),
+                )
+                .at(&self.file, span)
+                .element(name),
+            );
+        }
+        valid
+    }
+
+    fn check_unique(
+        &mut self,
+        seen: &mut HashMap<String, (Span, &'static str)>,
+        name: &str,
+        what: &'static str,
+        span: Span,
+    ) -> bool {
+        if let Some((first, first_what)) = seen.get(name) {
+            let (line, _) = self.file.line_col(first.start);
+            let message = if *first_what == what {
+                format!("{what} '{name}' is defined twice")
+            } else {
+                format!("'{name}' is both a {first_what} and an {what}")
+            };
+            self.problems.push(
+                Diagnostic::new(DiagnosticKind::DuplicateName, message)
+                    .at(&self.file, span)
+                    .element(name)
+                    .note(format!("first defined on line {line}")),
+            );
+            return false;
+        }
+        seen.insert(name.to_string(), (span, what));
+        true
+    }
+
+    fn element_kind(
+        &mut self,
+        name: &str,
+        raw: &RawElement,
+        index: usize,
+        scope: &Scope<'_>,
+    ) -> Option<ElementKind> {
+        Some(match raw {
+            RawElement::Se { effort } => {
+                ElementKind::EffortSource(self.source_value(name, index, "effort", effort, scope)?)
+            }
+            RawElement::Sf { flow } => {
+                ElementKind::FlowSource(self.source_value(name, index, "flow", flow, scope)?)
+            }
+            RawElement::I { inertance } => ElementKind::Inertia(self.coefficient(
+                name,
+                index,
+                "inertance",
+                inertance,
+                scope,
+                Sign::Positive,
+            )?),
+            RawElement::C {
+                compliance,
+                stiffness,
+            } => match (compliance, stiffness) {
+                (Some(text), None) => ElementKind::Compliance(self.coefficient(
+                    name,
+                    index,
+                    "compliance",
+                    text,
+                    scope,
+                    Sign::Positive,
+                )?),
+                (None, Some(text)) => {
+                    let stiffness =
+                        self.coefficient(name, index, "stiffness", text, scope, Sign::Positive)?;
+                    ElementKind::Compliance(Coefficient {
+                        value: stiffness.value.inv().expect("stiffness checked positive"),
+                        ..stiffness
+                    })
+                }
+                (compliance, _) => {
+                    let span = self.entry_span(&self.map.elements, index);
+                    let (kind, message) = if compliance.is_some() {
+                        (
+                            DiagnosticKind::ConflictingFields,
+                            format!("compliance '{name}' gives both compliance and stiffness; give one"),
+                        )
+                    } else {
+                        (
+                            DiagnosticKind::MissingField,
+                            format!("compliance '{name}' needs a compliance or a stiffness"),
+                        )
+                    };
+                    self.problems.push(
+                        Diagnostic::new(kind, message)
+                            .at(&self.file, span)
+                            .element(name)
+                            .note("write C(stiffness: \"k\") or C(compliance: \"1/k\")"),
+                    );
+                    return None;
+                }
+            },
+            RawElement::R { resistance } => ElementKind::Resistor(self.coefficient(
+                name,
+                index,
+                "resistance",
+                resistance,
+                scope,
+                Sign::NonNegative,
+            )?),
+            RawElement::TF { ratio } => ElementKind::Transformer(self.coefficient(
+                name,
+                index,
+                "ratio",
+                ratio,
+                scope,
+                Sign::NonZero,
+            )?),
+            RawElement::GY { ratio } => ElementKind::Gyrator(self.coefficient(
+                name,
+                index,
+                "ratio",
+                ratio,
+                scope,
+                Sign::NonZero,
+            )?),
+            RawElement::Zero => ElementKind::ZeroJunction,
+            RawElement::One => ElementKind::OneJunction,
+        })
+    }
+
+    /// Parses an expression and turns it into an affine form of the inputs.
+    fn affine(
+        &mut self,
+        element: &str,
+        index: usize,
+        field: &str,
+        text: &str,
+        scope: &Scope<'_>,
+    ) -> Option<(LinearForm, Span)> {
+        let base = self
+            .string_span(index, field)
+            .unwrap_or_else(|| self.entry_span(&self.map.elements, index));
+        let expr = match expr::parse(text) {
+            Ok(expr) => expr,
+            Err(error) => {
+                self.problems.push(
+                    Diagnostic::new(
+                        DiagnosticKind::BadExpression,
+                        format!(
+                            "element '{element}': cannot parse {field} \"{text}\": {}",
+                            error.message
+                        ),
+                    )
+                    .at(&self.file, error.span.shifted(base.start))
+                    .element(element),
+                );
+                return None;
+            }
+        };
+        let mut unknown = false;
+        for (symbol, span) in expr.symbols() {
+            if scope.symbols.get(symbol).is_none() && !scope.inputs.contains_key(symbol) {
+                unknown = true;
+                let mut diagnostic = Diagnostic::new(
+                    DiagnosticKind::UnknownSymbol,
+                    format!(
+                        "element '{element}': {field} \"{text}\" uses '{symbol}', which is neither a parameter nor an input"
+                    ),
+                )
+                .at(&self.file, span.shifted(base.start))
+                .element(element);
+                let candidates = scope
+                    .symbols
+                    .iter()
+                    .map(|(_, n)| n)
+                    .chain(scope.inputs.keys().copied());
+                if let Some(suggestion) = suggest(symbol, candidates) {
+                    diagnostic = diagnostic.note(format!("did you mean '{suggestion}'?"));
+                }
+                self.problems.push(diagnostic);
+            }
+        }
+        if unknown {
+            return None;
+        }
+        match to_affine(&expr, scope) {
+            Ok(form) => Some((form, base)),
+            Err((kind, message, span)) => {
+                self.problems.push(
+                    Diagnostic::new(
+                        kind,
+                        format!("element '{element}': {field} \"{text}\": {message}"),
+                    )
+                    .at(&self.file, span.shifted(base.start))
+                    .element(element),
+                );
+                None
+            }
+        }
+    }
+
+    fn source_value(
+        &mut self,
+        element: &str,
+        index: usize,
+        field: &str,
+        text: &str,
+        scope: &Scope<'_>,
+    ) -> Option<SourceValue> {
+        let (value, span) = self.affine(element, index, field, text, scope)?;
+        if let Some(constant) = value.get(Var::Constant) {
+            let number = constant.eval(scope.values);
+            if !number.is_finite() {
+                self.problems.push(
+                    Diagnostic::new(
+                        DiagnosticKind::InvalidValue,
+                        format!(
+                            "element '{element}': {field} \"{text}\" evaluates to {number}, which is not finite"
+                        ),
+                    )
+                    .at(&self.file, span)
+                    .element(element),
+                );
+                return None;
+            }
+        }
+        Some(SourceValue {
+            value,
+            text: text.to_string(),
+            span,
+        })
+    }
+
+    fn coefficient(
+        &mut self,
+        element: &str,
+        index: usize,
+        field: &str,
+        text: &str,
+        scope: &Scope<'_>,
+        sign: Sign,
+    ) -> Option<Coefficient> {
+        let (form, span) = self.affine(element, index, field, text, scope)?;
+        if let Some((Var::Input(i), _)) = form.terms().iter().find(|(v, _)| matches!(v, Var::Input(_))) {
+            let input = scope
+                .inputs
+                .iter()
+                .find(|(_, id)| **id == *i)
+                .map_or("?", |(n, _)| *n);
+            self.problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::NotLinear,
+                    format!(
+                        "element '{element}': {field} \"{text}\" depends on input '{input}'; it may use parameters only"
+                    ),
+                )
+                .at(&self.file, span)
+                .element(element)
+                .note("a coefficient that varies in time makes the model time-varying, which it cannot be"),
+            );
+            return None;
+        }
+        let value = form.coefficient(Var::Constant);
+        let number = value.eval(scope.values);
+        let bad = match sign {
+            _ if !number.is_finite() => Some("finite"),
+            Sign::Positive if value.is_zero() || number <= 0.0 => Some("positive"),
+            Sign::NonNegative if number < 0.0 => Some("zero or positive"),
+            Sign::NonZero if value.is_zero() || number == 0.0 => Some("non-zero"),
+            _ => None,
+        };
+        if let Some(requirement) = bad {
+            let used: Vec<String> = value
+                .symbols()
+                .into_iter()
+                .map(|s| format!("{} = {}", scope.symbols.name(s), scope.values[s.index()]))
+                .collect();
+            let with = if used.is_empty() || value.is_constant() {
+                String::new()
+            } else {
+                format!(" (with {})", used.join(", "))
+            };
+            self.problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::InvalidValue,
+                    format!(
+                        "element '{element}': {field} \"{text}\" = {number}{with} must be {requirement}"
+                    ),
+                )
+                .at(&self.file, span)
+                .element(element),
+            );
+            return None;
+        }
+        Some(Coefficient {
+            value,
+            text: text.to_string(),
+            span,
+        })
+    }
+
+    fn check_ports(&mut self, model: &Model, element: ElementId) {
+        let e = model.element(element);
+        let count = e.bonds.len();
+        let lines = || {
+            e.bonds
+                .iter()
+                .map(|b| model.locate_bond(*b).line.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let problem = match e.kind.port_count() {
+            Some(1) if count != 1 => Some(if count == 0 {
+                format!("{} '{}' has no bond; it needs exactly one", e.kind.description(), e.name)
+            } else {
+                format!(
+                    "{} '{}' has {count} bonds (lines {}); a one-port takes exactly one",
+                    e.kind.description(),
+                    e.name,
+                    lines()
+                )
+            }),
+            Some(2) if count != 2 => Some(format!(
+                "{} '{}' has {count} bonds{}; it takes exactly two, one in and one out",
+                e.kind.description(),
+                e.name,
+                if count == 0 {
+                    String::new()
+                } else {
+                    format!(" (lines {})", lines())
+                }
+            )),
+            Some(2) => {
+                let inward = e.bonds.iter().filter(|b| model.bond(**b).to == element).count();
+                (inward != 1).then(|| {
+                    format!(
+                        "{} '{}' has {} bonds pointing {}; power must flow through it: one bond in, one out",
+                        e.kind.description(),
+                        e.name,
+                        2,
+                        if inward == 2 { "in" } else { "out" }
+                    )
+                })
+            }
+            None if count < 2 => Some(format!(
+                "{} '{}' has {count} bond{}; a junction joins two or more",
+                e.kind.description(),
+                e.name,
+                if count == 1 { "" } else { "s" }
+            )),
+            _ => None,
+        };
+        if let Some(message) = problem {
+            self.problems.push(
+                Diagnostic::new(DiagnosticKind::BondCount, message)
+                    .at(&self.file, e.span)
+                    .element(e.name.clone()),
+            );
+        }
+    }
+
+    fn check_connected(&mut self, model: &Model) {
+        let mut parent: Vec<usize> = (0..model.elements.len()).collect();
+        fn root(parent: &mut [usize], mut i: usize) -> usize {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            i
+        }
+        for bond in &model.bonds {
+            let (a, b) = (root(&mut parent, bond.from.index()), root(&mut parent, bond.to.index()));
+            parent[a.max(b)] = a.min(b);
+        }
+        let mut pieces: Vec<(usize, Vec<ElementId>)> = Vec::new();
+        for element in model.element_ids() {
+            let r = root(&mut parent, element.index());
+            match pieces.iter_mut().find(|(root, _)| *root == r) {
+                Some((_, members)) => members.push(element),
+                None => pieces.push((r, vec![element])),
+            }
+        }
+        if pieces.len() < 2 {
+            return;
+        }
+        let describe = |members: &[ElementId]| {
+            let names: Vec<String> = members
+                .iter()
+                .take(4)
+                .map(|e| format!("'{}'", model.element(*e).name))
+                .collect();
+            let more = members.len().saturating_sub(4);
+            if more > 0 {
+                format!("{{{}, and {more} more}}", names.join(", "))
+            } else {
+                format!("{{{}}}", names.join(", "))
+            }
+        };
+        let listed: Vec<String> = pieces.iter().map(|(_, m)| describe(m)).collect();
+        let first_of_second = pieces[1].1[0];
+        self.problems.push(
+            Diagnostic::new(
+                DiagnosticKind::Disconnected,
+                format!(
+                    "the model is in {} pieces that no bond joins: {}",
+                    pieces.len(),
+                    listed.join(" and ")
+                ),
+            )
+            .at(&self.file, model.element(first_of_second).span)
+            .element(model.element(first_of_second).name.clone())
+            .note("bond the pieces together, or model them in separate files"),
+        );
+    }
+}
+
+type Failure = (DiagnosticKind, String, Span);
+
+/// Turns an expression into an affine form of the inputs with parameter coefficients.
+fn to_affine(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<LinearForm, Failure> {
+    let constant_of = |form: &LinearForm| -> Option<RatFunc> {
+        if form.mentions(|v| v != Var::Constant) {
+            None
+        } else {
+            Some(form.coefficient(Var::Constant))
+        }
+    };
+    Ok(match &expr.kind {
+        ExprKind::Number(text) => {
+            let value = RatFunc::from_decimal(text).ok_or_else(|| {
+                (
+                    DiagnosticKind::BadExpression,
+                    format!("'{text}' is not a number this program can represent exactly"),
+                    expr.span,
+                )
+            })?;
+            LinearForm::constant(value)
+        }
+        ExprKind::Symbol(name) => match scope.symbols.get(name) {
+            Some(symbol) => LinearForm::constant(RatFunc::symbol(symbol)),
+            None => LinearForm::var(Var::Input(scope.inputs[name.as_str()])),
+        },
+        ExprKind::Neg(inner) => to_affine(inner, scope)?.scaled(&RatFunc::integer(-1)),
+        ExprKind::Add(a, b) | ExprKind::Sub(a, b) => {
+            let mut left = to_affine(a, scope)?;
+            let right = to_affine(b, scope)?;
+            let sign = if matches!(expr.kind, ExprKind::Add(..)) { 1 } else { -1 };
+            left.add_scaled(&right, &RatFunc::integer(sign));
+            left
+        }
+        ExprKind::Mul(a, b) => {
+            let (left, right) = (to_affine(a, scope)?, to_affine(b, scope)?);
+            match (constant_of(&left), constant_of(&right)) {
+                (Some(c), _) => right.scaled(&c),
+                (_, Some(c)) => left.scaled(&c),
+                _ => {
+                    return Err((
+                        DiagnosticKind::NotLinear,
+                        "multiplies two inputs; sources must be linear in the inputs".into(),
+                        expr.span,
+                    ));
+                }
+            }
+        }
+        ExprKind::Div(a, b) => {
+            let (left, right) = (to_affine(a, scope)?, to_affine(b, scope)?);
+            let Some(divisor) = constant_of(&right) else {
+                return Err((
+                    DiagnosticKind::NotLinear,
+                    "divides by an input; sources must be linear in the inputs".into(),
+                    b.span,
+                ));
+            };
+            let Some(inverse) = divisor.inv() else {
+                return Err((DiagnosticKind::InvalidValue, "divides by zero".into(), b.span));
+            };
+            left.scaled(&inverse)
+        }
+        ExprKind::Pow(base, exponent) => {
+            let form = to_affine(base, scope)?;
+            if *exponent == 1 {
+                form
+            } else {
+                let Some(value) = constant_of(&form) else {
+                    return Err((
+                        DiagnosticKind::NotLinear,
+                        "raises an input to a power; sources must be linear in the inputs".into(),
+                        expr.span,
+                    ));
+                };
+                let Some(power) = value.powi(*exponent) else {
+                    return Err((
+                        DiagnosticKind::InvalidValue,
+                        "raises zero to a negative power".into(),
+                        expr.span,
+                    ));
+                };
+                LinearForm::constant(power)
+            }
+        }
+    })
+}
+
+/// The candidate closest to `name` by edit distance, if it is close enough to be a typo.
+pub(crate) fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
+    candidates
+        .map(|c| (edit_distance(name, c), c))
+        .filter(|(d, c)| *d <= (name.len().max(c.len()) / 3).max(1))
+        .min()
+        .map(|(_, c)| c)
+}
+
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut previous = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let substitution = previous + usize::from(ca != *cb);
+            previous = row[j + 1];
+            row[j + 1] = substitution.min(row[j] + 1).min(previous + 1);
+        }
+    }
+    row[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn suggestions_catch_typos_only() {
+        let names = ["mass", "spring", "damper"];
+        assert_eq!(suggest("mas", names.into_iter()), Some("mass"));
+        assert_eq!(suggest("dampr", names.into_iter()), Some("damper"));
+        assert_eq!(suggest("valve", names.into_iter()), None);
+        assert_eq!(edit_distance("kitten", "sitting"), 3);
+    }
+}
