@@ -2,4 +2,5 @@
 
 pub mod diagnostics;
 pub mod expr;
+pub mod model;
 pub mod source;

@@ -1,0 +1,2 @@
+//! Reading model files: RON text to a raw model plus a map of where everything is.
+pub mod raw;
