@@ -1,2 +1,3 @@
 //! Reading model files: RON text to a raw model plus a map of where everything is.
 pub mod raw;
+pub mod source_map;
