@@ -896,4 +896,22 @@ mod tests {
         let ok = vec!["a"; 2_000].join("+");
         assert_eq!(parse(&ok).unwrap().symbols().len(), 2_000);
     }
+
+    proptest::proptest! {
+        #[test]
+        fn any_text_parses_or_gives_an_error_inside_it(text in "[ a-c0-9.eE+\\-*/^()_$é]{0,40}") {
+            match parse(&text) {
+                Ok(expr) => {
+                    for (name, span) in expr.symbols() {
+                        proptest::prop_assert_eq!(&text[span.start..span.end], name);
+                    }
+                }
+                Err(e) => {
+                    proptest::prop_assert!(e.span.start <= e.span.end && e.span.end <= text.len());
+                    proptest::prop_assert!(text.is_char_boundary(e.span.start));
+                    proptest::prop_assert!(text.is_char_boundary(e.span.end));
+                }
+            }
+        }
+    }
 }

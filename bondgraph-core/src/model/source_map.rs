@@ -521,6 +521,29 @@ fn unescape(content: &str) -> String {
     out
 }
 
+/// The brackets open at byte `offset` (outermost first), each with its offset, as far as
+/// the text before `offset` can be tokenised.
+pub(crate) fn open_brackets(text: &str, offset: usize) -> Vec<(u8, usize)> {
+    let mut stack = Vec::new();
+    let mut pos = 0;
+    while let Ok(Some(token)) = lex(text, pos) {
+        if token.span.start >= offset {
+            break;
+        }
+        match token.kind {
+            TokenKind::Punct(c @ (b'(' | b'[' | b'{')) => stack.push((c, token.span.start)),
+            TokenKind::Punct(c @ (b')' | b']' | b'}'))
+                if stack.last().is_some_and(|&(open, _)| closer(open) == c) =>
+            {
+                stack.pop();
+            }
+            _ => {}
+        }
+        pos = token.span.end;
+    }
+    stack
+}
+
 /// The closing bracket for opening bracket `open`.
 pub(crate) fn closer(open: u8) -> u8 {
     match open {
@@ -673,7 +696,7 @@ impl<'a> Walker<'a> {
             };
             self.entries_mut(section).push(entry);
             self.expect(b':')?;
-            let start = self.peek()?.ok_or(Stop)?.span.start;
+            let start = skip_trivia(self.text, self.pos).unwrap_or(self.pos);
             self.current_entry(section).value_span.start = start;
             self.entry_value(section)?;
             let end = self.last_end;
@@ -714,7 +737,9 @@ impl<'a> Walker<'a> {
             if is_named_field {
                 self.next()?;
                 self.next()?;
-                let value_start = self.peek()?.map_or(self.pos, |t| t.span.start);
+                // Recorded before the value is read, so that a partial scan stopped by a
+                // bad value still knows which field it is in.
+                let value_start = skip_trivia(self.text, self.pos).unwrap_or(self.pos);
                 let field = FieldSpan {
                     name: self.ident_name(&first),
                     name_span: first.span,
@@ -1190,5 +1215,7 @@ Model (
         assert_eq!(lex(" /* a /* b */", 0), Err(LexError { at: 1 }));
         assert_eq!(lex("\"abc", 0), Err(LexError { at: 0 }));
         assert_eq!(unescape(r"a\n\u{e9}\x41\q\"), "a\n\u{e9}A\\q\\");
+        assert_eq!(open_brackets("({[", 3), [(b'(', 0), (b'{', 1), (b'[', 2)]);
+        assert_eq!(open_brackets("({})[", 5), [(b'[', 4)]);
     }
 }
