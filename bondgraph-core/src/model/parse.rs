@@ -390,14 +390,14 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
             (K::Syntax, message)
         }
         E::ExpectedDifferentStructName { expected, found } => {
-            let message = match (*expected, &place) {
-                ("Model", _) => {
+            let message = match *expected {
+                "Model" => {
                     format!("expected Model(...) or just (...) around the model, found '{found}'")
                 }
-                ("Bond", _) => format!(
+                "Bond" => format!(
                     "{prefix}expected a bond (\"from\", \"to\") or Bond(\"from\", \"to\"), found '{found}'"
                 ),
-                (name, _) => format!("{prefix}expected {name}(...) or just (...), found '{found}'"),
+                name => format!("{prefix}expected {name}(...) or just (...), found '{found}'"),
             };
             (K::WrongType, message)
         }
@@ -415,11 +415,15 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
             )
         }
         E::ExpectedStructLike | E::ExpectedNamedStructLike(_) => {
-            let message = match (&place, &found) {
-                (Place::Entry(Section::Elements, entry), _) if entry.kind.is_some() => format!(
-                    "{prefix}expected '(' after {}, found {found_text}",
-                    entry.kind.as_deref().unwrap_or_default()
-                ),
+            let message = match &place {
+                Place::Entry(
+                    Section::Elements,
+                    EntrySpans {
+                        kind: Some(kind), ..
+                    },
+                ) => {
+                    format!("{prefix}expected '(' after {kind}, found {found_text}")
+                }
                 _ => format!("{prefix}expected '(', found {found_text}"),
             };
             (type_kind, message)
