@@ -780,6 +780,29 @@ Model(
     }
 
     #[test]
+    fn unusual_but_valid_ron_still_gets_a_complete_source_map() {
+        let text = r##"#![enable(implicit_some)]
+            /* leading /* nested */ comment */ (
+            name: r#"odd "name""#, description: Some("\u{e9}t\u{e9}"),
+            parameters: {"a": (value: 1_000), "b": (value: -inf), "c": (value: +0.5e-3,),
+                r"d": Parameter(value: 2, unit: None)},
+            elements: {"x": r#Zero, "y": Se(effort: r#"a"#,), "y": C(stiffness: "b",
+                compliance: Some("c"))},
+            bonds: [Bond("x", "y",), ("y", r"x")],
+        )"##;
+        let file = SourceFile::new("m.ron", text);
+        let (model, map) = parse_model(&file).unwrap();
+        assert_eq!(map.parameters.len(), model.parameters.len());
+        assert_eq!(map.elements.len(), model.elements.len());
+        assert_eq!(map.bonds.len(), model.bonds.len());
+        let keys: Vec<&str> = map.parameters.iter().map(|e| e.key.as_str()).collect();
+        assert_eq!(keys, ["a", "b", "c", "d"]);
+        let ends: Vec<&str> = map.bonds[1].ends.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(ends, ["y", "x"]);
+        assert_eq!(map.elements[0].kind.as_deref(), Some("Zero"));
+    }
+
+    #[test]
     fn empty_files() {
         for text in ["", "  \n\t\n", "// nothing here\n/* nor here */\n"] {
             let (d, line, column) = diagnose(text);
