@@ -59,3 +59,859 @@ pub struct ExprError {
     /// Byte range in the expression text.
     pub span: Span,
 }
+
+impl ExprError {
+    fn new(message: impl Into<String>, span: Span) -> Self {
+        Self {
+            message: message.into(),
+            span,
+        }
+    }
+}
+
+impl std::fmt::Display for ExprError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for ExprError {}
+
+/// Parses `text` by the grammar in the [module documentation](self).
+///
+/// Spans in the tree and in the error are byte offsets into `text`. Whitespace may appear
+/// between any two tokens; an empty or all-blank text is an error.
+pub fn parse(text: &str) -> Result<Expr, ExprError> {
+    let tokens = lex(text)?;
+    if tokens.len() > MAX_TOKENS {
+        return Err(ExprError::new(
+            format!("the expression is too long (more than {MAX_TOKENS} tokens)"),
+            Span::new(0, text.len()),
+        ));
+    }
+    let mut parser = Parser {
+        tokens,
+        pos: 0,
+        end: text.len(),
+    };
+    if parser.peek().is_none() {
+        return Err(ExprError::new(
+            "the expression is empty; expected a number, a symbol or '('",
+            Span::new(0, text.len()),
+        ));
+    }
+    let (expr, _) = parser.expr(0)?;
+    match parser.peek() {
+        None => Ok(expr),
+        Some(token) if token.kind == Tok::RParen => {
+            Err(ExprError::new("unexpected ')'", token.span))
+        }
+        Some(token) if token.kind == Tok::Caret && matches!(expr.kind, ExprKind::Pow(..)) => {
+            Err(ExprError::new(
+                "a power cannot be raised to another power directly; use parentheses, as in (a^2)^3",
+                token.span,
+            ))
+        }
+        Some(token) => Err(ExprError::new(
+            format!(
+                "expected an operator or the end of the expression, found {}",
+                token.describe()
+            ),
+            token.span,
+        )),
+    }
+}
+
+impl Expr {
+    /// The symbols the expression names, in order of appearance, with repeats, each with
+    /// its span.
+    pub fn symbols(&self) -> Vec<(&str, Span)> {
+        let mut out = Vec::new();
+        self.collect_symbols(&mut out);
+        out
+    }
+
+    fn collect_symbols<'a>(&'a self, out: &mut Vec<(&'a str, Span)>) {
+        match &self.kind {
+            ExprKind::Number(_) => {}
+            ExprKind::Symbol(name) => out.push((name, self.span)),
+            ExprKind::Neg(a) | ExprKind::Pow(a, _) => a.collect_symbols(out),
+            ExprKind::Add(a, b)
+            | ExprKind::Sub(a, b)
+            | ExprKind::Mul(a, b)
+            | ExprKind::Div(a, b) => {
+                a.collect_symbols(out);
+                b.collect_symbols(out);
+            }
+        }
+    }
+
+    /// Evaluates the expression in floating point, looking symbols up with `lookup`.
+    ///
+    /// Arithmetic follows `f64` (so `1/0` is infinite and `0/0` is NaN). A symbol that
+    /// `lookup` does not know gives `Err((name, span))` for the first such symbol.
+    pub fn eval(&self, lookup: &dyn Fn(&str) -> Option<f64>) -> Result<f64, (String, Span)> {
+        Ok(match &self.kind {
+            ExprKind::Number(text) => text.parse::<f64>().map_err(|_| (text.clone(), self.span))?,
+            ExprKind::Symbol(name) => lookup(name).ok_or_else(|| (name.clone(), self.span))?,
+            ExprKind::Neg(a) => -a.eval(lookup)?,
+            ExprKind::Add(a, b) => a.eval(lookup)? + b.eval(lookup)?,
+            ExprKind::Sub(a, b) => a.eval(lookup)? - b.eval(lookup)?,
+            ExprKind::Mul(a, b) => a.eval(lookup)? * b.eval(lookup)?,
+            ExprKind::Div(a, b) => a.eval(lookup)? / b.eval(lookup)?,
+            ExprKind::Pow(a, n) => a.eval(lookup)?.powi(*n),
+        })
+    }
+}
+
+/// Deepest nesting of parentheses and unary operators accepted, so that a hostile
+/// expression cannot overflow the stack.
+const MAX_DEPTH: usize = 200;
+
+/// Longest expression accepted, in tokens: the tree of a long sum is as deep as the sum
+/// is long, and walking or dropping it recurses.
+const MAX_TOKENS: usize = 4096;
+
+#[derive(Clone, Debug, PartialEq)]
+enum Tok {
+    Number(String),
+    Ident(String),
+    Plus,
+    Minus,
+    Star,
+    Slash,
+    Caret,
+    LParen,
+    RParen,
+}
+
+#[derive(Clone, Debug)]
+struct Token {
+    kind: Tok,
+    span: Span,
+}
+
+impl Token {
+    fn describe(&self) -> String {
+        match &self.kind {
+            Tok::Number(text) | Tok::Ident(text) => format!("'{text}'"),
+            Tok::Plus => "'+'".into(),
+            Tok::Minus => "'-'".into(),
+            Tok::Star => "'*'".into(),
+            Tok::Slash => "'/'".into(),
+            Tok::Caret => "'^'".into(),
+            Tok::LParen => "'('".into(),
+            Tok::RParen => "')'".into(),
+        }
+    }
+}
+
+fn describe(token: Option<&Token>) -> String {
+    token.map_or_else(|| "end of expression".to_string(), Token::describe)
+}
+
+fn lex(text: &str) -> Result<Vec<Token>, ExprError> {
+    let bytes = text.as_bytes();
+    let mut tokens = Vec::new();
+    let mut i = 0;
+    while i < bytes.len() {
+        let start = i;
+        let c = bytes[i];
+        let kind = match c {
+            b' ' | b'\t' | b'\n' | b'\r' => {
+                i += 1;
+                continue;
+            }
+            b'+' => Tok::Plus,
+            b'-' => Tok::Minus,
+            b'*' => Tok::Star,
+            b'/' => Tok::Slash,
+            b'^' => Tok::Caret,
+            b'(' => Tok::LParen,
+            b')' => Tok::RParen,
+            b'0'..=b'9' => {
+                i = lex_number(text, start)?;
+                tokens.push(Token {
+                    kind: Tok::Number(text[start..i].to_string()),
+                    span: Span::new(start, i),
+                });
+                continue;
+            }
+            b'.' if bytes.get(i + 1).is_some_and(u8::is_ascii_digit) => {
+                i = lex_number(text, start)?;
+                tokens.push(Token {
+                    kind: Tok::Number(text[start..i].to_string()),
+                    span: Span::new(start, i),
+                });
+                continue;
+            }
+            b'A'..=b'Z' | b'a'..=b'z' | b'_' => {
+                while i < bytes.len() && (bytes[i].is_ascii_alphanumeric() || bytes[i] == b'_') {
+                    i += 1;
+                }
+                tokens.push(Token {
+                    kind: Tok::Ident(text[start..i].to_string()),
+                    span: Span::new(start, i),
+                });
+                continue;
+            }
+            _ => {
+                // `start` is always on a character boundary: every arm above consumes
+                // whole ASCII characters.
+                let ch = text[start..].chars().next().unwrap_or('?');
+                return Err(ExprError::new(
+                    format!("unexpected character '{}'", ch.escape_debug()),
+                    Span::new(start, start + ch.len_utf8()),
+                ));
+            }
+        };
+        i += 1;
+        tokens.push(Token {
+            kind,
+            span: Span::new(start, i),
+        });
+    }
+    Ok(tokens)
+}
+
+/// Scans a number literal starting at `start`; returns the end offset.
+fn lex_number(text: &str, start: usize) -> Result<usize, ExprError> {
+    let bytes = text.as_bytes();
+    let digits = |mut i: usize| {
+        while i < bytes.len() && bytes[i].is_ascii_digit() {
+            i += 1;
+        }
+        i
+    };
+    let mut i = digits(start);
+    if bytes.get(i) == Some(&b'.') {
+        i = digits(i + 1);
+    }
+    if matches!(bytes.get(i), Some(b'e' | b'E')) {
+        let mut j = i + 1;
+        if matches!(bytes.get(j), Some(b'+' | b'-')) {
+            j += 1;
+        }
+        let end = digits(j);
+        if end == j {
+            return Err(ExprError::new(
+                format!(
+                    "expected digits in the exponent of the number '{}'",
+                    &text[start..j]
+                ),
+                Span::new(start, j),
+            ));
+        }
+        i = end;
+    }
+    Ok(i)
+}
+
+struct Parser {
+    tokens: Vec<Token>,
+    pos: usize,
+    /// Length of the text, for the position of "end of expression".
+    end: usize,
+}
+
+/// A parsed node and the span of its text including any parentheses around it.
+type Parsed = (Expr, Span);
+
+impl Parser {
+    fn peek(&self) -> Option<&Token> {
+        self.tokens.get(self.pos)
+    }
+
+    fn peek_kind(&self) -> Option<&Tok> {
+        self.peek().map(|t| &t.kind)
+    }
+
+    fn bump(&mut self) -> Option<Token> {
+        let token = self.tokens.get(self.pos).cloned();
+        if token.is_some() {
+            self.pos += 1;
+        }
+        token
+    }
+
+    /// The span of the next token, or an empty span at the end of the text.
+    fn here(&self) -> Span {
+        self.peek()
+            .map_or(Span::new(self.end, self.end), |t| t.span)
+    }
+
+    fn expected_operand(&self, after: Option<&Token>) -> ExprError {
+        let found = describe(self.peek());
+        let message = match after {
+            Some(op) => format!("expected an operand after {}, found {found}", op.describe()),
+            None => format!("expected an operand, found {found}"),
+        };
+        ExprError::new(message, self.here())
+    }
+
+    fn expr(&mut self, depth: usize) -> Result<Parsed, ExprError> {
+        let (mut left, mut outer) = self.term(depth, None)?;
+        while let Some(Tok::Plus | Tok::Minus) = self.peek_kind() {
+            let Some(op) = self.bump() else { break };
+            let (right, right_outer) = self.term(depth, Some(&op))?;
+            let span = Span::new(outer.start, right_outer.end);
+            let kind = if op.kind == Tok::Plus {
+                ExprKind::Add(Box::new(left), Box::new(right))
+            } else {
+                ExprKind::Sub(Box::new(left), Box::new(right))
+            };
+            left = Expr { kind, span };
+            outer = span;
+        }
+        Ok((left, outer))
+    }
+
+    fn term(&mut self, depth: usize, after: Option<&Token>) -> Result<Parsed, ExprError> {
+        let (mut left, mut outer) = self.unary(depth, after)?;
+        while let Some(Tok::Star | Tok::Slash) = self.peek_kind() {
+            let Some(op) = self.bump() else { break };
+            let (right, right_outer) = self.unary(depth, Some(&op))?;
+            let span = Span::new(outer.start, right_outer.end);
+            let kind = if op.kind == Tok::Star {
+                ExprKind::Mul(Box::new(left), Box::new(right))
+            } else {
+                ExprKind::Div(Box::new(left), Box::new(right))
+            };
+            left = Expr { kind, span };
+            outer = span;
+        }
+        Ok((left, outer))
+    }
+
+    fn unary(&mut self, depth: usize, after: Option<&Token>) -> Result<Parsed, ExprError> {
+        if depth > MAX_DEPTH {
+            return Err(ExprError::new(
+                "the expression is nested too deeply",
+                self.here(),
+            ));
+        }
+        match self.peek_kind() {
+            Some(Tok::Minus | Tok::Plus) => {
+                let Some(op) = self.bump() else {
+                    return Err(self.expected_operand(after));
+                };
+                let (operand, operand_outer) = self.unary(depth + 1, Some(&op))?;
+                let span = Span::new(op.span.start, operand_outer.end);
+                if op.kind == Tok::Plus {
+                    // Unary plus changes nothing; keep the operand's node but cover the '+'.
+                    return Ok((operand, span));
+                }
+                Ok((
+                    Expr {
+                        kind: ExprKind::Neg(Box::new(operand)),
+                        span,
+                    },
+                    span,
+                ))
+            }
+            _ => self.power(depth, after),
+        }
+    }
+
+    fn power(&mut self, depth: usize, after: Option<&Token>) -> Result<Parsed, ExprError> {
+        let (base, base_outer) = self.atom(depth, after)?;
+        if self.peek_kind() != Some(&Tok::Caret) {
+            return Ok((base, base_outer));
+        }
+        let Some(caret) = self.bump() else {
+            return Ok((base, base_outer));
+        };
+        let (exponent, exponent_end) = self.exponent(&caret)?;
+        let span = Span::new(base_outer.start, exponent_end);
+        Ok((
+            Expr {
+                kind: ExprKind::Pow(Box::new(base), exponent),
+                span,
+            },
+            span,
+        ))
+    }
+
+    /// `'-'? integer | '(' '-'? integer ')'` after `caret`; returns the exponent and the
+    /// end offset of its text.
+    fn exponent(&mut self, caret: &Token) -> Result<(i32, usize), ExprError> {
+        let open = if self.peek_kind() == Some(&Tok::LParen) {
+            self.bump()
+        } else {
+            None
+        };
+        let minus = if self.peek_kind() == Some(&Tok::Minus) {
+            self.bump()
+        } else {
+            None
+        };
+        let Some(token) = self.bump() else {
+            let after = minus.as_ref().or(open.as_ref()).unwrap_or(caret);
+            return Err(ExprError::new(
+                format!(
+                    "expected an integer exponent after {}, found end of expression",
+                    after.describe()
+                ),
+                Span::new(self.end, self.end),
+            ));
+        };
+        let digits = match &token.kind {
+            Tok::Number(text) if text.bytes().all(|b| b.is_ascii_digit()) => text.clone(),
+            Tok::Number(_) | Tok::Ident(_) | Tok::LParen => {
+                let span = self.exponent_extent(&token, open.is_some());
+                return Err(ExprError::new("exponent must be an integer", span));
+            }
+            _ => {
+                let after = minus.as_ref().or(open.as_ref()).unwrap_or(caret);
+                return Err(ExprError::new(
+                    format!(
+                        "expected an integer exponent after {}, found {}",
+                        after.describe(),
+                        token.describe()
+                    ),
+                    token.span,
+                ));
+            }
+        };
+        let start = minus.as_ref().map_or(token.span.start, |m| m.span.start);
+        let signed = if minus.is_some() {
+            format!("-{digits}")
+        } else {
+            digits
+        };
+        let Ok(value) = signed.parse::<i32>() else {
+            return Err(ExprError::new(
+                format!("exponent {signed} is too large"),
+                Span::new(start, token.span.end),
+            ));
+        };
+        let mut end = token.span.end;
+        if open.is_some() {
+            match self.bump() {
+                Some(close) if close.kind == Tok::RParen => end = close.span.end,
+                Some(_) => {
+                    // More than an integer inside the parentheses, as in `a^(2*n)`.
+                    let mut end = token.span.end;
+                    let mut level = 0_usize;
+                    for inner in &self.tokens[self.pos - 1..] {
+                        match inner.kind {
+                            Tok::LParen => level += 1,
+                            Tok::RParen if level == 0 => break,
+                            Tok::RParen => level -= 1,
+                            _ => {}
+                        }
+                        end = inner.span.end;
+                    }
+                    return Err(ExprError::new(
+                        "exponent must be an integer",
+                        Span::new(start, end),
+                    ));
+                }
+                other => {
+                    let span = other
+                        .as_ref()
+                        .map_or(Span::new(self.end, self.end), |t| t.span);
+                    return Err(ExprError::new(
+                        format!(
+                            "expected ')' to close the exponent's '(', found {}",
+                            describe(other.as_ref())
+                        ),
+                        span,
+                    ));
+                }
+            }
+        }
+        Ok((value, end))
+    }
+
+    /// The span of a non-integer exponent that starts with `first` (already taken): one
+    /// token, a whole parenthesised group, or everything up to the ')' that closes the
+    /// exponent's own '('.
+    fn exponent_extent(&self, first: &Token, parenthesised: bool) -> Span {
+        let mut level: usize = match first.kind {
+            Tok::LParen => 1,
+            _ if parenthesised => 0,
+            _ => return first.span,
+        };
+        let mut end = first.span.end;
+        for token in &self.tokens[self.pos..] {
+            match token.kind {
+                Tok::LParen => level += 1,
+                Tok::RParen if level == 0 => break,
+                Tok::RParen => {
+                    level -= 1;
+                    if level == 0 && !parenthesised {
+                        end = token.span.end;
+                        break;
+                    }
+                }
+                _ => {}
+            }
+            end = token.span.end;
+        }
+        Span::new(first.span.start, end)
+    }
+
+    fn atom(&mut self, depth: usize, after: Option<&Token>) -> Result<Parsed, ExprError> {
+        let Some(token) = self.peek().cloned() else {
+            return Err(self.expected_operand(after));
+        };
+        match token.kind {
+            Tok::Number(text) => {
+                self.pos += 1;
+                let expr = Expr {
+                    kind: ExprKind::Number(text),
+                    span: token.span,
+                };
+                Ok((expr, token.span))
+            }
+            Tok::Ident(name) => {
+                self.pos += 1;
+                let expr = Expr {
+                    kind: ExprKind::Symbol(name),
+                    span: token.span,
+                };
+                Ok((expr, token.span))
+            }
+            Tok::LParen => {
+                self.pos += 1;
+                if depth >= MAX_DEPTH {
+                    return Err(ExprError::new(
+                        "the expression is nested too deeply",
+                        token.span,
+                    ));
+                }
+                let open = token;
+                let (inner, _) = match self.peek_kind() {
+                    Some(Tok::RParen) | None => return Err(self.expected_operand(Some(&open))),
+                    _ => self.expr(depth + 1)?,
+                };
+                match self.peek() {
+                    Some(close) if close.kind == Tok::RParen => {
+                        let end = close.span.end;
+                        self.pos += 1;
+                        Ok((inner, Span::new(open.span.start, end)))
+                    }
+                    other => Err(ExprError::new(
+                        format!("expected ')' to close '(', found {}", describe(other)),
+                        self.here(),
+                    )),
+                }
+            }
+            _ => Err(self.expected_operand(after)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The tree in prefix form, to compare shapes compactly.
+    fn tree(expr: &Expr) -> String {
+        match &expr.kind {
+            ExprKind::Number(text) => text.clone(),
+            ExprKind::Symbol(name) => name.clone(),
+            ExprKind::Neg(a) => format!("(neg {})", tree(a)),
+            ExprKind::Add(a, b) => format!("(+ {} {})", tree(a), tree(b)),
+            ExprKind::Sub(a, b) => format!("(- {} {})", tree(a), tree(b)),
+            ExprKind::Mul(a, b) => format!("(* {} {})", tree(a), tree(b)),
+            ExprKind::Div(a, b) => format!("(/ {} {})", tree(a), tree(b)),
+            ExprKind::Pow(a, n) => format!("(^ {} {n})", tree(a)),
+        }
+    }
+
+    fn shape(text: &str) -> String {
+        match parse(text) {
+            Ok(expr) => tree(&expr),
+            Err(e) => panic!("{text:?} did not parse: {e:?}"),
+        }
+    }
+
+    fn error(text: &str) -> (String, (usize, usize)) {
+        match parse(text) {
+            Ok(expr) => panic!("{text:?} parsed as {}", tree(&expr)),
+            Err(e) => (e.message, (e.span.start, e.span.end)),
+        }
+    }
+
+    #[test]
+    fn precedence_and_associativity() {
+        assert_eq!(shape("a+b*c"), "(+ a (* b c))");
+        assert_eq!(shape("a*b+c"), "(+ (* a b) c)");
+        assert_eq!(shape("-a^2"), "(neg (^ a 2))");
+        assert_eq!(shape("a/b/c"), "(/ (/ a b) c)");
+        assert_eq!(shape("a-b-c"), "(- (- a b) c)");
+        assert_eq!(shape("a-b+c"), "(+ (- a b) c)");
+        assert_eq!(shape("2^-1"), "(^ 2 -1)");
+        assert_eq!(shape("a^(-2)"), "(^ a -2)");
+        assert_eq!(shape("a^( 3 )"), "(^ a 3)");
+        assert_eq!(shape("-a*b"), "(* (neg a) b)");
+        assert_eq!(shape("a*-b"), "(* a (neg b))");
+        assert_eq!(shape("--a"), "(neg (neg a))");
+        assert_eq!(shape("+a"), "a");
+        assert_eq!(shape("(a+b)*c"), "(* (+ a b) c)");
+        assert_eq!(shape("(a*b)^2"), "(^ (* a b) 2)");
+        assert_eq!(shape("1/k_ge"), "(/ 1 k_ge)");
+        assert_eq!(shape("A*P_s"), "(* A P_s)");
+        assert_eq!(shape("m_ct + m_ge"), "(+ m_ct m_ge)");
+    }
+
+    #[test]
+    fn number_literals_are_kept_as_written() {
+        assert_eq!(shape("2"), "2");
+        assert_eq!(shape("0.5"), "0.5");
+        assert_eq!(shape("1e-3"), "1e-3");
+        assert_eq!(shape("5.E4"), "5.E4");
+        assert_eq!(shape("5."), "5.");
+        assert_eq!(shape(".25e+2"), ".25e+2");
+    }
+
+    #[test]
+    fn whitespace_is_allowed_between_all_tokens() {
+        assert_eq!(shape(" \t( a\n+ b ) ^ - 2 / c "), "(/ (^ (+ a b) -2) c)");
+    }
+
+    #[test]
+    fn node_spans_cover_their_text_including_inner_parentheses() {
+        let expr = parse(" (a+b)*c ").unwrap();
+        assert_eq!(expr.span, Span::new(1, 8));
+        let ExprKind::Mul(left, right) = &expr.kind else {
+            panic!("not a product");
+        };
+        // A parenthesised node's own span is the text inside the parentheses.
+        assert_eq!(left.span, Span::new(2, 5));
+        assert_eq!(right.span, Span::new(7, 8));
+        assert_eq!(parse("-a^2").unwrap().span, Span::new(0, 4));
+        assert_eq!(parse("a^(-2)").unwrap().span, Span::new(0, 6));
+    }
+
+    #[test]
+    fn symbols_in_order_with_repeats_and_spans() {
+        let expr = parse("  k_1 * (m+ k_1)^2 / 3").unwrap();
+        assert_eq!(
+            expr.symbols(),
+            vec![
+                ("k_1", Span::new(2, 5)),
+                ("m", Span::new(9, 10)),
+                ("k_1", Span::new(12, 15)),
+            ]
+        );
+        assert!(parse("2*3").unwrap().symbols().is_empty());
+    }
+
+    #[test]
+    fn eval_uses_f64_semantics() {
+        let lookup = |name: &str| match name {
+            "m" => Some(2.0),
+            "k" => Some(8.0),
+            "zero" => Some(0.0),
+            _ => None,
+        };
+        let eval = |text: &str| parse(text).unwrap().eval(&lookup);
+        assert_eq!(eval("2*m + k/2"), Ok(8.0));
+        assert_eq!(eval("-m^2"), Ok(-4.0));
+        assert_eq!(eval("2^-1"), Ok(0.5));
+        assert_eq!(eval("k^(-2)"), Ok(1.0 / 64.0));
+        assert_eq!(eval("5.E4 + .5 + 1e-3 + 5."), Ok(50_005.501));
+        assert_eq!(eval("1/zero"), Ok(f64::INFINITY));
+        assert!(eval("zero/zero").unwrap().is_nan());
+        assert_eq!(eval("m + x*y"), Err(("x".to_string(), Span::new(4, 5))));
+    }
+
+    #[test]
+    fn empty_expressions_are_errors() {
+        let message = "the expression is empty; expected a number, a symbol or '('".to_string();
+        assert_eq!(error(""), (message.clone(), (0, 0)));
+        assert_eq!(error(" \t "), (message, (0, 3)));
+    }
+
+    #[test]
+    fn missing_operands() {
+        assert_eq!(
+            error("a *"),
+            (
+                "expected an operand after '*', found end of expression".into(),
+                (3, 3)
+            )
+        );
+        assert_eq!(
+            error("a + )"),
+            ("expected an operand after '+', found ')'".into(), (4, 5))
+        );
+        assert_eq!(
+            error("*a"),
+            ("expected an operand, found '*'".into(), (0, 1))
+        );
+        assert_eq!(
+            error("a*/b"),
+            ("expected an operand after '*', found '/'".into(), (2, 3))
+        );
+        assert_eq!(
+            error("-"),
+            (
+                "expected an operand after '-', found end of expression".into(),
+                (1, 1)
+            )
+        );
+        assert_eq!(
+            error("( )"),
+            ("expected an operand after '(', found ')'".into(), (2, 3))
+        );
+    }
+
+    #[test]
+    fn unbalanced_parentheses() {
+        assert_eq!(error("a)"), ("unexpected ')'".into(), (1, 2)));
+        assert_eq!(error("(a))"), ("unexpected ')'".into(), (3, 4)));
+        assert_eq!(
+            error("(a + b"),
+            (
+                "expected ')' to close '(', found end of expression".into(),
+                (6, 6)
+            )
+        );
+        assert_eq!(
+            error("(a b)"),
+            ("expected ')' to close '(', found 'b'".into(), (3, 4))
+        );
+    }
+
+    #[test]
+    fn missing_operators() {
+        assert_eq!(
+            error("a b"),
+            (
+                "expected an operator or the end of the expression, found 'b'".into(),
+                (2, 3)
+            )
+        );
+        assert_eq!(
+            error("2x"),
+            (
+                "expected an operator or the end of the expression, found 'x'".into(),
+                (1, 2)
+            )
+        );
+        assert_eq!(
+            error("a (b)"),
+            (
+                "expected an operator or the end of the expression, found '('".into(),
+                (2, 3)
+            )
+        );
+    }
+
+    #[test]
+    fn exponents_must_be_integers() {
+        let message = "exponent must be an integer".to_string();
+        assert_eq!(error("a^b"), (message.clone(), (2, 3)));
+        assert_eq!(error("a^2.5"), (message.clone(), (2, 5)));
+        assert_eq!(error("a^-x"), (message.clone(), (3, 4)));
+        assert_eq!(error("a^(x + 1)"), (message.clone(), (3, 8)));
+        assert_eq!(error("a^(-x)"), (message.clone(), (4, 5)));
+        assert_eq!(error("a^(2*(3))"), (message.clone(), (3, 8)));
+        assert_eq!(error("a^-(2)"), (message.clone(), (3, 6)));
+        assert_eq!(error("a^1e3"), (message, (2, 5)));
+        assert_eq!(
+            error("a^"),
+            (
+                "expected an integer exponent after '^', found end of expression".into(),
+                (2, 2)
+            )
+        );
+        assert_eq!(
+            error("a^ *"),
+            (
+                "expected an integer exponent after '^', found '*'".into(),
+                (3, 4)
+            )
+        );
+        assert_eq!(
+            error("a^(-"),
+            (
+                "expected an integer exponent after '-', found end of expression".into(),
+                (4, 4)
+            )
+        );
+        assert_eq!(
+            error("a^(2"),
+            (
+                "expected ')' to close the exponent's '(', found end of expression".into(),
+                (4, 4)
+            )
+        );
+        assert_eq!(
+            error("a^99999999999"),
+            ("exponent 99999999999 is too large".into(), (2, 13))
+        );
+        assert_eq!(
+            error("a^2^3"),
+            (
+                "a power cannot be raised to another power directly; use parentheses, as in (a^2)^3"
+                    .into(),
+                (3, 4)
+            )
+        );
+    }
+
+    #[test]
+    fn bad_characters_and_numbers() {
+        assert_eq!(error("a $ b"), ("unexpected character '$'".into(), (2, 3)));
+        // A multi-byte character is reported whole.
+        assert_eq!(error("m·g"), ("unexpected character '·'".into(), (1, 3)));
+        assert_eq!(error("a.b"), ("unexpected character '.'".into(), (1, 2)));
+        assert_eq!(
+            error("2e + 1"),
+            (
+                "expected digits in the exponent of the number '2e'".into(),
+                (0, 2)
+            )
+        );
+        assert_eq!(
+            error("1.5E-"),
+            (
+                "expected digits in the exponent of the number '1.5E-'".into(),
+                (0, 5)
+            )
+        );
+    }
+
+    #[test]
+    fn hostile_inputs_are_errors_not_crashes() {
+        let deep = format!("{}a{}", "(".repeat(10_000), ")".repeat(10_000));
+        assert_eq!(
+            error(&deep).0,
+            "the expression is too long (more than 4096 tokens)"
+        );
+        let nested = format!("{}a{}", "(".repeat(1_000), ")".repeat(1_000));
+        assert_eq!(error(&nested).0, "the expression is nested too deeply");
+        let negations = format!("{}a", "-".repeat(1_000));
+        assert_eq!(error(&negations).0, "the expression is nested too deeply");
+        let long = vec!["a"; 5_000].join("+");
+        assert_eq!(
+            error(&long).0,
+            "the expression is too long (more than 4096 tokens)"
+        );
+        let ok = vec!["a"; 2_000].join("+");
+        assert_eq!(parse(&ok).unwrap().symbols().len(), 2_000);
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn any_text_parses_or_gives_an_error_inside_it(text in "[ a-c0-9.eE+\\-*/^()_$é]{0,40}") {
+            match parse(&text) {
+                Ok(expr) => {
+                    for (name, span) in expr.symbols() {
+                        proptest::prop_assert_eq!(&text[span.start..span.end], name);
+                    }
+                }
+                Err(e) => {
+                    proptest::prop_assert!(e.span.start <= e.span.end && e.span.end <= text.len());
+                    proptest::prop_assert!(text.is_char_boundary(e.span.start));
+                    proptest::prop_assert!(text.is_char_boundary(e.span.end));
+                }
+            }
+        }
+    }
+}

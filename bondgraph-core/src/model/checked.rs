@@ -7,7 +7,7 @@
 
 use std::sync::Arc;
 
-use crate::linear::{LinearForm, Var};
+use crate::linear::LinearForm;
 use crate::source::{Location, SourceFile, Span};
 use crate::symbolic::{RatFunc, Symbol, SymbolTable};
 
@@ -123,7 +123,7 @@ pub struct Coefficient {
 
 /// A source value: affine in the inputs with parameter coefficients (`A*P_s`, `F_0 + F`).
 ///
-/// Only [`Var::Input`] and [`Var::Constant`] appear in it.
+/// Only [`Var::Input`](crate::linear::Var::Input) and [`Var::Constant`](crate::linear::Var::Constant) appear in it.
 #[derive(Clone, Debug)]
 pub struct SourceValue {
     /// Its value as an affine form of the inputs.
@@ -289,12 +289,3 @@ impl Model {
     }
 }
 
-/// A source value that is constant: `value · 1`.
-pub fn constant_source(value: RatFunc) -> LinearForm {
-    LinearForm::constant(value)
-}
-
-/// Whether a source value depends on no input.
-pub fn is_constant_source(value: &LinearForm) -> bool {
-    !value.mentions(|v| matches!(v, Var::Input(_)))
-}

@@ -1,0 +1,330 @@
+//! The model file format, exactly as serde reads it from RON.
+//!
+//! These types mirror what the user writes and nothing more: names are plain strings,
+//! expressions are unparsed text, and nothing is checked beyond the shape of the data.
+//! Checking (duplicate names, unknown elements, bond counts, expressions) happens in later
+//! stages, which need to see the file as written; in particular the maps of parameters,
+//! inputs and elements are read as lists of entries in file order, so that a name defined
+//! twice is reported instead of silently overwritten. Every struct and enum denies unknown
+//! fields, so a misspelt field is an error rather than an ignored line.
+//!
+//! A model file looks like this (the outer `Model` name is optional, and optional fields
+//! are written without `Some(...)`):
+//!
+//! ```ron
+//! Model(
+//!     name: "mass-spring-damper",
+//!     parameters: {
+//!         "m": (value: 1.0, unit: "kg"),
+//!         "k": (value: 100.0, unit: "N/m"),
+//!     },
+//!     inputs: { "F": (unit: "N") },
+//!     elements: {
+//!         "force": Se(effort: "F"),
+//!         "junction": One,
+//!         "mass": I(inertance: "m"),
+//!         "spring": C(stiffness: "k"),
+//!     },
+//!     bonds: [("force", "junction"), ("junction", "mass"), ("junction", "spring")],
+//! )
+//! ```
+
+use std::fmt;
+use std::marker::PhantomData;
+
+use serde::Deserialize;
+use serde::de::{Deserializer, MapAccess, Visitor};
+
+/// A whole model file.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(rename = "Model", deny_unknown_fields)]
+pub struct RawModel {
+    /// The model's name.
+    pub name: String,
+    /// A description for people.
+    pub description: Option<String>,
+    /// Named parameters, in file order, duplicates kept.
+    #[serde(default, deserialize_with = "entries")]
+    pub parameters: Vec<(String, RawParameter)>,
+    /// Named external inputs (time-varying signals), in file order, duplicates kept.
+    #[serde(default, deserialize_with = "entries")]
+    pub inputs: Vec<(String, RawInput)>,
+    /// Named elements, in file order, duplicates kept.
+    #[serde(default, deserialize_with = "entries")]
+    pub elements: Vec<(String, RawElement)>,
+    /// The bonds between elements.
+    #[serde(default)]
+    pub bonds: Vec<RawBond>,
+}
+
+/// A parameter: a constant with a value.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(rename = "Parameter", deny_unknown_fields)]
+pub struct RawParameter {
+    /// The value, in the unit given.
+    pub value: f64,
+    /// The unit, for people (not checked).
+    pub unit: Option<String>,
+    /// A description for people.
+    pub description: Option<String>,
+}
+
+/// An external input: a signal given at simulation time.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(rename = "Input", deny_unknown_fields)]
+pub struct RawInput {
+    /// The unit, for people (not checked).
+    pub unit: Option<String>,
+    /// A description for people.
+    pub description: Option<String>,
+}
+
+/// An element, tagged with its kind (`I(inertance: "m")`, `Zero`); the coefficients are
+/// unparsed expressions over parameters and inputs.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(rename = "Element", deny_unknown_fields)]
+pub enum RawElement {
+    /// Effort source.
+    Se {
+        /// The effort it imposes.
+        effort: String,
+    },
+    /// Flow source.
+    Sf {
+        /// The flow it imposes.
+        flow: String,
+    },
+    /// Inertia (mass, inductance).
+    I {
+        /// The inertance.
+        inertance: String,
+    },
+    /// Capacitance (spring, capacitor), given by exactly one of compliance or stiffness;
+    /// the validator checks that exactly one is given.
+    C {
+        /// The compliance (1/stiffness).
+        compliance: Option<String>,
+        /// The stiffness (1/compliance).
+        stiffness: Option<String>,
+    },
+    /// Resistance (damper, resistor).
+    R {
+        /// The resistance.
+        resistance: String,
+    },
+    /// Transformer (lever, gear pair): relates the efforts and the flows of its two bonds.
+    TF {
+        /// The transformer modulus.
+        ratio: String,
+    },
+    /// Gyrator (motor constant): relates each bond's effort to the other bond's flow.
+    GY {
+        /// The gyrator modulus.
+        ratio: String,
+    },
+    /// Common-effort junction.
+    Zero,
+    /// Common-flow junction.
+    One,
+}
+
+/// A bond `("from", "to")`: power flows from the first element to the second.
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename = "Bond", deny_unknown_fields)]
+pub struct RawBond(pub String, pub String);
+
+/// Reads a RON map as its entries in file order, keeping duplicate keys.
+fn entries<'de, D, T>(deserializer: D) -> Result<Vec<(String, T)>, D::Error>
+where
+    D: Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    struct EntriesVisitor<T>(PhantomData<T>);
+
+    impl<'de, T: Deserialize<'de>> Visitor<'de> for EntriesVisitor<T> {
+        type Value = Vec<(String, T)>;
+
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str("a map of names to entries")
+        }
+
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+            let mut entries = Vec::with_capacity(map.size_hint().unwrap_or(0).min(1024));
+            while let Some((key, value)) = map.next_entry::<String, T>()? {
+                entries.push((key, value));
+            }
+            Ok(entries)
+        }
+    }
+
+    deserializer.deserialize_map(EntriesVisitor(PhantomData))
+}
+
+impl RawModel {
+    /// Reads a model from RON `text` with the options model files use (optional fields
+    /// without `Some(...)`); errors are ron's, turned into diagnostics by
+    /// [`parse_model`](super::parse::parse_model).
+    pub fn from_ron(text: &str) -> Result<Self, ron::error::SpannedError> {
+        ron_options().from_str(text)
+    }
+}
+
+/// The RON options model files are read with: `IMPLICIT_SOME`, so that users write
+/// `unit: "kg"` rather than `unit: Some("kg")`.
+pub fn ron_options() -> ron::Options {
+    ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MODEL: &str = r#"
+        Model(
+            name: "mass-spring-damper",
+            description: "a mass on a spring and a damper",
+            parameters: {
+                "m": (value: 1.5, unit: "kg", description: "the mass"),
+                "k": (value: 100, unit: "N/m"),
+                "b": (value: 2.0),
+            },
+            inputs: { "F": (unit: "N") },
+            elements: {
+                "force": Se(effort: "F"),
+                "j": One,
+                "mass": I(inertance: "m"),
+                "spring": C(stiffness: "k"),
+                "damper": R(resistance: "b"),
+            },
+            bonds: [("force", "j"), ("j", "mass"), Bond("j", "spring"), ("j", "damper")],
+        )
+    "#;
+
+    #[test]
+    fn reads_a_whole_model_in_file_order() {
+        let model = RawModel::from_ron(MODEL).unwrap();
+        assert_eq!(model.name, "mass-spring-damper");
+        assert_eq!(
+            model.description.as_deref(),
+            Some("a mass on a spring and a damper")
+        );
+        let names: Vec<&str> = model.parameters.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["m", "k", "b"]);
+        assert_eq!(
+            model.parameters[0].1,
+            RawParameter {
+                value: 1.5,
+                unit: Some("kg".into()),
+                description: Some("the mass".into()),
+            }
+        );
+        assert_eq!(model.parameters[1].1.value, 100.0);
+        assert_eq!(model.inputs[0].0, "F");
+        assert_eq!(model.inputs[0].1.unit.as_deref(), Some("N"));
+        let elements: Vec<(&str, &RawElement)> = model
+            .elements
+            .iter()
+            .map(|(n, e)| (n.as_str(), e))
+            .collect();
+        assert_eq!(
+            elements,
+            [
+                ("force", &RawElement::Se { effort: "F".into() }),
+                ("j", &RawElement::One),
+                (
+                    "mass",
+                    &RawElement::I {
+                        inertance: "m".into()
+                    }
+                ),
+                (
+                    "spring",
+                    &RawElement::C {
+                        compliance: None,
+                        stiffness: Some("k".into())
+                    }
+                ),
+                (
+                    "damper",
+                    &RawElement::R {
+                        resistance: "b".into()
+                    }
+                ),
+            ]
+        );
+        assert_eq!(model.bonds[2], RawBond("j".into(), "spring".into()));
+        assert_eq!(model.bonds.len(), 4);
+    }
+
+    #[test]
+    fn the_model_name_is_optional_and_sections_default_to_empty() {
+        let model = RawModel::from_ron(r#"(name: "empty")"#).unwrap();
+        assert_eq!(model.name, "empty");
+        assert_eq!(model.description, None);
+        assert!(model.parameters.is_empty() && model.inputs.is_empty());
+        assert!(model.elements.is_empty() && model.bonds.is_empty());
+        let named = RawModel::from_ron(MODEL).unwrap();
+        let unnamed = RawModel::from_ron(MODEL.replacen("Model(", "(", 1).as_str()).unwrap();
+        assert_eq!(named, unnamed);
+    }
+
+    #[test]
+    fn duplicate_names_are_kept_for_later_diagnosis() {
+        let model = RawModel::from_ron(
+            r#"(name: "d", parameters: {"m": (value: 1), "m": (value: 2)},
+                elements: {"a": Zero, "b": One, "a": I(inertance: "m")})"#,
+        )
+        .unwrap();
+        let values: Vec<f64> = model.parameters.iter().map(|(_, p)| p.value).collect();
+        assert_eq!(values, [1.0, 2.0]);
+        let names: Vec<&str> = model.elements.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["a", "b", "a"]);
+    }
+
+    #[test]
+    fn explicit_some_and_every_element_kind_are_accepted() {
+        let model = RawModel::from_ron(
+            r#"(name: "all", description: Some("d"), elements: {
+                "se": Se(effort: "e"), "sf": Sf(flow: "f"), "i": I(inertance: "m"),
+                "c": C(compliance: "1/k"), "r": R(resistance: "b"), "tf": TF(ratio: "n"),
+                "gy": GY(ratio: "K"), "z": Zero, "o": One, "cc": C(),
+            })"#,
+        )
+        .unwrap();
+        assert_eq!(model.description.as_deref(), Some("d"));
+        assert_eq!(model.elements.len(), 10);
+        assert_eq!(
+            model.elements[3].1,
+            RawElement::C {
+                compliance: Some("1/k".into()),
+                stiffness: None
+            }
+        );
+        // Neither or both of compliance and stiffness is the validator's business.
+        assert_eq!(
+            model.elements[9].1,
+            RawElement::C {
+                compliance: None,
+                stiffness: None
+            }
+        );
+    }
+
+    #[test]
+    fn unknown_fields_are_denied_everywhere() {
+        let cases = [
+            r#"(name: "x", extra: 1)"#,
+            r#"(name: "x", parameters: {"m": (value: 1, units: "kg")})"#,
+            r#"(name: "x", inputs: {"u": (value: 1)})"#,
+            r#"(name: "x", elements: {"m": I(inertance: "m", mass: "m")})"#,
+            r#"(name: "x", elements: {"c": C(compliance: "m", damping: "b")})"#,
+        ];
+        for case in cases {
+            let error = RawModel::from_ron(case).unwrap_err();
+            assert!(
+                matches!(error.code, ron::Error::NoSuchStructField { .. }),
+                "{case}: {error}"
+            );
+        }
+    }
+}

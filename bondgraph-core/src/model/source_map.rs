@@ -1,0 +1,1221 @@
+//! Where each part of a model file is: byte spans of entries, fields and bonds.
+//!
+//! serde tells us where an error is, but a successfully parsed value carries no position,
+//! and later stages must still point at the file: a causal conflict found long after
+//! parsing names the element's line and column, and an unknown symbol in an expression is
+//! underlined inside the string it was written in. So, next to serde, a small independent
+//! RON scanner walks the same text and records the spans of the things users name:
+//! top-level fields, the entries of `parameters`, `inputs` and `elements` (key, kind,
+//! fields, string contents), and each bond.
+//!
+//! The scanner only knows the shape of a model file and skips any other value as a
+//! balanced group of tokens, so it accepts some texts ron rejects; it is not a validator.
+//! Entries and bonds are recorded one for one with serde's lists (file order, duplicates
+//! kept), so index `i` of [`SourceMap::elements`] is the span of element `i` of the raw
+//! model. Positions are byte offsets, so multi-byte characters anywhere do not shift them.
+
+use crate::source::Span;
+
+/// The spans of a model file's parts, in file order.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SourceMap {
+    /// The whole top-level value, from its struct name (or `(`) to its `)`.
+    pub model: Span,
+    /// Each top-level field's name and the span of the name, in file order.
+    pub fields: Vec<(String, Span)>,
+    /// The entries of the `parameters` map, in file order, duplicates kept.
+    pub parameters: Vec<EntrySpans>,
+    /// The entries of the `inputs` map, in file order, duplicates kept.
+    pub inputs: Vec<EntrySpans>,
+    /// The entries of the `elements` map, in file order, duplicates kept.
+    pub elements: Vec<EntrySpans>,
+    /// The items of the `bonds` list, in file order.
+    pub bonds: Vec<BondSpans>,
+}
+
+/// Where one `"name": value` entry of a map section is.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct EntrySpans {
+    /// The key, with escapes decoded.
+    pub key: String,
+    /// The key's string literal, quotes included.
+    pub key_span: Span,
+    /// The whole value.
+    pub value_span: Span,
+    /// The value's leading identifier, if any: the element kind (`"I"`, `"Zero"`), or a
+    /// struct name written before a parameter's `(...)`. A raw identifier's `r#` is removed.
+    pub kind: Option<String>,
+    /// The value's named fields, in file order.
+    pub fields: Vec<FieldSpan>,
+}
+
+/// Where one `name: value` field inside an entry is.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FieldSpan {
+    /// The field name.
+    pub name: String,
+    /// The field name's span.
+    pub name_span: Span,
+    /// The whole value.
+    pub value_span: Span,
+    /// For a string literal value (also inside `Some(...)`): the bytes between the quotes,
+    /// so that a span relative to the string (an expression's) can be shifted onto the file.
+    /// The shift is exact unless the string contains escapes before the spanned text.
+    pub string_content: Option<Span>,
+}
+
+/// Where one bond of the `bonds` list is.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BondSpans {
+    /// The whole item, e.g. `("pump", "j1")`.
+    pub span: Span,
+    /// Each string literal in the tuple: its decoded text and the span of its content
+    /// (between the quotes).
+    pub ends: Vec<(String, Span)>,
+}
+
+/// Which map section an entry is in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Section {
+    /// `parameters: {...}`.
+    Parameters,
+    /// `inputs: {...}`.
+    Inputs,
+    /// `elements: {...}`.
+    Elements,
+}
+
+impl Section {
+    /// What one entry of the section is called in messages: "parameter", "input", "element".
+    pub fn noun(self) -> &'static str {
+        match self {
+            Section::Parameters => "parameter",
+            Section::Inputs => "input",
+            Section::Elements => "element",
+        }
+    }
+
+    /// The section's field name in the file.
+    pub fn field_name(self) -> &'static str {
+        match self {
+            Section::Parameters => "parameters",
+            Section::Inputs => "inputs",
+            Section::Elements => "elements",
+        }
+    }
+
+    /// The section named by top-level field `name`, if it is one.
+    pub fn from_field_name(name: &str) -> Option<Self> {
+        match name {
+            "parameters" => Some(Section::Parameters),
+            "inputs" => Some(Section::Inputs),
+            "elements" => Some(Section::Elements),
+            _ => None,
+        }
+    }
+}
+
+impl EntrySpans {
+    /// From the start of the key to the end of the value.
+    pub fn span(&self) -> Span {
+        Span::new(
+            self.key_span.start,
+            self.value_span.end.max(self.key_span.end),
+        )
+    }
+
+    /// The field called `name`, if the entry has one (the first, if written twice).
+    pub fn field(&self, name: &str) -> Option<&FieldSpan> {
+        self.fields.iter().find(|f| f.name == name)
+    }
+
+    /// The field whose name or value contains `offset`.
+    pub fn field_at(&self, offset: usize) -> Option<&FieldSpan> {
+        self.fields.iter().find(|f| {
+            Span::new(f.name_span.start, f.value_span.end.max(f.name_span.end)).contains(offset)
+        })
+    }
+}
+
+impl SourceMap {
+    /// Scans a whole model file; `None` if the text is not a scannable model (a token RON
+    /// does not have, an unbalanced bracket, an unterminated string or comment, text after
+    /// the model, or an empty file).
+    pub fn scan(text: &str) -> Option<SourceMap> {
+        let mut walker = Walker::new(text);
+        match walker.model() {
+            Ok(()) => Some(walker.map),
+            Err(Stop) => None,
+        }
+    }
+
+    /// Scans as much of `text` as it can: everything recorded before the first problem is
+    /// kept, and whatever was still open there (the model, an entry, a field, a bond)
+    /// extends to the end of `text`. Meant for the text up to a syntax error, to find the
+    /// entry the error is in.
+    pub fn scan_partial(text: &str) -> SourceMap {
+        let mut walker = Walker::new(text);
+        let _ = walker.model();
+        walker.close_open(text.len());
+        walker.map
+    }
+
+    /// The entries of `section`.
+    pub fn entries(&self, section: Section) -> &[EntrySpans] {
+        match section {
+            Section::Parameters => &self.parameters,
+            Section::Inputs => &self.inputs,
+            Section::Elements => &self.elements,
+        }
+    }
+
+    /// The element whose entry (key to end of value) contains byte `offset`.
+    pub fn element_at(&self, offset: usize) -> Option<&EntrySpans> {
+        self.elements.iter().find(|e| e.span().contains(offset))
+    }
+
+    /// The parameter, input or element entry that contains byte `offset`, and its section.
+    pub fn entry_containing(&self, offset: usize) -> Option<(Section, &EntrySpans)> {
+        [Section::Parameters, Section::Inputs, Section::Elements]
+            .into_iter()
+            .find_map(|section| {
+                self.entries(section)
+                    .iter()
+                    .find(|e| e.span().contains(offset))
+                    .map(|e| (section, e))
+            })
+    }
+
+    /// The bond that contains byte `offset`, with its index in the `bonds` list.
+    pub fn bond_at(&self, offset: usize) -> Option<(usize, &BondSpans)> {
+        self.bonds
+            .iter()
+            .enumerate()
+            .find(|(_, b)| b.span.contains(offset))
+    }
+
+    /// The top-level field that `offset` is in: the last field whose name starts before
+    /// `offset` (a field's value runs until the next field's name).
+    pub fn field_before(&self, offset: usize) -> Option<&(String, Span)> {
+        self.fields
+            .iter()
+            .take_while(|(_, span)| span.start <= offset)
+            .last()
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Tokens
+
+/// What a token is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum TokenKind {
+    /// An identifier, possibly raw (`r#C`).
+    Ident,
+    /// A string or byte string, possibly raw.
+    Str,
+    /// A number, possibly signed, or `inf`/`NaN` with a sign.
+    Number,
+    /// A character or byte literal.
+    Char,
+    /// An `#![...]` attribute, whole.
+    Attribute,
+    /// One of `( ) [ ] { } : ,`.
+    Punct(u8),
+}
+
+/// A token and where it is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Token {
+    /// What it is.
+    pub(crate) kind: TokenKind,
+    /// The whole token.
+    pub(crate) span: Span,
+    /// For strings, the bytes between the quotes; otherwise the whole token.
+    pub(crate) content: Span,
+}
+
+impl Token {
+    fn is_punct(&self, c: u8) -> bool {
+        self.kind == TokenKind::Punct(c)
+    }
+}
+
+/// A position where the text is not RON: an unknown character, or an unterminated
+/// string, character or comment starting there.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct LexError {
+    /// Byte offset of the problem.
+    pub(crate) at: usize,
+}
+
+/// RON's whitespace characters.
+fn is_whitespace(c: char) -> bool {
+    matches!(
+        c,
+        ' ' | '\t'
+            | '\n'
+            | '\r'
+            | '\x0B'
+            | '\x0C'
+            | '\u{85}'
+            | '\u{200E}'
+            | '\u{200F}'
+            | '\u{2028}'
+            | '\u{2029}'
+    )
+}
+
+fn is_ident_start(c: char) -> bool {
+    c == '_' || c.is_alphabetic()
+}
+
+fn is_ident_continue(c: char) -> bool {
+    c == '_' || c.is_alphanumeric()
+}
+
+/// The offset of the first byte at or after `pos` that is not whitespace or a comment.
+pub(crate) fn skip_trivia(text: &str, mut pos: usize) -> Result<usize, LexError> {
+    loop {
+        let rest = text.get(pos..).unwrap_or("");
+        let trimmed = rest.trim_start_matches(is_whitespace);
+        pos += rest.len() - trimmed.len();
+        if trimmed.starts_with("//") {
+            pos += trimmed.find('\n').unwrap_or(trimmed.len());
+        } else if trimmed.starts_with("/*") {
+            let start = pos;
+            let bytes = text.as_bytes();
+            let mut level = 0_usize;
+            loop {
+                if pos + 1 >= bytes.len() {
+                    return Err(LexError { at: start });
+                }
+                match (bytes[pos], bytes[pos + 1]) {
+                    (b'/', b'*') => {
+                        level += 1;
+                        pos += 2;
+                    }
+                    (b'*', b'/') => {
+                        level -= 1;
+                        pos += 2;
+                        if level == 0 {
+                            break;
+                        }
+                    }
+                    _ => pos += 1,
+                }
+            }
+        } else {
+            return Ok(pos);
+        }
+    }
+}
+
+/// The next token at or after `pos` (after whitespace and comments); `None` at the end.
+pub(crate) fn lex(text: &str, pos: usize) -> Result<Option<Token>, LexError> {
+    let start = skip_trivia(text, pos)?;
+    let rest = text.get(start..).unwrap_or("");
+    let mut chars = rest.chars();
+    let Some(c) = chars.next() else {
+        return Ok(None);
+    };
+    let second = chars.next();
+    let token = |kind, len: usize| Token {
+        kind,
+        span: Span::new(start, start + len),
+        content: Span::new(start, start + len),
+    };
+    let bytes = rest.as_bytes();
+    match c {
+        '(' | ')' | '[' | ']' | '{' | '}' | ':' | ',' => {
+            Ok(Some(token(TokenKind::Punct(bytes[0]), 1)))
+        }
+        '"' => lex_string(text, start, start).map(Some),
+        '\'' => lex_char(text, start, start).map(Some),
+        'b' if second == Some('"') => lex_string(text, start, start + 1).map(Some),
+        'b' if second == Some('\'') => lex_char(text, start, start + 1).map(Some),
+        'b' if second == Some('r') && raw_string_hashes(&rest[2..]).is_some() => {
+            lex_raw_string(text, start, start + 2).map(Some)
+        }
+        'r' if raw_string_hashes(&rest[1..]).is_some() => {
+            lex_raw_string(text, start, start + 1).map(Some)
+        }
+        'r' if second == Some('#') && rest[2..].chars().next().is_some_and(is_ident_continue) => {
+            let len = 2 + ident_len(&rest[2..]);
+            Ok(Some(token(TokenKind::Ident, len)))
+        }
+        '#' => {
+            if !rest.starts_with("#![") {
+                return Err(LexError { at: start });
+            }
+            match rest.find(']') {
+                Some(end) => Ok(Some(token(TokenKind::Attribute, end + 1))),
+                None => Err(LexError { at: start }),
+            }
+        }
+        '0'..='9' => Ok(Some(token(TokenKind::Number, number_len(rest)))),
+        '+' | '-' | '.'
+            if second.is_some_and(|d| d.is_ascii_digit() || d == '.' || is_ident_start(d)) =>
+        {
+            Ok(Some(token(TokenKind::Number, number_len(rest))))
+        }
+        c if is_ident_start(c) => Ok(Some(token(TokenKind::Ident, ident_len(rest)))),
+        _ => Err(LexError { at: start }),
+    }
+}
+
+fn ident_len(text: &str) -> usize {
+    text.find(|c: char| !is_ident_continue(c))
+        .unwrap_or(text.len())
+}
+
+/// Length of a number token at the start of `text` (which starts with a digit, a sign or
+/// a dot): digits, letters (hex digits, exponents, `inf`), `_` and `.`, and a sign right
+/// after a decimal exponent's `e`.
+fn number_len(text: &str) -> usize {
+    let bytes = text.as_bytes();
+    let hex = text.trim_start_matches(['+', '-']).starts_with("0x");
+    let mut i = 1;
+    while i < bytes.len() {
+        let b = bytes[i];
+        let sign_after_exponent =
+            matches!(b, b'+' | b'-') && matches!(bytes[i - 1], b'e' | b'E') && !hex;
+        if b.is_ascii_alphanumeric() || b == b'_' || b == b'.' || sign_after_exponent {
+            i += 1;
+        } else {
+            break;
+        }
+    }
+    i
+}
+
+/// If `text` starts with `#`* followed by `"`, the number of `#`s.
+fn raw_string_hashes(text: &str) -> Option<usize> {
+    let hashes = text.len() - text.trim_start_matches('#').len();
+    text[hashes..].starts_with('"').then_some(hashes)
+}
+
+/// A `"..."` string whose opening quote is at `quote` (the token starts at `start`,
+/// before any `b` prefix).
+fn lex_string(text: &str, start: usize, quote: usize) -> Result<Token, LexError> {
+    let bytes = text.as_bytes();
+    let mut i = quote + 1;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'\\' => i += 2,
+            b'"' => {
+                return Ok(Token {
+                    kind: TokenKind::Str,
+                    span: Span::new(start, i + 1),
+                    content: Span::new(quote + 1, i),
+                });
+            }
+            _ => i += 1,
+        }
+    }
+    Err(LexError { at: start })
+}
+
+/// A raw string `r#"..."#` whose `r` is just before `r_end` (at `start` or after `b`).
+fn lex_raw_string(text: &str, start: usize, r_end: usize) -> Result<Token, LexError> {
+    let hashes = raw_string_hashes(&text[r_end..]).unwrap_or(0);
+    let content_start = r_end + hashes + 1;
+    let closing = format!("\"{}", "#".repeat(hashes));
+    match text[content_start..].find(&closing) {
+        Some(len) => Ok(Token {
+            kind: TokenKind::Str,
+            span: Span::new(start, content_start + len + closing.len()),
+            content: Span::new(content_start, content_start + len),
+        }),
+        None => Err(LexError { at: start }),
+    }
+}
+
+/// A `'c'` literal whose opening quote is at `quote`.
+fn lex_char(text: &str, start: usize, quote: usize) -> Result<Token, LexError> {
+    let bytes = text.as_bytes();
+    let mut i = quote + 1;
+    while i < bytes.len() && bytes[i] != b'\n' {
+        match bytes[i] {
+            b'\\' => i += 2,
+            b'\'' => {
+                return Ok(Token {
+                    kind: TokenKind::Char,
+                    span: Span::new(start, i + 1),
+                    content: Span::new(quote + 1, i),
+                });
+            }
+            _ => i += 1,
+        }
+    }
+    Err(LexError { at: start })
+}
+
+/// The text of a string token, with escapes decoded for ordinary strings.
+fn string_value(text: &str, token: &Token) -> String {
+    let content = text
+        .get(token.content.start..token.content.end)
+        .unwrap_or("");
+    let raw = text[token.span.start..token.content.start].contains('r');
+    if raw {
+        content.to_string()
+    } else {
+        unescape(content)
+    }
+}
+
+/// Decodes RON string escapes; anything malformed is kept as written (ron reports it).
+fn unescape(content: &str) -> String {
+    let mut out = String::with_capacity(content.len());
+    let mut chars = content.chars().peekable();
+    while let Some(c) = chars.next() {
+        if c != '\\' {
+            out.push(c);
+            continue;
+        }
+        match chars.next() {
+            Some('n') => out.push('\n'),
+            Some('t') => out.push('\t'),
+            Some('r') => out.push('\r'),
+            Some('0') => out.push('\0'),
+            Some('\\') => out.push('\\'),
+            Some('"') => out.push('"'),
+            Some('\'') => out.push('\''),
+            Some('\n') => {
+                while chars
+                    .peek()
+                    .is_some_and(|c| matches!(c, ' ' | '\t' | '\n' | '\r'))
+                {
+                    chars.next();
+                }
+            }
+            Some('x') => {
+                let hex: String = chars.by_ref().take(2).collect();
+                match u8::from_str_radix(&hex, 16) {
+                    Ok(b) if b.is_ascii() => out.push(char::from(b)),
+                    _ => {
+                        out.push_str("\\x");
+                        out.push_str(&hex);
+                    }
+                }
+            }
+            Some('u') if chars.peek() == Some(&'{') => {
+                chars.next();
+                let hex: String = chars.by_ref().take_while(|&c| c != '}').collect();
+                match u32::from_str_radix(&hex, 16).ok().and_then(char::from_u32) {
+                    Some(ch) => out.push(ch),
+                    None => {
+                        out.push_str("\\u{");
+                        out.push_str(&hex);
+                        out.push('}');
+                    }
+                }
+            }
+            Some(other) => {
+                out.push('\\');
+                out.push(other);
+            }
+            None => out.push('\\'),
+        }
+    }
+    out
+}
+
+/// The brackets open at byte `offset` (outermost first), each with its offset, as far as
+/// the text before `offset` can be tokenised.
+pub(crate) fn open_brackets(text: &str, offset: usize) -> Vec<(u8, usize)> {
+    let mut stack = Vec::new();
+    let mut pos = 0;
+    while let Ok(Some(token)) = lex(text, pos) {
+        if token.span.start >= offset {
+            break;
+        }
+        match token.kind {
+            TokenKind::Punct(c @ (b'(' | b'[' | b'{')) => stack.push((c, token.span.start)),
+            TokenKind::Punct(c @ (b')' | b']' | b'}'))
+                if stack.last().is_some_and(|&(open, _)| closer(open) == c) =>
+            {
+                stack.pop();
+            }
+            _ => {}
+        }
+        pos = token.span.end;
+    }
+    stack
+}
+
+/// The closing bracket for opening bracket `open`.
+pub(crate) fn closer(open: u8) -> u8 {
+    match open {
+        b'(' => b')',
+        b'[' => b']',
+        _ => b'}',
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// The walk
+
+/// The end of a span whose construct is still open.
+const OPEN: usize = usize::MAX;
+
+/// The scan met something it cannot read.
+struct Stop;
+
+type Step<T = ()> = Result<T, Stop>;
+
+struct Walker<'a> {
+    text: &'a str,
+    /// Where the next token is looked for.
+    pos: usize,
+    /// End of the last token taken.
+    last_end: usize,
+    map: SourceMap,
+}
+
+impl<'a> Walker<'a> {
+    fn new(text: &'a str) -> Self {
+        Self {
+            text,
+            pos: 0,
+            last_end: 0,
+            map: SourceMap {
+                model: Span::new(0, OPEN),
+                ..SourceMap::default()
+            },
+        }
+    }
+
+    fn peek(&self) -> Step<Option<Token>> {
+        lex(self.text, self.pos).map_err(|_| Stop)
+    }
+
+    /// The token after the next one (for `name:` lookahead).
+    fn peek_second(&self) -> Option<Token> {
+        let first = lex(self.text, self.pos).ok()??;
+        lex(self.text, first.span.end).ok()?
+    }
+
+    fn next(&mut self) -> Step<Token> {
+        let token = self.peek()?.ok_or(Stop)?;
+        self.pos = token.span.end;
+        self.last_end = token.span.end;
+        Ok(token)
+    }
+
+    fn peek_is(&self, c: u8) -> Step<bool> {
+        Ok(self.peek()?.is_some_and(|t| t.is_punct(c)))
+    }
+
+    fn expect(&mut self, c: u8) -> Step<Token> {
+        let token = self.next()?;
+        if token.is_punct(c) {
+            Ok(token)
+        } else {
+            Err(Stop)
+        }
+    }
+
+    /// After an item of a list closed by `close`: a comma, or the closer (left in place).
+    fn comma_or(&mut self, close: u8) -> Step {
+        match self.peek()? {
+            Some(t) if t.is_punct(b',') => {
+                self.next()?;
+                Ok(())
+            }
+            Some(t) if t.is_punct(close) => Ok(()),
+            _ => Err(Stop),
+        }
+    }
+
+    fn ident_name(&self, token: &Token) -> String {
+        let name = &self.text[token.span.start..token.span.end];
+        name.strip_prefix("r#").unwrap_or(name).to_string()
+    }
+
+    fn model(&mut self) -> Step {
+        while self.peek()?.is_some_and(|t| t.kind == TokenKind::Attribute) {
+            self.next()?;
+        }
+        let first = self.peek()?.ok_or(Stop)?;
+        self.map.model.start = first.span.start;
+        if first.kind == TokenKind::Ident {
+            self.next()?;
+        }
+        self.expect(b'(')?;
+        loop {
+            if self.peek_is(b')')? {
+                self.map.model.end = self.next()?.span.end;
+                break;
+            }
+            let name = self.next()?;
+            if name.kind != TokenKind::Ident {
+                return Err(Stop);
+            }
+            let field = self.ident_name(&name);
+            self.map.fields.push((field.clone(), name.span));
+            self.expect(b':')?;
+            match Section::from_field_name(&field) {
+                Some(section) if self.peek_is(b'{')? => self.section(section)?,
+                None if field == "bonds" && self.peek_is(b'[')? => self.bonds()?,
+                _ => self.value()?,
+            }
+            self.comma_or(b')')?;
+        }
+        match self.peek()? {
+            None => Ok(()),
+            Some(_) => Err(Stop),
+        }
+    }
+
+    fn entries_mut(&mut self, section: Section) -> &mut Vec<EntrySpans> {
+        match section {
+            Section::Parameters => &mut self.map.parameters,
+            Section::Inputs => &mut self.map.inputs,
+            Section::Elements => &mut self.map.elements,
+        }
+    }
+
+    fn section(&mut self, section: Section) -> Step {
+        self.expect(b'{')?;
+        loop {
+            if self.peek_is(b'}')? {
+                self.next()?;
+                return Ok(());
+            }
+            let key = self.next()?;
+            if key.kind != TokenKind::Str {
+                return Err(Stop);
+            }
+            let entry = EntrySpans {
+                key: string_value(self.text, &key),
+                key_span: key.span,
+                value_span: Span::new(key.span.end, OPEN),
+                kind: None,
+                fields: Vec::new(),
+            };
+            self.entries_mut(section).push(entry);
+            self.expect(b':')?;
+            let start = skip_trivia(self.text, self.pos).unwrap_or(self.pos);
+            self.current_entry(section).value_span.start = start;
+            self.entry_value(section)?;
+            let end = self.last_end;
+            self.current_entry(section).value_span.end = end;
+            self.comma_or(b'}')?;
+        }
+    }
+
+    fn current_entry(&mut self, section: Section) -> &mut EntrySpans {
+        let entries = self.entries_mut(section);
+        let last = entries.len() - 1;
+        &mut entries[last]
+    }
+
+    /// `Kind`, `Kind(field: value, ...)`, `(field: value, ...)` or any other value.
+    fn entry_value(&mut self, section: Section) -> Step {
+        let mut named = false;
+        if let Some(token) = self.peek()?
+            && token.kind == TokenKind::Ident
+        {
+            self.next()?;
+            let kind = self.ident_name(&token);
+            self.current_entry(section).kind = Some(kind);
+            named = true;
+        }
+        if !self.peek_is(b'(')? {
+            return if named { Ok(()) } else { self.value() };
+        }
+        self.next()?;
+        loop {
+            if self.peek_is(b')')? {
+                self.next()?;
+                return Ok(());
+            }
+            let first = self.peek()?.ok_or(Stop)?;
+            let is_named_field = first.kind == TokenKind::Ident
+                && self.peek_second().is_some_and(|t| t.is_punct(b':'));
+            if is_named_field {
+                self.next()?;
+                self.next()?;
+                // Recorded before the value is read, so that a partial scan stopped by a
+                // bad value still knows which field it is in.
+                let value_start = skip_trivia(self.text, self.pos).unwrap_or(self.pos);
+                let field = FieldSpan {
+                    name: self.ident_name(&first),
+                    name_span: first.span,
+                    value_span: Span::new(value_start, OPEN),
+                    string_content: None,
+                };
+                self.current_entry(section).fields.push(field);
+                let content = self.field_value()?;
+                let end = self.last_end;
+                let entry = self.current_entry(section);
+                if let Some(field) = entry.fields.last_mut() {
+                    field.value_span.end = end;
+                    field.string_content = content;
+                }
+            } else {
+                self.value()?;
+            }
+            self.comma_or(b')')?;
+        }
+    }
+
+    /// A field's value; for a string literal, alone or in `Some(...)`, its content span.
+    fn field_value(&mut self) -> Step<Option<Span>> {
+        let Some(first) = self.peek()? else {
+            return Err(Stop);
+        };
+        if first.kind == TokenKind::Str {
+            self.next()?;
+            return Ok(Some(first.content));
+        }
+        if first.kind == TokenKind::Ident && &self.text[first.span.start..first.span.end] == "Some"
+        {
+            let mut tokens = Vec::with_capacity(4);
+            let mut pos = first.span.end;
+            for _ in 0..3 {
+                match lex(self.text, pos) {
+                    Ok(Some(token)) => {
+                        pos = token.span.end;
+                        tokens.push(token);
+                    }
+                    _ => break,
+                }
+            }
+            if let [open, string, close] = tokens[..]
+                && open.is_punct(b'(')
+                && string.kind == TokenKind::Str
+                && close.is_punct(b')')
+            {
+                self.pos = close.span.end;
+                self.last_end = close.span.end;
+                return Ok(Some(string.content));
+            }
+        }
+        self.value()?;
+        Ok(None)
+    }
+
+    fn bonds(&mut self) -> Step {
+        self.expect(b'[')?;
+        loop {
+            if self.peek_is(b']')? {
+                self.next()?;
+                return Ok(());
+            }
+            let first = self.peek()?.ok_or(Stop)?;
+            self.map.bonds.push(BondSpans {
+                span: Span::new(first.span.start, OPEN),
+                ends: Vec::new(),
+            });
+            if first.kind == TokenKind::Ident {
+                self.next()?;
+            }
+            if self.peek_is(b'(')? {
+                self.next()?;
+                loop {
+                    if self.peek_is(b')')? {
+                        self.next()?;
+                        break;
+                    }
+                    match self.peek()? {
+                        Some(token) if token.kind == TokenKind::Str => {
+                            self.next()?;
+                            let name = string_value(self.text, &token);
+                            if let Some(bond) = self.map.bonds.last_mut() {
+                                bond.ends.push((name, token.content));
+                            }
+                        }
+                        _ => self.value()?,
+                    }
+                    self.comma_or(b')')?;
+                }
+            } else if first.kind != TokenKind::Ident {
+                self.value()?;
+            }
+            let end = self.last_end;
+            if let Some(bond) = self.map.bonds.last_mut() {
+                bond.span.end = end;
+            }
+            self.comma_or(b']')?;
+        }
+    }
+
+    /// Any value: a literal, an identifier with an optional `(...)`, or a bracketed group
+    /// skipped as balanced tokens.
+    fn value(&mut self) -> Step {
+        let token = self.next()?;
+        match token.kind {
+            TokenKind::Str | TokenKind::Number | TokenKind::Char => Ok(()),
+            TokenKind::Ident => {
+                if self.peek_is(b'(')? {
+                    let open = self.next()?;
+                    self.skip_group(open)
+                } else {
+                    Ok(())
+                }
+            }
+            TokenKind::Punct(b'(' | b'[' | b'{') => self.skip_group(token),
+            TokenKind::Punct(_) | TokenKind::Attribute => Err(Stop),
+        }
+    }
+
+    /// Skips to the bracket that closes `open` (already taken).
+    fn skip_group(&mut self, open: Token) -> Step {
+        let TokenKind::Punct(c) = open.kind else {
+            return Err(Stop);
+        };
+        let mut stack = vec![closer(c)];
+        while let Some(&expected) = stack.last() {
+            let token = self.next()?;
+            match token.kind {
+                TokenKind::Punct(c @ (b'(' | b'[' | b'{')) => stack.push(closer(c)),
+                TokenKind::Punct(c @ (b')' | b']' | b'}')) => {
+                    if c != expected {
+                        return Err(Stop);
+                    }
+                    stack.pop();
+                }
+                TokenKind::Attribute => return Err(Stop),
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Ends every span still open at `end`.
+    fn close_open(&mut self, end: usize) {
+        let close = |span: &mut Span| {
+            if span.end == OPEN {
+                span.end = end;
+            }
+            span.start = span.start.min(end);
+        };
+        close(&mut self.map.model);
+        for entry in self
+            .map
+            .parameters
+            .iter_mut()
+            .chain(&mut self.map.inputs)
+            .chain(&mut self.map.elements)
+        {
+            close(&mut entry.value_span);
+            for field in &mut entry.fields {
+                close(&mut field.value_span);
+            }
+        }
+        for bond in &mut self.map.bonds {
+            close(&mut bond.span);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A realistic model: attributes, line and nested block comments, raw strings,
+    /// escapes, odd spacing, multi-byte characters, `Some(...)`, a raw identifier and a
+    /// duplicate name.
+    const MODEL: &str = r###"#![enable(implicit_some)]
+// Hydraulic cylinder — a test model “with” multi-byte text: µ, π, ✓.
+Model (
+    name:"cylinder",
+    description: r#"A "quoted" description, ½ raw"#,
+    parameters : {
+        "A"  :(value: 2e-3, unit: "m²", description: "piston área"),
+        "m":  Parameter( value : -1.5e+2 , unit: Some("kg") ),
+        /* a block /* nested */ comment */ "k\"x": (value: 1_000),
+    },
+    inputs: { "P_s": (unit: "Pa") },
+    elements: {
+        "pump"  : Se( effort : "A*P_s" ),
+        "j"     :One,
+        "mass":I(inertance:r"m + m"),
+        "spring": r#C(stiffness: "1/k", compliance: None),
+        "j": Zero, // duplicate, kept
+    },
+    bonds: [ ("pump","j") , Bond( "j", "mass" ),("j" , "spring"),
+    ],
+)
+"###;
+
+    fn at(span: Span) -> &'static str {
+        &MODEL[span.start..span.end]
+    }
+
+    #[test]
+    fn records_the_model_and_its_top_level_fields() {
+        let map = SourceMap::scan(MODEL).expect("scannable");
+        assert!(at(map.model).starts_with("Model (\n    name:"));
+        assert!(at(map.model).ends_with("],\n)"));
+        let fields: Vec<(&str, &str)> = map
+            .fields
+            .iter()
+            .map(|(name, span)| (name.as_str(), at(*span)))
+            .collect();
+        assert_eq!(
+            fields,
+            [
+                ("name", "name"),
+                ("description", "description"),
+                ("parameters", "parameters"),
+                ("inputs", "inputs"),
+                ("elements", "elements"),
+                ("bonds", "bonds"),
+            ]
+        );
+    }
+
+    #[test]
+    fn records_parameter_keys_fields_and_string_contents() {
+        let map = SourceMap::scan(MODEL).expect("scannable");
+        let keys: Vec<(&str, &str)> = map
+            .parameters
+            .iter()
+            .map(|e| (e.key.as_str(), at(e.key_span)))
+            .collect();
+        assert_eq!(
+            keys,
+            [("A", "\"A\""), ("m", "\"m\""), ("k\"x", "\"k\\\"x\"")]
+        );
+
+        let area = &map.parameters[0];
+        assert_eq!(area.kind, None);
+        assert_eq!(
+            at(area.value_span),
+            "(value: 2e-3, unit: \"m²\", description: \"piston área\")"
+        );
+        let fields: Vec<(&str, &str, &str)> = area
+            .fields
+            .iter()
+            .map(|f| (f.name.as_str(), at(f.name_span), at(f.value_span)))
+            .collect();
+        assert_eq!(
+            fields,
+            [
+                ("value", "value", "2e-3"),
+                ("unit", "unit", "\"m²\""),
+                ("description", "description", "\"piston área\""),
+            ]
+        );
+        assert_eq!(area.fields[0].string_content, None);
+        assert_eq!(at(area.fields[2].string_content.unwrap()), "piston área");
+
+        let mass = &map.parameters[1];
+        assert_eq!(mass.kind.as_deref(), Some("Parameter"));
+        assert_eq!(at(mass.field("value").unwrap().value_span), "-1.5e+2");
+        let unit = mass.field("unit").unwrap();
+        assert_eq!(at(unit.value_span), "Some(\"kg\")");
+        assert_eq!(at(unit.string_content.unwrap()), "kg");
+        assert_eq!(at(map.parameters[2].value_span), "(value: 1_000)");
+        assert_eq!(at(map.inputs[0].key_span), "\"P_s\"");
+        assert_eq!(at(map.inputs[0].fields[0].string_content.unwrap()), "Pa");
+    }
+
+    #[test]
+    fn records_element_kinds_and_expression_strings_with_duplicates() {
+        let map = SourceMap::scan(MODEL).expect("scannable");
+        let summary: Vec<(&str, Option<&str>, &str)> = map
+            .elements
+            .iter()
+            .map(|e| (e.key.as_str(), e.kind.as_deref(), at(e.value_span)))
+            .collect();
+        assert_eq!(
+            summary,
+            [
+                ("pump", Some("Se"), "Se( effort : \"A*P_s\" )"),
+                ("j", Some("One"), "One"),
+                ("mass", Some("I"), "I(inertance:r\"m + m\")"),
+                (
+                    "spring",
+                    Some("C"),
+                    "r#C(stiffness: \"1/k\", compliance: None)"
+                ),
+                ("j", Some("Zero"), "Zero"),
+            ]
+        );
+        let effort = &map.elements[0].fields[0];
+        assert_eq!(at(effort.name_span), "effort");
+        let content = effort.string_content.unwrap();
+        assert_eq!(at(content), "A*P_s");
+        // An expression's span shifted onto the file lands on the symbol.
+        let expr = crate::expr::parse(at(content)).unwrap();
+        let (symbol, span) = expr.symbols()[1];
+        assert_eq!((symbol, at(span.shifted(content.start))), ("P_s", "P_s"));
+        assert_eq!(
+            at(map.elements[2].fields[0].string_content.unwrap()),
+            "m + m"
+        );
+        let spring = &map.elements[3];
+        assert_eq!(at(spring.field("compliance").unwrap().value_span), "None");
+        assert_eq!(spring.field("compliance").unwrap().string_content, None);
+        assert!(map.elements[1].fields.is_empty());
+    }
+
+    #[test]
+    fn records_bonds_and_their_ends() {
+        let map = SourceMap::scan(MODEL).expect("scannable");
+        let bonds: Vec<(&str, Vec<(&str, &str)>)> = map
+            .bonds
+            .iter()
+            .map(|b| {
+                (
+                    at(b.span),
+                    b.ends.iter().map(|(n, s)| (n.as_str(), at(*s))).collect(),
+                )
+            })
+            .collect();
+        assert_eq!(
+            bonds,
+            [
+                ("(\"pump\",\"j\")", vec![("pump", "pump"), ("j", "j")]),
+                (
+                    "Bond( \"j\", \"mass\" )",
+                    vec![("j", "j"), ("mass", "mass")]
+                ),
+                (
+                    "(\"j\" , \"spring\")",
+                    vec![("j", "j"), ("spring", "spring")]
+                ),
+            ]
+        );
+    }
+
+    #[test]
+    fn lookups_by_offset() {
+        let map = SourceMap::scan(MODEL).expect("scannable");
+        let offset = |needle: &str| MODEL.find(needle).unwrap();
+        assert_eq!(
+            map.element_at(offset("inertance")).map(|e| e.key.as_str()),
+            Some("mass")
+        );
+        assert_eq!(map.element_at(offset("2e-3")), None);
+        let (section, entry) = map.entry_containing(offset("2e-3")).unwrap();
+        assert_eq!((section, entry.key.as_str()), (Section::Parameters, "A"));
+        let (section, entry) = map.entry_containing(offset("\"Pa\"")).unwrap();
+        assert_eq!((section, entry.key.as_str()), (Section::Inputs, "P_s"));
+        // The key belongs to the entry too.
+        let (section, entry) = map.entry_containing(offset("\"pump\"  :")).unwrap();
+        assert_eq!((section, entry.key.as_str()), (Section::Elements, "pump"));
+        assert_eq!(map.entry_containing(offset("cylinder")), None);
+        let (index, bond) = map.bond_at(offset("\"mass\" )")).unwrap();
+        assert_eq!((index, bond.ends[1].0.as_str()), (1, "mass"));
+        assert_eq!(map.bond_at(offset("\"pump\",")), Some((0, &map.bonds[0])));
+        assert_eq!(map.bond_at(offset(" ,")), None);
+        assert_eq!(
+            map.entries(Section::Elements)[0].field_at(offset("A*P_s")),
+            Some(&map.elements[0].fields[0])
+        );
+        assert_eq!(
+            map.field_before(offset("\"P_s\"")).map(|f| f.0.as_str()),
+            Some("inputs")
+        );
+    }
+
+    #[test]
+    fn multi_byte_text_does_not_shift_spans() {
+        let ascii = "(name: \"x\", description: \"plain\", elements: {\"a\": Zero})";
+        let utf8 = "(name: \"x\", description: \"ŝŧřåñĝé\", elements: {\"a\": Zero})";
+        let a = SourceMap::scan(ascii).unwrap();
+        let b = SourceMap::scan(utf8).unwrap();
+        let extra = utf8.len() - ascii.len();
+        assert_eq!(
+            b.elements[0].key_span,
+            a.elements[0].key_span.shifted(extra)
+        );
+        assert_eq!(
+            &utf8[b.elements[0].value_span.start..b.elements[0].value_span.end],
+            "Zero"
+        );
+    }
+
+    #[test]
+    fn unscannable_texts() {
+        for text in [
+            "",
+            "   // only a comment\n",
+            "(name: \"x\"",
+            "(name: \"x\") trailing",
+            "(name: \"x\", elements: {\"a\": I(inertance: \"m\"}})",
+            "(name: \"unterminated)",
+            "(name: \"x\") /* unclosed",
+            "(name: $)",
+            "(name: \"x\", elements: {3: Zero})",
+            "[1, 2]",
+        ] {
+            assert_eq!(SourceMap::scan(text), None, "{text:?}");
+        }
+        let deep = format!("(name: {}{})", "[".repeat(100_000), "]".repeat(100_000));
+        assert!(SourceMap::scan(&deep).is_some());
+    }
+
+    #[test]
+    fn partial_scans_keep_what_was_read_and_leave_open_entries_open() {
+        let text = "(name: \"x\", elements: {\"a\": Zero, \"mass\": I(inertance: \"m\"";
+        let map = SourceMap::scan_partial(text);
+        assert_eq!(map.elements.len(), 2);
+        let zero = text.find("Zero").unwrap();
+        assert_eq!(map.elements[0].value_span, Span::new(zero, zero + 4));
+        let mass = &map.elements[1];
+        assert_eq!(mass.kind.as_deref(), Some("I"));
+        assert_eq!(mass.value_span.end, text.len());
+        assert_eq!(
+            &text[mass.fields[0].string_content.unwrap().start..][..1],
+            "m"
+        );
+        assert_eq!(map.model, Span::new(0, text.len()));
+        assert_eq!(
+            map.element_at(text.len() - 1).map(|e| e.key.as_str()),
+            Some("mass")
+        );
+
+        let bonds = SourceMap::scan_partial("(name: \"x\", bonds: [(\"a\", \"b\"), (\"c\",");
+        assert_eq!(bonds.bonds.len(), 2);
+        assert_eq!(
+            bonds.bonds[1].ends,
+            vec![("c".to_string(), Span::new(34, 35))]
+        );
+        assert_eq!(bonds.bonds[1].span, Span::new(32, 37));
+
+        assert_eq!(SourceMap::scan_partial(""), SourceMap::default());
+    }
+
+    #[test]
+    fn tokens() {
+        fn kinds(text: &str) -> Vec<(TokenKind, &str)> {
+            let mut pos = 0;
+            let mut out = Vec::new();
+            while let Ok(Some(token)) = lex(text, pos) {
+                out.push((token.kind, &text[token.span.start..token.span.end]));
+                pos = token.span.end;
+            }
+            out
+        }
+        use TokenKind::*;
+        assert_eq!(
+            kinds("#![enable(implicit_some)] r#x -inf +1 0x1F 1e-3 'c' '\\'' b\"b\" br#\"r\"# :,"),
+            [
+                (Attribute, "#![enable(implicit_some)]"),
+                (Ident, "r#x"),
+                (Number, "-inf"),
+                (Number, "+1"),
+                (Number, "0x1F"),
+                (Number, "1e-3"),
+                (Char, "'c'"),
+                (Char, "'\\''"),
+                (Str, "b\"b\""),
+                (Str, "br#\"r\"#"),
+                (Punct(b':'), ":"),
+                (Punct(b','), ","),
+            ]
+        );
+        assert_eq!(lex("  $", 0), Err(LexError { at: 2 }));
+        assert_eq!(lex(" /* a /* b */", 0), Err(LexError { at: 1 }));
+        assert_eq!(lex("\"abc", 0), Err(LexError { at: 0 }));
+        assert_eq!(unescape(r"a\n\u{e9}\x41\q\"), "a\n\u{e9}A\\q\\");
+        assert_eq!(open_brackets("({[", 3), [(b'(', 0), (b'{', 1), (b'[', 2)]);
+        assert_eq!(open_brackets("({})[", 5), [(b'[', 4)]);
+    }
+}
