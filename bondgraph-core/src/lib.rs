@@ -3,3 +3,4 @@
 pub mod diagnostics;
 pub mod expr;
 pub mod source;
+pub mod symbolic;
