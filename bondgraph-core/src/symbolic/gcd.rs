@@ -48,6 +48,17 @@ pub(crate) fn div_known(a: &Poly, d: &Poly) -> Poly {
     div_exact(a, d).unwrap_or_default()
 }
 
+/// `a / d` for a `d` known to divide `a`, reusing `a`'s storage when `d` is a single term.
+pub(crate) fn div_known_owned(a: Poly, d: &Poly) -> Poly {
+    if d.is_one() {
+        return a;
+    }
+    match d.leading_term() {
+        Some((m, c)) if d.term_count() == 1 => a.div_term_owned(m, c).unwrap_or_default(),
+        _ => div_exact(&a, d).unwrap_or_default(),
+    }
+}
+
 fn gcd_normalised(a: &Poly, b: &Poly) -> Poly {
     if a.is_zero() {
         return b.clone().normalise_sign();

@@ -4,14 +4,14 @@
 //! way a textbook writes it, `-(b + K_p)/M`, and compared with published models. Two
 //! design decisions follow from that:
 //!
-//! - **Canonical form.** Every `RatFunc` is kept as `num/den` with the true multivariate
+//! - **Canonical form.** Every [`RatFunc`] is kept as `num/den` with the true multivariate
 //!   gcd cancelled, integer coefficients with no common factor, a positive leading
 //!   denominator coefficient, and terms sorted in one fixed order. Equal rational functions
 //!   are then *structurally* equal: `==` is mathematical equality, hashing works, and equal
 //!   expressions print identically however they were derived.
 //! - **Exact arithmetic.** Coefficients are arbitrary-precision integers, and decimal
 //!   literals become exact fractions (`0.5` is 1/2), so cancellations that are exact on paper
-//!   are exact here; floating point only appears in `RatFunc::eval`.
+//!   are exact here; floating point only appears in [`RatFunc::eval`].
 //!
 //! Symbols are numbered in print order by a [`SymbolTable`]; the term order is
 //! lexicographic on those ids (see [`Monomial`]), so canonical order is alphabetical order.
@@ -24,18 +24,23 @@
 //! - `poly`: polynomials and exact division ([`Poly`], [`div_exact`]);
 //! - `gcd`: the multivariate gcd over the integers ([`gcd`]), with its helpers `modp`
 //!   (arithmetic modulo a prime, degree bounds from modular images) and `modgcd` (Brown's
-//!   modular gcd).
+//!   modular gcd);
+//! - `decimal`: exact values of number literals;
+//! - `ratfunc`: rational functions in canonical form ([`RatFunc`]).
 
+mod decimal;
 mod gcd;
 mod modgcd;
 mod modp;
 mod monomial;
 mod poly;
+mod ratfunc;
 mod symbol;
 
 pub use gcd::gcd;
 pub use monomial::Monomial;
 pub use poly::{Poly, div_exact};
+pub use ratfunc::RatFunc;
 pub use symbol::{Symbol, SymbolTable};
 
 /// Implements `Add`, `Sub`, `Mul` for every owned/borrowed combination, and the matching

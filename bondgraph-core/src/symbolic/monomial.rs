@@ -114,6 +114,35 @@ impl Monomial {
         }
     }
 
+    /// `self /= other` in place if `other` divides `self`; returns whether it did (and
+    /// leaves `self` unchanged if not).
+    pub(crate) fn div_assign(&mut self, other: &Monomial) -> bool {
+        match other.0.as_slice() {
+            [] => true,
+            [(s, e)] => match self.0.binary_search_by_key(s, |&(t, _)| t) {
+                Ok(i) => match self.0[i].1.cmp(e) {
+                    Ordering::Less => false,
+                    Ordering::Equal => {
+                        self.0.remove(i);
+                        true
+                    }
+                    Ordering::Greater => {
+                        self.0[i].1 -= e;
+                        true
+                    }
+                },
+                Err(_) => false,
+            },
+            _ => match self.div(other) {
+                Some(q) => {
+                    *self = q;
+                    true
+                }
+                None => false,
+            },
+        }
+    }
+
     /// `self / other` if `other` divides `self`.
     pub(crate) fn div(&self, other: &Monomial) -> Option<Monomial> {
         if other.is_one() {
@@ -278,6 +307,13 @@ mod tests {
         assert_eq!(z, m(&[(A, 3), (B, 1), (C, 2)]));
         z.mul_assign(&y);
         assert_eq!(z, m(&[(A, 3), (B, 3), (C, 3)]));
+        assert!(z.div_assign(&m(&[(C, 3)])));
+        assert!(z.div_assign(&m(&[(B, 1)])));
+        assert!(!z.div_assign(&m(&[(B, 3)])));
+        assert!(!z.div_assign(&m(&[(C, 1)])));
+        assert!(z.div_assign(&m(&[(A, 1), (B, 2)])));
+        assert!(!z.div_assign(&m(&[(A, 1), (C, 1)])));
+        assert_eq!(z, m(&[(A, 2)]));
         assert_eq!(x.split_off(C), (0, x.clone()));
     }
 }

@@ -370,6 +370,27 @@ impl Poly {
         }
     }
 
+    /// `self / (c * m)` reusing this polynomial's storage, if every term is divisible.
+    pub(crate) fn div_term_owned(mut self, m: &Monomial, c: &BigInt) -> Option<Poly> {
+        if c.is_zero() {
+            return None;
+        }
+        let unit = c.is_one();
+        for (tm, tc) in &mut self.terms {
+            if !tm.div_assign(m) {
+                return None;
+            }
+            if !unit {
+                let (q, r) = tc.div_rem(c);
+                if !r.is_zero() {
+                    return None;
+                }
+                *tc = q;
+            }
+        }
+        Some(self)
+    }
+
     /// The gcd of `m` and the monomial content, looking up only the symbols of `m`.
     pub(crate) fn monomial_gcd_with(&self, m: &Monomial) -> Monomial {
         Monomial::new(m.iter().map(|(s, e)| {
