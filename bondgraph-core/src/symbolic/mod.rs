@@ -26,7 +26,8 @@
 //!   (arithmetic modulo a prime, degree bounds from modular images) and `modgcd` (Brown's
 //!   modular gcd);
 //! - `decimal`: exact values of number literals;
-//! - `ratfunc`: rational functions in canonical form ([`RatFunc`]).
+//! - `ratfunc`: rational functions in canonical form ([`RatFunc`]);
+//! - `print`: plain-text and LaTeX rendering.
 
 mod decimal;
 mod gcd;
@@ -34,6 +35,7 @@ mod modgcd;
 mod modp;
 mod monomial;
 mod poly;
+mod print;
 mod ratfunc;
 mod symbol;
 
