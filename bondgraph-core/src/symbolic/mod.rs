@@ -39,6 +39,9 @@ mod print;
 mod ratfunc;
 mod symbol;
 
+#[cfg(test)]
+mod proptests;
+
 pub use gcd::gcd;
 pub use monomial::Monomial;
 pub use poly::{Poly, div_exact};
