@@ -15,7 +15,7 @@ use bondgraph_core::diagnostics::Diagnostics;
 use bondgraph_core::equations::{self, OutputSpec, Variables};
 use bondgraph_core::model::{self, Model};
 use bondgraph_core::source::SourceFile;
-use bondgraph_core::{laws, Diagnostic, DiagnosticKind};
+use bondgraph_core::{Diagnostic, DiagnosticKind, laws};
 use clap::{Parser, Subcommand, ValueEnum};
 
 /// Bond-graph models in, state equations out.
@@ -107,14 +107,14 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let equations = equations::derive(&model, &laws, &equations::Options::default())
                 .map_err(|d| with_source(d, &source))?;
             println!(
-                "{}: ok: model '{}' with {} elements, {} bonds, {} parameters, {} inputs, {} states",
+                "{}: ok: model '{}' with {}, {}, {}, {} and {}",
                 source.name(),
                 model.name,
-                model.elements.len(),
-                model.bonds.len(),
-                model.parameters.len(),
-                model.inputs.len(),
-                equations.state_count()
+                count(model.elements.len(), "element"),
+                count(model.bonds.len(), "bond"),
+                count(model.parameters.len(), "parameter"),
+                count(model.inputs.len(), "input"),
+                count(equations.state_count(), "state"),
             );
             Ok(())
         }
@@ -132,8 +132,8 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 },
             };
             let laws = laws::plain_laws(&model);
-            let equations = equations::derive(&model, &laws, &options)
-                .map_err(|d| with_source(d, &source))?;
+            let equations =
+                equations::derive(&model, &laws, &options).map_err(|d| with_source(d, &source))?;
             let outputs = outputs
                 .iter()
                 .map(|spec| {
@@ -195,6 +195,11 @@ fn json(value: &impl serde::Serialize) -> Result<String, Failure> {
                 format!("cannot write JSON: {error}"),
             )))
         })
+}
+
+/// `1 bond`, `2 bonds`.
+fn count(n: usize, noun: &str) -> String {
+    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
 }
 
 /// Writes to stdout, ignoring a closed pipe (`bondgraph ... | head`).

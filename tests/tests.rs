@@ -1,4 +1,6 @@
-//! Integration tests of the `bondgraph` program.
+//! Whole-program tests: the libraries and the `bondgraph` command on real model files.
 //!
-//! `Cargo.toml` declares this single test target (one binary links faster than many); the
-//! program's behaviour tests go here as the command-line interface grows.
+//! One test binary with modules (rather than one binary per file) keeps link times down.
+
+mod examples;
+mod support;

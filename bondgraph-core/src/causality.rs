@@ -374,9 +374,7 @@ impl<'a> Scap<'a> {
                 origins.join(" and ")
             )
         } else {
-            format!(
-                "causal conflict at {what} '{name}': no bond can set its common {variable}"
-            )
+            format!("causal conflict at {what} '{name}': no bond can set its common {variable}")
         };
         Diagnostic::new(DiagnosticKind::CausalConflict, message)
             .at_location(model.locate_element(junction))

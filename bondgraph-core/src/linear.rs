@@ -132,11 +132,7 @@ impl LinearForm {
             return Self::zero();
         }
         Self {
-            terms: self
-                .terms
-                .iter()
-                .map(|(v, c)| (*v, c * factor))
-                .collect(),
+            terms: self.terms.iter().map(|(v, c)| (*v, c * factor)).collect(),
         }
     }
 

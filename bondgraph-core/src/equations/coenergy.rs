@@ -65,7 +65,10 @@ pub(crate) fn convert(
             .iter()
             .map(|&k| substitute(&derivatives[k as usize]))
             .collect();
-        for (a, row) in matrix::apply(&block.inverse, &rates).into_iter().enumerate() {
+        for (a, row) in matrix::apply(&block.inverse, &rates)
+            .into_iter()
+            .enumerate()
+        {
             converted[block.states[a] as usize] = row;
         }
     }

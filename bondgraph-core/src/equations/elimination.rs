@@ -42,6 +42,9 @@ pub(crate) fn flow(bond: BondId) -> Var {
     Var::Bond(2 * bond.0 + 1)
 }
 
+/// Picks one variable of a bond: [`effort`] or [`flow`].
+type BondVariable = fn(BondId) -> Var;
+
 /// The numbering of the mode's states and dependent storage, by element.
 pub(crate) struct Numbering {
     /// `Some(i)` if the element contributes state `i` before merging.
@@ -111,10 +114,8 @@ pub(crate) fn solve(
         for (member, form) in members.iter().zip(solution) {
             solved[*member as usize] = Some(form);
         }
-        let mut elements: Vec<ElementId> = members
-            .iter()
-            .map(|m| definitions[*m as usize].0)
-            .collect();
+        let mut elements: Vec<ElementId> =
+            members.iter().map(|m| definitions[*m as usize].0).collect();
         elements.sort();
         elements.dedup();
         loops.push(AlgebraicLoop { elements });
@@ -192,10 +193,7 @@ fn singular_loop(
     definitions: &[(ElementId, LinearForm)],
     members: &[u32],
 ) -> crate::diagnostics::Diagnostics {
-    let mut elements: Vec<ElementId> = members
-        .iter()
-        .map(|m| definitions[*m as usize].0)
-        .collect();
+    let mut elements: Vec<ElementId> = members.iter().map(|m| definitions[*m as usize].0).collect();
     elements.sort();
     elements.dedup();
     let names: Vec<String> = elements
@@ -247,25 +245,43 @@ fn define(
             Law::SlackStorage => define(effort(bonds[0]), element, LinearForm::zero()),
             Law::Inertia(inertance) => {
                 let bond = bonds[0];
-                match (numbering.state[element.index()], numbering.dependent[element.index()]) {
+                match (
+                    numbering.state[element.index()],
+                    numbering.dependent[element.index()],
+                ) {
                     (Some(state), _) => {
                         let coefficient = sign(bond)
                             .checked_div(inertance)
                             .expect("inertance validated non-zero");
-                        define(flow(bond), element, LinearForm::term(Var::State(state), coefficient));
+                        define(
+                            flow(bond),
+                            element,
+                            LinearForm::term(Var::State(state), coefficient),
+                        );
                     }
                     (None, Some(dependent)) => {
-                        define(effort(bond), element, LinearForm::var(Var::Dependent(dependent)));
+                        define(
+                            effort(bond),
+                            element,
+                            LinearForm::var(Var::Dependent(dependent)),
+                        );
                     }
                     (None, None) => unreachable!("storage is either a state or dependent"),
                 }
             }
             Law::Compliance(compliance) => {
                 let bond = bonds[0];
-                match (numbering.state[element.index()], numbering.dependent[element.index()]) {
+                match (
+                    numbering.state[element.index()],
+                    numbering.dependent[element.index()],
+                ) {
                     (Some(state), _) => {
                         let coefficient = compliance.inv().expect("compliance validated non-zero");
-                        define(effort(bond), element, LinearForm::term(Var::State(state), coefficient));
+                        define(
+                            effort(bond),
+                            element,
+                            LinearForm::term(Var::State(state), coefficient),
+                        );
                     }
                     (None, Some(dependent)) => {
                         define(
@@ -289,7 +305,11 @@ fn define(
                     }
                     let mut form = LinearForm::var(effort(bond));
                     form.add_scaled(offset, &RatFunc::integer(-1));
-                    define(flow(bond), element, form.scaled(&(&conductance * &sign(bond))));
+                    define(
+                        flow(bond),
+                        element,
+                        form.scaled(&(&conductance * &sign(bond))),
+                    );
                 } else {
                     // Resistance causality: e = R f + offset.
                     let mut form = LinearForm::term(flow(bond), resistance * &sign(bond));
@@ -301,22 +321,54 @@ fn define(
                 let (input, output) = two_port_bonds(model, element);
                 let inverse = n.inv().expect("ratio validated non-zero");
                 if receives(input) {
-                    define(effort(output), element, LinearForm::term(effort(input), inverse.clone()));
-                    define(flow(input), element, LinearForm::term(flow(output), inverse));
+                    define(
+                        effort(output),
+                        element,
+                        LinearForm::term(effort(input), inverse.clone()),
+                    );
+                    define(
+                        flow(input),
+                        element,
+                        LinearForm::term(flow(output), inverse),
+                    );
                 } else {
-                    define(effort(input), element, LinearForm::term(effort(output), n.clone()));
-                    define(flow(output), element, LinearForm::term(flow(input), n.clone()));
+                    define(
+                        effort(input),
+                        element,
+                        LinearForm::term(effort(output), n.clone()),
+                    );
+                    define(
+                        flow(output),
+                        element,
+                        LinearForm::term(flow(input), n.clone()),
+                    );
                 }
             }
             Law::Gyrator(r) => {
                 let (input, output) = two_port_bonds(model, element);
                 if receives(input) {
                     let inverse = r.inv().expect("ratio validated non-zero");
-                    define(flow(output), element, LinearForm::term(effort(input), inverse.clone()));
-                    define(flow(input), element, LinearForm::term(effort(output), inverse));
+                    define(
+                        flow(output),
+                        element,
+                        LinearForm::term(effort(input), inverse.clone()),
+                    );
+                    define(
+                        flow(input),
+                        element,
+                        LinearForm::term(effort(output), inverse),
+                    );
                 } else {
-                    define(effort(input), element, LinearForm::term(flow(output), r.clone()));
-                    define(effort(output), element, LinearForm::term(flow(input), r.clone()));
+                    define(
+                        effort(input),
+                        element,
+                        LinearForm::term(flow(output), r.clone()),
+                    );
+                    define(
+                        effort(output),
+                        element,
+                        LinearForm::term(flow(input), r.clone()),
+                    );
                 }
             }
             Law::ZeroJunction | Law::OneJunction => {
@@ -326,7 +378,7 @@ fn define(
                     .iter()
                     .find(|&&b| receives(b) == zero)
                     .expect("causality leaves every junction one unique bond");
-                let (common, summed): (fn(BondId) -> Var, fn(BondId) -> Var) =
+                let (common, summed): (BondVariable, BondVariable) =
                     if zero { (effort, flow) } else { (flow, effort) };
                 // Σ σ_j x_j = 0 over the junction's bonds (σ = +1 into the junction), solved
                 // for the unique bond's summed variable.

@@ -13,7 +13,13 @@ pub(crate) fn inverse(matrix: &Matrix) -> Option<Matrix> {
     let mut right: Matrix = (0..n)
         .map(|i| {
             (0..n)
-                .map(|j| if i == j { RatFunc::one() } else { RatFunc::zero() })
+                .map(|j| {
+                    if i == j {
+                        RatFunc::one()
+                    } else {
+                        RatFunc::zero()
+                    }
+                })
                 .collect()
         })
         .collect();
@@ -59,7 +65,7 @@ pub(crate) fn apply(matrix: &Matrix, forms: &[LinearForm]) -> Vec<LinearForm> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::symbolic::{SymbolTable, Symbol};
+    use crate::symbolic::{Symbol, SymbolTable};
 
     fn sym(table: &SymbolTable, name: &str) -> RatFunc {
         let s: Symbol = table.get(name).unwrap();

@@ -23,7 +23,7 @@
 use std::collections::BTreeMap;
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
-use crate::equations::elimination::{effort, flow, Numbering};
+use crate::equations::elimination::{Numbering, effort, flow};
 use crate::equations::matrix::{self, Matrix};
 use crate::laws::Law;
 use crate::linear::{LinearForm, Var};
@@ -68,6 +68,16 @@ pub(crate) struct Merged {
     /// The energy variable of every storage element of the mode (states and dependents),
     /// as a form over the new states: for reconstructing the full physical state.
     pub storage_energy: BTreeMap<ElementId, Option<LinearForm>>,
+}
+
+/// What resolving the dependents of one merged group needs.
+struct GroupSolution {
+    /// The group's states.
+    states: Vec<u32>,
+    /// For each dependent (by index), its row of `T` over the group's states.
+    t_rows: Vec<(usize, Vec<RatFunc>)>,
+    /// The inverse of the group's storage matrix.
+    inverse: Matrix,
 }
 
 struct Dependent {
@@ -127,7 +137,9 @@ pub(crate) fn merge(
                 Var::State(k) if domain_of_state[*k as usize] != own => {
                     Some(state_elements[*k as usize])
                 }
-                Var::Dependent(j) => Some(dependents.get(*j as usize).map_or(element, |d| d.element)),
+                Var::Dependent(j) => {
+                    Some(dependents.get(*j as usize).map_or(element, |d| d.element))
+                }
                 _ => None,
             };
             if let Some(other) = offending {
@@ -178,10 +190,12 @@ pub(crate) fn merge(
     let mut blocks = Vec::new();
     let mut old_state_form: Vec<LinearForm> = vec![LinearForm::zero(); state_count];
     let mut merged_into: Vec<Vec<ElementId>> = vec![Vec::new(); state_count];
-    // Per group: (states, T rows by dependent, inverse) for resolving dependent efforts.
-    let mut group_solutions: Vec<(Vec<u32>, Vec<(usize, Vec<RatFunc>)>, Matrix)> = Vec::new();
+    let mut group_solutions: Vec<GroupSolution> = Vec::new();
     for (group_root, states) in &members {
-        let deps = group_dependents.get(group_root).cloned().unwrap_or_default();
+        let deps = group_dependents
+            .get(group_root)
+            .cloned()
+            .unwrap_or_default();
         let n = states.len();
         // T_dk = τ_dk · storage_k, where the dependent follows f_k = x_k / storage_k.
         let t_rows: Vec<(usize, Vec<RatFunc>)> = deps
@@ -189,7 +203,10 @@ pub(crate) fn merge(
             .map(|&j| {
                 let row = states
                     .iter()
-                    .map(|&k| &dependents[j].driven.coefficient(Var::State(k)) * &storage_of_state[k as usize])
+                    .map(|&k| {
+                        &dependents[j].driven.coefficient(Var::State(k))
+                            * &storage_of_state[k as usize]
+                    })
                     .collect();
                 (j, row)
             })
@@ -227,7 +244,9 @@ pub(crate) fn merge(
         let Some(inverse) = matrix::inverse(&mass) else {
             let element = deps
                 .first()
-                .map_or(state_elements[states[0] as usize], |&j| dependents[j].element);
+                .map_or(state_elements[states[0] as usize], |&j| {
+                    dependents[j].element
+                });
             return Err(singular_merge(model, element));
         };
         // x_old_k = storage_k · f_k and f = M'⁻¹ (p' - offset).
@@ -241,7 +260,11 @@ pub(crate) fn merge(
             old_state_form[k as usize] = velocity.scaled(&storage_of_state[k as usize]);
         }
         if !t_rows.is_empty() {
-            group_solutions.push((states.clone(), t_rows, inverse.clone()));
+            group_solutions.push(GroupSolution {
+                states: states.clone(),
+                t_rows,
+                inverse: inverse.clone(),
+            });
         }
         blocks.push(Block {
             states: states.clone(),
@@ -260,13 +283,17 @@ pub(crate) fn merge(
 
     // New derivatives: dx'_k/dt = dx_k/dt + Σ_d T_dk e_d, where the e_d cancel.
     let mut derivatives: Vec<LinearForm> = derivatives_old.iter().map(&to_new_states).collect();
-    for (states, t_rows, _) in &group_solutions {
+    for GroupSolution { states, t_rows, .. } in &group_solutions {
         for (a, &k) in states.iter().enumerate() {
             for (j, row) in t_rows {
-                derivatives[k as usize].add_scaled(&LinearForm::var(Var::Dependent(*j as u32)), &row[a]);
+                derivatives[k as usize]
+                    .add_scaled(&LinearForm::var(Var::Dependent(*j as u32)), &row[a]);
             }
             for (j, _) in t_rows {
-                if derivatives[k as usize].get(Var::Dependent(*j as u32)).is_some() {
+                if derivatives[k as usize]
+                    .get(Var::Dependent(*j as u32))
+                    .is_some()
+                {
                     return Err(internal(
                         model,
                         dependents[*j].element,
@@ -280,7 +307,9 @@ pub(crate) fn merge(
     // Each dependent's own effort (inertia) or flow (compliance): storage · d/dt(driven).
     let mut dependent_value: Vec<Option<LinearForm>> = vec![None; dependents.len()];
     for &j in &held {
-        let has_input = dependents[j].driven.mentions(|v| matches!(v, Var::Input(_)));
+        let has_input = dependents[j]
+            .driven
+            .mentions(|v| matches!(v, Var::Input(_)));
         dependent_value[j] = (!has_input).then(LinearForm::zero);
     }
     let held_values = dependent_value.clone();
@@ -298,7 +327,12 @@ pub(crate) fn merge(
         });
         ok.then_some(result)
     };
-    for (states, t_rows, inverse) in &group_solutions {
+    for GroupSolution {
+        states,
+        t_rows,
+        inverse,
+    } in &group_solutions
+    {
         let rates: Vec<LinearForm> = states
             .iter()
             .map(|&k| derivatives[k as usize].clone())

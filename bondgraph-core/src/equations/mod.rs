@@ -121,8 +121,10 @@ pub enum Note {
     },
     /// An algebraic loop solved symbolically.
     AlgebraicLoop {
-        /// The elements whose equations formed it.
+        /// The elements (other than junctions) whose equations formed it.
         elements: Vec<String>,
+        /// The junctions it passes through.
+        junctions: Vec<String>,
     },
 }
 
@@ -143,9 +145,13 @@ impl Note {
             Note::Held { element } => format!(
                 "'{element}' is held by sources (its flow or effort is imposed): no state in this mode"
             ),
-            Note::AlgebraicLoop { elements } => format!(
-                "algebraic loop through {} solved symbolically",
-                quote_list(elements)
+            Note::AlgebraicLoop {
+                elements,
+                junctions,
+            } => format!(
+                "algebraic loop through {} (at {}) solved symbolically",
+                quote_list(elements),
+                quote_list(junctions)
             ),
         }
     }
@@ -285,12 +291,16 @@ pub fn derive_with(
         });
     }
     for algebraic_loop in &solved.loops {
+        let (junctions, elements): (Vec<ElementId>, Vec<ElementId>) = algebraic_loop
+            .elements
+            .iter()
+            .partition(|e| matches!(laws[e.index()], Law::ZeroJunction | Law::OneJunction));
+        let names = |ids: Vec<ElementId>| -> Vec<String> {
+            ids.iter().map(|e| model.element(*e).name.clone()).collect()
+        };
         notes.push(Note::AlgebraicLoop {
-            elements: algebraic_loop
-                .elements
-                .iter()
-                .map(|e| model.element(*e).name.clone())
-                .collect(),
+            elements: names(elements),
+            junctions: names(junctions),
         });
     }
 

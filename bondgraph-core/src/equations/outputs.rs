@@ -4,7 +4,7 @@
 //! `flow:ELEMENT` (the one bond of a one-port, e.g. `effort:damper` is the damper force) or
 //! `effort:FROM->TO` for any bond (e.g. `flow:j1->j2`).
 
-use crate::diagnostics::{Diagnostic, DiagnosticKind, Result};
+use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::equations::StateEquations;
 use crate::linear::LinearForm;
 use crate::model::{BondId, Model};
@@ -66,11 +66,13 @@ impl OutputSpec {
         let target = target.trim();
         let element_id = |name: &str| {
             model.element_named(name.trim()).ok_or_else(|| {
-                bad(format!(
-                    "output '{text}': the model has no element '{}'",
-                    name.trim()
-                ))
-                .element(name.trim())
+                Diagnostics::from(
+                    bad(format!(
+                        "output '{text}': the model has no element '{}'",
+                        name.trim()
+                    ))
+                    .element(name.trim()),
+                )
             })
         };
         let bond = if let Some((from, to)) = target.split_once("->") {

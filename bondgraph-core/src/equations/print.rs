@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use crate::equations::{OutputEquation, Quantity, StateEquations, Variables};
 use crate::linear::{LinearForm, Var};
-use crate::symbolic::{latex_name, RatFunc};
+use crate::symbolic::{RatFunc, latex_name};
 
 /// The JSON document of `bondgraph equations`.
 #[derive(Clone, Debug, Serialize)]
@@ -158,7 +158,11 @@ impl StateEquations {
             out.push_str(&format!("inputs: {}\n", self.inputs.join(", ")));
         }
         out.push('\n');
-        let lhs: Vec<String> = self.states.iter().map(|s| format!("d{}/dt", s.name)).collect();
+        let lhs: Vec<String> = self
+            .states
+            .iter()
+            .map(|s| format!("d{}/dt", s.name))
+            .collect();
         let width = lhs.iter().map(String::len).max().unwrap_or(0);
         for (name, row) in lhs.iter().zip(&self.derivatives) {
             out.push_str(&format!("{name:width$} = {}\n", self.form_text(row)));
@@ -171,8 +175,13 @@ impl StateEquations {
             if !self.inputs.is_empty() {
                 out.push_str(&matrix_text("B", &self.text_entries(&self.b())));
             }
-            let c: Vec<Vec<RatFunc>> = self.c().into_iter().map(|e| vec![e]).collect();
-            out.push_str(&matrix_text("c", &self.text_entries(&c)));
+            let c = self.c();
+            if c.iter().all(RatFunc::is_zero) {
+                out.push_str("c = 0\n");
+            } else {
+                let c: Vec<Vec<RatFunc>> = c.into_iter().map(|e| vec![e]).collect();
+                out.push_str(&matrix_text("c", &self.text_entries(&c)));
+            }
         } else {
             out.push_str(&format!(
                 "\n(matrices of {} states not printed as text; use --format json)\n",
@@ -197,14 +206,17 @@ impl StateEquations {
 
     /// The matrix form `d/dt x = A x + B u + c` in LaTeX, one input column at a time.
     pub fn to_latex(&self) -> String {
-        let states: Vec<String> = self.states.iter().map(|s| latex_name(&s.name)).collect();
+        let states: Vec<String> = self.states.iter().map(state_latex).collect();
         let mut out = String::from("\\begin{equation}\n");
         if self.states.is_empty() {
             out.push_str("\\text{no states in this mode}\n\\end{equation}\n");
             return out;
         }
         let column = |entries: &[String]| {
-            format!("\\begin{{bmatrix}} {} \\end{{bmatrix}}", entries.join(" \\\\ "))
+            format!(
+                "\\begin{{bmatrix}} {} \\end{{bmatrix}}",
+                entries.join(" \\\\ ")
+            )
         };
         out.push_str(&format!("\\frac{{d}}{{dt}} {} =\n", column(&states)));
         let a = self.a();
@@ -296,6 +308,18 @@ impl StateEquations {
     pub fn output_text(&self, output: &OutputEquation) -> String {
         format!("{} = {}", output.name, self.form_text(&output.row))
     }
+}
+
+/// A state's name in LaTeX: its quantity's letter with the element's name as subscript,
+/// upright when the name is a word with underscores (`p_{\mathrm{winding\_inductance}}`).
+fn state_latex(state: &crate::equations::StateVariable) -> String {
+    let element = &state.element;
+    let subscript = if element.contains('_') {
+        format!("\\mathrm{{{}}}", element.replace('_', "\\_"))
+    } else {
+        element.clone()
+    };
+    format!("{}_{{{subscript}}}", state.quantity.letter())
 }
 
 /// Dense matrices wider than this are not printed as text.

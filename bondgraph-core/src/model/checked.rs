@@ -288,4 +288,3 @@ impl Model {
         (0..self.bonds.len() as u32).map(BondId)
     }
 }
-

@@ -50,7 +50,8 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
     let mut parameters = Vec::new();
     for (index, (name, raw_parameter)) in raw.parameters.iter().enumerate() {
         let span = v.entry_span(&map.parameters, index);
-        if !v.check_name(name, "parameter", span) || !v.check_unique(&mut seen, name, "parameter", span)
+        if !v.check_name(name, "parameter", span)
+            || !v.check_unique(&mut seen, name, "parameter", span)
         {
             continue;
         }
@@ -63,7 +64,11 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
                         raw_parameter.value
                     ),
                 )
-                .at(file, v.field_value_span(&map.parameters, index, "value").unwrap_or(span))
+                .at(
+                    file,
+                    v.field_value_span(&map.parameters, index, "value")
+                        .unwrap_or(span),
+                )
                 .element(name.clone()),
             );
         }
@@ -175,7 +180,10 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
             v.problems.push(
                 Diagnostic::new(
                     DiagnosticKind::SelfBond,
-                    format!("bond {} -> {} connects an element to itself", raw_bond.0, raw_bond.1),
+                    format!(
+                        "bond {} -> {} connects an element to itself",
+                        raw_bond.0, raw_bond.1
+                    ),
                 )
                 .at(file, span)
                 .element(raw_bond.0.clone()),
@@ -360,7 +368,9 @@ impl Validator<'_> {
                     let (kind, message) = if compliance.is_some() {
                         (
                             DiagnosticKind::ConflictingFields,
-                            format!("compliance '{name}' gives both compliance and stiffness; give one"),
+                            format!(
+                                "compliance '{name}' gives both compliance and stiffness; give one"
+                            ),
                         )
                     } else {
                         (
@@ -519,7 +529,11 @@ impl Validator<'_> {
         sign: Sign,
     ) -> Option<Coefficient> {
         let (form, span) = self.affine(element, index, field, text, scope)?;
-        if let Some((Var::Input(i), _)) = form.terms().iter().find(|(v, _)| matches!(v, Var::Input(_))) {
+        if let Some((Var::Input(i), _)) = form
+            .terms()
+            .iter()
+            .find(|(v, _)| matches!(v, Var::Input(_)))
+        {
             let input = scope
                 .inputs
                 .iter()
@@ -589,7 +603,11 @@ impl Validator<'_> {
         };
         let problem = match e.kind.port_count() {
             Some(1) if count != 1 => Some(if count == 0 {
-                format!("{} '{}' has no bond; it needs exactly one", e.kind.description(), e.name)
+                format!(
+                    "{} '{}' has no bond; it needs exactly one",
+                    e.kind.description(),
+                    e.name
+                )
             } else {
                 format!(
                     "{} '{}' has {count} bonds (lines {}); a one-port takes exactly one",
@@ -609,7 +627,11 @@ impl Validator<'_> {
                 }
             )),
             Some(2) => {
-                let inward = e.bonds.iter().filter(|b| model.bond(**b).to == element).count();
+                let inward = e
+                    .bonds
+                    .iter()
+                    .filter(|b| model.bond(**b).to == element)
+                    .count();
                 (inward != 1).then(|| {
                     format!(
                         "{} '{}' has {} bonds pointing {}; power must flow through it: one bond in, one out",
@@ -647,7 +669,10 @@ impl Validator<'_> {
             i
         }
         for bond in &model.bonds {
-            let (a, b) = (root(&mut parent, bond.from.index()), root(&mut parent, bond.to.index()));
+            let (a, b) = (
+                root(&mut parent, bond.from.index()),
+                root(&mut parent, bond.to.index()),
+            );
             parent[a.max(b)] = a.min(b);
         }
         let mut pieces: Vec<(usize, Vec<ElementId>)> = Vec::new();
@@ -722,7 +747,11 @@ fn to_affine(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<LinearForm, 
         ExprKind::Add(a, b) | ExprKind::Sub(a, b) => {
             let mut left = to_affine(a, scope)?;
             let right = to_affine(b, scope)?;
-            let sign = if matches!(expr.kind, ExprKind::Add(..)) { 1 } else { -1 };
+            let sign = if matches!(expr.kind, ExprKind::Add(..)) {
+                1
+            } else {
+                -1
+            };
             left.add_scaled(&right, &RatFunc::integer(sign));
             left
         }
@@ -750,7 +779,11 @@ fn to_affine(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<LinearForm, 
                 ));
             };
             let Some(inverse) = divisor.inv() else {
-                return Err((DiagnosticKind::InvalidValue, "divides by zero".into(), b.span));
+                return Err((
+                    DiagnosticKind::InvalidValue,
+                    "divides by zero".into(),
+                    b.span,
+                ));
             };
             left.scaled(&inverse)
         }
@@ -780,7 +813,10 @@ fn to_affine(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<LinearForm, 
 }
 
 /// The candidate closest to `name` by edit distance, if it is close enough to be a typo.
-pub(crate) fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
+pub(crate) fn suggest<'a>(
+    name: &str,
+    candidates: impl Iterator<Item = &'a str>,
+) -> Option<&'a str> {
     candidates
         .map(|c| (edit_distance(name, c), c))
         .filter(|(d, c)| *d <= (name.len().max(c.len()) / 3).max(1))

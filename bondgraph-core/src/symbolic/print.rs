@@ -212,7 +212,7 @@ const GREEK: [&str; 33] = [
 /// as its command, anything else upright. Each further part is the subscript of the one
 /// before it, written as is. A name with an empty part (`_x`, `a__b`, `a_`) prints upright
 /// as a whole, with its underscores escaped.
-pub(crate) fn latex_name(name: &str) -> String {
+pub fn latex_name(name: &str) -> String {
     let parts: Vec<&str> = name.split('_').collect();
     if parts.iter().any(|p| p.is_empty()) {
         return format!("\\mathrm{{{}}}", name.replace('_', "\\_"));
