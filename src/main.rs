@@ -15,7 +15,7 @@ use bondgraph_core::diagnostics::Diagnostics;
 use bondgraph_core::equations::{self, OutputSpec, Variables};
 use bondgraph_core::model::{self, Model};
 use bondgraph_core::source::SourceFile;
-use bondgraph_core::{Diagnostic, DiagnosticKind, laws};
+use bondgraph_core::{Diagnostic, DiagnosticKind, causality, graph, laws};
 use clap::{Parser, Subcommand, ValueEnum};
 
 /// Bond-graph models in, state equations out.
@@ -32,6 +32,14 @@ enum Command {
     Check {
         /// The model file (RON).
         model: PathBuf,
+    },
+    /// Show the bond graph and its causal strokes, as text or Graphviz DOT.
+    Graph {
+        /// The model file (RON).
+        model: PathBuf,
+        /// Output format: text, or dot (render with `dot -Tsvg`).
+        #[arg(long, value_enum, default_value_t = GraphFormat::Text)]
+        format: GraphFormat,
     },
     /// Derive the state equations dx/dt = A x + B u + c of a model.
     Equations {
@@ -53,6 +61,12 @@ enum Command {
 enum StatesArg {
     Energy,
     Coenergy,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum GraphFormat {
+    Text,
+    Dot,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -116,6 +130,22 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 count(model.inputs.len(), "input"),
                 count(equations.state_count(), "state"),
             );
+            Ok(())
+        }
+        Command::Graph { model, format } => {
+            let (model, source) = load(&model)?;
+            let laws = laws::plain_laws(&model);
+            let causality =
+                causality::assign(&model, &laws).map_err(|d| with_source(d, &source))?;
+            let text = match format {
+                GraphFormat::Text => format!(
+                    "{}\n{}",
+                    graph::describe(&model),
+                    graph::describe_causality(&model, &laws, &causality)
+                ),
+                GraphFormat::Dot => graph::to_dot(&model, Some(&causality)),
+            };
+            print(&text);
             Ok(())
         }
         Command::Equations {

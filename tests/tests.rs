@@ -3,4 +3,5 @@
 //! One test binary with modules (rather than one binary per file) keeps link times down.
 
 mod examples;
+mod snapshots;
 mod support;

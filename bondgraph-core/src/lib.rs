@@ -49,6 +49,7 @@ pub mod causality;
 pub mod diagnostics;
 pub mod equations;
 pub mod expr;
+pub mod graph;
 pub mod laws;
 pub mod linear;
 pub mod model;

@@ -79,8 +79,8 @@ impl Quantity {
         match self {
             Quantity::Momentum => "momentum",
             Quantity::Displacement => "displacement",
-            Quantity::Velocity => "velocity",
-            Quantity::Force => "force",
+            Quantity::Velocity => "flow",
+            Quantity::Force => "effort",
         }
     }
 }

@@ -9,6 +9,8 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
+use petgraph::unionfind::UnionFind;
+
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::expr::{self, Expr, ExprKind};
 use crate::linear::{LinearForm, Var};
@@ -660,24 +662,14 @@ impl Validator<'_> {
     }
 
     fn check_connected(&mut self, model: &Model) {
-        let mut parent: Vec<usize> = (0..model.elements.len()).collect();
-        fn root(parent: &mut [usize], mut i: usize) -> usize {
-            while parent[i] != i {
-                parent[i] = parent[parent[i]];
-                i = parent[i];
-            }
-            i
-        }
-        for bond in &model.bonds {
-            let (a, b) = (
-                root(&mut parent, bond.from.index()),
-                root(&mut parent, bond.to.index()),
-            );
-            parent[a.max(b)] = a.min(b);
+        let graph = crate::graph::bond_graph(model);
+        let mut components = UnionFind::<usize>::new(graph.node_count());
+        for edge in graph.raw_edges() {
+            components.union(edge.source().index(), edge.target().index());
         }
         let mut pieces: Vec<(usize, Vec<ElementId>)> = Vec::new();
         for element in model.element_ids() {
-            let r = root(&mut parent, element.index());
+            let r = components.find(element.index());
             match pieces.iter_mut().find(|(root, _)| *root == r) {
                 Some((_, members)) => members.push(element),
                 None => pieces.push((r, vec![element])),

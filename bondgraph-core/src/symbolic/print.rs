@@ -206,7 +206,7 @@ const GREEK: [&str; 33] = [
 ];
 
 /// A symbol name in LaTeX: `m_ct` is `m_{ct}`, `F_S_ge` is `F_{S_{ge}}`, `Delta_v` is
-/// `\Delta_{v}`, `dv` is `\mathrm{dv}`.
+/// `\Delta_{v}`, `dv` is `\mathrm{dv}`, `m1` is `m_{1}`.
 ///
 /// The part before the first `_` is the base: a single character plain, a Greek letter name
 /// as its command, anything else upright. Each further part is the subscript of the one
@@ -218,6 +218,16 @@ pub fn latex_name(name: &str) -> String {
         return format!("\\mathrm{{{}}}", name.replace('_', "\\_"));
     }
     let base = parts[0];
+    // A letter followed by digits is a numbered symbol: `m1` is `m_{1}`.
+    let digits = base.trim_start_matches(|c: char| c.is_ascii_alphabetic());
+    let letters = &base[..base.len() - digits.len()];
+    if parts.len() == 1
+        && letters.chars().count() == 1
+        && !digits.is_empty()
+        && digits.chars().all(|c| c.is_ascii_digit())
+    {
+        return format!("{letters}_{{{digits}}}");
+    }
     let mut out = if base.chars().count() == 1 {
         base.to_string()
     } else if GREEK.contains(&base) {
@@ -411,6 +421,9 @@ mod tests {
         assert_eq!(latex_name("Beta"), "\\mathrm{Beta}");
         assert_eq!(latex_name("x"), "x");
         assert_eq!(latex_name("x1_b"), "\\mathrm{x1}_{b}");
+        assert_eq!(latex_name("m1"), "m_{1}");
+        assert_eq!(latex_name("b12"), "b_{12}");
+        assert_eq!(latex_name("ab1"), "\\mathrm{ab1}");
         assert_eq!(latex_name("_x"), "\\mathrm{\\_x}");
         assert_eq!(latex_name("a__b"), "\\mathrm{a\\_\\_b}");
         assert_eq!(latex_name(""), "\\mathrm{}");

@@ -1,0 +1,172 @@
+//! The bond graph as a graph: petgraph for algorithms, text and Graphviz DOT for people.
+//!
+//! A [`Model`] keeps its elements and bonds in vectors (indexed by [`ElementId`] and
+//! [`BondId`]); [`bond_graph`] views them as a petgraph [`DiGraph`] whose node and edge indices
+//! are those ids, with edges pointing the way power flows. The printers show the two stages a
+//! teacher draws on the board: the graph as modelled, and the graph with its causal strokes.
+
+use std::fmt::Write;
+
+use petgraph::graph::{DiGraph, NodeIndex};
+
+use crate::causality::{Causality, Stroke};
+use crate::laws::Law;
+use crate::model::{BondId, ElementId, ElementKind, Model};
+
+/// The model as a directed graph: node `i` is element `i`, edge `j` is bond `j`, pointing the
+/// way power flows.
+pub fn bond_graph(model: &Model) -> DiGraph<ElementId, BondId> {
+    let mut graph = DiGraph::with_capacity(model.elements.len(), model.bonds.len());
+    for element in model.element_ids() {
+        graph.add_node(element);
+    }
+    for bond in model.bond_ids() {
+        let b = model.bond(bond);
+        graph.add_edge(
+            NodeIndex::new(b.from.index()),
+            NodeIndex::new(b.to.index()),
+            bond,
+        );
+    }
+    graph
+}
+
+/// What an element is, with its coefficient: `I(m)`, `C(1/k)`, `Se(A*P_s)`, `0`.
+///
+/// Coefficients print in canonical form (a stiffness `k` shows as the compliance `1/k`);
+/// source values print as written.
+pub fn element_label(model: &Model, element: ElementId) -> String {
+    let kind = &model.element(element).kind;
+    match kind {
+        ElementKind::EffortSource(v) | ElementKind::FlowSource(v) => {
+            format!("{}({})", kind.keyword(), v.text)
+        }
+        ElementKind::Inertia(c)
+        | ElementKind::Compliance(c)
+        | ElementKind::Resistor(c)
+        | ElementKind::Transformer(c)
+        | ElementKind::Gyrator(c) => {
+            format!("{}({})", kind.keyword(), c.value.text(&model.symbols))
+        }
+        ElementKind::ZeroJunction => "0".to_string(),
+        ElementKind::OneJunction => "1".to_string(),
+    }
+}
+
+/// The graph as modelled: every element with its law, every bond with its power direction.
+pub fn describe(model: &Model) -> String {
+    let mut out = String::new();
+    let width = model
+        .elements
+        .iter()
+        .map(|e| e.name.len())
+        .max()
+        .unwrap_or(0);
+    let _ = writeln!(out, "elements:");
+    for element in model.element_ids() {
+        let _ = writeln!(
+            out,
+            "  {:width$}  {}",
+            model.element(element).name,
+            element_label(model, element)
+        );
+    }
+    let _ = writeln!(out, "bonds (power flows from -> to):");
+    for bond in model.bond_ids() {
+        let _ = writeln!(out, "  {}", model.bond_label(bond));
+    }
+    out
+}
+
+/// The causal graph: for every bond, which end sets the effort and which the flow; then the
+/// causality of each storage element and the choices that were arbitrary.
+pub fn describe_causality(model: &Model, laws: &[Law], causality: &Causality) -> String {
+    let mut out = String::new();
+    let labels: Vec<String> = model.bond_ids().map(|b| model.bond_label(b)).collect();
+    let width = labels.iter().map(String::len).max().unwrap_or(0);
+    let _ = writeln!(
+        out,
+        "causal strokes (| at the end that receives the effort):"
+    );
+    for bond in model.bond_ids() {
+        let b = model.bond(bond);
+        let (from, to) = (&model.element(b.from).name, &model.element(b.to).name);
+        let stroked = match causality.strokes[bond.index()] {
+            Stroke::AtFrom => format!("|{from} -> {to}"),
+            Stroke::AtTo => format!("{from} -> {to}|"),
+        };
+        let giver = &model.element(causality.effort_giver(model, bond)).name;
+        let receiver = &model.element(causality.effort_receiver(model, bond)).name;
+        let _ = writeln!(
+            out,
+            "  {stroked:w$}  effort set by {giver}, flow by {receiver}",
+            w = width + 1
+        );
+    }
+    let storage: Vec<String> = model
+        .element_ids()
+        .filter_map(|e| {
+            causality.storage(e, laws).map(|c| {
+                format!(
+                    "{} {}",
+                    model.element(e).name,
+                    match c {
+                        crate::causality::StorageCausality::Integral => "integral",
+                        crate::causality::StorageCausality::Derivative => "derivative",
+                    }
+                )
+            })
+        })
+        .collect();
+    if !storage.is_empty() {
+        let _ = writeln!(out, "storage: {}", storage.join(", "));
+    }
+    if !causality.arbitrary.is_empty() {
+        let names: Vec<&str> = causality
+            .arbitrary
+            .iter()
+            .map(|e| model.element(*e).name.as_str())
+            .collect();
+        let _ = writeln!(out, "chosen arbitrarily: {}", names.join(", "));
+    }
+    out
+}
+
+/// The graph in Graphviz DOT: half-arrows for power, and, when a causality is given, the
+/// causal stroke drawn as a bar at the end that receives the effort.
+pub fn to_dot(model: &Model, causality: Option<&Causality>) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "digraph \"{}\" {{", escape(&model.name));
+    let _ = writeln!(out, "  rankdir=LR;");
+    let _ = writeln!(out, "  node [shape=plaintext];");
+    for element in model.element_ids() {
+        let name = &model.element(element).name;
+        let _ = writeln!(
+            out,
+            "  \"{}\" [label=\"{}\\n{}\"];",
+            escape(name),
+            escape(&element_label(model, element)),
+            escape(name)
+        );
+    }
+    for bond in model.bond_ids() {
+        let b = model.bond(bond);
+        let (head, tail) = match causality.map(|c| c.strokes[bond.index()]) {
+            Some(Stroke::AtTo) => ("teelvee", "none"),
+            Some(Stroke::AtFrom) => ("lvee", "tee"),
+            None => ("lvee", "none"),
+        };
+        let _ = writeln!(
+            out,
+            "  \"{}\" -> \"{}\" [dir=both, arrowhead={head}, arrowtail={tail}];",
+            escape(&model.element(b.from).name),
+            escape(&model.element(b.to).name)
+        );
+    }
+    out.push_str("}\n");
+    out
+}
+
+fn escape(text: &str) -> String {
+    text.replace('\\', "\\\\").replace('"', "\\\"")
+}
