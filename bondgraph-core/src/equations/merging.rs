@@ -188,7 +188,8 @@ pub(crate) fn merge(
 
     // Blocks, and each old energy variable in terms of the new (generalised) states.
     let mut blocks = Vec::new();
-    let mut old_state_form: Vec<LinearForm> = vec![LinearForm::zero(); state_count];
+    // `None` where the state is unchanged by merging (no dependent follows it).
+    let mut old_state_form: Vec<Option<LinearForm>> = vec![None; state_count];
     let mut merged_into: Vec<Vec<ElementId>> = vec![Vec::new(); state_count];
     let mut group_solutions: Vec<GroupSolution> = Vec::new();
     for (group_root, states) in &members {
@@ -249,6 +250,16 @@ pub(crate) fn merge(
                 });
             return Err(singular_merge(model, element));
         };
+        if t_rows.is_empty() {
+            // Nothing merged: the storage matrix is diagonal and each state is its own.
+            blocks.push(Block {
+                states: states.clone(),
+                matrix: mass,
+                inverse,
+                offset,
+            });
+            continue;
+        }
         // x_old_k = storage_k · f_k and f = M'⁻¹ (p' - offset).
         for (a, &k) in states.iter().enumerate() {
             let mut velocity = LinearForm::zero();
@@ -257,15 +268,13 @@ pub(crate) fn merge(
                 shifted.add_scaled(&offset[b], &RatFunc::integer(-1));
                 velocity.add_scaled(&shifted, &inverse[a][b]);
             }
-            old_state_form[k as usize] = velocity.scaled(&storage_of_state[k as usize]);
+            old_state_form[k as usize] = Some(velocity.scaled(&storage_of_state[k as usize]));
         }
-        if !t_rows.is_empty() {
-            group_solutions.push(GroupSolution {
-                states: states.clone(),
-                t_rows,
-                inverse: inverse.clone(),
-            });
-        }
+        group_solutions.push(GroupSolution {
+            states: states.clone(),
+            t_rows,
+            inverse: inverse.clone(),
+        });
         blocks.push(Block {
             states: states.clone(),
             matrix: mass,
@@ -274,9 +283,13 @@ pub(crate) fn merge(
         });
     }
 
+    let any_merged = old_state_form.iter().any(Option::is_some);
     let to_new_states = |form: &LinearForm| {
+        if !any_merged {
+            return form.clone();
+        }
         form.substitute(|var| match var {
-            Var::State(k) => Some(old_state_form[k as usize].clone()),
+            Var::State(k) => old_state_form[k as usize].clone(),
             _ => None,
         })
     };
@@ -352,6 +365,9 @@ pub(crate) fn merge(
     }
 
     let resolve = |form: &LinearForm| -> Option<LinearForm> {
+        if dependents.is_empty() {
+            return Some(form.clone());
+        }
         let mut ok = true;
         let result = form.substitute(|var| match var {
             Var::Dependent(j) => match &dependent_value[j as usize] {
@@ -394,7 +410,10 @@ pub(crate) fn merge(
 
     let mut storage_energy = BTreeMap::new();
     for (k, &element) in state_elements.iter().enumerate() {
-        storage_energy.insert(element, Some(old_state_form[k].clone()));
+        let energy = old_state_form[k]
+            .clone()
+            .unwrap_or_else(|| LinearForm::var(Var::State(k as u32)));
+        storage_energy.insert(element, Some(energy));
     }
     for dependent in &dependents {
         // x_d = storage_d · driven_d, with the followed states rewritten.

@@ -242,6 +242,13 @@ pub fn derive_with(
         .iter()
         .map(|e| merging::domain(&laws[e.index()]))
         .collect();
+    // Where each state sits in its storage block.
+    let mut place = vec![(0usize, 0usize); state_elements.len()];
+    for (b, block) in merged.blocks.iter().enumerate() {
+        for (position, &k) in block.states.iter().enumerate() {
+            place[k as usize] = (b, position);
+        }
+    }
     let states: Vec<StateVariable> = state_elements
         .iter()
         .enumerate()
@@ -253,16 +260,7 @@ pub fn derive_with(
                 _ => Quantity::Displacement,
             };
             let name = &model.element(element).name;
-            let block = merged
-                .blocks
-                .iter()
-                .find(|b| b.states.contains(&(k as u32)))
-                .expect("every state is in a block");
-            let position = block
-                .states
-                .iter()
-                .position(|&s| s == k as u32)
-                .expect("state in its block");
+            let (block, position) = place[k];
             StateVariable {
                 name: format!("{}_{name}", quantity.letter()),
                 element: name.clone(),
@@ -271,7 +269,7 @@ pub fn derive_with(
                     .iter()
                     .map(|e| model.element(*e).name.clone())
                     .collect(),
-                storage: block.matrix[position][position].clone(),
+                storage: merged.blocks[block].matrix[position][position].clone(),
             }
         })
         .collect();
