@@ -48,6 +48,15 @@ pub fn element_label(model: &Model, element: ElementId) -> String {
         | ElementKind::Gyrator(c) => {
             format!("{}({})", kind.keyword(), c.value.text(&model.symbols))
         }
+        ElementKind::Friction(f) => format!(
+            "Friction(F_S = {}, F_C = {}, b = {})",
+            f.breakaway.text,
+            f.coulomb.text,
+            f.viscous.value.text(&model.symbols)
+        ),
+        ElementKind::TensionOnly(t) => {
+            format!("TensionOnly({})", t.compliance.value.text(&model.symbols))
+        }
         ElementKind::ZeroJunction => "0".to_string(),
         ElementKind::OneJunction => "1".to_string(),
     }

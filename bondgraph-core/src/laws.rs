@@ -6,7 +6,8 @@
 //! of a switching model be derived by the same code as a plain model.
 
 use crate::linear::LinearForm;
-use crate::model::{ElementKind, Model};
+use crate::model::{ElementKind, ElementMode, Model};
+use crate::modes::Mode;
 use crate::symbolic::RatFunc;
 
 /// What an element does to its bonds in one mode.
@@ -63,24 +64,59 @@ impl Law {
     }
 }
 
-/// The laws of a model without switching elements (its only mode).
+/// The laws of the model's initial mode: for a model without switching elements, its only
+/// mode.
 pub fn plain_laws(model: &Model) -> Vec<Law> {
+    for_mode(model, &Mode::initial(model))
+}
+
+/// The laws of every element in `mode`.
+///
+/// A stuck friction contact holds its velocity at zero (a zero flow source); a slipping one
+/// resists with `viscous·v ± coulomb` (a resistor with an offset, or an effort source when it
+/// has no viscous part); a taut tension-only element is a compliance, a slack one imposes
+/// zero effort while tracking its slack length.
+pub fn for_mode(model: &Model, mode: &Mode) -> Vec<Law> {
     model
-        .elements
-        .iter()
-        .map(|element| match &element.kind {
-            ElementKind::EffortSource(v) => Law::EffortSource(v.value.clone()),
-            ElementKind::FlowSource(v) => Law::FlowSource(v.value.clone()),
-            ElementKind::Inertia(c) => Law::Inertia(c.value.clone()),
-            ElementKind::Compliance(c) => Law::Compliance(c.value.clone()),
-            ElementKind::Resistor(c) => Law::Resistor {
-                resistance: c.value.clone(),
-                offset: LinearForm::zero(),
-            },
-            ElementKind::Transformer(c) => Law::Transformer(c.value.clone()),
-            ElementKind::Gyrator(c) => Law::Gyrator(c.value.clone()),
-            ElementKind::ZeroJunction => Law::ZeroJunction,
-            ElementKind::OneJunction => Law::OneJunction,
+        .element_ids()
+        .map(|id| {
+            let element = model.element(id);
+            match &element.kind {
+                ElementKind::EffortSource(v) => Law::EffortSource(v.value.clone()),
+                ElementKind::FlowSource(v) => Law::FlowSource(v.value.clone()),
+                ElementKind::Inertia(c) => Law::Inertia(c.value.clone()),
+                ElementKind::Compliance(c) => Law::Compliance(c.value.clone()),
+                ElementKind::Resistor(c) => Law::Resistor {
+                    resistance: c.value.clone(),
+                    offset: LinearForm::zero(),
+                },
+                ElementKind::Transformer(c) => Law::Transformer(c.value.clone()),
+                ElementKind::Gyrator(c) => Law::Gyrator(c.value.clone()),
+                ElementKind::ZeroJunction => Law::ZeroJunction,
+                ElementKind::OneJunction => Law::OneJunction,
+                ElementKind::Friction(friction) => {
+                    let slip = |sign: i64| {
+                        let offset = friction.coulomb.value.scaled(&RatFunc::integer(sign));
+                        if friction.viscous.value.is_zero() {
+                            Law::EffortSource(offset)
+                        } else {
+                            Law::Resistor {
+                                resistance: friction.viscous.value.clone(),
+                                offset,
+                            }
+                        }
+                    };
+                    match mode.of(id).unwrap_or(friction.initial) {
+                        ElementMode::SlipPositive => slip(1),
+                        ElementMode::SlipNegative => slip(-1),
+                        _ => Law::FlowSource(LinearForm::zero()),
+                    }
+                }
+                ElementKind::TensionOnly(string) => match mode.of(id).unwrap_or(string.initial) {
+                    ElementMode::Slack => Law::SlackStorage,
+                    _ => Law::Compliance(string.compliance.value.clone()),
+                },
+            }
         })
         .collect()
 }

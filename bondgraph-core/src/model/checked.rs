@@ -151,10 +151,86 @@ pub enum ElementKind {
     Transformer(Coefficient),
     /// `GY`: `e_in = ratio · f_out`, `e_out = ratio · f_in`.
     Gyrator(Coefficient),
+    /// A Karnopp friction contact: switches between stuck and slipping.
+    Friction(Friction),
+    /// A compliance that carries tension only: switches between taut and slack.
+    TensionOnly(TensionOnly),
     /// A 0-junction: common effort, flows sum to zero.
     ZeroJunction,
     /// A 1-junction: common flow, efforts sum to zero.
     OneJunction,
+}
+
+/// A Karnopp friction contact on the relative velocity carried by its bond.
+///
+/// Stuck, it holds that velocity at zero with whatever force that takes, as long as the force
+/// stays below `breakaway`; slipping, it resists with `viscous·v + coulomb·sgn(v)`. Slipping
+/// slower than `dead_band` sticks, if the contact can then hold.
+#[derive(Clone, Debug)]
+pub struct Friction {
+    /// The breakaway (static) force `F_S`; affine in the inputs.
+    pub breakaway: SourceValue,
+    /// The Coulomb force `F_C`; affine in the inputs.
+    pub coulomb: SourceValue,
+    /// The viscous coefficient `b` (zero when not given).
+    pub viscous: Coefficient,
+    /// Karnopp's dead band `Δv` (zero when not given).
+    pub dead_band: Coefficient,
+    /// The mode at the start.
+    pub initial: ElementMode,
+}
+
+/// A compliance that carries tension only, like a string.
+///
+/// Taut, it is a linear compliance; slack, it carries no force but its (negative) extension
+/// is still integrated, so it becomes taut again exactly when the slack is taken up.
+#[derive(Clone, Debug)]
+pub struct TensionOnly {
+    /// The compliance when taut.
+    pub compliance: Coefficient,
+    /// The mode at the start.
+    pub initial: ElementMode,
+}
+
+/// The mode of one switching element.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ElementMode {
+    /// A friction contact holding its relative velocity at zero.
+    Stuck,
+    /// A friction contact slipping with positive relative velocity.
+    SlipPositive,
+    /// A friction contact slipping with negative relative velocity.
+    SlipNegative,
+    /// A tension-only element carrying tension.
+    Taut,
+    /// A tension-only element gone slack.
+    Slack,
+}
+
+impl ElementMode {
+    /// The name used in mode specifications (`stuck`, `slip+`, `slip-`, `taut`, `slack`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ElementMode::Stuck => "stuck",
+            ElementMode::SlipPositive => "slip+",
+            ElementMode::SlipNegative => "slip-",
+            ElementMode::Taut => "taut",
+            ElementMode::Slack => "slack",
+        }
+    }
+
+    /// The mode called `name`, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [
+            ElementMode::Stuck,
+            ElementMode::SlipPositive,
+            ElementMode::SlipNegative,
+            ElementMode::Taut,
+            ElementMode::Slack,
+        ]
+        .into_iter()
+        .find(|m| m.name() == name)
+    }
 }
 
 impl ElementKind {
@@ -168,6 +244,8 @@ impl ElementKind {
             ElementKind::Resistor(_) => "R",
             ElementKind::Transformer(_) => "TF",
             ElementKind::Gyrator(_) => "GY",
+            ElementKind::Friction(_) => "Friction",
+            ElementKind::TensionOnly(_) => "TensionOnly",
             ElementKind::ZeroJunction => "Zero",
             ElementKind::OneJunction => "One",
         }
@@ -183,8 +261,32 @@ impl ElementKind {
             ElementKind::Resistor(_) => "resistor",
             ElementKind::Transformer(_) => "transformer",
             ElementKind::Gyrator(_) => "gyrator",
+            ElementKind::Friction(_) => "friction contact",
+            ElementKind::TensionOnly(_) => "tension-only element",
             ElementKind::ZeroJunction => "0-junction",
             ElementKind::OneJunction => "1-junction",
+        }
+    }
+
+    /// The modes a switching element can be in (empty for plain elements).
+    pub fn modes(&self) -> &'static [ElementMode] {
+        match self {
+            ElementKind::Friction(_) => &[
+                ElementMode::Stuck,
+                ElementMode::SlipPositive,
+                ElementMode::SlipNegative,
+            ],
+            ElementKind::TensionOnly(_) => &[ElementMode::Taut, ElementMode::Slack],
+            _ => &[],
+        }
+    }
+
+    /// The mode a switching element starts in.
+    pub fn initial_mode(&self) -> Option<ElementMode> {
+        match self {
+            ElementKind::Friction(f) => Some(f.initial),
+            ElementKind::TensionOnly(t) => Some(t.initial),
+            _ => None,
         }
     }
 

@@ -122,6 +122,33 @@ pub enum RawElement {
         /// The gyrator modulus.
         ratio: String,
     },
+    /// Karnopp friction contact on its bond's relative velocity: stuck, or slipping with
+    /// `viscous·v + coulomb·sgn(v)`; it breaks away when the force it must hold reaches
+    /// `breakaway`. Modes `stuck`, `slip+`, `slip-`.
+    Friction {
+        /// The breakaway (static) force; may depend on inputs.
+        breakaway: String,
+        /// The Coulomb (kinetic) force; may depend on inputs.
+        coulomb: String,
+        /// The viscous coefficient (default 0).
+        viscous: Option<String>,
+        /// Karnopp's dead band: slipping below this speed sticks, if the contact can hold
+        /// (default 0).
+        dead_band: Option<String>,
+        /// The mode at the start: `"stuck"` (default), `"slip+"` or `"slip-"`.
+        initial: Option<String>,
+    },
+    /// A compliance that carries tension only (a string): `taut` it is a linear compliance,
+    /// `slack` it carries no force while its slack length is tracked. Given by exactly one
+    /// of compliance or stiffness.
+    TensionOnly {
+        /// The compliance when taut.
+        compliance: Option<String>,
+        /// The stiffness when taut.
+        stiffness: Option<String>,
+        /// The mode at the start: `"taut"` (default) or `"slack"`.
+        initial: Option<String>,
+    },
     /// Common-effort junction.
     Zero,
     /// Common-flow junction.

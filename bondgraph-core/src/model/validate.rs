@@ -15,8 +15,8 @@ use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::expr::{self, Expr, ExprKind};
 use crate::linear::{LinearForm, Var};
 use crate::model::checked::{
-    Bond, BondId, Coefficient, Element, ElementId, ElementKind, Input, Model, Parameter,
-    SourceValue,
+    Bond, BondId, Coefficient, Element, ElementId, ElementKind, ElementMode, Friction, Input,
+    Model, Parameter, SourceValue, TensionOnly,
 };
 use crate::model::raw::{RawElement, RawModel};
 use crate::model::source_map::{EntrySpans, SourceMap};
@@ -348,47 +348,68 @@ impl Validator<'_> {
             RawElement::C {
                 compliance,
                 stiffness,
-            } => match (compliance, stiffness) {
-                (Some(text), None) => ElementKind::Compliance(self.coefficient(
+            } => ElementKind::Compliance(self.compliance(
+                name,
+                index,
+                compliance.as_deref(),
+                stiffness.as_deref(),
+                scope,
+            )?),
+            RawElement::Friction {
+                breakaway,
+                coulomb,
+                viscous,
+                dead_band,
+                initial,
+            } => {
+                let breakaway = self.source_value(name, index, "breakaway", breakaway, scope);
+                let coulomb = self.source_value(name, index, "coulomb", coulomb, scope);
+                let viscous = self.optional_coefficient(name, index, "viscous", viscous, scope);
+                let dead_band =
+                    self.optional_coefficient(name, index, "dead_band", dead_band, scope);
+                let initial = self.initial_mode(
                     name,
                     index,
-                    "compliance",
-                    text,
+                    initial.as_deref(),
+                    &[
+                        ElementMode::Stuck,
+                        ElementMode::SlipPositive,
+                        ElementMode::SlipNegative,
+                    ],
+                );
+                let (breakaway, coulomb) = (breakaway?, coulomb?);
+                self.check_friction_levels(name, &breakaway, &coulomb, scope)?;
+                ElementKind::Friction(Friction {
+                    breakaway,
+                    coulomb,
+                    viscous: viscous?,
+                    dead_band: dead_band?,
+                    initial: initial?,
+                })
+            }
+            RawElement::TensionOnly {
+                compliance,
+                stiffness,
+                initial,
+            } => {
+                let compliance = self.compliance(
+                    name,
+                    index,
+                    compliance.as_deref(),
+                    stiffness.as_deref(),
                     scope,
-                    Sign::Positive,
-                )?),
-                (None, Some(text)) => {
-                    let stiffness =
-                        self.coefficient(name, index, "stiffness", text, scope, Sign::Positive)?;
-                    ElementKind::Compliance(Coefficient {
-                        value: stiffness.value.inv().expect("stiffness checked positive"),
-                        ..stiffness
-                    })
-                }
-                (compliance, _) => {
-                    let span = self.entry_span(&self.map.elements, index);
-                    let (kind, message) = if compliance.is_some() {
-                        (
-                            DiagnosticKind::ConflictingFields,
-                            format!(
-                                "compliance '{name}' gives both compliance and stiffness; give one"
-                            ),
-                        )
-                    } else {
-                        (
-                            DiagnosticKind::MissingField,
-                            format!("compliance '{name}' needs a compliance or a stiffness"),
-                        )
-                    };
-                    self.problems.push(
-                        Diagnostic::new(kind, message)
-                            .at(&self.file, span)
-                            .element(name)
-                            .note("write C(stiffness: \"k\") or C(compliance: \"1/k\")"),
-                    );
-                    return None;
-                }
-            },
+                );
+                let initial = self.initial_mode(
+                    name,
+                    index,
+                    initial.as_deref(),
+                    &[ElementMode::Taut, ElementMode::Slack],
+                );
+                ElementKind::TensionOnly(TensionOnly {
+                    compliance: compliance?,
+                    initial: initial?,
+                })
+            }
             RawElement::R { resistance } => ElementKind::Resistor(self.coefficient(
                 name,
                 index,
@@ -416,6 +437,148 @@ impl Validator<'_> {
             RawElement::Zero => ElementKind::ZeroJunction,
             RawElement::One => ElementKind::OneJunction,
         })
+    }
+
+    /// A compliance given as exactly one of `compliance` or `stiffness`.
+    fn compliance(
+        &mut self,
+        name: &str,
+        index: usize,
+        compliance: Option<&str>,
+        stiffness: Option<&str>,
+        scope: &Scope<'_>,
+    ) -> Option<Coefficient> {
+        match (compliance, stiffness) {
+            (Some(text), None) => {
+                self.coefficient(name, index, "compliance", text, scope, Sign::Positive)
+            }
+            (None, Some(text)) => {
+                let stiffness =
+                    self.coefficient(name, index, "stiffness", text, scope, Sign::Positive)?;
+                Some(Coefficient {
+                    value: stiffness.value.inv().expect("stiffness checked positive"),
+                    ..stiffness
+                })
+            }
+            (compliance, _) => {
+                let span = self.entry_span(&self.map.elements, index);
+                let (kind, message) = if compliance.is_some() {
+                    (
+                        DiagnosticKind::ConflictingFields,
+                        format!("element '{name}' gives both compliance and stiffness; give one"),
+                    )
+                } else {
+                    (
+                        DiagnosticKind::MissingField,
+                        format!("element '{name}' needs a compliance or a stiffness"),
+                    )
+                };
+                self.problems.push(
+                    Diagnostic::new(kind, message)
+                        .at(&self.file, span)
+                        .element(name)
+                        .note("write stiffness: \"k\" or compliance: \"1/k\""),
+                );
+                None
+            }
+        }
+    }
+
+    /// A non-negative coefficient that defaults to zero when the field is absent.
+    fn optional_coefficient(
+        &mut self,
+        name: &str,
+        index: usize,
+        field: &str,
+        text: &Option<String>,
+        scope: &Scope<'_>,
+    ) -> Option<Coefficient> {
+        match text {
+            Some(text) => self.coefficient(name, index, field, text, scope, Sign::NonNegative),
+            None => Some(Coefficient {
+                value: RatFunc::zero(),
+                text: "0".to_string(),
+                span: self.entry_span(&self.map.elements, index),
+            }),
+        }
+    }
+
+    /// The initial mode of a switching element: the first of `allowed` unless given.
+    fn initial_mode(
+        &mut self,
+        name: &str,
+        index: usize,
+        given: Option<&str>,
+        allowed: &[ElementMode],
+    ) -> Option<ElementMode> {
+        let Some(text) = given else {
+            return Some(allowed[0]);
+        };
+        match ElementMode::from_name(text).filter(|m| allowed.contains(m)) {
+            Some(mode) => Some(mode),
+            None => {
+                let span = self
+                    .string_span(index, "initial")
+                    .unwrap_or_else(|| self.entry_span(&self.map.elements, index));
+                let names: Vec<String> = allowed.iter().map(|m| format!("\"{}\"", m.name())).collect();
+                self.problems.push(
+                    Diagnostic::new(
+                        DiagnosticKind::BadMode,
+                        format!(
+                            "element '{name}': initial mode \"{text}\" is not one of {}",
+                            names.join(", ")
+                        ),
+                    )
+                    .at(&self.file, span)
+                    .element(name),
+                );
+                None
+            }
+        }
+    }
+
+    /// Breakaway and Coulomb levels that do not depend on inputs must satisfy
+    /// `breakaway >= coulomb >= 0`.
+    fn check_friction_levels(
+        &mut self,
+        name: &str,
+        breakaway: &SourceValue,
+        coulomb: &SourceValue,
+        scope: &Scope<'_>,
+    ) -> Option<()> {
+        let constant = |v: &SourceValue| {
+            (!v.value.mentions(|var| matches!(var, Var::Input(_))))
+                .then(|| v.value.coefficient(Var::Constant).eval(scope.values))
+        };
+        let (Some(f_s), Some(f_c)) = (constant(breakaway), constant(coulomb)) else {
+            return Some(());
+        };
+        let problem = if f_c < 0.0 {
+            Some((coulomb.span, format!("Coulomb force \"{}\" = {f_c} must not be negative", coulomb.text)))
+        } else if f_s < f_c {
+            Some((
+                breakaway.span,
+                format!(
+                    "breakaway force \"{}\" = {f_s} is below the Coulomb force \"{}\" = {f_c}",
+                    breakaway.text, coulomb.text
+                ),
+            ))
+        } else {
+            None
+        };
+        if let Some((span, message)) = problem {
+            self.problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::InvalidValue,
+                    format!("friction contact '{name}': {message}"),
+                )
+                .at(&self.file, span)
+                .element(name)
+                .note("a contact breaks away at F_S and then slides at F_C, so F_S >= F_C >= 0"),
+            );
+            return None;
+        }
+        Some(())
     }
 
     /// Parses an expression and turns it into an affine form of the inputs.

@@ -1,0 +1,228 @@
+//! Guards: the conditions that end a mode, and the mode each leads to.
+//!
+//! Every guard watches one quantity of one switching element, written in the mode's own
+//! states and inputs, against a threshold:
+//!
+//! | element mode | watches | leaves when | for |
+//! |---|---|---|---|
+//! | friction `stuck` | the force it must hold (the effort on its bond) | `≥ F_S` / `≤ -F_S` | `slip+` / `slip-` |
+//! | friction `slip+` | its relative velocity | `≤ Δv` (if static friction can then hold) / `≤ 0` | `stuck` / `slip-` |
+//! | friction `slip-` | its relative velocity | `≥ -Δv` (if static friction can then hold) / `≥ 0` | `stuck` / `slip+` |
+//! | tension-only `taut` | its tension | `≤ 0` | `slack` |
+//! | tension-only `slack` | its slack length (a state) | `≥ 0` | `taut` |
+//!
+//! The holding force of a stuck contact is an output equation of the stuck mode: for a
+//! catheter stuck to a robot tip it is the force that makes the catheter accelerate with the
+//! tip, which is how papers derive their stick conditions by hand. A guard marked
+//! [`Guard::requires_hold`] leads to `stuck` only if the target mode's holding force is then
+//! within `±F_S`; otherwise the contact slips through zero velocity and the next guard
+//! (velocity through zero, to the opposite slip) applies.
+
+use crate::diagnostics::{Diagnostic, DiagnosticKind, Result};
+use crate::equations::StateEquations;
+use crate::linear::{LinearForm, Var};
+use crate::model::{ElementId, ElementKind, ElementMode, Model};
+use crate::modes::Mode;
+use crate::symbolic::RatFunc;
+
+/// What a guard watches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Watched {
+    /// The force a stuck contact must transmit.
+    HoldingForce,
+    /// The relative velocity of a slipping contact.
+    RelativeVelocity,
+    /// The tension of a taut tension-only element.
+    Tension,
+    /// The slack length (negative extension) of a slack tension-only element.
+    SlackLength,
+}
+
+impl Watched {
+    /// A readable name.
+    pub fn description(self) -> &'static str {
+        match self {
+            Watched::HoldingForce => "holding force",
+            Watched::RelativeVelocity => "relative velocity",
+            Watched::Tension => "tension",
+            Watched::SlackLength => "extension",
+        }
+    }
+}
+
+/// Which way the watched quantity crosses its threshold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Crossing {
+    /// The guard fires when the quantity reaches the threshold from below.
+    Rises,
+    /// The guard fires when the quantity reaches the threshold from above.
+    Falls,
+}
+
+/// One condition that ends a mode.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Guard {
+    /// The switching element whose mode changes.
+    pub element: ElementId,
+    /// What is watched.
+    pub watched: Watched,
+    /// The watched quantity, affine in the mode's states and the inputs.
+    pub quantity: LinearForm,
+    /// Which way it must cross.
+    pub crossing: Crossing,
+    /// The threshold, affine in the inputs.
+    pub threshold: LinearForm,
+    /// The element's mode after the guard fires.
+    pub leaves_to: ElementMode,
+    /// Whether the switch (to `stuck`) happens only if static friction can then hold.
+    pub requires_hold: bool,
+}
+
+impl Guard {
+    /// The guard function `g(x, u)`: the guard fires when `g` reaches zero from below.
+    pub fn function(&self) -> LinearForm {
+        let mut g = self.quantity.clone();
+        g.add_scaled(&self.threshold, &RatFunc::integer(-1));
+        match self.crossing {
+            Crossing::Rises => g,
+            Crossing::Falls => g.scaled(&RatFunc::integer(-1)),
+        }
+    }
+
+    /// The condition as text: `holding force <expr> >= F_S`.
+    pub fn condition_text(&self, equations: &StateEquations) -> String {
+        let comparison = match self.crossing {
+            Crossing::Rises => ">=",
+            Crossing::Falls => "<=",
+        };
+        let mut text = format!(
+            "{} {} {comparison} {}",
+            self.watched.description(),
+            equations.form_text(&self.quantity),
+            equations.form_text(&self.threshold)
+        );
+        if self.requires_hold {
+            text.push_str(", if static friction can then hold");
+        }
+        text
+    }
+}
+
+/// The guards of `mode`, written in the states of its `equations`.
+///
+/// # Errors
+/// [`DiagnosticKind::DependentStorage`] when a watched quantity would need an input's time
+/// derivative in this mode.
+pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Result<Vec<Guard>> {
+    let mut guards = Vec::new();
+    for &(element, element_mode) in mode.assignments() {
+        let bond = model.element(element).bonds[0];
+        let sign = RatFunc::integer(model.bond(bond).sign_into(element));
+        let unavailable = || {
+            Diagnostic::new(
+                DiagnosticKind::DependentStorage,
+                format!(
+                    "the guard of '{}' in mode {} would need the time derivative of an input",
+                    model.element(element).name,
+                    mode.spec(model)
+                ),
+            )
+            .at_location(model.locate_element(element))
+            .element(model.element(element).name.clone())
+        };
+        let effort = || equations.bond_effort(bond).cloned().ok_or_else(unavailable);
+        let flow = || {
+            equations
+                .bond_flow(bond)
+                .map(|f| f.scaled(&sign))
+                .ok_or_else(unavailable)
+        };
+        let guard = |watched, quantity: LinearForm, crossing, threshold, leaves_to, requires_hold| {
+            Guard {
+                element,
+                watched,
+                quantity,
+                crossing,
+                threshold,
+                leaves_to,
+                requires_hold,
+            }
+        };
+        match (&model.element(element).kind, element_mode) {
+            (ElementKind::Friction(friction), ElementMode::Stuck) => {
+                let hold = effort()?;
+                let breakaway = friction.breakaway.value.clone();
+                let negative_breakaway = breakaway.scaled(&RatFunc::integer(-1));
+                guards.push(guard(
+                    Watched::HoldingForce,
+                    hold.clone(),
+                    Crossing::Rises,
+                    breakaway,
+                    ElementMode::SlipPositive,
+                    false,
+                ));
+                guards.push(guard(
+                    Watched::HoldingForce,
+                    hold,
+                    Crossing::Falls,
+                    negative_breakaway,
+                    ElementMode::SlipNegative,
+                    false,
+                ));
+            }
+            (ElementKind::Friction(friction), slip) => {
+                let velocity = flow()?;
+                let dead_band = friction.dead_band.value.clone();
+                let (crossing, band, reverse) = if slip == ElementMode::SlipPositive {
+                    (Crossing::Falls, dead_band, ElementMode::SlipNegative)
+                } else {
+                    (Crossing::Rises, -dead_band, ElementMode::SlipPositive)
+                };
+                guards.push(guard(
+                    Watched::RelativeVelocity,
+                    velocity.clone(),
+                    crossing,
+                    LinearForm::constant(band),
+                    ElementMode::Stuck,
+                    true,
+                ));
+                guards.push(guard(
+                    Watched::RelativeVelocity,
+                    velocity,
+                    crossing,
+                    LinearForm::zero(),
+                    reverse,
+                    false,
+                ));
+            }
+            (ElementKind::TensionOnly(_), ElementMode::Taut) => {
+                guards.push(guard(
+                    Watched::Tension,
+                    effort()?,
+                    Crossing::Falls,
+                    LinearForm::zero(),
+                    ElementMode::Slack,
+                    false,
+                ));
+            }
+            (ElementKind::TensionOnly(_), _) => {
+                let name = &model.element(element).name;
+                let state = equations
+                    .states
+                    .iter()
+                    .position(|s| &s.element == name)
+                    .expect("a slack element keeps its extension as a state");
+                guards.push(guard(
+                    Watched::SlackLength,
+                    LinearForm::var(Var::State(state as u32)),
+                    Crossing::Rises,
+                    LinearForm::zero(),
+                    ElementMode::Taut,
+                    false,
+                ));
+            }
+            _ => {}
+        }
+    }
+    Ok(guards)
+}

@@ -1,0 +1,241 @@
+//! Modes of a switching model: which mode each switching element is in.
+//!
+//! A friction contact is `stuck`, `slip+` or `slip-`; a tension-only element is `taut` or
+//! `slack`. A mode of the whole model picks one for each, and in a mode every element has a
+//! plain law ([`crate::laws::for_mode`]), so each mode is derived exactly like a model without
+//! switching: causality, merging (a stuck contact makes storage dependent), equations. The
+//! [`guards`](crate::guards) of a mode say when it is left and for which mode.
+//!
+//! Modes are written as specifications, `fr_ge=slip+,fr_ct=stuck,string=taut`; elements not
+//! named keep their initial mode.
+//!
+//! # Example
+//! ```
+//! use bondgraph_core::{model, modes::Mode};
+//! let model = model::load_str("belt.ron", r#"Model(name: "belt",
+//!     parameters: {"m": (value: 1.0), "k": (value: 10.0), "F_S": (value: 2.0), "F_C": (value: 1.5)},
+//!     inputs: {"v_belt": ()},
+//!     elements: {"belt": Sf(flow: "v_belt"), "contact": Zero,
+//!                "friction": Friction(breakaway: "F_S", coulomb: "F_C"),
+//!                "v": One, "block": I(inertance: "m"), "spring": C(stiffness: "k")},
+//!     bonds: [("belt", "contact"), ("contact", "friction"), ("contact", "v"),
+//!             ("v", "block"), ("v", "spring")])"#).unwrap();
+//! let mode = Mode::parse(&model, "friction=slip-").unwrap();
+//! assert_eq!(mode.spec(&model), "friction=slip-");
+//! assert_eq!(Mode::initial(&model).spec(&model), "friction=stuck");
+//! ```
+
+use std::collections::{HashMap, VecDeque};
+use std::sync::Arc;
+
+use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
+use crate::equations::{self, Options, StateEquations};
+use crate::guards::{self, Guard};
+use crate::laws;
+use crate::model::{ElementId, ElementMode, Model};
+
+/// The mode of every switching element of a model, in element order.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Mode(Vec<(ElementId, ElementMode)>);
+
+impl Mode {
+    /// The mode every switching element starts in.
+    pub fn initial(model: &Model) -> Self {
+        Self(
+            model
+                .element_ids()
+                .filter_map(|id| model.element(id).kind.initial_mode().map(|m| (id, m)))
+                .collect(),
+        )
+    }
+
+    /// Parses `name=mode,...`; elements not named keep their initial mode.
+    ///
+    /// # Errors
+    /// [`DiagnosticKind::BadMode`] naming an unknown element, an element that does not
+    /// switch, a mode the element does not have, or an element named twice.
+    pub fn parse(model: &Model, text: &str) -> Result<Self> {
+        let mut mode = Self::initial(model);
+        let mut named: Vec<ElementId> = Vec::new();
+        let bad = |message: String| Diagnostics::from(Diagnostic::new(DiagnosticKind::BadMode, message));
+        for part in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+            let Some((name, value)) = part.split_once('=') else {
+                return Err(bad(format!(
+                    "mode '{part}' must be written ELEMENT=MODE, e.g. fr=stuck"
+                )));
+            };
+            let (name, value) = (name.trim(), value.trim());
+            let Some(element) = model.element_named(name) else {
+                return Err(bad(format!("mode '{part}': the model has no element '{name}'")));
+            };
+            let kind = &model.element(element).kind;
+            if kind.modes().is_empty() {
+                return Err(bad(format!(
+                    "mode '{part}': '{name}' is a {} and has no modes",
+                    kind.description()
+                )));
+            }
+            let allowed = kind.modes();
+            let Some(element_mode) = ElementMode::from_name(value).filter(|m| allowed.contains(m))
+            else {
+                let names: Vec<&str> = allowed.iter().map(|m| m.name()).collect();
+                return Err(bad(format!(
+                    "mode '{part}': '{name}' has modes {}, not '{value}'",
+                    names.join(", ")
+                )));
+            };
+            if named.contains(&element) {
+                return Err(bad(format!("mode '{text}' names '{name}' twice")));
+            }
+            named.push(element);
+            mode = mode.with(element, element_mode);
+        }
+        Ok(mode)
+    }
+
+    /// The mode of `element`, if it switches.
+    pub fn of(&self, element: ElementId) -> Option<ElementMode> {
+        self.0.iter().find(|(e, _)| *e == element).map(|(_, m)| *m)
+    }
+
+    /// This mode with `element` in `mode` instead.
+    pub fn with(&self, element: ElementId, mode: ElementMode) -> Self {
+        Self(
+            self.0
+                .iter()
+                .map(|&(e, m)| if e == element { (e, mode) } else { (e, m) })
+                .collect(),
+        )
+    }
+
+    /// The switching elements and their modes, in element order.
+    pub fn assignments(&self) -> &[(ElementId, ElementMode)] {
+        &self.0
+    }
+
+    /// Whether the model has no switching elements.
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// The full specification, `fr_ge=stuck,fr_ct=slip+` (empty without switching elements).
+    pub fn spec(&self, model: &Model) -> String {
+        self.0
+            .iter()
+            .map(|(e, m)| format!("{}={}", model.element(*e).name, m.name()))
+            .collect::<Vec<_>>()
+            .join(",")
+    }
+}
+
+/// The equations and guards of one mode.
+#[derive(Clone, Debug)]
+pub struct ModeEquations {
+    /// The mode.
+    pub mode: Mode,
+    /// Its state equations.
+    pub equations: StateEquations,
+    /// When it is left, and for which mode.
+    pub guards: Vec<Guard>,
+}
+
+/// Derives the equations and guards of `mode`.
+///
+/// # Errors
+/// As [`equations::derive`]; a mode whose causality conflicts (a stuck contact between two
+/// velocity sources) cannot be entered.
+pub fn derive(model: &Model, mode: &Mode, options: &Options) -> Result<ModeEquations> {
+    let laws = laws::for_mode(model, mode);
+    let equations = equations::derive(model, &laws, options)?;
+    let guards = guards::derive(model, mode, &equations)?;
+    Ok(ModeEquations {
+        mode: mode.clone(),
+        equations,
+        guards,
+    })
+}
+
+/// Modes derived on demand and kept: switching models visit a few modes many times.
+#[derive(Debug)]
+pub struct ModeCache<'m> {
+    model: &'m Model,
+    options: Options,
+    derived: HashMap<Mode, std::result::Result<Arc<ModeEquations>, Diagnostics>>,
+}
+
+impl<'m> ModeCache<'m> {
+    /// An empty cache for `model`.
+    pub fn new(model: &'m Model, options: Options) -> Self {
+        Self {
+            model,
+            options,
+            derived: HashMap::new(),
+        }
+    }
+
+    /// The equations of `mode`, derived on first use.
+    ///
+    /// # Errors
+    /// As [`derive`], remembered for later calls.
+    pub fn get(&mut self, mode: &Mode) -> Result<Arc<ModeEquations>> {
+        self.derived
+            .entry(mode.clone())
+            .or_insert_with(|| derive(self.model, mode, &self.options).map(Arc::new))
+            .clone()
+    }
+
+    /// How many modes have been derived (successfully or not).
+    pub fn len(&self) -> usize {
+        self.derived.len()
+    }
+
+    /// Whether nothing has been derived yet.
+    pub fn is_empty(&self) -> bool {
+        self.derived.is_empty()
+    }
+}
+
+/// The modes reachable from the initial mode through guards.
+#[derive(Clone, Debug)]
+pub struct Reachable {
+    /// The initial mode.
+    pub initial: Mode,
+    /// Every mode that can be entered, in breadth-first order from the initial mode.
+    pub modes: Vec<Arc<ModeEquations>>,
+    /// Modes some guard leads to that cannot be entered, with why.
+    pub impossible: Vec<(Mode, Diagnostics)>,
+}
+
+/// Every mode reachable from the initial mode by following guards.
+///
+/// # Errors
+/// When the initial mode itself cannot be derived.
+pub fn reachable(model: &Model, options: &Options) -> Result<Reachable> {
+    let initial = Mode::initial(model);
+    let mut cache = ModeCache::new(model, *options);
+    cache.get(&initial)?;
+    let mut seen = vec![initial.clone()];
+    let mut queue = VecDeque::from([initial.clone()]);
+    let mut modes = Vec::new();
+    let mut impossible = Vec::new();
+    while let Some(mode) = queue.pop_front() {
+        match cache.get(&mode) {
+            Ok(derived) => {
+                for guard in &derived.guards {
+                    let next = mode.with(guard.element, guard.leaves_to);
+                    if !seen.contains(&next) {
+                        seen.push(next.clone());
+                        queue.push_back(next);
+                    }
+                }
+                modes.push(derived);
+            }
+            Err(diagnostics) => impossible.push((mode, diagnostics)),
+        }
+    }
+    Ok(Reachable {
+        initial,
+        modes,
+        impossible,
+    })
+}
