@@ -56,20 +56,28 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
             continue;
         }
         if !raw_parameter.value.is_finite() {
-            v.problems.push(
-                Diagnostic::new(
-                    DiagnosticKind::InvalidValue,
+            let value_span = v
+                .field_value_span(&map.parameters, index, "value")
+                .unwrap_or(span);
+            let written = file.text().get(value_span.start..value_span.end);
+            // `1e400` reads as infinity; say why in the terms the user wrote.
+            let message = match written {
+                Some(written)
+                    if written.bytes().any(|b| b.is_ascii_digit()) && !written.contains("inf") =>
+                {
                     format!(
-                        "parameter '{name}' has value {} which is not a finite number",
-                        raw_parameter.value
-                    ),
-                )
-                .at(
-                    file,
-                    v.field_value_span(&map.parameters, index, "value")
-                        .unwrap_or(span),
-                )
-                .element(name.clone()),
+                        "parameter '{name}' has value {written}, which is too large for a 64-bit floating-point number"
+                    )
+                }
+                _ => format!(
+                    "parameter '{name}' has value {}, which is not a finite number",
+                    raw_parameter.value
+                ),
+            };
+            v.problems.push(
+                Diagnostic::new(DiagnosticKind::InvalidValue, message)
+                    .at(file, value_span)
+                    .element(name.clone()),
             );
         }
         parameters.push((name.clone(), raw_parameter.clone(), span));
