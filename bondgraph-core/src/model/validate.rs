@@ -189,8 +189,8 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
                 Diagnostic::new(
                     DiagnosticKind::SelfBond,
                     format!(
-                        "bond {} -> {} connects an element to itself",
-                        raw_bond.0, raw_bond.1
+                        "bond {0} -> {0} connects element '{0}' to itself",
+                        raw_bond.0
                     ),
                 )
                 .at(file, span)
