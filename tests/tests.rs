@@ -2,5 +2,6 @@
 //!
 //! One test binary with modules (rather than one binary per file) keeps link times down.
 
+mod diagnostics;
 mod examples;
 mod support;
