@@ -780,3 +780,83 @@ fn zero_resistance_conductance() {
         ["a zero resistance is a rigid connection: replace the resistor by a bond"]
     );
 }
+
+/// Every example with one line deleted, or one bond reversed: whatever the damage, the
+/// library and the program answer with located diagnostics or equations, never a panic.
+#[test]
+fn damaged_examples_never_panic() {
+    let mut damaged = Vec::new();
+    for path in ron_files("models/examples") {
+        let text = std::fs::read_to_string(root().join(&path)).expect("example");
+        let lines: Vec<&str> = text.lines().collect();
+        for i in 0..lines.len() {
+            let mut without = lines.clone();
+            let removed = without.remove(i);
+            damaged.push((format!("{path} without line {}", i + 1), without.join("\n")));
+            // A bond `("a", "b"),` reversed.
+            if let Some(bond) = removed
+                .trim()
+                .strip_prefix("(\"")
+                .and_then(|b| b.strip_suffix("\"),"))
+                && let Some((from, to)) = bond.split_once("\", \"")
+            {
+                let reversed = removed.replace(bond, &format!("{to}\", \"{from}"));
+                let mut with = lines.clone();
+                with[i] = &reversed;
+                damaged.push((
+                    format!("{path} with line {} reversed", i + 1),
+                    with.join("\n"),
+                ));
+            }
+        }
+    }
+    let mut failures = 0;
+    for (what, text) in &damaged {
+        let result = model::load_str("damaged.ron", text).and_then(|model| {
+            let laws = laws::plain_laws(&model);
+            equations::derive(&model, &laws, &equations::Options::default()).map(|_| ())
+        });
+        if let Err(diagnostics) = result {
+            failures += 1;
+            for d in diagnostics.iter() {
+                assert!(!d.message.is_empty(), "{what}: empty message");
+                let location = d.location.as_ref();
+                let span = location.map(|l| l.span).unwrap_or_default();
+                assert!(location.is_some(), "{what}: no location for {d}");
+                assert!(
+                    span.start <= span.end
+                        && span.end <= text.len()
+                        && text.is_char_boundary(span.start)
+                        && text.is_char_boundary(span.end),
+                    "{what}: span {span:?} of {d}"
+                );
+            }
+        }
+    }
+    let reversed = damaged
+        .iter()
+        .filter(|(w, _)| w.contains("reversed"))
+        .count();
+    assert!(reversed >= 30, "{reversed} bonds reversed");
+    assert!(failures > damaged.len() / 2, "most damage is noticed");
+
+    // The program renders them all without panicking.
+    let dir = std::env::temp_dir().join(format!("bondgraph-damaged-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temporary directory");
+    for (index, (what, text)) in damaged.iter().enumerate() {
+        let file = dir.join(format!("{index}.ron"));
+        std::fs::write(&file, text).expect("write");
+        let output = Command::new(env!("CARGO_BIN_EXE_bondgraph"))
+            .arg("equations")
+            .arg(&file)
+            .output()
+            .expect("the program runs");
+        let code = output.status.code();
+        assert!(
+            matches!(code, Some(0 | 1)),
+            "{what}: exit {code:?}\n{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
