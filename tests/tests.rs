@@ -2,6 +2,8 @@
 //!
 //! One test binary with modules (rather than one binary per file) keeps link times down.
 
+mod cli;
+mod diagnostics;
 mod examples;
 mod snapshots;
 mod support;

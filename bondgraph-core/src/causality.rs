@@ -355,6 +355,19 @@ impl<'a> Scap<'a> {
     }
 
     fn junction_conflict(&self, junction: ElementId, bonds: &[BondId]) -> Diagnostics {
+        let origins: Vec<String> = bonds
+            .iter()
+            .map(|b| self.describe_origin(self.origin[b.index()]))
+            .collect();
+        self.junction_conflict_between(junction, origins)
+    }
+
+    /// A junction whose common variable is imposed by each of `origins` (described).
+    fn junction_conflict_between(
+        &self,
+        junction: ElementId,
+        mut origins: Vec<String>,
+    ) -> Diagnostics {
         let model = self.model;
         let name = &model.element(junction).name;
         let zero = matches!(self.laws[junction.index()], Law::ZeroJunction);
@@ -363,10 +376,6 @@ impl<'a> Scap<'a> {
         } else {
             ("1-junction", "flow")
         };
-        let mut origins: Vec<String> = bonds
-            .iter()
-            .map(|b| self.describe_origin(self.origin[b.index()]))
-            .collect();
         origins.dedup();
         let message = if origins.len() >= 2 {
             format!(
@@ -406,6 +415,17 @@ impl<'a> Scap<'a> {
         let b = model.bond(bond);
         let earlier = self.describe_origin(self.origin[bond.index()]);
         let later = self.describe_origin(Some(origin));
+        // A source on a junction whose common variable is already imposed (two velocity
+        // sources on one 1-junction): the conflict is the junction's.
+        let current = self.receiver(bond);
+        let wanted = b.other(current);
+        if let Some(junction) = [b.from, b.to].into_iter().find(|&e| e != origin)
+            && let zero @ (Law::ZeroJunction | Law::OneJunction) = &self.laws[junction.index()]
+            && (wanted == junction) == matches!(zero, Law::ZeroJunction)
+            && earlier != later
+        {
+            return self.junction_conflict_between(junction, vec![earlier, later]);
+        }
         let concerned = if matches!(
             self.laws[b.from.index()],
             Law::ZeroJunction | Law::OneJunction
@@ -436,5 +456,55 @@ fn law_description(law: &Law, kind: &'static str) -> &'static str {
         Law::FlowSource(_) => "flow source",
         Law::SlackStorage => "slack element",
         _ => kind,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::laws;
+    use crate::model;
+
+    fn conflict(elements: &str, bonds: &str) -> Diagnostic {
+        let text = format!(
+            "Model(name: \"m\", parameters: {{\"b\": (value: 1.0)}}, inputs: {{\"u\": (), \"w\": ()}},\n\
+             elements: {{{elements}}},\nbonds: [{bonds}])"
+        );
+        let model = model::load_str("m.ron", &text).unwrap();
+        let error = assign(&model, &laws::plain_laws(&model)).unwrap_err();
+        assert_eq!(error.0.len(), 1);
+        error.first().clone()
+    }
+
+    #[test]
+    fn two_sources_of_a_junctions_common_variable_name_the_junction() {
+        let d = conflict(
+            r#""a": Sf(flow: "u"), "b": Sf(flow: "w"), "v": One, "r": R(resistance: "b")"#,
+            r#"("a", "v"), ("b", "v"), ("v", "r")"#,
+        );
+        assert_eq!(d.kind, DiagnosticKind::CausalConflict);
+        assert_eq!(
+            d.message,
+            "causal conflict at 1-junction 'v': its flow is imposed by both flow source 'a' and flow source 'b'"
+        );
+        assert_eq!(d.element.as_deref(), Some("v"));
+        assert_eq!(d.location.map(|l| (l.line, l.column)), Some((2, 52)));
+    }
+
+    #[test]
+    fn sources_fighting_over_anything_else_name_the_bond() {
+        // Two flow sources alone on a 0-junction: its common effort is free, but the flow
+        // balance is imposed twice.
+        let d = conflict(
+            r#""a": Sf(flow: "u"), "n": Zero, "b": Sf(flow: "w")"#,
+            r#"("a", "n"), ("n", "b")"#,
+        );
+        assert_eq!(d.kind, DiagnosticKind::CausalConflict);
+        assert_eq!(
+            d.message,
+            "causal conflict on bond n -> b: flow source 'a' and flow source 'b' both impose its causality"
+        );
+        assert_eq!(d.element.as_deref(), Some("b"));
+        assert_eq!(d.location.map(|l| (l.line, l.column)), Some((3, 21)));
     }
 }

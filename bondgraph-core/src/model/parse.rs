@@ -129,8 +129,17 @@ impl Place<'_> {
     /// The message prefix naming the entry or bond: `element 'mass': `.
     fn prefix(&self) -> String {
         match self {
-            Place::Entry(section, entry) => format!("{} '{}': ", section.noun(), entry.key),
-            Place::Bond(index, bond) => format!("{}: ", bond_name(*index, bond)),
+            Place::Entry(..) | Place::Bond(..) => format!("{}: ", self.name()),
+            Place::Section(_) | Place::Field(_) | Place::Model => String::new(),
+        }
+    }
+
+    /// The entry or bond as messages name it: `element 'mass'`, `bond 2 ('j' -> 'mass')`;
+    /// empty elsewhere.
+    fn name(&self) -> String {
+        match self {
+            Place::Entry(section, entry) => format!("{} '{}'", section.noun(), entry.key),
+            Place::Bond(index, bond) => bond_name(*index, bond),
             Place::Section(_) | Place::Field(_) | Place::Model => String::new(),
         }
     }
@@ -298,6 +307,20 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
         && let found_before @ (Place::Entry(..) | Place::Bond(..)) =
             place_at(map, before - 1, inclusive)
     {
+        place = found_before;
+    }
+    // `"mass": I(inertance: "m") "spring": ...`: the ',' after an entry or bond is missing;
+    // the problem is the entry or bond that ends just before the token found, and the ','
+    // belongs right after it.
+    let mut comma_after = None;
+    if matches!(error.code, E::ExpectedComma)
+        && matches!(place, Place::Section(_) | Place::Field(_) | Place::Model)
+        && let Some(before) = token_before(text, focus.start).map(|t| t.span.end)
+        && before > 0
+        && let found_before @ (Place::Entry(..) | Place::Bond(..)) =
+            place_at(map, before - 1, inclusive)
+    {
+        comma_after = Some((found_before.name(), before));
         place = found_before;
     }
     let prefix = place.prefix();
@@ -548,10 +571,19 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
                     Some((open, _)) => format!("',' or '{}'", char::from(closer(open))),
                     None => "','".to_string(),
                 };
-                (
-                    K::Syntax,
-                    format!("{prefix}expected {expected}, found {found_text}"),
-                )
+                match &comma_after {
+                    Some((name, at)) => {
+                        span = Span::new(*at, *at);
+                        (
+                            K::Syntax,
+                            format!("expected {expected} after {name}, found {found_text}"),
+                        )
+                    }
+                    None => (
+                        K::Syntax,
+                        format!("{prefix}expected {expected}, found {found_text}"),
+                    ),
+                }
             }
         }
         E::ExpectedArrayEnd => (
@@ -1017,14 +1049,22 @@ Model(
         );
         let (d, line, column) = diagnose(&text);
         assert_eq!(d.kind, DiagnosticKind::Syntax);
-        assert_eq!(d.message, "expected ',' or '}', found \"k\"");
-        assert_eq!((line, column, d.element.as_deref()), (6, 9, None));
+        assert_eq!(
+            d.message,
+            "expected ',' or '}' after parameter 'm', found \"k\""
+        );
+        // Where the ',' belongs: right after the entry.
+        assert_eq!((line, column, d.element.as_deref()), (5, 38, Some("m")));
+        assert!(underlined(&text, &d).is_empty());
 
         let text = with("(\"push\", \"j\"),", "(\"push\", \"j\")");
         let (d, line, column) = diagnose(&text);
         assert_eq!(d.kind, DiagnosticKind::Syntax);
-        assert_eq!(d.message, "expected ',' or ']', found '('");
-        assert_eq!((line, column, d.element.as_deref()), (17, 9, None));
+        assert_eq!(
+            d.message,
+            "expected ',' or ']' after bond 1 ('push' -> 'j'), found '('"
+        );
+        assert_eq!((line, column, d.element.as_deref()), (16, 22, None));
 
         let text = with("// A mass", "/* A mass");
         let (d, line, column) = diagnose(&text);

@@ -58,20 +58,28 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
             continue;
         }
         if !raw_parameter.value.is_finite() {
-            v.problems.push(
-                Diagnostic::new(
-                    DiagnosticKind::InvalidValue,
+            let value_span = v
+                .field_value_span(&map.parameters, index, "value")
+                .unwrap_or(span);
+            let written = file.text().get(value_span.start..value_span.end);
+            // `1e400` reads as infinity; say why in the terms the user wrote.
+            let message = match written {
+                Some(written)
+                    if written.bytes().any(|b| b.is_ascii_digit()) && !written.contains("inf") =>
+                {
                     format!(
-                        "parameter '{name}' has value {} which is not a finite number",
-                        raw_parameter.value
-                    ),
-                )
-                .at(
-                    file,
-                    v.field_value_span(&map.parameters, index, "value")
-                        .unwrap_or(span),
-                )
-                .element(name.clone()),
+                        "parameter '{name}' has value {written}, which is too large for a 64-bit floating-point number"
+                    )
+                }
+                _ => format!(
+                    "parameter '{name}' has value {}, which is not a finite number",
+                    raw_parameter.value
+                ),
+            };
+            v.problems.push(
+                Diagnostic::new(DiagnosticKind::InvalidValue, message)
+                    .at(file, value_span)
+                    .element(name.clone()),
             );
         }
         parameters.push((name.clone(), raw_parameter.clone(), span));
@@ -183,8 +191,8 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
                 Diagnostic::new(
                     DiagnosticKind::SelfBond,
                     format!(
-                        "bond {} -> {} connects an element to itself",
-                        raw_bond.0, raw_bond.1
+                        "bond {0} -> {0} connects element '{0}' to itself",
+                        raw_bond.0
                     ),
                 )
                 .at(file, span)
@@ -967,16 +975,26 @@ fn to_affine(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<LinearForm, 
     })
 }
 
-/// The candidate closest to `name` by edit distance, if it is close enough to be a typo.
+/// The candidate closest to `name` by edit distance, if it is close enough to be a typo:
+/// a candidate differing only in case comes first, and one that keeps nothing of the name
+/// (`F` for `c`) is no suggestion.
 pub(crate) fn suggest<'a>(
     name: &str,
     candidates: impl Iterator<Item = &'a str>,
 ) -> Option<&'a str> {
     candidates
-        .map(|c| (edit_distance(name, c), c))
-        .filter(|(d, c)| *d <= (name.len().max(c.len()) / 3).max(1))
-        .min()
-        .map(|(_, c)| c)
+        .map(|c| {
+            let longer = name.chars().count().max(c.chars().count());
+            let distance = if c.eq_ignore_ascii_case(name) {
+                0
+            } else {
+                edit_distance(name, c)
+            };
+            (distance, longer, c)
+        })
+        .filter(|(d, longer, _)| *d <= (longer / 3).max(1) && *d < *longer)
+        .min_by_key(|(d, _, c)| (*d, *c))
+        .map(|(_, _, c)| c)
 }
 
 fn edit_distance(a: &str, b: &str) -> usize {
@@ -1004,6 +1022,11 @@ mod tests {
         assert_eq!(suggest("mas", names.into_iter()), Some("mass"));
         assert_eq!(suggest("dampr", names.into_iter()), Some("damper"));
         assert_eq!(suggest("valve", names.into_iter()), None);
+        // One-letter names: a case slip is a typo, another letter is not.
+        let symbols = ["F", "b", "k", "m"];
+        assert_eq!(suggest("f", symbols.into_iter()), Some("F"));
+        assert_eq!(suggest("c", symbols.into_iter()), None);
+        assert_eq!(suggest("k1", ["k", "m"].into_iter()), Some("k"));
         assert_eq!(edit_distance("kitten", "sitting"), 3);
     }
 }

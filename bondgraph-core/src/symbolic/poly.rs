@@ -183,7 +183,8 @@ impl Poly {
                     }
                 })
             })
-            .sum()
+            // Not `.sum()`: an empty f64 sum is -0.0, and zero must print as 0.
+            .fold(0.0, |sum, term| sum + term)
     }
 
     /// The integer content: the positive gcd of all coefficients (0 for zero).
@@ -642,6 +643,8 @@ mod tests {
         let p = k(2) * s(A) * s(A) * s(B) - k(3);
         assert_eq!(p.eval(&[1.5, -2.0]), -12.0);
         assert!(p.eval(&[1.0]).is_nan());
+        // Zero is +0, not the -0 of an empty f64 sum.
+        assert!(Poly::zero().eval(&[]).is_sign_positive());
     }
 
     #[test]

@@ -1,0 +1,346 @@
+//! The `bondgraph` program on the bundled examples: exit codes, summaries, and the shape
+//! and values of its JSON, text and LaTeX output.
+
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+use crate::support::{ron_files, root};
+
+const EXAMPLES: &str = "models/examples";
+
+/// The number of states of every example, by file stem.
+const STATES: &[(&str, usize)] = &[
+    ("dc_motor", 2),
+    ("mass_spring_damper", 2),
+    ("rigid_masses", 2),
+    ("rlc", 2),
+    ("series_dampers", 1),
+    ("tank_pipe", 2),
+    ("two_masses", 3),
+];
+
+/// Runs `bondgraph ARGS` in the repository root.
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_bondgraph"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("the program runs")
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8(output.stdout.clone()).expect("UTF-8 output")
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// Runs `bondgraph ARGS`, expecting success.
+fn succeed(args: &[&str]) -> String {
+    let output = run(args);
+    assert!(
+        output.status.success(),
+        "bondgraph {}: {:?}\n{}",
+        args.join(" "),
+        output.status,
+        stderr(&output)
+    );
+    stdout(&output)
+}
+
+/// Runs `bondgraph ARGS`, expecting a clean failure (exit 1, not a panic); returns stderr.
+fn fail(args: &[&str]) -> String {
+    let output = run(args);
+    let err = stderr(&output);
+    assert_eq!(
+        output.status.code(),
+        Some(1),
+        "bondgraph {}: exit code\n{err}",
+        args.join(" ")
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(output.stdout.is_empty());
+    err
+}
+
+/// Runs `equations ARGS --format json` and parses the result.
+fn json(args: &[&str]) -> Value {
+    let mut all = vec!["equations"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--format", "json"]);
+    let text = succeed(&all);
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{e}:\n{text}"))
+}
+
+fn stem(path: &str) -> &str {
+    path.rsplit('/')
+        .next()
+        .and_then(|f| f.strip_suffix(".ron"))
+        .expect("a .ron path")
+}
+
+fn states_of(path: &str) -> usize {
+    let name = stem(path);
+    STATES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .unwrap_or_else(|| panic!("{path}: add its state count to STATES"))
+        .1
+}
+
+/// A JSON array of arrays as a matrix of numbers.
+fn numbers(value: &Value) -> Vec<Vec<f64>> {
+    value
+        .as_array()
+        .expect("an array of rows")
+        .iter()
+        .map(|row| {
+            row.as_array()
+                .expect("a row")
+                .iter()
+                .map(|x| x.as_f64().expect("a number"))
+                .collect()
+        })
+        .collect()
+}
+
+/// Asserts `value` is `rows` arrays of `columns` entries each, strings or numbers.
+fn assert_shape(what: &str, value: &Value, rows: usize, columns: usize, numeric: bool) {
+    let array = value
+        .as_array()
+        .unwrap_or_else(|| panic!("{what}: not an array"));
+    assert_eq!(array.len(), rows, "{what}: rows");
+    for row in array {
+        let row = row
+            .as_array()
+            .unwrap_or_else(|| panic!("{what}: a row is not an array"));
+        assert_eq!(row.len(), columns, "{what}: columns");
+        for entry in row {
+            if numeric {
+                let x = entry
+                    .as_f64()
+                    .unwrap_or_else(|| panic!("{what}: {entry} is not a number"));
+                assert!(x.is_finite(), "{what}: {x}");
+            } else {
+                assert!(entry.is_string(), "{what}: {entry} is not a string");
+            }
+        }
+    }
+}
+
+#[test]
+fn every_example_has_a_state_count() {
+    let examples: Vec<String> = ron_files(EXAMPLES)
+        .iter()
+        .map(|p| stem(p).to_string())
+        .collect();
+    let listed: Vec<&str> = STATES.iter().map(|(n, _)| *n).collect();
+    assert_eq!(examples, listed);
+}
+
+#[test]
+fn check_summarises_every_example_in_one_line() {
+    for path in ron_files(EXAMPLES) {
+        let out = succeed(&["check", &path]);
+        let n = states_of(&path);
+        let states = if n == 1 {
+            "1 state".to_string()
+        } else {
+            format!("{n} states")
+        };
+        assert_eq!(out.lines().count(), 1, "{path}: {out}");
+        let line = out.trim_end();
+        assert!(
+            line.starts_with(&format!("{path}: ok: model '{}' with ", stem(&path))),
+            "{line}"
+        );
+        assert!(line.ends_with(&format!(" and {states}")), "{line}");
+    }
+    // One example in full.
+    assert_eq!(
+        succeed(&["check", "models/examples/mass_spring_damper.ron"]),
+        "models/examples/mass_spring_damper.ron: ok: model 'mass_spring_damper' with \
+         5 elements, 4 bonds, 3 parameters, 1 input and 2 states\n"
+    );
+}
+
+#[test]
+fn json_of_every_example_has_consistent_shapes() {
+    for path in ron_files(EXAMPLES) {
+        let json = json(&[&path]);
+        let n = states_of(&path);
+        let states = json["states"].as_array().expect("states");
+        assert_eq!(states.len(), n, "{path}: states");
+        for state in states {
+            let name = state["name"].as_str().expect("state name");
+            let element = state["element"].as_str().expect("state element");
+            let quantity = state["quantity"].as_str().expect("state quantity");
+            assert!(matches!(quantity, "p" | "q"), "{path}: {quantity}");
+            assert_eq!(name, format!("{quantity}_{element}"), "{path}");
+        }
+        let inputs = json["inputs"].as_array().expect("inputs");
+        assert!(inputs.iter().all(Value::is_string), "{path}: {inputs:?}");
+        let m = inputs.len();
+        for (key, numeric) in [("A", false), ("A_value", true)] {
+            assert_shape(&format!("{path}: {key}"), &json[key], n, n, numeric);
+        }
+        for (key, numeric) in [("B", false), ("B_value", true)] {
+            assert_shape(&format!("{path}: {key}"), &json[key], n, m, numeric);
+        }
+        let c = json["c"].as_array().expect("c");
+        assert_eq!(c.len(), n, "{path}: c");
+        assert!(c.iter().all(Value::is_string), "{path}: c");
+        let c_value = json["c_value"].as_array().expect("c_value");
+        assert_eq!(c_value.len(), n, "{path}: c_value");
+        assert!(
+            c_value
+                .iter()
+                .all(|x| x.as_f64().is_some_and(f64::is_finite)),
+            "{path}: c_value"
+        );
+    }
+}
+
+#[test]
+fn json_values_of_the_mass_spring_damper() {
+    // m = 2, k = 200, b = 4: dp/dt = -(b/m) p - k q + F, dq/dt = p/m.
+    let json = json(&["models/examples/mass_spring_damper.ron"]);
+    assert_eq!(
+        numbers(&json["A_value"]),
+        [[-2.0, -200.0], [0.5, 0.0]],
+        "{}",
+        json["A_value"]
+    );
+    assert_eq!(numbers(&json["B_value"]), [[1.0], [0.0]]);
+    assert_eq!(json["c_value"], serde_json::json!([0.0, 0.0]));
+    assert_eq!(json["A"], serde_json::json!([["-b/m", "-k"], ["1/m", "0"]]));
+    assert_eq!(json["inputs"], serde_json::json!(["F"]));
+    // Zeros are written 0.0, not -0.0.
+    let text = succeed(&[
+        "equations",
+        "models/examples/mass_spring_damper.ron",
+        "--format",
+        "json",
+    ]);
+    assert!(!text.contains("-0.0"), "{text}");
+}
+
+#[test]
+fn coenergy_states_are_velocities_and_forces() {
+    for path in ron_files(EXAMPLES) {
+        let json = json(&[&path, "--states", "coenergy"]);
+        assert_eq!(json["variables"], "coenergy", "{path}");
+        for state in json["states"].as_array().expect("states") {
+            let quantity = state["quantity"].as_str().expect("quantity");
+            assert!(matches!(quantity, "v" | "f"), "{path}: {quantity}");
+            assert!(
+                state["name"]
+                    .as_str()
+                    .is_some_and(|n| n.starts_with(&format!("{quantity}_"))),
+                "{path}: {state}"
+            );
+        }
+    }
+    let json = json(&[
+        "models/examples/mass_spring_damper.ron",
+        "--states",
+        "coenergy",
+    ]);
+    let names: Vec<&str> = json["states"]
+        .as_array()
+        .expect("states")
+        .iter()
+        .map(|s| s["name"].as_str().expect("name"))
+        .collect();
+    assert_eq!(names, ["v_mass", "f_spring"]);
+    // m dv/dt = F - f - b v, df/dt = k v.
+    assert_eq!(numbers(&json["A_value"]), [[-2.0, -0.5], [200.0, 0.0]]);
+}
+
+#[test]
+fn latex_is_a_matrix_equation() {
+    for path in ron_files(EXAMPLES) {
+        let latex = succeed(&["equations", &path, "--format", "latex"]);
+        assert!(latex.contains("\\begin{bmatrix}"), "{path}:\n{latex}");
+        assert!(latex.contains("\\end{bmatrix}"), "{path}:\n{latex}");
+    }
+}
+
+#[test]
+fn text_output_shows_the_states_and_matrices() {
+    let text = succeed(&["equations", "models/examples/mass_spring_damper.ron"]);
+    assert!(
+        text.starts_with("model 'mass_spring_damper': 2 states in energy variables, 1 input\n")
+    );
+    assert!(
+        text.contains("dp_mass/dt   = -b/m*p_mass - k*q_spring + F\n"),
+        "{text}"
+    );
+    assert!(text.contains("A = [ -b/m  -k ]\n"), "{text}");
+}
+
+#[test]
+fn an_output_appears_in_text_and_json() {
+    let text = succeed(&[
+        "equations",
+        "models/examples/mass_spring_damper.ron",
+        "--output",
+        "effort:damper",
+    ]);
+    // The damper force b v = (b/m) p.
+    assert!(
+        text.contains("\noutputs:\n  effort:damper = b/m*p_mass\n"),
+        "{text}"
+    );
+
+    let json = json(&[
+        "models/examples/mass_spring_damper.ron",
+        "--output",
+        "effort:damper",
+    ]);
+    let outputs = json["outputs"].as_array().expect("outputs");
+    assert_eq!(outputs.len(), 1);
+    assert_eq!(outputs[0]["name"], "effort:damper");
+    assert_eq!(outputs[0]["C"], serde_json::json!(["b/m", "0"]));
+    assert_eq!(
+        numbers(&serde_json::json!([outputs[0]["C_value"]])),
+        [[2.0, 0.0]]
+    );
+}
+
+#[test]
+fn a_missing_model_file_is_a_clear_error() {
+    let err = fail(&["check", "models/examples/no_such_model.ron"]);
+    assert!(
+        err.starts_with("error: cannot read model file 'models/examples/no_such_model.ron': "),
+        "{err}"
+    );
+    let err = fail(&["equations", "no/such/dir/model.ron", "--format", "json"]);
+    assert!(
+        err.contains("cannot read model file 'no/such/dir/model.ron'"),
+        "{err}"
+    );
+}
+
+#[test]
+fn an_unknown_output_element_is_a_clear_error_naming_it() {
+    let err = fail(&[
+        "equations",
+        "models/examples/mass_spring_damper.ron",
+        "--output",
+        "effort:dashpot",
+    ]);
+    assert_eq!(
+        err,
+        "error: output 'effort:dashpot': the model has no element 'dashpot'\n"
+    );
+    let err = fail(&[
+        "equations",
+        "models/examples/mass_spring_damper.ron",
+        "--output",
+        "flow:force->dashpot",
+    ]);
+    assert!(err.contains("the model has no element 'dashpot'"), "{err}");
+}
