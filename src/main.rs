@@ -166,10 +166,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 equations::derive(&model, &laws, &options).map_err(|d| with_source(d, &source))?;
             let outputs = outputs
                 .iter()
-                .map(|spec| {
-                    let spec = OutputSpec::parse(&model, spec)?;
-                    equations.output(&model, &spec)
-                })
+                .map(|spec| OutputSpec::parse(&model, spec).map(|spec| equations.output(&spec)))
                 .collect::<Result<Vec<_>, _>>()
                 .map_err(|d| with_source(d, &source))?;
             let text = match format {

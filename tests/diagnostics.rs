@@ -196,7 +196,7 @@ fn unknown_element_kind() {
             element: Some("mass"),
             underlined: "Mass",
             message: "element 'mass': unknown element kind 'Mass'; expected one of Se, Sf, I, C, \
-                      R, TF, GY, Zero, One",
+                      R, TF, GY, Friction, TensionOnly, Zero, One",
         },
     );
 }

@@ -37,7 +37,7 @@
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::laws::Law;
-use crate::model::{BondId, ElementId, Model};
+use crate::model::{BondId, ElementId, ElementKind, Model};
 
 /// Which end of a bond receives the effort: the end where the causal stroke is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -144,16 +144,18 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
         if let Law::Resistor { .. } = laws[element.index()] {
             let bond = single_bond(model, element);
             if scap.strokes[bond.index()].is_none() {
-                // Resistance causality (flow in, effort out) as the arbitrary choice.
-                scap.impose(bond, model.bond(bond).other(element), element)?;
+                // Resistance causality (flow in, effort out) first, conductance if that
+                // leads to a conflict.
+                let other = model.bond(bond).other(element);
+                scap.choose(bond, [other, element], element)?;
                 arbitrary.push(element);
             }
         }
     }
     for bond in model.bond_ids() {
         if scap.strokes[bond.index()].is_none() {
-            let b = model.bond(bond);
-            scap.impose(bond, b.to, b.from)?;
+            let b = *model.bond(bond);
+            scap.choose(bond, [b.to, b.from], b.from)?;
             arbitrary.push(b.from);
         }
     }
@@ -211,6 +213,20 @@ impl<'a> Scap<'a> {
     fn impose(&mut self, bond: BondId, receiver: ElementId, origin: ElementId) -> Result<()> {
         self.set(bond, receiver, origin)?;
         self.propagate()
+    }
+
+    /// An arbitrary choice: imposes the first receiver that propagates without conflict,
+    /// undoing a choice that conflicts before trying the next.
+    fn choose(&mut self, bond: BondId, receivers: [ElementId; 2], origin: ElementId) -> Result<()> {
+        let saved = (self.strokes.clone(), self.origin.clone());
+        match self.impose(bond, receivers[0], origin) {
+            Ok(()) => Ok(()),
+            Err(first) => {
+                (self.strokes, self.origin) = saved;
+                self.queue.clear();
+                self.impose(bond, receivers[1], origin).map_err(|_| first)
+            }
+        }
     }
 
     fn set(&mut self, bond: BondId, receiver: ElementId, origin: ElementId) -> Result<()> {
@@ -346,7 +362,7 @@ impl<'a> Scap<'a> {
                 let element = self.model.element(e);
                 format!(
                     "{} '{}'",
-                    law_description(&self.laws[e.index()], element.kind.description()),
+                    law_description(&self.laws[e.index()], &element.kind),
                     element.name
                 )
             }
@@ -448,14 +464,16 @@ impl<'a> Scap<'a> {
     }
 }
 
-/// How an element acts in this mode, for messages: a switching element acting as a source
-/// is described by what it does ("flow source").
-fn law_description(law: &Law, kind: &'static str) -> &'static str {
-    match law {
-        Law::EffortSource(_) => "effort source",
-        Law::FlowSource(_) => "flow source",
-        Law::SlackStorage => "slack element",
-        _ => kind,
+/// How an element acts in this mode, for messages: a switching element is described by
+/// its mode ("stuck friction contact"), a plain one by its kind.
+fn law_description(law: &Law, kind: &ElementKind) -> &'static str {
+    match (kind, law) {
+        (ElementKind::Friction(_), Law::FlowSource(_)) => "stuck friction contact",
+        (ElementKind::Friction(_), _) => "slipping friction contact",
+        (ElementKind::TensionOnly(_), Law::SlackStorage) => "slack tension-only element",
+        (_, Law::EffortSource(_)) => "effort source",
+        (_, Law::FlowSource(_)) => "flow source",
+        _ => kind.description(),
     }
 }
 

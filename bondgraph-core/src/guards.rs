@@ -18,7 +18,6 @@
 //! within `±F_S`; otherwise the contact slips through zero velocity and the next guard
 //! (velocity through zero, to the opposite slip) applies.
 
-use crate::diagnostics::{Diagnostic, DiagnosticKind, Result};
 use crate::equations::StateEquations;
 use crate::linear::{LinearForm, Var};
 use crate::model::{ElementId, ElementKind, ElementMode, Model};
@@ -109,36 +108,15 @@ impl Guard {
 }
 
 /// The guards of `mode`, written in the states of its `equations`.
-///
-/// # Errors
-/// [`DiagnosticKind::DependentStorage`] when a watched quantity would need an input's time
-/// derivative in this mode.
-pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Result<Vec<Guard>> {
+pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Vec<Guard> {
     let mut guards = Vec::new();
     for &(element, element_mode) in mode.assignments() {
         let bond = model.element(element).bonds[0];
         let sign = RatFunc::integer(model.bond(bond).sign_into(element));
-        let unavailable = || {
-            Diagnostic::new(
-                DiagnosticKind::DependentStorage,
-                format!(
-                    "the guard of '{}' in mode {} would need the time derivative of an input",
-                    model.element(element).name,
-                    mode.spec(model)
-                ),
-            )
-            .at_location(model.locate_element(element))
-            .element(model.element(element).name.clone())
-        };
-        let effort = || equations.bond_effort(bond).cloned().ok_or_else(unavailable);
-        let flow = || {
-            equations
-                .bond_flow(bond)
-                .map(|f| f.scaled(&sign))
-                .ok_or_else(unavailable)
-        };
-        let guard = |watched, quantity: LinearForm, crossing, threshold, leaves_to, requires_hold| {
-            Guard {
+        let effort = || equations.bond_effort(bond).clone();
+        let flow = || equations.bond_flow(bond).scaled(&sign);
+        let guard =
+            |watched, quantity: LinearForm, crossing, threshold, leaves_to, requires_hold| Guard {
                 element,
                 watched,
                 quantity,
@@ -146,11 +124,10 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Result<
                 threshold,
                 leaves_to,
                 requires_hold,
-            }
-        };
+            };
         match (&model.element(element).kind, element_mode) {
             (ElementKind::Friction(friction), ElementMode::Stuck) => {
-                let hold = effort()?;
+                let hold = effort();
                 let breakaway = friction.breakaway.value.clone();
                 let negative_breakaway = breakaway.scaled(&RatFunc::integer(-1));
                 guards.push(guard(
@@ -171,7 +148,7 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Result<
                 ));
             }
             (ElementKind::Friction(friction), slip) => {
-                let velocity = flow()?;
+                let velocity = flow();
                 let dead_band = friction.dead_band.value.clone();
                 let (crossing, band, reverse) = if slip == ElementMode::SlipPositive {
                     (Crossing::Falls, dead_band, ElementMode::SlipNegative)
@@ -198,7 +175,7 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Result<
             (ElementKind::TensionOnly(_), ElementMode::Taut) => {
                 guards.push(guard(
                     Watched::Tension,
-                    effort()?,
+                    effort(),
                     Crossing::Falls,
                     LinearForm::zero(),
                     ElementMode::Slack,
@@ -224,5 +201,5 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Result<
             _ => {}
         }
     }
-    Ok(guards)
+    guards
 }

@@ -50,9 +50,11 @@ pub mod diagnostics;
 pub mod equations;
 pub mod expr;
 pub mod graph;
+pub mod guards;
 pub mod laws;
 pub mod linear;
 pub mod model;
+pub mod modes;
 pub mod source;
 pub mod symbolic;
 

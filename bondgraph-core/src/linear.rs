@@ -19,6 +19,9 @@ pub enum Var {
     State(u32),
     /// The `i`-th input of the model.
     Input(u32),
+    /// The time derivative of the `i`-th input: appears in the holding force of storage driven
+    /// directly by an input (outputs and guards only, never in state equations).
+    InputRate(u32),
     /// The effort (for an inertia) or flow (for a compliance) of the `i`-th dependent
     /// storage element, unknown until merging resolves it.
     Dependent(u32),
@@ -179,6 +182,7 @@ impl fmt::Display for Var {
         match self {
             Var::State(i) => write!(f, "x{i}"),
             Var::Input(i) => write!(f, "u{i}"),
+            Var::InputRate(i) => write!(f, "der(u{i})"),
             Var::Dependent(i) => write!(f, "d{i}"),
             Var::Bond(i) => write!(f, "{}{}", if i % 2 == 0 { "e" } else { "f" }, i / 2),
             Var::Constant => write!(f, "1"),

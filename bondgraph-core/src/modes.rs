@@ -57,7 +57,8 @@ impl Mode {
     pub fn parse(model: &Model, text: &str) -> Result<Self> {
         let mut mode = Self::initial(model);
         let mut named: Vec<ElementId> = Vec::new();
-        let bad = |message: String| Diagnostics::from(Diagnostic::new(DiagnosticKind::BadMode, message));
+        let bad =
+            |message: String| Diagnostics::from(Diagnostic::new(DiagnosticKind::BadMode, message));
         for part in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
             let Some((name, value)) = part.split_once('=') else {
                 return Err(bad(format!(
@@ -66,7 +67,9 @@ impl Mode {
             };
             let (name, value) = (name.trim(), value.trim());
             let Some(element) = model.element_named(name) else {
-                return Err(bad(format!("mode '{part}': the model has no element '{name}'")));
+                return Err(bad(format!(
+                    "mode '{part}': the model has no element '{name}'"
+                )));
             };
             let kind = &model.element(element).kind;
             if kind.modes().is_empty() {
@@ -147,7 +150,7 @@ pub struct ModeEquations {
 pub fn derive(model: &Model, mode: &Mode, options: &Options) -> Result<ModeEquations> {
     let laws = laws::for_mode(model, mode);
     let equations = equations::derive(model, &laws, options)?;
-    let guards = guards::derive(model, mode, &equations)?;
+    let guards = guards::derive(model, mode, &equations);
     Ok(ModeEquations {
         mode: mode.clone(),
         equations,

@@ -14,8 +14,8 @@ use crate::model::{ElementId, Model};
 
 pub(crate) struct Converted {
     pub derivatives: Vec<LinearForm>,
-    pub bond_vars: Vec<Option<LinearForm>>,
-    pub storage_energy: Vec<(ElementId, Option<LinearForm>)>,
+    pub bond_vars: Vec<LinearForm>,
+    pub storage_energy: Vec<(ElementId, LinearForm)>,
 }
 
 pub(crate) fn convert(
@@ -23,8 +23,8 @@ pub(crate) fn convert(
     blocks: &[Block],
     state_elements: &[ElementId],
     derivatives: &[LinearForm],
-    bond_vars: &[Option<LinearForm>],
-    storage_energy: &[(ElementId, Option<LinearForm>)],
+    bond_vars: &[LinearForm],
+    storage_energy: &[(ElementId, LinearForm)],
 ) -> Result<Converted> {
     // x_k as a form of the co-energy states y.
     let mut energy_in_coenergy: Vec<LinearForm> = vec![LinearForm::zero(); derivatives.len()];
@@ -75,13 +75,10 @@ pub(crate) fn convert(
 
     Ok(Converted {
         derivatives: converted,
-        bond_vars: bond_vars
-            .iter()
-            .map(|v| v.as_ref().map(&substitute))
-            .collect(),
+        bond_vars: bond_vars.iter().map(&substitute).collect(),
         storage_energy: storage_energy
             .iter()
-            .map(|(e, v)| (*e, v.as_ref().map(&substitute)))
+            .map(|(e, v)| (*e, substitute(v)))
             .collect(),
     })
 }

@@ -7,6 +7,9 @@
 //! `M' = diag(m_k) + Tᵀ diag(m_d) T` the group's mass matrix, the generalised momentum
 //! `p' = M' f + Tᵀ diag(m_d) s` obeys `dp'/dt = e_k + Σ_d T_dk e_d`, and by power
 //! conservation of the junction structure the unknown efforts `e_d` cancel from that sum.
+//! The dependents' own efforts then follow from the group's acceleration; where a dependent
+//! is driven by an input (a block stuck to a belt moving at `v_belt`), they involve the
+//! input's rate, which output equations and guards may use but state equations may not.
 //! So the group keeps one state per independent inertia, its momentum now including the
 //! dependent ones: two masses on one 1-junction become one mass `m1 + m2`, and a catheter
 //! stuck to a robot tip becomes the single body `M = m_ct + m_ge` of that mode.
@@ -57,8 +60,9 @@ pub(crate) struct Block {
 pub(crate) struct Merged {
     /// The derivative of each state, over [`Var::State`], [`Var::Input`], [`Var::Constant`].
     pub derivatives: Vec<LinearForm>,
-    /// Every bond variable in the same terms; `None` where it would need an input derivative.
-    pub bond_vars: Vec<Option<LinearForm>>,
+    /// Every bond variable in the same terms, and the inputs' rates ([`Var::InputRate`])
+    /// where storage driven directly by an input makes it depend on them.
+    pub bond_vars: Vec<LinearForm>,
     /// Dependent elements merged into each state (by state index).
     pub merged_into: Vec<Vec<ElementId>>,
     /// Held storage: dependent elements following no state.
@@ -67,7 +71,7 @@ pub(crate) struct Merged {
     pub blocks: Vec<Block>,
     /// The energy variable of every storage element of the mode (states and dependents),
     /// as a form over the new states: for reconstructing the full physical state.
-    pub storage_energy: BTreeMap<ElementId, Option<LinearForm>>,
+    pub storage_energy: BTreeMap<ElementId, LinearForm>,
 }
 
 /// What resolving the dependents of one merged group needs.
@@ -317,28 +321,21 @@ pub(crate) fn merge(
         }
     }
 
-    // Each dependent's own effort (inertia) or flow (compliance): storage · d/dt(driven).
-    let mut dependent_value: Vec<Option<LinearForm>> = vec![None; dependents.len()];
+    // Each dependent's own effort (inertia) or flow (compliance): storage · d/dt(driven),
+    // where the time derivative of an input is its rate, `Var::InputRate`.
+    let source_rate = |j: usize| input_rate(&dependents[j].driven);
+    let mut dependent_value: Vec<LinearForm> = vec![LinearForm::zero(); dependents.len()];
     for &j in &held {
-        let has_input = dependents[j]
-            .driven
-            .mentions(|v| matches!(v, Var::Input(_)));
-        dependent_value[j] = (!has_input).then(LinearForm::zero);
+        dependent_value[j] = source_rate(j).scaled(&dependents[j].storage);
     }
     let held_values = dependent_value.clone();
-    let resolve_held = |form: &LinearForm| -> Option<LinearForm> {
-        let mut ok = true;
-        let result = form.substitute(|var| match var {
-            Var::Dependent(j) if held.contains(&(j as usize)) => match &held_values[j as usize] {
-                Some(v) => Some(v.clone()),
-                None => {
-                    ok = false;
-                    Some(LinearForm::zero())
-                }
-            },
+    let substitute_held = |form: &LinearForm| {
+        form.substitute(|var| match var {
+            Var::Dependent(j) if held.contains(&(j as usize)) => {
+                Some(held_values[j as usize].clone())
+            }
             _ => None,
-        });
-        ok.then_some(result)
+        })
     };
     for GroupSolution {
         states,
@@ -346,64 +343,50 @@ pub(crate) fn merge(
         inverse,
     } in &group_solutions
     {
-        let rates: Vec<LinearForm> = states
+        // M' df/dt = dp'/dt - Σ_d T_dᵀ m_d ds_d/dt: the momentum fed in by the sources moves
+        // with them, not with the group.
+        let mut forcing: Vec<LinearForm> = states
             .iter()
-            .map(|&k| derivatives[k as usize].clone())
+            .map(|&k| substitute_held(&derivatives[k as usize]))
             .collect();
-        let accelerations = matrix::apply(inverse, &rates);
         for (j, row) in t_rows {
-            let dependent = &dependents[*j];
-            if dependent.driven.mentions(|v| matches!(v, Var::Input(_))) {
-                continue; // needs an input derivative: left unavailable
+            let fed = source_rate(*j);
+            for (a, entry) in row.iter().enumerate() {
+                forcing[a].add_scaled(&fed, &-(entry * &dependents[*j].storage));
             }
-            let mut value = LinearForm::zero();
+        }
+        let accelerations = matrix::apply(inverse, &forcing);
+        for (j, row) in t_rows {
+            let mut value = source_rate(*j);
             for (a, acceleration) in accelerations.iter().enumerate() {
                 value.add_scaled(acceleration, &row[a]);
             }
-            dependent_value[*j] = resolve_held(&value.scaled(&dependent.storage));
+            dependent_value[*j] = value.scaled(&dependents[*j].storage);
         }
     }
 
-    let resolve = |form: &LinearForm| -> Option<LinearForm> {
+    let resolve = |form: &LinearForm| -> LinearForm {
         if dependents.is_empty() {
-            return Some(form.clone());
+            return form.clone();
         }
-        let mut ok = true;
-        let result = form.substitute(|var| match var {
-            Var::Dependent(j) => match &dependent_value[j as usize] {
-                Some(v) => Some(v.clone()),
-                None => {
-                    ok = false;
-                    Some(LinearForm::zero())
-                }
-            },
+        form.substitute(|var| match var {
+            Var::Dependent(j) => Some(dependent_value[j as usize].clone()),
             _ => None,
-        });
-        ok.then_some(result)
+        })
     };
 
     for (k, derivative) in derivatives.iter_mut().enumerate() {
-        match resolve(derivative) {
-            Some(resolved) => *derivative = resolved,
-            None => {
-                let j = derivative
-                    .terms()
-                    .iter()
-                    .find_map(|(v, _)| match v {
-                        Var::Dependent(j) if dependent_value[*j as usize].is_none() => Some(*j),
-                        _ => None,
-                    })
-                    .unwrap_or(0);
-                return Err(needs_input_derivative(
-                    model,
-                    dependents[j as usize].element,
-                    state_elements[k],
-                ));
-            }
+        *derivative = resolve(derivative);
+        if derivative.mentions(|v| matches!(v, Var::InputRate(_))) {
+            let driven = dependents
+                .iter()
+                .find(|d| d.driven.mentions(|v| matches!(v, Var::Input(_))))
+                .map_or(state_elements[k], |d| d.element);
+            return Err(needs_input_derivative(model, driven, state_elements[k]));
         }
     }
 
-    let bond_vars_new: Vec<Option<LinearForm>> = bond_vars
+    let bond_vars_new: Vec<LinearForm> = bond_vars
         .iter()
         .map(|form| resolve(&to_new_states(form)))
         .collect();
@@ -413,12 +396,12 @@ pub(crate) fn merge(
         let energy = old_state_form[k]
             .clone()
             .unwrap_or_else(|| LinearForm::var(Var::State(k as u32)));
-        storage_energy.insert(element, Some(energy));
+        storage_energy.insert(element, energy);
     }
     for dependent in &dependents {
         // x_d = storage_d · driven_d, with the followed states rewritten.
         let energy = to_new_states(&dependent.driven.scaled(&dependent.storage));
-        storage_energy.insert(dependent.element, Some(energy));
+        storage_energy.insert(dependent.element, energy);
     }
 
     Ok(Merged {
@@ -429,6 +412,18 @@ pub(crate) fn merge(
         blocks,
         storage_energy,
     })
+}
+
+/// The time derivative of the input part of `form`: each input replaced by its rate, the
+/// constant and everything else dropped.
+fn input_rate(form: &LinearForm) -> LinearForm {
+    let mut rate = LinearForm::zero();
+    for (var, coefficient) in form.terms() {
+        if let Var::Input(i) = var {
+            rate.add_scaled(&LinearForm::var(Var::InputRate(*i)), coefficient);
+        }
+    }
+    rate
 }
 
 /// The states a dependent's driven variable follows.

@@ -183,7 +183,8 @@ pub struct StateEquations {
     pub states: Vec<StateVariable>,
     /// The model's inputs, in file order.
     pub inputs: Vec<String>,
-    /// `dx_i/dt` as an affine form of [`Var::State`], [`Var::Input`] and [`Var::Constant`].
+    /// `dx_i/dt` as an affine form of [`Var::State`], [`Var::Input`] and [`Var::Constant`]
+    /// (never of input rates).
     pub derivatives: Vec<LinearForm>,
     /// What the derivation merged, held and solved.
     pub notes: Vec<Note>,
@@ -193,10 +194,10 @@ pub struct StateEquations {
     pub symbols: SymbolTable,
     /// The parameter values, indexed by symbol.
     pub values: Vec<f64>,
-    /// Effort (`2b`) and flow (`2b + 1`) of every bond; `None` where unavailable.
-    bond_vars: Vec<Option<LinearForm>>,
+    /// Effort (`2b`) and flow (`2b + 1`) of every bond.
+    bond_vars: Vec<LinearForm>,
     /// Energy variable of each storage element of the mode, as a form over the states.
-    storage_energy: Vec<(ElementId, Option<LinearForm>)>,
+    storage_energy: Vec<(ElementId, LinearForm)>,
 }
 
 /// Derives the state equations of the mode given by `laws`.
@@ -304,7 +305,7 @@ pub fn derive_with(
 
     let mut derivatives = merged.derivatives;
     let mut bond_vars = merged.bond_vars;
-    let mut storage_energy: Vec<(ElementId, Option<LinearForm>)> =
+    let mut storage_energy: Vec<(ElementId, LinearForm)> =
         merged.storage_energy.into_iter().collect();
     if options.variables == Variables::CoEnergy {
         let converted = coenergy::convert(
@@ -371,21 +372,21 @@ impl StateEquations {
         value.eval(&self.values)
     }
 
-    /// The effort of `bond` in this mode's states, if it is available (it is not when it
-    /// would need an input's time derivative).
-    pub fn bond_effort(&self, bond: BondId) -> Option<&LinearForm> {
-        self.bond_vars[2 * bond.index()].as_ref()
+    /// The effort of `bond` in this mode's states and inputs (and inputs' rates, where storage
+    /// is driven directly by an input).
+    pub fn bond_effort(&self, bond: BondId) -> &LinearForm {
+        &self.bond_vars[2 * bond.index()]
     }
 
-    /// The flow of `bond` in this mode's states, if available.
-    pub fn bond_flow(&self, bond: BondId) -> Option<&LinearForm> {
-        self.bond_vars[2 * bond.index() + 1].as_ref()
+    /// The flow of `bond` in this mode's states and inputs (and inputs' rates).
+    pub fn bond_flow(&self, bond: BondId) -> &LinearForm {
+        &self.bond_vars[2 * bond.index() + 1]
     }
 
     /// The energy variable (momentum or displacement) of every storage element that has
     /// one in this mode, as an affine form of the states (and inputs): how to rebuild the
     /// full physical state from this mode's states.
-    pub fn storage_energy(&self) -> &[(ElementId, Option<LinearForm>)] {
+    pub fn storage_energy(&self) -> &[(ElementId, LinearForm)] {
         &self.storage_energy
     }
 

@@ -115,31 +115,17 @@ impl OutputSpec {
 }
 
 impl StateEquations {
-    /// The output equation of `spec` in this mode.
-    ///
-    /// # Errors
-    /// [`DiagnosticKind::DependentStorage`] when the bond variable would need an input's
-    /// time derivative in this mode.
-    pub fn output(&self, model: &Model, spec: &OutputSpec) -> Result<OutputEquation> {
-        let form = match spec.quantity {
+    /// The output equation of `spec` in this mode. It may involve the inputs' rates
+    /// ([`Var::InputRate`](crate::linear::Var::InputRate)) where storage is driven directly
+    /// by an input.
+    pub fn output(&self, spec: &OutputSpec) -> OutputEquation {
+        let row = match spec.quantity {
             OutputQuantity::Effort => self.bond_effort(spec.bond),
             OutputQuantity::Flow => self.bond_flow(spec.bond),
         };
-        match form {
-            Some(row) => Ok(OutputEquation {
-                name: spec.name.clone(),
-                row: row.clone(),
-            }),
-            None => Err(Diagnostic::new(
-                DiagnosticKind::DependentStorage,
-                format!(
-                    "output '{}' (bond {}) would need the time derivative of an input in this mode",
-                    spec.name,
-                    model.bond_label(spec.bond)
-                ),
-            )
-            .at_location(model.locate_bond(spec.bond))
-            .into()),
+        OutputEquation {
+            name: spec.name.clone(),
+            row: row.clone(),
         }
     }
 }

@@ -79,11 +79,13 @@ pub struct OutputJson {
 }
 
 impl StateEquations {
-    fn var_name(&self, var: Var) -> &str {
+    /// The name of a variable in text: a state, an input, or an input's rate `der(u)`.
+    pub fn var_name(&self, var: Var) -> String {
         match var {
-            Var::State(i) => &self.states[i as usize].name,
-            Var::Input(i) => &self.inputs[i as usize],
-            _ => "1",
+            Var::State(i) => self.states[i as usize].name.clone(),
+            Var::Input(i) => self.inputs[i as usize].clone(),
+            Var::InputRate(i) => format!("der({})", self.inputs[i as usize]),
+            other => other.to_string(),
         }
     }
 
@@ -94,7 +96,7 @@ impl StateEquations {
             let (negative, magnitude) = coefficient.signed_text(&self.symbols);
             let term = match var {
                 Var::Constant => magnitude,
-                _ => product_text(&magnitude, self.var_name(*var)),
+                _ => product_text(&magnitude, &self.var_name(*var)),
             };
             match (out.is_empty(), negative) {
                 (true, false) => out.push_str(&term),

@@ -25,8 +25,8 @@ pub mod validate;
 use std::sync::Arc;
 
 pub use checked::{
-    Bond, BondId, Coefficient, Element, ElementId, ElementKind, Input, InputId, Model, Parameter,
-    SourceValue,
+    Bond, BondId, Coefficient, Element, ElementId, ElementKind, ElementMode, Friction, Input,
+    InputId, Model, Parameter, SourceValue, TensionOnly,
 };
 
 use crate::diagnostics::Result;

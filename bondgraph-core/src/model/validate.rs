@@ -357,6 +357,7 @@ impl Validator<'_> {
                 compliance,
                 stiffness,
             } => ElementKind::Compliance(self.compliance(
+                "compliance",
                 name,
                 index,
                 compliance.as_deref(),
@@ -401,6 +402,7 @@ impl Validator<'_> {
                 initial,
             } => {
                 let compliance = self.compliance(
+                    "tension-only element",
                     name,
                     index,
                     compliance.as_deref(),
@@ -450,6 +452,7 @@ impl Validator<'_> {
     /// A compliance given as exactly one of `compliance` or `stiffness`.
     fn compliance(
         &mut self,
+        what: &str,
         name: &str,
         index: usize,
         compliance: Option<&str>,
@@ -473,12 +476,12 @@ impl Validator<'_> {
                 let (kind, message) = if compliance.is_some() {
                     (
                         DiagnosticKind::ConflictingFields,
-                        format!("element '{name}' gives both compliance and stiffness; give one"),
+                        format!("{what} '{name}' gives both compliance and stiffness; give one"),
                     )
                 } else {
                     (
                         DiagnosticKind::MissingField,
-                        format!("element '{name}' needs a compliance or a stiffness"),
+                        format!("{what} '{name}' needs a compliance or a stiffness"),
                     )
                 };
                 self.problems.push(
@@ -528,7 +531,10 @@ impl Validator<'_> {
                 let span = self
                     .string_span(index, "initial")
                     .unwrap_or_else(|| self.entry_span(&self.map.elements, index));
-                let names: Vec<String> = allowed.iter().map(|m| format!("\"{}\"", m.name())).collect();
+                let names: Vec<String> = allowed
+                    .iter()
+                    .map(|m| format!("\"{}\"", m.name()))
+                    .collect();
                 self.problems.push(
                     Diagnostic::new(
                         DiagnosticKind::BadMode,
@@ -562,7 +568,13 @@ impl Validator<'_> {
             return Some(());
         };
         let problem = if f_c < 0.0 {
-            Some((coulomb.span, format!("Coulomb force \"{}\" = {f_c} must not be negative", coulomb.text)))
+            Some((
+                coulomb.span,
+                format!(
+                    "Coulomb force \"{}\" = {f_c} must not be negative",
+                    coulomb.text
+                ),
+            ))
         } else if f_s < f_c {
             Some((
                 breakaway.span,
