@@ -15,7 +15,7 @@ use bondgraph_core::diagnostics::Diagnostics;
 use bondgraph_core::equations::{self, OutputSpec, Variables};
 use bondgraph_core::model::{self, Model};
 use bondgraph_core::source::SourceFile;
-use bondgraph_core::{Diagnostic, DiagnosticKind, causality, graph, laws};
+use bondgraph_core::{Diagnostic, DiagnosticKind, causality, graph, laws, modes};
 use clap::{Parser, Subcommand, ValueEnum};
 
 /// Bond-graph models in, state equations out.
@@ -37,6 +37,9 @@ enum Command {
     Graph {
         /// The model file (RON).
         model: PathBuf,
+        /// The mode of the switching elements, e.g. fr=stuck,string=taut (default: initial).
+        #[arg(long, value_name = "SPEC")]
+        mode: Option<String>,
         /// Output format: text, or dot (render with `dot -Tsvg`).
         #[arg(long, value_enum, default_value_t = GraphFormat::Text)]
         format: GraphFormat,
@@ -45,6 +48,9 @@ enum Command {
     Equations {
         /// The model file (RON).
         model: PathBuf,
+        /// The mode of the switching elements, e.g. fr=stuck,string=taut (default: initial).
+        #[arg(long, value_name = "SPEC")]
+        mode: Option<String>,
         /// Energy variables (momenta p, displacements q) or co-energy (velocities v, forces f).
         #[arg(long, value_enum, default_value_t = StatesArg::Energy)]
         states: StatesArg,
@@ -55,6 +61,23 @@ enum Command {
         #[arg(long = "output", value_name = "SPEC")]
         outputs: Vec<String>,
     },
+    /// List the modes reachable from the initial mode, their states and their guards.
+    Modes {
+        /// The model file (RON).
+        model: PathBuf,
+        /// Energy or co-energy variables, for the guards' expressions.
+        #[arg(long, value_enum, default_value_t = StatesArg::Energy)]
+        states: StatesArg,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = ModesFormat::Text)]
+        format: ModesFormat,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum ModesFormat {
+    Text,
+    Json,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -117,24 +140,34 @@ fn run(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Command::Check { model } => {
             let (model, source) = load(&model)?;
-            let laws = laws::plain_laws(&model);
-            let equations = equations::derive(&model, &laws, &equations::Options::default())
+            let reachable = modes::reachable(&model, &equations::Options::default())
                 .map_err(|d| with_source(d, &source))?;
+            let initial = &reachable.modes[0].equations;
+            let mode_count = if reachable.initial.is_empty() {
+                String::new()
+            } else {
+                format!(", {}", count(reachable.modes.len(), "reachable mode"))
+            };
             println!(
-                "{}: ok: model '{}' with {}, {}, {}, {} and {}",
+                "{}: ok: model '{}' with {}, {}, {}, {} and {}{mode_count}",
                 source.name(),
                 model.name,
                 count(model.elements.len(), "element"),
                 count(model.bonds.len(), "bond"),
                 count(model.parameters.len(), "parameter"),
                 count(model.inputs.len(), "input"),
-                count(equations.state_count(), "state"),
+                count(initial.state_count(), "state"),
             );
             Ok(())
         }
-        Command::Graph { model, format } => {
+        Command::Graph {
+            model,
+            mode,
+            format,
+        } => {
             let (model, source) = load(&model)?;
-            let laws = laws::plain_laws(&model);
+            let mode = parse_mode(&model, mode.as_deref(), &source)?;
+            let laws = laws::for_mode(&model, &mode);
             let causality =
                 causality::assign(&model, &laws).map_err(|d| with_source(d, &source))?;
             let text = match format {
@@ -150,20 +183,19 @@ fn run(cli: Cli) -> Result<(), Failure> {
         }
         Command::Equations {
             model,
+            mode,
             states,
             format,
             outputs,
         } => {
             let (model, source) = load(&model)?;
+            let mode = parse_mode(&model, mode.as_deref(), &source)?;
             let options = equations::Options {
-                variables: match states {
-                    StatesArg::Energy => Variables::Energy,
-                    StatesArg::Coenergy => Variables::CoEnergy,
-                },
+                variables: states.variables(),
             };
-            let laws = laws::plain_laws(&model);
-            let equations =
-                equations::derive(&model, &laws, &options).map_err(|d| with_source(d, &source))?;
+            let derived =
+                modes::derive(&model, &mode, &options).map_err(|d| with_source(d, &source))?;
+            let equations = &derived.equations;
             let outputs = outputs
                 .iter()
                 .map(|spec| OutputSpec::parse(&model, spec).map(|spec| equations.output(&spec)))
@@ -171,21 +203,75 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 .map_err(|d| with_source(d, &source))?;
             let text = match format {
                 Format::Text => {
-                    let mut text = equations.to_text();
+                    let mut text = String::new();
+                    if !mode.is_empty() {
+                        text.push_str(&format!("mode {}\n", mode.spec(&model)));
+                    }
+                    text.push_str(&equations.to_text());
                     if !outputs.is_empty() {
                         text.push_str("\noutputs:\n");
                         for output in &outputs {
                             text.push_str(&format!("  {}\n", equations.output_text(output)));
                         }
                     }
+                    if !derived.guards.is_empty() {
+                        text.push_str("\nguards:\n");
+                        for guard in &derived.guards {
+                            let element = &model.element(guard.element).name;
+                            text.push_str(&format!(
+                                "  {element}: {} -> {element}={}\n",
+                                guard.condition_text(equations),
+                                guard.leaves_to.name()
+                            ));
+                        }
+                    }
                     text
                 }
                 Format::Latex => equations.to_latex(),
-                Format::Json => json(&equations.to_json("", &outputs))?,
+                Format::Json => json(&equations.to_json(&mode.spec(&model), &outputs))?,
             };
             print(&text);
             Ok(())
         }
+        Command::Modes {
+            model,
+            states,
+            format,
+        } => {
+            let (model, source) = load(&model)?;
+            let options = equations::Options {
+                variables: states.variables(),
+            };
+            let reachable =
+                modes::reachable(&model, &options).map_err(|d| with_source(d, &source))?;
+            let text = match format {
+                ModesFormat::Text => reachable.to_text(&model),
+                ModesFormat::Json => json(&reachable.to_json(&model))?,
+            };
+            print(&text);
+            Ok(())
+        }
+    }
+}
+
+impl StatesArg {
+    fn variables(self) -> Variables {
+        match self {
+            StatesArg::Energy => Variables::Energy,
+            StatesArg::Coenergy => Variables::CoEnergy,
+        }
+    }
+}
+
+/// The mode given on the command line, or the model's initial mode.
+fn parse_mode(
+    model: &Model,
+    spec: Option<&str>,
+    source: &Arc<SourceFile>,
+) -> Result<modes::Mode, Failure> {
+    match spec {
+        Some(spec) => modes::Mode::parse(model, spec).map_err(|d| with_source(d, source)),
+        None => Ok(modes::Mode::initial(model)),
     }
 }
 

@@ -30,7 +30,9 @@ use std::sync::Arc;
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::equations::{self, Options, StateEquations};
-use crate::guards::{self, Guard};
+use serde::Serialize;
+
+use crate::guards::{self, Crossing, Guard};
 use crate::laws;
 use crate::model::{ElementId, ElementMode, Model};
 
@@ -241,4 +243,158 @@ pub fn reachable(model: &Model, options: &Options) -> Result<Reachable> {
         modes,
         impossible,
     })
+}
+
+/// The JSON document of `bondgraph modes`.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModesJson {
+    /// The model's name.
+    pub model: String,
+    /// The initial mode's specification.
+    pub initial: String,
+    /// Every mode that can be entered.
+    pub modes: Vec<ModeJson>,
+    /// Modes a guard leads to that cannot be entered, with the reason.
+    pub impossible: Vec<ImpossibleJson>,
+}
+
+/// One mode in the JSON document.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModeJson {
+    /// The mode's specification.
+    pub spec: String,
+    /// Its states' names.
+    pub states: Vec<String>,
+    /// How many states it has.
+    pub state_count: usize,
+    /// The guards that leave it.
+    pub guards: Vec<GuardJson>,
+}
+
+/// One guard in the JSON document.
+#[derive(Clone, Debug, Serialize)]
+pub struct GuardJson {
+    /// The switching element.
+    pub element: String,
+    /// The condition, as text: `holding force <expr> >= F_S`.
+    pub expression: String,
+    /// The full specification of the mode it leads to.
+    pub leaves_to: String,
+    /// The element's mode after it fires.
+    pub element_mode: String,
+    /// `holding force`, `relative velocity`, `tension` or `extension`.
+    pub watched: String,
+    /// The watched quantity.
+    pub quantity: String,
+    /// `>=` or `<=`.
+    pub comparison: String,
+    /// The threshold.
+    pub threshold: String,
+    /// Whether the switch happens only if static friction can then hold.
+    pub requires_hold: bool,
+}
+
+/// An unenterable mode in the JSON document.
+#[derive(Clone, Debug, Serialize)]
+pub struct ImpossibleJson {
+    /// The mode's specification.
+    pub spec: String,
+    /// Why it cannot be entered.
+    pub reason: String,
+}
+
+impl Reachable {
+    /// The reachable modes and their guards as text.
+    pub fn to_text(&self, model: &Model) -> String {
+        let switching = self.initial.assignments().len();
+        let mut out = format!(
+            "model '{}': {} switching element{}, {} mode{} reachable from {}\n",
+            model.name,
+            switching,
+            if switching == 1 { "" } else { "s" },
+            self.modes.len(),
+            if self.modes.len() == 1 { "" } else { "s" },
+            describe_spec(&self.initial.spec(model))
+        );
+        for mode in &self.modes {
+            let eq = &mode.equations;
+            let names: Vec<&str> = eq.states.iter().map(|s| s.name.as_str()).collect();
+            out.push_str(&format!(
+                "\nmode {}: {} state{} ({})\n",
+                describe_spec(&mode.mode.spec(model)),
+                names.len(),
+                if names.len() == 1 { "" } else { "s" },
+                names.join(", ")
+            ));
+            for guard in &mode.guards {
+                out.push_str(&format!(
+                    "  {}: {} -> {}={}\n",
+                    model.element(guard.element).name,
+                    guard.condition_text(eq),
+                    model.element(guard.element).name,
+                    guard.leaves_to.name()
+                ));
+            }
+        }
+        for (mode, why) in &self.impossible {
+            out.push_str(&format!(
+                "\nmode {} cannot be entered: {}\n",
+                describe_spec(&mode.spec(model)),
+                why.first().message
+            ));
+        }
+        out
+    }
+
+    /// The JSON document of `bondgraph modes`.
+    pub fn to_json(&self, model: &Model) -> ModesJson {
+        ModesJson {
+            model: model.name.clone(),
+            initial: self.initial.spec(model),
+            modes: self
+                .modes
+                .iter()
+                .map(|mode| {
+                    let eq = &mode.equations;
+                    ModeJson {
+                        spec: mode.mode.spec(model),
+                        states: eq.states.iter().map(|s| s.name.clone()).collect(),
+                        state_count: eq.states.len(),
+                        guards: mode
+                            .guards
+                            .iter()
+                            .map(|g| GuardJson {
+                                element: model.element(g.element).name.clone(),
+                                expression: g.condition_text(eq),
+                                leaves_to: mode.mode.with(g.element, g.leaves_to).spec(model),
+                                element_mode: g.leaves_to.name().to_string(),
+                                watched: g.watched.description().to_string(),
+                                quantity: eq.form_text(&g.quantity),
+                                comparison: match g.crossing {
+                                    Crossing::Rises => ">=",
+                                    Crossing::Falls => "<=",
+                                }
+                                .to_string(),
+                                threshold: eq.form_text(&g.threshold),
+                                requires_hold: g.requires_hold,
+                            })
+                            .collect(),
+                    }
+                })
+                .collect(),
+            impossible: self
+                .impossible
+                .iter()
+                .map(|(mode, why)| ImpossibleJson {
+                    spec: mode.spec(model),
+                    reason: why.first().message.clone(),
+                })
+                .collect(),
+        }
+    }
+}
+
+/// A specification for messages; a model without switching elements has one, unnamed, mode.
+fn describe_spec(spec: &str) -> &str {
+    if spec.is_empty() { "(its only mode)" } else { spec }
 }

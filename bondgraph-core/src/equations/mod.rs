@@ -143,7 +143,7 @@ impl Note {
                 storage.text(symbols)
             ),
             Note::Held { element } => format!(
-                "'{element}' is held by sources (its flow or effort is imposed): no state in this mode"
+                "'{element}' has its motion imposed by sources and constraints: no state of its own in this mode"
             ),
             Note::AlgebraicLoop {
                 elements,
