@@ -4,3 +4,4 @@
 
 mod jacobian;
 mod random_graph;
+mod regressions;
