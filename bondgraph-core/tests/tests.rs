@@ -1,0 +1,7 @@
+//! Integration tests of `bondgraph-core`, through its public interface only.
+//!
+//! One test binary with modules (rather than one binary per file) keeps link times down.
+
+mod jacobian;
+mod random_graph;
+mod regressions;
