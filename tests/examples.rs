@@ -258,6 +258,7 @@ fn series_dampers_loop_is_solved() {
 fn every_example_is_tested_here() {
     // A new example must come with its hand derivation above.
     let tested = [
+        "belt_friction",
         "dc_motor",
         "mass_spring_damper",
         "rigid_masses",
@@ -283,4 +284,117 @@ fn every_example_is_tested_here() {
             "models/examples/{name}.ron has no hand-derived test"
         );
     }
+}
+
+#[test]
+fn belt_friction_modes_and_guards() {
+    use bondgraph_core::equations::Options;
+    use bondgraph_core::guards::{Crossing, Watched};
+    use bondgraph_core::linear::{LinearForm, Var};
+    use bondgraph_core::model::ElementMode;
+    use bondgraph_core::modes::{self, Mode};
+
+    // The contact carries v_rel = v_belt - v_block; its force e drags the block:
+    //   m dv/dt = e - k q,   dq/dt = v.
+    let model = load("models/examples/belt_friction.ron");
+    let derive = |spec: &str| {
+        let mode = Mode::parse(&model, spec).unwrap();
+        modes::derive(&model, &mode, &Options::default()).unwrap()
+    };
+    let friction = model.element_named("friction").unwrap();
+    let e = |text: &str| expected(&model, text);
+
+    // Stuck: the block rides with the belt (v = v_belt, no momentum state), the spring
+    // stretches at v_belt, and the contact holds e = m dv_belt/dt + k q.
+    let stuck = derive("friction=stuck");
+    assert_eq!(state_names(&stuck.equations), ["q_spring"]);
+    assert_symbolic(&model, "A", &stuck.equations.a(), &[&["0"]]);
+    assert_symbolic(&model, "B", &stuck.equations.b(), &[&["1"]]);
+    let hold = &stuck.guards[0].quantity;
+    assert_eq!(hold.coefficient(Var::State(0)), e("k"));
+    assert_eq!(hold.coefficient(Var::InputRate(0)), e("m"));
+    assert_eq!(hold.terms().len(), 2);
+    assert_eq!(stuck.guards.len(), 2);
+    for (guard, crossing, threshold, to) in [
+        (
+            &stuck.guards[0],
+            Crossing::Rises,
+            "F_S",
+            ElementMode::SlipPositive,
+        ),
+        (
+            &stuck.guards[1],
+            Crossing::Falls,
+            "-F_S",
+            ElementMode::SlipNegative,
+        ),
+    ] {
+        assert_eq!(guard.element, friction);
+        assert_eq!(guard.watched, Watched::HoldingForce);
+        assert_eq!(&guard.quantity, hold);
+        assert_eq!(guard.crossing, crossing);
+        assert_eq!(guard.threshold, LinearForm::constant(e(threshold)));
+        assert_eq!(guard.leaves_to, to);
+        assert!(!guard.requires_hold);
+    }
+
+    // Slipping (no viscous part): e = ±F_C, so dp/dt = ±F_C - k q and dq/dt = p/m.
+    for (spec, coulomb, crossing, reverse) in [
+        (
+            "friction=slip+",
+            "F_C",
+            Crossing::Falls,
+            ElementMode::SlipNegative,
+        ),
+        (
+            "friction=slip-",
+            "-F_C",
+            Crossing::Rises,
+            ElementMode::SlipPositive,
+        ),
+    ] {
+        let slip = derive(spec);
+        assert_eq!(
+            state_names(&slip.equations),
+            ["p_block", "q_spring"],
+            "{spec}"
+        );
+        assert_symbolic(
+            &model,
+            "A",
+            &slip.equations.a(),
+            &[&["0", "-k"], &["1/m", "0"]],
+        );
+        assert_symbolic(&model, "B", &slip.equations.b(), &[&["0"], &["0"]]);
+        assert_symbolic(&model, "c", &[slip.equations.c()], &[&[coulomb, "0"]]);
+        // Its relative velocity v_belt - p/m reaching zero (the dead band is zero) ends it:
+        // stuck if static friction can then hold, else slipping the other way.
+        let velocity = &slip.guards[0].quantity;
+        assert_eq!(velocity.coefficient(Var::State(0)), e("-1/m"));
+        assert_eq!(velocity.coefficient(Var::Input(0)), e("1"));
+        assert_eq!(velocity.terms().len(), 2);
+        assert_eq!(slip.guards.len(), 2);
+        assert_eq!(slip.guards[0].leaves_to, ElementMode::Stuck);
+        assert!(slip.guards[0].requires_hold);
+        assert_eq!(slip.guards[1].leaves_to, reverse);
+        assert!(!slip.guards[1].requires_hold);
+        for guard in &slip.guards {
+            assert_eq!(guard.watched, Watched::RelativeVelocity);
+            assert_eq!(guard.crossing, crossing);
+            assert!(guard.threshold.is_zero());
+        }
+    }
+
+    // Every mode is reachable from the initial (stuck) one.
+    let reachable = modes::reachable(&model, &Options::default()).unwrap();
+    let specs: Vec<String> = reachable
+        .modes
+        .iter()
+        .map(|m| m.mode.spec(&model))
+        .collect();
+    assert_eq!(
+        specs,
+        ["friction=stuck", "friction=slip+", "friction=slip-"]
+    );
+    assert!(reachable.impossible.is_empty());
 }

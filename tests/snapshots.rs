@@ -1,32 +1,64 @@
-//! Snapshots of every pipeline stage of every textbook model, so that any change in what a
-//! user sees (the graph, the causal strokes, the equations as text and LaTeX) shows in review.
+//! Snapshots of every pipeline stage of every textbook model (every mode of a switching
+//! one), so that any change in what a user sees (the graph, the causal strokes, the
+//! equations as text and LaTeX, the modes and guards) shows in review.
 //!
 //! The values in these files are checked independently in `examples.rs`; the snapshots guard
 //! the presentation.
 
-use bondgraph_core::equations::Variables;
-use bondgraph_core::{causality, graph, laws};
+use bondgraph_core::equations::{Options, Variables};
+use bondgraph_core::{causality, graph, laws, modes};
 
-use crate::support::{derive, load, ron_files};
+use crate::support::{load, ron_files};
 
 #[test]
 fn every_stage_of_every_example() {
     for file in ron_files("models/examples") {
         let model = load(&file);
         let name = &model.name;
-        let laws = laws::plain_laws(&model);
-        let causal = causality::assign(&model, &laws).expect("examples are causal");
-
         insta::assert_snapshot!(format!("{name}__1_graph"), graph::describe(&model));
-        insta::assert_snapshot!(
-            format!("{name}__2_causality"),
-            graph::describe_causality(&model, &laws, &causal)
-        );
-        let energy = derive(&model, Variables::Energy);
-        let coenergy = derive(&model, Variables::CoEnergy);
-        insta::assert_snapshot!(format!("{name}__3_equations"), energy.to_text());
-        insta::assert_snapshot!(format!("{name}__4_equations_coenergy"), coenergy.to_text());
-        insta::assert_snapshot!(format!("{name}__5_latex"), energy.to_latex());
-        insta::assert_snapshot!(format!("{name}__6_latex_coenergy"), coenergy.to_latex());
+        let energy = Options {
+            variables: Variables::Energy,
+        };
+        let coenergy = Options {
+            variables: Variables::CoEnergy,
+        };
+        let reachable = modes::reachable(&model, &energy).expect("examples derive");
+        if !reachable.initial.is_empty() {
+            insta::assert_snapshot!(format!("{name}__0_modes"), reachable.to_text(&model));
+        }
+        for derived in &reachable.modes {
+            let spec = derived.mode.spec(&model);
+            // A plain model's only mode has no name of its own.
+            let prefix = if spec.is_empty() {
+                name.clone()
+            } else {
+                format!(
+                    "{name}__{}",
+                    spec.replace(['=', ','], "_")
+                        .replace('+', "plus")
+                        .replace('-', "minus")
+                )
+            };
+            let laws = laws::for_mode(&model, &derived.mode);
+            let causal = causality::assign(&model, &laws).expect("examples are causal");
+            insta::assert_snapshot!(
+                format!("{prefix}__2_causality"),
+                graph::describe_causality(&model, &laws, &causal)
+            );
+            let co = modes::derive(&model, &derived.mode, &coenergy).expect("co-energy");
+            insta::assert_snapshot!(
+                format!("{prefix}__3_equations"),
+                derived.equations.to_text()
+            );
+            insta::assert_snapshot!(
+                format!("{prefix}__4_equations_coenergy"),
+                co.equations.to_text()
+            );
+            insta::assert_snapshot!(format!("{prefix}__5_latex"), derived.equations.to_latex());
+            insta::assert_snapshot!(
+                format!("{prefix}__6_latex_coenergy"),
+                co.equations.to_latex()
+            );
+        }
     }
 }

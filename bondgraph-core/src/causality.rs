@@ -139,30 +139,12 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
         }
     }
 
+    // What nothing forced is chosen: resistors (resistance causality first), then free
+    // bonds. A choice can make a later junction impossible to satisfy, so the choices are
+    // searched depth-first and undone when they lead to a conflict.
     let mut arbitrary = Vec::new();
-    for element in model.element_ids() {
-        if let Law::Resistor { .. } = laws[element.index()] {
-            let bond = single_bond(model, element);
-            if scap.strokes[bond.index()].is_none() {
-                // Resistance causality (flow in, effort out) first, conductance if that
-                // leads to a conflict.
-                let other = model.bond(bond).other(element);
-                scap.choose(bond, [other, element], element)?;
-                arbitrary.push(element);
-            }
-        }
-    }
-    for bond in model.bond_ids() {
-        if scap.strokes[bond.index()].is_none() {
-            let b = *model.bond(bond);
-            scap.choose(bond, [b.to, b.from], b.from)?;
-            arbitrary.push(b.from);
-        }
-    }
-
-    for element in model.element_ids() {
-        scap.check_complete(element)?;
-    }
+    let mut budget = SEARCH_BUDGET;
+    scap.complete(&mut arbitrary, &mut budget)?;
 
     Ok(Causality {
         strokes: scap
@@ -174,6 +156,10 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
         arbitrary,
     })
 }
+
+/// How many arbitrary choices the search may try before it reports the first conflict it
+/// met; real models need a handful.
+const SEARCH_BUDGET: usize = 10_000;
 
 /// The only bond of a one-port element (validated to exist).
 fn single_bond(model: &Model, element: ElementId) -> BondId {
@@ -215,18 +201,76 @@ impl<'a> Scap<'a> {
         self.propagate()
     }
 
-    /// An arbitrary choice: imposes the first receiver that propagates without conflict,
-    /// undoing a choice that conflicts before trying the next.
-    fn choose(&mut self, bond: BondId, receivers: [ElementId; 2], origin: ElementId) -> Result<()> {
-        let saved = (self.strokes.clone(), self.origin.clone());
-        match self.impose(bond, receivers[0], origin) {
-            Ok(()) => Ok(()),
-            Err(first) => {
-                (self.strokes, self.origin) = saved;
-                self.queue.clear();
-                self.impose(bond, receivers[1], origin).map_err(|_| first)
+    /// The next choice nothing forced: a free resistor (resistance causality first, then
+    /// conductance), else a free bond (effort to its head first).
+    fn next_choice(&self) -> Option<(BondId, [ElementId; 2], ElementId)> {
+        let model = self.model;
+        let resistor = model.element_ids().find_map(|element| {
+            let law = &self.laws[element.index()];
+            if !matches!(law, Law::Resistor { .. }) {
+                return None;
+            }
+            let bond = single_bond(model, element);
+            self.strokes[bond.index()]
+                .is_none()
+                .then(|| (bond, [model.bond(bond).other(element), element], element))
+        });
+        resistor.or_else(|| {
+            model.bond_ids().find_map(|bond| {
+                let b = model.bond(bond);
+                self.strokes[bond.index()]
+                    .is_none()
+                    .then_some((bond, [b.to, b.from], b.from))
+            })
+        })
+    }
+
+    /// Completes the assignment by depth-first search over the remaining choices; every
+    /// junction is checked once all bonds are assigned, and a choice that leads to a conflict
+    /// is undone and the alternative tried.
+    fn complete(&mut self, arbitrary: &mut Vec<ElementId>, budget: &mut usize) -> Result<()> {
+        let Some((bond, receivers, origin)) = self.next_choice() else {
+            for element in self.model.element_ids() {
+                self.check_complete(element)?;
+            }
+            return Ok(());
+        };
+        let saved = (self.strokes.clone(), self.origin.clone(), arbitrary.len());
+        let mut first_error = None;
+        for receiver in receivers {
+            if *budget == 0 {
+                break;
+            }
+            *budget -= 1;
+            arbitrary.push(origin);
+            let attempt = self
+                .impose(bond, receiver, origin)
+                .and_then(|()| self.complete(arbitrary, budget));
+            match attempt {
+                Ok(()) => return Ok(()),
+                Err(error) => {
+                    first_error.get_or_insert(error);
+                    (self.strokes, self.origin) = (saved.0.clone(), saved.1.clone());
+                    arbitrary.truncate(saved.2);
+                    self.queue.clear();
+                }
             }
         }
+        Err(first_error.unwrap_or_else(|| self.search_exhausted(origin)))
+    }
+
+    fn search_exhausted(&self, element: ElementId) -> Diagnostics {
+        let name = &self.model.element(element).name;
+        Diagnostic::new(
+            DiagnosticKind::CausalConflict,
+            format!(
+                "no causal assignment found after {SEARCH_BUDGET} choices; the search stopped at '{name}'"
+            ),
+        )
+        .at_location(self.model.locate_element(element))
+        .element(name.clone())
+        .note("the graph's resistor network leaves too many choices open; check it for redundant junctions")
+        .into()
     }
 
     fn set(&mut self, bond: BondId, receiver: ElementId, origin: ElementId) -> Result<()> {

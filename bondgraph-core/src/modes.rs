@@ -396,5 +396,9 @@ impl Reachable {
 
 /// A specification for messages; a model without switching elements has one, unnamed, mode.
 fn describe_spec(spec: &str) -> &str {
-    if spec.is_empty() { "(its only mode)" } else { spec }
+    if spec.is_empty() {
+        "(its only mode)"
+    } else {
+        spec
+    }
 }

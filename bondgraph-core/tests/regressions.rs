@@ -1,27 +1,20 @@
-//! Minimal cases of library defects found by the property tests in [`crate::jacobian`].
+//! Minimal cases of library defects found by the property tests in [`crate::jacobian`],
+//! kept as regression tests once fixed.
 //!
-//! A test marked `#[ignore]` states the correct behaviour of a defect that is reported but
-//! not fixed; `cargo test -- --ignored` shows it failing. Its companion tests pass and pin
-//! down what does work.
-//!
-//! # Causality assignment misses valid causalities of degenerate junction structures
+//! # Causality assignment of degenerate junction structures
 //!
 //! A cycle of junctions (and transformers or gyrators) whose loop gain is not one fixes an
 //! effort or a flow by itself: two bonds from a 1-junction into the same 0-junction force
 //! that 0-junction's effort `E` to satisfy `E + E = 0`; a bond and a transformer of ratio
 //! `n ≠ 1` in parallel between two 0-junctions force `E = n E`. Such a cycle acts as a
 //! hidden zero source. The equations are regular, a valid causality exists, and
-//! elimination solves the cycle as an algebraic loop; but `causality::assign` commits its
-//! arbitrary choices greedily (resistance causality for a free resistor, then the effort to
-//! the `to` end of a free bond, in bond order) and never revisits them, so it can end with
-//! a junction that no bond can set and report a `CausalConflict`. Because the free bonds
-//! are taken in bond order, *whether* it succeeds can depend on the order the bonds are
-//! listed in. The generator of `jacobian` produces such graphs in about 5% of cases; they
-//! are skipped there with the other causal conflicts.
+//! elimination solves the cycle as an algebraic loop. `causality::assign` used to commit
+//! its arbitrary choices greedily and report a false `CausalConflict` (and whether it did
+//! depended on the order of the bonds); it now searches its choices depth-first and undoes
+//! the ones that lead to a conflict.
 
-use bondgraph_core::DiagnosticKind;
 use bondgraph_core::causality::{Causality, Stroke};
-use bondgraph_core::equations::{self, Note, Options, Variables};
+use bondgraph_core::equations::{self, Note, Options};
 use bondgraph_core::laws;
 use bondgraph_core::linear::Var;
 use bondgraph_core::model::{self, BondId, Model};
@@ -53,8 +46,7 @@ fn symbol(model: &Model, name: &str) -> RatFunc {
 /// the node with the short's common flow `F` on both short bonds, `-2F - p/m - E/b = 0`,
 /// so `F = -p/(2m)`.
 #[test]
-#[ignore = "known defect: causality::assign reports a false causal conflict (module docs)"]
-fn scap_misses_the_causality_of_a_shorted_junction() {
+fn scap_finds_the_causality_of_a_shorted_junction() {
     let model = load(SHORTED_JUNCTION);
     let eq = equations::derive(&model, &laws::plain_laws(&model), &Options::default())
         .unwrap_or_else(|e| panic!("{e}"));
@@ -62,17 +54,8 @@ fn scap_misses_the_causality_of_a_shorted_junction() {
     assert_eq!(eq.c(), vec![RatFunc::zero()]);
 }
 
-/// What `derive` reports today for the model above.
-#[test]
-fn the_shorted_junction_is_reported_as_a_causal_conflict_today() {
-    let model = load(SHORTED_JUNCTION);
-    let error = equations::derive(&model, &laws::plain_laws(&model), &Options::default())
-        .expect_err("see scap_misses_the_causality_of_a_shorted_junction");
-    assert!(error.has(DiagnosticKind::CausalConflict), "{error}");
-}
-
-/// The causality `assign` misses exists, and elimination derives the right equations from
-/// it: the defect is in causality assignment alone.
+/// The causality `assign` must find exists, and elimination derives the right equations
+/// from it by hand-assigned strokes too.
 ///
 /// The mass takes its effort (integral causality), the damper too (conductance causality);
 /// the node takes its effort from the short on the second bond and gives it to the short
@@ -103,7 +86,7 @@ fn a_hand_assigned_causality_of_the_shorted_junction_derives() {
         eq.notes
     );
     let m = symbol(&model, "m");
-    let flow = eq.bond_flow(BondId(0)).expect("available");
+    let flow = eq.bond_flow(BondId(0));
     let expected = RatFunc::integer(-1)
         .checked_div(&(&RatFunc::integer(2) * &m))
         .expect("non-zero");
@@ -114,9 +97,8 @@ fn a_hand_assigned_causality_of_the_shorted_junction_derives() {
 /// effort source. By hand: the bond and the transformer force the common flows to
 /// `F_j = F_k = n F_j`, so both are zero (`n ≠ 1`), and the efforts follow uniquely, e.g.
 /// the transformer's output effort `-(u + E0)/(1 - n)`. The equations are regular (and
-/// there is no state), but `assign`'s choice for the first free bond decides whether it
-/// finds a causality, so listing the gyrator's output bond first or last turns success into
-/// a causal conflict.
+/// there is no state); a greedy choice for the first free bond used to make listing the
+/// gyrator's output bond last a causal conflict.
 fn order_dependent(gyrator_output_first: bool) -> String {
     let gyrator_output = r#"("gy", "k"),"#;
     let rest = r#"("j", "gy"), ("j", "tf"), ("tf", "k"), ("j", "k"), ("source", "k"),"#;
@@ -144,7 +126,6 @@ fn order_dependent(gyrator_output_first: bool) -> String {
 
 /// Both bond orders describe one model and must give the same equations.
 #[test]
-#[ignore = "known defect: whether causality::assign succeeds depends on bond order (module docs)"]
 fn bond_order_does_not_decide_whether_causality_is_found() {
     let derive = |text: &str| {
         let model = load(text);
@@ -156,28 +137,4 @@ fn bond_order_does_not_decide_whether_causality_is_found() {
     assert_eq!(first.a(), last.a());
     assert_eq!(first.b(), last.b());
     assert_eq!(first.c(), last.c());
-}
-
-/// What `derive` does today with the two orders: with the gyrator's output bond listed
-/// first it succeeds; listed last, `assign` first gives the free bond `j -> gy` its effort
-/// at the gyrator, which propagates until `j` gives its effort on all three of its bonds
-/// (a 1-junction gives it on exactly one), and reports a conflict.
-#[test]
-fn bond_order_decides_whether_causality_is_found_today() {
-    let outcome = |text: &str| {
-        let model = load(text);
-        equations::derive(
-            &model,
-            &laws::plain_laws(&model),
-            &Options {
-                variables: Variables::Energy,
-            },
-        )
-        .map(|_| ())
-        .map_err(|e| e.has(DiagnosticKind::CausalConflict))
-    };
-    let first = outcome(&order_dependent(true));
-    let last = outcome(&order_dependent(false));
-    assert_eq!(first, Ok(()));
-    assert_eq!(last, Err(true));
 }

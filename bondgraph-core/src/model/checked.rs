@@ -152,7 +152,7 @@ pub enum ElementKind {
     /// `GY`: `e_in = ratio · f_out`, `e_out = ratio · f_in`.
     Gyrator(Coefficient),
     /// A Karnopp friction contact: switches between stuck and slipping.
-    Friction(Friction),
+    Friction(Box<Friction>),
     /// A compliance that carries tension only: switches between taut and slack.
     TensionOnly(TensionOnly),
     /// A 0-junction: common effort, flows sum to zero.

@@ -388,13 +388,13 @@ impl Validator<'_> {
                 );
                 let (breakaway, coulomb) = (breakaway?, coulomb?);
                 self.check_friction_levels(name, &breakaway, &coulomb, scope)?;
-                ElementKind::Friction(Friction {
+                ElementKind::Friction(Box::new(Friction {
                     breakaway,
                     coulomb,
                     viscous: viscous?,
                     dead_band: dead_band?,
                     initial: initial?,
-                })
+                }))
             }
             RawElement::TensionOnly {
                 compliance,
