@@ -62,3 +62,40 @@ fn every_stage_of_every_example() {
         }
     }
 }
+
+/// Every mode of both eversion models, in text and LaTeX, energy and co-energy variables:
+/// one snapshot per model and presentation, the modes one after another.
+#[test]
+fn every_mode_of_the_eversion_models() {
+    for file in ["models/eversion/paper.ron", "models/eversion/robot.ron"] {
+        let model = load(file);
+        let name = &model.name;
+        let reachable = modes::reachable(
+            &model,
+            &Options {
+                variables: Variables::Energy,
+            },
+        )
+        .expect("eversion models derive");
+        insta::assert_snapshot!(format!("{name}__0_modes"), reachable.to_text(&model));
+        for (variables, suffix) in [(Variables::Energy, ""), (Variables::CoEnergy, "_coenergy")] {
+            let options = Options { variables };
+            let mut text = String::new();
+            let mut latex = String::new();
+            for mode in &reachable.modes {
+                let derived = modes::derive(&model, &mode.mode, &options).expect("derives");
+                let spec = mode.mode.spec(&model);
+                text.push_str(&format!(
+                    "=== mode {spec}\n{}\n",
+                    derived.equations.to_text()
+                ));
+                latex.push_str(&format!(
+                    "% mode {spec}\n{}\n",
+                    derived.equations.to_latex()
+                ));
+            }
+            insta::assert_snapshot!(format!("{name}__equations{suffix}"), text);
+            insta::assert_snapshot!(format!("{name}__latex{suffix}"), latex);
+        }
+    }
+}

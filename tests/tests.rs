@@ -5,5 +5,6 @@
 mod cli;
 mod diagnostics;
 mod examples;
+mod paper;
 mod snapshots;
 mod support;

@@ -75,9 +75,14 @@ impl Mode {
             };
             let kind = &model.element(element).kind;
             if kind.modes().is_empty() {
+                let what = kind.description();
+                let article = if what.starts_with(['a', 'e', 'i', 'o', 'u']) {
+                    "an"
+                } else {
+                    "a"
+                };
                 return Err(bad(format!(
-                    "mode '{part}': '{name}' is a {} and has no modes",
-                    kind.description()
+                    "mode '{part}': '{name}' is {article} {what} and has no modes"
                 )));
             }
             let allowed = kind.modes();
@@ -400,5 +405,76 @@ fn describe_spec(spec: &str) -> &str {
         "(its only mode)"
     } else {
         spec
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model;
+
+    const BELT: &str = r#"Model(name: "belt",
+        parameters: {"m": (value: 1.0), "k": (value: 10.0), "F_S": (value: 2.0), "F_C": (value: 1.5)},
+        inputs: {"v_belt": ()},
+        elements: {"belt": Sf(flow: "v_belt"), "contact": Zero,
+                   "friction": Friction(breakaway: "F_S", coulomb: "F_C", initial: "slip+"),
+                   "v": One, "block": I(inertance: "m"), "spring": C(stiffness: "k")},
+        bonds: [("belt", "contact"), ("contact", "friction"), ("contact", "v"),
+                ("v", "block"), ("v", "spring")])"#;
+
+    fn error(text: &str) -> String {
+        let model = model::load_str("belt.ron", BELT).unwrap();
+        let error = Mode::parse(&model, text).unwrap_err();
+        assert_eq!(error.first().kind, DiagnosticKind::BadMode);
+        error.first().message.clone()
+    }
+
+    #[test]
+    fn initial_mode_comes_from_the_file_and_parsing_overrides_it() {
+        let model = model::load_str("belt.ron", BELT).unwrap();
+        assert_eq!(Mode::initial(&model).spec(&model), "friction=slip+");
+        assert_eq!(Mode::parse(&model, "").unwrap(), Mode::initial(&model));
+        let stuck = Mode::parse(&model, " friction = stuck ").unwrap();
+        let friction = model.element_named("friction").unwrap();
+        assert_eq!(stuck.of(friction), Some(ElementMode::Stuck));
+    }
+
+    #[test]
+    fn bad_specifications_name_what_is_wrong() {
+        assert_eq!(
+            error("friction"),
+            "mode 'friction' must be written ELEMENT=MODE, e.g. fr=stuck"
+        );
+        assert_eq!(
+            error("frction=stuck"),
+            "mode 'frction=stuck': the model has no element 'frction'"
+        );
+        assert_eq!(
+            error("block=stuck"),
+            "mode 'block=stuck': 'block' is an inertia and has no modes"
+        );
+        assert_eq!(
+            error("spring=slack"),
+            "mode 'spring=slack': 'spring' is a compliance and has no modes"
+        );
+        assert_eq!(
+            error("friction=taut"),
+            "mode 'friction=taut': 'friction' has modes stuck, slip+, slip-, not 'taut'"
+        );
+        assert_eq!(
+            error("friction=stuck,friction=slip-"),
+            "mode 'friction=stuck,friction=slip-' names 'friction' twice"
+        );
+    }
+
+    #[test]
+    fn the_cache_derives_each_mode_once() {
+        let model = model::load_str("belt.ron", BELT).unwrap();
+        let mut cache = ModeCache::new(&model, Options::default());
+        let mode = Mode::parse(&model, "friction=stuck").unwrap();
+        let first = cache.get(&mode).unwrap();
+        let second = cache.get(&mode).unwrap();
+        assert!(Arc::ptr_eq(&first, &second));
+        assert_eq!(cache.len(), 1);
     }
 }

@@ -121,3 +121,66 @@ fn relative(path: &Path) -> String {
         .to_string_lossy()
         .into_owned()
 }
+
+/// A hand-written affine expression over the parameters, the states of `equations` (by
+/// name) and the model's inputs, as a linear form (see [`expected`] for why it is separate
+/// from the validator's converter).
+pub fn affine(
+    model: &Model,
+    equations: &StateEquations,
+    text: &str,
+) -> bondgraph_core::linear::LinearForm {
+    use bondgraph_core::linear::{LinearForm, Var};
+    fn convert(model: &Model, eq: &StateEquations, e: &Expr) -> LinearForm {
+        let constant = |form: &LinearForm| {
+            assert!(
+                !form.mentions(|v| v != Var::Constant),
+                "not affine: a product or quotient of variables"
+            );
+            form.coefficient(Var::Constant)
+        };
+        match &e.kind {
+            ExprKind::Number(n) => LinearForm::constant(RatFunc::from_decimal(n).expect("number")),
+            ExprKind::Symbol(s) => {
+                if let Some(symbol) = model.symbols.get(s) {
+                    LinearForm::constant(RatFunc::symbol(symbol))
+                } else if let Some(k) = eq.state_named(s) {
+                    LinearForm::var(Var::State(k as u32))
+                } else if let Some(i) = eq.inputs.iter().position(|u| u == s) {
+                    LinearForm::var(Var::Input(i as u32))
+                } else {
+                    panic!("unknown symbol {s}")
+                }
+            }
+            ExprKind::Neg(a) => convert(model, eq, a).scaled(&RatFunc::integer(-1)),
+            ExprKind::Add(a, b) | ExprKind::Sub(a, b) => {
+                let mut left = convert(model, eq, a);
+                let sign = if matches!(e.kind, ExprKind::Add(..)) {
+                    1
+                } else {
+                    -1
+                };
+                left.add_scaled(&convert(model, eq, b), &RatFunc::integer(sign));
+                left
+            }
+            ExprKind::Mul(a, b) => {
+                let (left, right) = (convert(model, eq, a), convert(model, eq, b));
+                if left.mentions(|v| v != Var::Constant) {
+                    left.scaled(&constant(&right))
+                } else {
+                    right.scaled(&constant(&left))
+                }
+            }
+            ExprKind::Div(a, b) => convert(model, eq, a)
+                .scaled(&constant(&convert(model, eq, b)).inv().expect("non-zero")),
+            ExprKind::Pow(a, n) => {
+                LinearForm::constant(constant(&convert(model, eq, a)).powi(*n).expect("power"))
+            }
+        }
+    }
+    convert(
+        model,
+        equations,
+        &expr::parse(text).expect("expression parses"),
+    )
+}
