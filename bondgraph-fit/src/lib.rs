@@ -1,0 +1,1 @@
+//! Measured data against bond-graph models.

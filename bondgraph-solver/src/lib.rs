@@ -1,0 +1,1 @@
+//! Simulation of the state equations that `bondgraph-core` derives.
