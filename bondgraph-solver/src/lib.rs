@@ -1,1 +1,9 @@
 //! Simulation of the state equations that `bondgraph-core` derives.
+
+pub mod events;
+pub mod hybrid;
+pub mod linalg;
+pub mod numeric;
+pub mod propagate;
+
+pub use hybrid::{Event, Output, Run, Settings, Signal, SimError, Simulator, Stats, Trajectory};

@@ -1,0 +1,779 @@
+//! The hybrid simulation loop: modes, events, and the checks between them.
+//!
+//! Time is cut into segments where the mode is fixed and the inputs are linear; each segment
+//! is propagated exactly from its own local time zero ([`crate::propagate`]) and ends at the
+//! next input breakpoint or at the first guard crossing ([`crate::events`]). At an event the
+//! full physical state is rebuilt from the old mode, the switching element changes mode, and
+//! the new mode is checked for consistency *at that instant*: a guard of the new mode that is
+//! already satisfied and moving further in (a contact that sticks while the force exceeds its
+//! breakaway force, a string that tautens while being shortened) switches again, until a mode
+//! holds. A switch to `stuck` happens only if static friction can hold in that mode.
+//!
+//! Numerical trouble is reported rather than ground through: a cycle of switches at one
+//! instant (no consistent mode), many events in a short time (chattering, Zeno behaviour),
+//! and states that are no longer finite, each naming the elements involved.
+
+use std::collections::{HashMap, VecDeque};
+use std::fmt;
+use std::sync::Arc;
+
+use bondgraph_core::diagnostics::Diagnostics;
+use bondgraph_core::equations::{Options, OutputSpec};
+use bondgraph_core::guards::Watched;
+use bondgraph_core::model::{ElementMode, Model};
+use bondgraph_core::modes::{Mode, ModeCache};
+
+use crate::events;
+use crate::numeric::{NumericGuard, NumericMode, Storage, dot};
+
+/// A time-varying input, piecewise linear between its breakpoints.
+pub trait Signal {
+    /// The value at time `t` (right-continuous at breakpoints).
+    fn value(&self, t: f64) -> f64;
+    /// The rate of change just after `t`.
+    fn rate(&self, t: f64) -> f64;
+    /// The times where the value or the rate changes abruptly.
+    fn breakpoints(&self) -> Vec<f64>;
+}
+
+/// An output to record: a bond variable, or its integral over time (a displacement).
+#[derive(Clone, Debug)]
+pub struct Output {
+    /// Its name, as the user wrote it.
+    pub name: String,
+    /// The bond variable.
+    pub spec: OutputSpec,
+    /// Whether to record its time integral.
+    pub integral: bool,
+}
+
+/// Limits that turn numerical trouble into errors.
+#[derive(Clone, Copy, Debug)]
+pub struct Settings {
+    /// The most events a run may have.
+    pub max_events: usize,
+    /// This many events in less than `chatter_window` times the duration is chattering.
+    pub chatter_events: usize,
+    /// See `chatter_events`.
+    pub chatter_window: f64,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            max_events: 100_000,
+            chatter_events: 200,
+            chatter_window: 1e-6,
+        }
+    }
+}
+
+/// One run: inputs, initial condition, duration.
+pub struct Run<'a> {
+    /// One signal per model input, in the model's order.
+    pub inputs: &'a [&'a dyn Signal],
+    /// The mode to start in (made consistent at time zero).
+    pub initial_mode: Mode,
+    /// The full state at time zero: energy variables of the storage elements.
+    pub initial_state: Vec<f64>,
+    /// How long to simulate, in seconds.
+    pub duration: f64,
+    /// The output interval (`None`: a thousand samples).
+    pub sample: Option<f64>,
+}
+
+/// A mode change.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Event {
+    /// When, in seconds.
+    pub t: f64,
+    /// The mode left.
+    pub from: String,
+    /// The mode entered.
+    pub to: String,
+    /// The switching element.
+    pub element: String,
+    /// Why, in words.
+    pub reason: String,
+}
+
+/// Counts that show the work a run took.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Segments propagated.
+    pub segments: usize,
+    /// Events (mode changes).
+    pub events: usize,
+    /// Distinct modes used.
+    pub modes: usize,
+}
+
+/// A simulated trajectory.
+#[derive(Clone, Debug)]
+pub struct Trajectory {
+    /// The outputs' names.
+    pub output_names: Vec<String>,
+    /// Sample times.
+    pub times: Vec<f64>,
+    /// The outputs at each sample time.
+    pub values: Vec<Vec<f64>>,
+    /// The mode at each sample time (index into `modes`).
+    pub sample_modes: Vec<usize>,
+    /// The modes visited, by specification.
+    pub modes: Vec<String>,
+    /// The time intervals spent in each mode: `(start, end, mode index)`.
+    pub intervals: Vec<(f64, f64, usize)>,
+    /// The mode changes.
+    pub events: Vec<Event>,
+    /// The end time.
+    pub final_time: f64,
+    /// The full state at the end: energy variable names and values.
+    pub final_state: Vec<(String, f64)>,
+    /// The final mode.
+    pub final_mode: String,
+    /// Work counts.
+    pub stats: Stats,
+}
+
+/// Why a simulation stopped.
+#[derive(Clone, Debug)]
+pub enum SimError {
+    /// A mode could not be derived.
+    Derivation(Diagnostics),
+    /// The inputs do not match the model.
+    Inputs(String),
+    /// No mode is consistent at this instant.
+    NoConsistentMode {
+        /// When.
+        t: f64,
+        /// The modes tried, in order.
+        tried: Vec<String>,
+        /// The elements that kept switching.
+        elements: Vec<String>,
+    },
+    /// Too many events in too short a time.
+    Chattering {
+        /// When it was detected.
+        t: f64,
+        /// How many events.
+        events: usize,
+        /// Over how long.
+        window: f64,
+        /// The elements that switched.
+        elements: Vec<String>,
+    },
+    /// More events than allowed.
+    TooManyEvents {
+        /// When.
+        t: f64,
+        /// The limit.
+        limit: usize,
+    },
+    /// A state became infinite or not a number.
+    NonFinite {
+        /// When.
+        t: f64,
+        /// The mode.
+        mode: String,
+        /// The states concerned.
+        states: Vec<String>,
+    },
+}
+
+impl fmt::Display for SimError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SimError::Derivation(d) => write!(f, "{d}"),
+            SimError::Inputs(message) => write!(f, "{message}"),
+            SimError::NoConsistentMode { t, tried, elements } => write!(
+                f,
+                "at t = {t} s no mode is consistent: switching {} cycles through {}",
+                quoted(elements),
+                tried.join(" -> ")
+            ),
+            SimError::Chattering {
+                t,
+                events,
+                window,
+                elements,
+            } => write!(
+                f,
+                "chattering at t = {t} s: {events} events in {window:e} s, switching {}",
+                quoted(elements)
+            ),
+            SimError::TooManyEvents { t, limit } => {
+                write!(f, "more than {limit} events by t = {t} s")
+            }
+            SimError::NonFinite { t, mode, states } => write!(
+                f,
+                "at t = {t} s in mode {mode} the states {} are no longer finite",
+                quoted(states)
+            ),
+        }
+    }
+}
+
+impl std::error::Error for SimError {}
+
+fn quoted(names: &[String]) -> String {
+    names
+        .iter()
+        .map(|n| format!("'{n}'"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Simulates one model: caches its modes across runs.
+pub struct Simulator<'m> {
+    model: &'m Model,
+    storage: Storage,
+    outputs: Vec<Output>,
+    symbolic: ModeCache<'m>,
+    numeric: HashMap<Mode, Arc<NumericMode>>,
+    settings: Settings,
+}
+
+impl<'m> Simulator<'m> {
+    /// A simulator of `model` recording `outputs`.
+    pub fn new(model: &'m Model, outputs: Vec<Output>) -> Self {
+        Self {
+            model,
+            storage: Storage::of(model),
+            outputs,
+            symbolic: ModeCache::new(model, Options::default()),
+            numeric: HashMap::new(),
+            settings: Settings::default(),
+        }
+    }
+
+    /// Replaces the limits on numerical trouble.
+    pub fn with_settings(mut self, settings: Settings) -> Self {
+        self.settings = settings;
+        self
+    }
+
+    /// The storage elements making up the full state.
+    pub fn storage(&self) -> &Storage {
+        &self.storage
+    }
+
+    /// The model simulated.
+    pub fn model(&self) -> &'m Model {
+        self.model
+    }
+
+    /// The numeric form of `mode`, derived on first use.
+    ///
+    /// # Errors
+    /// [`SimError::Derivation`] if the mode cannot be derived.
+    pub fn mode(&mut self, mode: &Mode) -> Result<Arc<NumericMode>, SimError> {
+        if let Some(numeric) = self.numeric.get(mode) {
+            return Ok(numeric.clone());
+        }
+        let derived = self.symbolic.get(mode).map_err(SimError::Derivation)?;
+        let forms: Vec<_> = self
+            .outputs
+            .iter()
+            .map(|o| derived.equations.output(&o.spec).row)
+            .collect();
+        let numeric = Arc::new(NumericMode::new(
+            self.model,
+            &self.storage,
+            &derived,
+            &forms,
+        ));
+        self.numeric.insert(mode.clone(), numeric.clone());
+        Ok(numeric)
+    }
+
+    /// Runs a simulation.
+    ///
+    /// # Errors
+    /// [`SimError`] on inputs that do not match the model, modes that cannot be derived, no
+    /// consistent mode, chattering, or non-finite states.
+    pub fn run(&mut self, run: &Run<'_>) -> Result<Trajectory, SimError> {
+        if run.inputs.len() != self.model.inputs.len() {
+            return Err(SimError::Inputs(format!(
+                "model '{}' has {} inputs but {} signals were given",
+                self.model.name,
+                self.model.inputs.len(),
+                run.inputs.len()
+            )));
+        }
+        if run.initial_state.len() != self.storage.len() {
+            return Err(SimError::Inputs(format!(
+                "the initial state has {} values but model '{}' stores energy in {} elements",
+                run.initial_state.len(),
+                self.model.name,
+                self.storage.len()
+            )));
+        }
+        if !(run.duration > 0.0 && run.duration.is_finite()) {
+            return Err(SimError::Inputs(format!(
+                "the duration must be positive and finite, not {}",
+                run.duration
+            )));
+        }
+        let duration = run.duration;
+        let sample = run
+            .sample
+            .filter(|s| *s > 0.0 && s.is_finite())
+            .unwrap_or(duration / 1000.0);
+        let mut breakpoints: Vec<f64> = run
+            .inputs
+            .iter()
+            .flat_map(|s| s.breakpoints())
+            .filter(|t| *t > 0.0 && *t < duration)
+            .collect();
+        breakpoints.push(duration);
+        breakpoints.sort_by(f64::total_cmp);
+        breakpoints.dedup();
+
+        let inputs_at = |t: f64| -> (Vec<f64>, Vec<f64>) {
+            (
+                run.inputs.iter().map(|s| s.value(t)).collect(),
+                run.inputs.iter().map(|s| s.rate(t)).collect(),
+            )
+        };
+
+        let mut recorder = Recorder::new(self.outputs.iter().map(|o| o.name.clone()).collect());
+        let mut t = 0.0;
+        let mut full = run.initial_state.clone();
+        let (u, rate) = inputs_at(0.0);
+        let mut mode = self.resolve(
+            run.initial_mode.clone(),
+            &full,
+            &u,
+            &rate,
+            0.0,
+            None,
+            &mut recorder,
+        )?;
+        let mut x = mode.project(&full, &u);
+        let mut integrals = vec![0.0; self.outputs.len()];
+        let mut armed = vec![false; mode.guards.len()];
+        let mut recent: VecDeque<f64> = VecDeque::new();
+        let mut next_sample = 0.0;
+        let mut stats = Stats::default();
+        recorder.enter(&mode.spec, 0.0);
+
+        while t < duration {
+            let end = *breakpoints.iter().find(|&&b| b > t).unwrap_or(&duration);
+            let length = end - t;
+            let (u0, u1) = inputs_at(t);
+            let current = mode.clone();
+            let mut segment = current.propagator.start(&x, &u0, &u1);
+            stats.segments += 1;
+            let local_inputs = |tau: f64| -> (Vec<f64>, Vec<f64>) {
+                (
+                    u0.iter().zip(&u1).map(|(a, b)| a + b * tau).collect(),
+                    u1.clone(),
+                )
+            };
+            let crossing =
+                events::first_crossing(&current, &mut segment, &local_inputs, length, &mut armed);
+            let stop = crossing.map_or(length, |c| c.tau);
+
+            // Samples inside the segment.
+            let mut state = vec![0.0; x.len()];
+            let mut integral_state = vec![0.0; x.len()];
+            while next_sample <= t + stop && next_sample <= duration {
+                let tau = (next_sample - t).max(0.0);
+                segment.state_into(tau, &mut state);
+                segment.integral_into(tau, &mut integral_state);
+                let (u, rate) = local_inputs(tau);
+                let values = self.output_values(
+                    &current,
+                    &state,
+                    &u,
+                    &rate,
+                    &integrals,
+                    &integral_state,
+                    &u0,
+                    &u1,
+                    tau,
+                );
+                recorder.sample(next_sample, &current.spec, values);
+                next_sample += sample;
+                if next_sample > duration && next_sample - sample < duration {
+                    next_sample = duration;
+                }
+            }
+
+            segment.state_into(stop, &mut state);
+            segment.integral_into(stop, &mut integral_state);
+            for (k, output) in self.outputs.iter().enumerate() {
+                if output.integral {
+                    integrals[k] +=
+                        integrated(&current.outputs[k], &integral_state, &u0, &u1, stop);
+                }
+            }
+            t += stop;
+            let (u, rate) = inputs_at(t);
+            x = state;
+            if x.iter().any(|v| !v.is_finite()) {
+                return Err(self.non_finite(t, &current, &x));
+            }
+
+            let Some(crossing) = crossing else {
+                continue;
+            };
+            // An event: rebuild the full state and switch.
+            full = current.reconstruct(&x, &u);
+            let guard = &current.guards[crossing.guard];
+            let element = self.model.element(guard.element).name.clone();
+            let before_values = self.output_values(
+                &current,
+                &x,
+                &u,
+                &rate,
+                &integrals,
+                &vec![0.0; x.len()],
+                &u,
+                &u1,
+                0.0,
+            );
+            recorder.sample(t, &current.spec, before_values);
+            let target = current.mode.with(guard.element, guard.leaves_to);
+            let reason = reason(guard, true);
+            let next = self.resolve(
+                target,
+                &full,
+                &u,
+                &rate,
+                t,
+                Some((&current, element, reason)),
+                &mut recorder,
+            )?;
+            stats.events = recorder.events.len();
+            if stats.events > self.settings.max_events {
+                return Err(SimError::TooManyEvents {
+                    t,
+                    limit: self.settings.max_events,
+                });
+            }
+            recent.push_back(t);
+            while recent.len() > self.settings.chatter_events {
+                recent.pop_front();
+            }
+            let window = self.settings.chatter_window * duration;
+            if recent.len() == self.settings.chatter_events
+                && recent.back().copied().unwrap_or(t) - recent.front().copied().unwrap_or(t)
+                    < window
+            {
+                let mut elements: Vec<String> = recorder
+                    .events
+                    .iter()
+                    .rev()
+                    .take(self.settings.chatter_events)
+                    .map(|e| e.element.clone())
+                    .collect();
+                elements.sort();
+                elements.dedup();
+                return Err(SimError::Chattering {
+                    t,
+                    events: self.settings.chatter_events,
+                    window,
+                    elements,
+                });
+            }
+            mode = next;
+            x = mode.project(&full, &u);
+            if x.iter().any(|v| !v.is_finite()) {
+                return Err(self.non_finite(t, &mode, &x));
+            }
+            armed = vec![false; mode.guards.len()];
+            recorder.enter(&mode.spec, t);
+            let after_values = self.output_values(
+                &mode,
+                &x,
+                &u,
+                &rate,
+                &integrals,
+                &vec![0.0; x.len()],
+                &u,
+                &u1,
+                0.0,
+            );
+            recorder.sample(t, &mode.spec, after_values);
+        }
+
+        let (u, _) = inputs_at(duration);
+        let full = mode.reconstruct(&x, &u);
+        stats.events = recorder.events.len();
+        stats.modes = recorder.modes.len();
+        Ok(recorder.finish(
+            duration,
+            self.storage.names.iter().cloned().zip(full).collect(),
+            mode.spec.clone(),
+            stats,
+        ))
+    }
+
+    /// Output values at a state; integrals add `∫` over the segment so far.
+    #[allow(clippy::too_many_arguments)]
+    fn output_values(
+        &self,
+        mode: &NumericMode,
+        x: &[f64],
+        u: &[f64],
+        rate: &[f64],
+        integrals: &[f64],
+        integral_state: &[f64],
+        u0: &[f64],
+        u1: &[f64],
+        tau: f64,
+    ) -> Vec<f64> {
+        self.outputs
+            .iter()
+            .enumerate()
+            .map(|(k, output)| {
+                let row = &mode.outputs[k];
+                if output.integral {
+                    integrals[k] + integrated(row, integral_state, u0, u1, tau)
+                } else {
+                    row.eval(x, u, rate)
+                }
+            })
+            .collect()
+    }
+
+    /// Finds the consistent mode starting from `candidate` at an instant, recording every
+    /// switch as an event; `trigger` is the mode left and why.
+    #[allow(clippy::too_many_arguments)]
+    fn resolve(
+        &mut self,
+        candidate: Mode,
+        full: &[f64],
+        u: &[f64],
+        rate: &[f64],
+        t: f64,
+        trigger: Option<(&NumericMode, String, String)>,
+        recorder: &mut Recorder,
+    ) -> Result<Arc<NumericMode>, SimError> {
+        let mut tried: Vec<Mode> = Vec::new();
+        let mut switched: Vec<String> = Vec::new();
+        let mut previous: Option<(String, String, String)> =
+            trigger.map(|(mode, element, reason)| (mode.spec.clone(), element, reason));
+        let mut mode = candidate;
+        loop {
+            if tried.contains(&mode) {
+                let specs = tried.iter().map(|m| m.spec(self.model)).collect();
+                switched.sort();
+                switched.dedup();
+                return Err(SimError::NoConsistentMode {
+                    t,
+                    tried: specs,
+                    elements: switched,
+                });
+            }
+            tried.push(mode.clone());
+            let numeric = self.mode(&mode)?;
+            if let Some((from, element, reason)) = previous.take() {
+                recorder.event(t, from, numeric.spec.clone(), element, reason);
+            }
+            let x = numeric.project(full, u);
+            let mut next = None;
+            for guard in &numeric.guards {
+                if !self.entered(&numeric, guard, &x, u, rate) {
+                    continue;
+                }
+                if guard.requires_hold && !self.can_hold(&numeric, guard, full, u, rate)? {
+                    continue;
+                }
+                next = Some((
+                    numeric.mode.with(guard.element, guard.leaves_to),
+                    self.model.element(guard.element).name.clone(),
+                    reason(guard, false),
+                ));
+                break;
+            }
+            match next {
+                None => return Ok(numeric),
+                Some((mode_next, element, reason)) => {
+                    switched.push(element.clone());
+                    previous = Some((numeric.spec.clone(), element, reason));
+                    mode = mode_next;
+                }
+            }
+        }
+    }
+
+    /// Whether a guard is satisfied at entry and not moving out: the mode would be left at
+    /// once.
+    fn entered(
+        &self,
+        mode: &NumericMode,
+        guard: &NumericGuard,
+        x: &[f64],
+        u: &[f64],
+        rate: &[f64],
+    ) -> bool {
+        let value = guard.row.eval(x, u, rate);
+        let tolerance = 1e-9 * guard.row.magnitude(x, u, rate) + f64::MIN_POSITIVE;
+        if value > tolerance {
+            return true;
+        }
+        value >= -tolerance && mode.row_rate(&guard.row, x, u, rate) > 0.0
+    }
+
+    /// Whether static friction can hold the element of a `requires_hold` guard: the stuck
+    /// mode's breakaway guards for it are not entered.
+    fn can_hold(
+        &mut self,
+        mode: &NumericMode,
+        guard: &NumericGuard,
+        full: &[f64],
+        u: &[f64],
+        rate: &[f64],
+    ) -> Result<bool, SimError> {
+        let stuck = mode.mode.with(guard.element, ElementMode::Stuck);
+        let target = self.mode(&stuck)?;
+        let x = target.project(full, u);
+        Ok(!target.guards.iter().any(|g| {
+            g.element == guard.element
+                && g.watched == Watched::HoldingForce
+                && self.entered(&target, g, &x, u, rate)
+        }))
+    }
+
+    fn non_finite(&self, t: f64, mode: &NumericMode, x: &[f64]) -> SimError {
+        SimError::NonFinite {
+            t,
+            mode: mode.spec.clone(),
+            states: mode
+                .state_names
+                .iter()
+                .zip(x)
+                .filter(|(_, v)| !v.is_finite())
+                .map(|(n, _)| n.clone())
+                .collect(),
+        }
+    }
+}
+
+/// `∫₀^τ y dt` of an output row over a segment, given `∫₀^τ x dt`.
+fn integrated(
+    row: &crate::numeric::Row,
+    integral_state: &[f64],
+    u0: &[f64],
+    u1: &[f64],
+    tau: f64,
+) -> f64 {
+    let integral_input: Vec<f64> = u0
+        .iter()
+        .zip(u1)
+        .map(|(a, b)| a * tau + b * tau * tau / 2.0)
+        .collect();
+    let integral_rate: Vec<f64> = u1.iter().map(|b| b * tau).collect();
+    dot(&row.state, integral_state)
+        + dot(&row.input, &integral_input)
+        + dot(&row.rate, &integral_rate)
+        + row.constant * tau
+}
+
+/// Why a guard switched, in words.
+fn reason(guard: &NumericGuard, crossed: bool) -> String {
+    let how = if crossed { "" } else { " (at entry)" };
+    let what = match (guard.watched, guard.leaves_to) {
+        (Watched::HoldingForce, ElementMode::SlipPositive) => {
+            "holding force reached the breakaway force"
+        }
+        (Watched::HoldingForce, _) => "holding force reached minus the breakaway force",
+        (Watched::RelativeVelocity, ElementMode::Stuck) => {
+            "relative velocity entered the dead band and static friction holds"
+        }
+        (Watched::RelativeVelocity, _) => "relative velocity passed through zero",
+        (Watched::Tension, _) => "tension fell to zero",
+        (Watched::SlackLength, _) => "slack taken up",
+    };
+    format!("{what}{how}")
+}
+
+/// Collects samples, modes and events.
+struct Recorder {
+    output_names: Vec<String>,
+    times: Vec<f64>,
+    values: Vec<Vec<f64>>,
+    sample_modes: Vec<usize>,
+    modes: Vec<String>,
+    intervals: Vec<(f64, f64, usize)>,
+    events: Vec<Event>,
+}
+
+impl Recorder {
+    fn new(output_names: Vec<String>) -> Self {
+        Self {
+            output_names,
+            times: Vec::new(),
+            values: Vec::new(),
+            sample_modes: Vec::new(),
+            modes: Vec::new(),
+            intervals: Vec::new(),
+            events: Vec::new(),
+        }
+    }
+
+    fn mode_index(&mut self, spec: &str) -> usize {
+        match self.modes.iter().position(|m| m == spec) {
+            Some(i) => i,
+            None => {
+                self.modes.push(spec.to_string());
+                self.modes.len() - 1
+            }
+        }
+    }
+
+    fn enter(&mut self, spec: &str, t: f64) {
+        let index = self.mode_index(spec);
+        if let Some(last) = self.intervals.last_mut() {
+            last.1 = t;
+            if last.2 == index {
+                return;
+            }
+        }
+        self.intervals.push((t, t, index));
+    }
+
+    fn sample(&mut self, t: f64, spec: &str, values: Vec<f64>) {
+        let index = self.mode_index(spec);
+        self.times.push(t);
+        self.values.push(values);
+        self.sample_modes.push(index);
+    }
+
+    fn event(&mut self, t: f64, from: String, to: String, element: String, reason: String) {
+        self.events.push(Event {
+            t,
+            from,
+            to,
+            element,
+            reason,
+        });
+    }
+
+    fn finish(
+        mut self,
+        end: f64,
+        final_state: Vec<(String, f64)>,
+        final_mode: String,
+        stats: Stats,
+    ) -> Trajectory {
+        if let Some(last) = self.intervals.last_mut() {
+            last.1 = end;
+        }
+        Trajectory {
+            output_names: self.output_names,
+            times: self.times,
+            values: self.values,
+            sample_modes: self.sample_modes,
+            modes: self.modes,
+            intervals: self.intervals,
+            events: self.events,
+            final_time: end,
+            final_state,
+            final_mode,
+            stats,
+        }
+    }
+}

@@ -1,0 +1,297 @@
+//! A mode with numbers in: matrices, guard rows, and the maps between the mode's own states
+//! and the model's full physical state.
+//!
+//! Modes have different states: a stuck contact merges two bodies into one momentum, a held
+//! mass has none. The simulator therefore carries the **full state**, the energy variable
+//! (momentum or displacement) of every storage element of the model, and each mode maps it
+//! to and from its own states. Reconstruction `x_full = R x + S u + s` comes from the
+//! derivation ([`StateEquations::storage_energy`]). Projection is its inverse in the energy
+//! metric, `x = (Rᵀ W R)⁻¹ Rᵀ W (x_full - S u - s)` with `W` the inverse inertances and
+//! compliances: for bodies that stick it conserves their total momentum (a perfectly plastic
+//! contact), and for an unmerged state it is the identity.
+
+use bondgraph_core::equations::StateEquations;
+use bondgraph_core::guards::Watched;
+use bondgraph_core::linear::{LinearForm, Var};
+use bondgraph_core::model::{ElementId, ElementKind, ElementMode, Model};
+use bondgraph_core::modes::{Mode, ModeEquations};
+use nalgebra::{DMatrix, DVector};
+
+use crate::propagate::Propagator;
+
+/// The storage elements of a model, whose energy variables make up the full state.
+#[derive(Clone, Debug)]
+pub struct Storage {
+    /// The storage elements, in element order.
+    pub elements: Vec<ElementId>,
+    /// Their energy variables' names (`p_mass`, `q_spring`).
+    pub names: Vec<String>,
+    /// Their inertances or compliances.
+    pub coefficients: Vec<f64>,
+}
+
+impl Storage {
+    /// The storage elements of `model`: inertias, compliances and tension-only elements.
+    pub fn of(model: &Model) -> Self {
+        let mut storage = Storage {
+            elements: Vec::new(),
+            names: Vec::new(),
+            coefficients: Vec::new(),
+        };
+        for id in model.element_ids() {
+            let element = model.element(id);
+            let (letter, coefficient) = match &element.kind {
+                ElementKind::Inertia(c) => ("p", &c.value),
+                ElementKind::Compliance(c) => ("q", &c.value),
+                ElementKind::TensionOnly(t) => ("q", &t.compliance.value),
+                _ => continue,
+            };
+            storage.elements.push(id);
+            storage.names.push(format!("{letter}_{}", element.name));
+            storage.coefficients.push(model.evaluate(coefficient));
+        }
+        storage
+    }
+
+    /// The number of storage elements.
+    pub fn len(&self) -> usize {
+        self.elements.len()
+    }
+
+    /// Whether the model stores no energy.
+    pub fn is_empty(&self) -> bool {
+        self.elements.is_empty()
+    }
+
+    /// The position of `element` in the full state.
+    pub fn index(&self, element: ElementId) -> Option<usize> {
+        self.elements.iter().position(|&e| e == element)
+    }
+}
+
+/// An affine function of the mode's states, the inputs and the inputs' rates:
+/// `y = c·x + d·u + r·u̇ + k`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    /// Coefficients of the states.
+    pub state: Vec<f64>,
+    /// Coefficients of the inputs.
+    pub input: Vec<f64>,
+    /// Coefficients of the inputs' rates.
+    pub rate: Vec<f64>,
+    /// The constant.
+    pub constant: f64,
+}
+
+impl Row {
+    /// Evaluates a symbolic form with the model's parameter values.
+    pub fn from_form(form: &LinearForm, states: usize, inputs: usize, values: &[f64]) -> Self {
+        let mut row = Row {
+            state: vec![0.0; states],
+            input: vec![0.0; inputs],
+            rate: vec![0.0; inputs],
+            constant: 0.0,
+        };
+        for (var, coefficient) in form.terms() {
+            let value = coefficient.eval(values);
+            match var {
+                Var::State(i) => row.state[*i as usize] = value,
+                Var::Input(i) => row.input[*i as usize] = value,
+                Var::InputRate(i) => row.rate[*i as usize] = value,
+                Var::Constant => row.constant = value,
+                // Derivation resolves every other variable.
+                Var::Dependent(_) | Var::Bond(_) => row.constant = f64::NAN,
+            }
+        }
+        row
+    }
+
+    /// `y` at the state `x`, inputs `u` and rates `u̇`.
+    pub fn eval(&self, x: &[f64], u: &[f64], rate: &[f64]) -> f64 {
+        dot(&self.state, x) + dot(&self.input, u) + dot(&self.rate, rate) + self.constant
+    }
+
+    /// The size of the terms of `y`: the scale against which `y ≈ 0` is judged.
+    pub fn magnitude(&self, x: &[f64], u: &[f64], rate: &[f64]) -> f64 {
+        let sum = |c: &[f64], v: &[f64]| c.iter().zip(v).map(|(a, b)| (a * b).abs()).sum::<f64>();
+        sum(&self.state, x) + sum(&self.input, u) + sum(&self.rate, rate) + self.constant.abs()
+    }
+
+    /// Whether every coefficient is finite.
+    pub fn is_finite(&self) -> bool {
+        self.state
+            .iter()
+            .chain(&self.input)
+            .chain(&self.rate)
+            .chain(std::iter::once(&self.constant))
+            .all(|x| x.is_finite())
+    }
+}
+
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// A guard with numbers in: fires when `row` reaches zero from below.
+#[derive(Clone, Debug)]
+pub struct NumericGuard {
+    /// The switching element.
+    pub element: ElementId,
+    /// Its mode after the guard fires.
+    pub leaves_to: ElementMode,
+    /// Whether it switches to stuck only if static friction can then hold.
+    pub requires_hold: bool,
+    /// What it watches.
+    pub watched: Watched,
+    /// The guard function.
+    pub row: Row,
+}
+
+/// One mode ready to simulate.
+#[derive(Clone, Debug)]
+pub struct NumericMode {
+    /// The mode.
+    pub mode: Mode,
+    /// Its specification (`fr_ge=stuck,...`).
+    pub spec: String,
+    /// Its states' names.
+    pub state_names: Vec<String>,
+    /// `A`.
+    pub a: DMatrix<f64>,
+    /// `B`.
+    pub b: DMatrix<f64>,
+    /// `c`.
+    pub c: DVector<f64>,
+    /// Its guards, in the derivation's order.
+    pub guards: Vec<NumericGuard>,
+    /// The requested outputs in this mode.
+    pub outputs: Vec<Row>,
+    /// Exact propagation.
+    pub propagator: Propagator,
+    /// `R`: full state from the mode's states.
+    reconstruct_state: DMatrix<f64>,
+    /// `S`: full state from the inputs.
+    reconstruct_input: DMatrix<f64>,
+    /// `s`: the constant part of the full state.
+    reconstruct_constant: DVector<f64>,
+    /// `(Rᵀ W R)⁻¹ Rᵀ W`.
+    projection: DMatrix<f64>,
+}
+
+impl NumericMode {
+    /// Puts numbers into a derived mode; `outputs` are the rows of requested outputs.
+    pub fn new(
+        model: &Model,
+        storage: &Storage,
+        derived: &ModeEquations,
+        outputs: &[LinearForm],
+    ) -> Self {
+        let eq: &StateEquations = &derived.equations;
+        let (n, m) = (eq.states.len(), eq.inputs.len());
+        let values = &model.values;
+        let evaluate = |rows: Vec<Vec<bondgraph_core::symbolic::RatFunc>>, columns: usize| {
+            DMatrix::from_fn(rows.len(), columns, |i, j| rows[i][j].eval(values))
+        };
+        let a = evaluate(eq.a(), n);
+        let b = evaluate(eq.b(), m);
+        let c = DVector::from_iterator(n, eq.c().iter().map(|e| e.eval(values)));
+
+        let full = storage.len();
+        let mut reconstruct_state = DMatrix::zeros(full, n);
+        let mut reconstruct_input = DMatrix::zeros(full, m);
+        let mut reconstruct_constant = DVector::zeros(full);
+        for (element, form) in eq.storage_energy() {
+            let Some(i) = storage.index(*element) else {
+                continue;
+            };
+            let row = Row::from_form(form, n, m, values);
+            for j in 0..n {
+                reconstruct_state[(i, j)] = row.state[j];
+            }
+            for j in 0..m {
+                reconstruct_input[(i, j)] = row.input[j];
+            }
+            reconstruct_constant[i] = row.constant;
+        }
+        let weight = DMatrix::from_diagonal(&DVector::from_iterator(
+            full,
+            storage.coefficients.iter().map(|c| 1.0 / c),
+        ));
+        let weighted = reconstruct_state.transpose() * &weight;
+        let gram = &weighted * &reconstruct_state;
+        let projection = gram
+            .try_inverse()
+            .map(|inverse| inverse * weighted)
+            .unwrap_or_else(|| DMatrix::from_element(n, full, f64::NAN));
+
+        let guards = derived
+            .guards
+            .iter()
+            .map(|g| NumericGuard {
+                element: g.element,
+                leaves_to: g.leaves_to,
+                requires_hold: g.requires_hold,
+                watched: g.watched,
+                row: Row::from_form(&g.function(), n, m, values),
+            })
+            .collect();
+        let outputs = outputs
+            .iter()
+            .map(|form| Row::from_form(form, n, m, values))
+            .collect();
+        NumericMode {
+            spec: derived.mode.spec(model),
+            mode: derived.mode.clone(),
+            state_names: eq.states.iter().map(|s| s.name.clone()).collect(),
+            propagator: Propagator::new(&a, &b, &c),
+            a,
+            b,
+            c,
+            guards,
+            outputs,
+            reconstruct_state,
+            reconstruct_input,
+            reconstruct_constant,
+            projection,
+        }
+    }
+
+    /// The number of states.
+    pub fn state_count(&self) -> usize {
+        self.a.nrows()
+    }
+
+    /// The mode's states from the full state, conserving momentum where bodies merge.
+    pub fn project(&self, full: &[f64], u: &[f64]) -> Vec<f64> {
+        let full = DVector::from_column_slice(full);
+        let u = DVector::from_column_slice(u);
+        let free = full - &self.reconstruct_input * u - &self.reconstruct_constant;
+        (&self.projection * free).iter().copied().collect()
+    }
+
+    /// The full state from the mode's states.
+    pub fn reconstruct(&self, x: &[f64], u: &[f64]) -> Vec<f64> {
+        let x = DVector::from_column_slice(x);
+        let u = DVector::from_column_slice(u);
+        (&self.reconstruct_state * x + &self.reconstruct_input * u + &self.reconstruct_constant)
+            .iter()
+            .copied()
+            .collect()
+    }
+
+    /// `dx/dt = A x + B u + c`.
+    pub fn derivative(&self, x: &[f64], u: &[f64]) -> Vec<f64> {
+        let x = DVector::from_column_slice(x);
+        let u = DVector::from_column_slice(u);
+        (&self.a * x + &self.b * u + &self.c)
+            .iter()
+            .copied()
+            .collect()
+    }
+
+    /// A row's rate of change along the trajectory at `x`, with inputs `u` changing at `u̇`
+    /// (inputs are piecewise linear, so `ü = 0`).
+    pub fn row_rate(&self, row: &Row, x: &[f64], u: &[f64], rate: &[f64]) -> f64 {
+        dot(&row.state, &self.derivative(x, u)) + dot(&row.input, rate)
+    }
+}

@@ -1,0 +1,375 @@
+//! Exact propagation of one mode over a segment where the inputs vary linearly.
+//!
+//! Within a mode the equations are affine, `dx/dt = A x + B u(t) + c`, and the scenario's
+//! inputs are piecewise linear, so between breakpoints `u(τ) = u₀ + u₁ τ` in the segment's
+//! own local time `τ` (time since the segment began: restarting every segment at zero keeps
+//! `e^{λτ}` meaningful even when `λ = -2.5e17` and the absolute time is 0.1 s). In
+//! eigen-coordinates `z = V⁻¹ x` each component is solved in closed form:
+//!
+//! ```text
+//! z(τ) = e^{λτ} z₀ + τ φ₁(λτ) w₀ + τ² φ₂(λτ) w₁,      w₀ = V⁻¹(B u₀ + c),  w₁ = V⁻¹ B u₁
+//! ∫₀^τ z = τ φ₁(λτ) z₀ + τ² φ₂(λτ) w₀ + τ³ φ₃(λτ) w₁
+//! ```
+//!
+//! with the φ-functions of exponential integrators, `φ₁(x) = (eˣ - 1)/x` and so on, evaluated
+//! by series near zero so that neither a zero eigenvalue (a free integrator) nor a stiff one
+//! loses precision. A defective matrix is propagated instead through the exponential of an
+//! augmented matrix (see [`crate::linalg::expm`]).
+
+use nalgebra::{DMatrix, DVector};
+use num_complex::Complex64;
+
+use crate::linalg::{self, Eigen};
+
+/// How a mode's state is propagated.
+#[derive(Clone, Debug)]
+pub enum Propagator {
+    /// In eigen-coordinates (diagonalisable `A`).
+    Modal(Modal),
+    /// By the exponential of an augmented matrix (defective `A`).
+    Exponential(Exponential),
+}
+
+/// The data of modal propagation.
+#[derive(Clone, Debug)]
+pub struct Modal {
+    eigen: Eigen,
+    /// `V⁻¹ B`.
+    input: DMatrix<Complex64>,
+    /// `V⁻¹ c`.
+    affine: DVector<Complex64>,
+}
+
+/// The data of propagation by the augmented matrix exponential.
+#[derive(Clone, Debug)]
+pub struct Exponential {
+    a: DMatrix<f64>,
+    b: DMatrix<f64>,
+    c: DVector<f64>,
+    /// Eigenvalues of `A` (from the Schur form), for the time scales.
+    values: Vec<Complex64>,
+}
+
+impl Propagator {
+    /// The propagator of `dx/dt = A x + B u + c`: modal when `A` is diagonalisable.
+    pub fn new(a: &DMatrix<f64>, b: &DMatrix<f64>, c: &DVector<f64>) -> Self {
+        match linalg::eigen(a) {
+            Ok(eigen) => {
+                let to_complex = |m: &DMatrix<f64>| m.map(|x| Complex64::new(x, 0.0));
+                let input = &eigen.inverse * to_complex(b);
+                let affine = &eigen.inverse * c.map(|x| Complex64::new(x, 0.0));
+                Propagator::Modal(Modal {
+                    eigen,
+                    input,
+                    affine,
+                })
+            }
+            Err(_) => {
+                let values = nalgebra::Schur::try_new(a.clone(), f64::EPSILON, 10_000)
+                    .map(|s| s.complex_eigenvalues().iter().copied().collect())
+                    .unwrap_or_default();
+                Propagator::Exponential(Exponential {
+                    a: a.clone(),
+                    b: b.clone(),
+                    c: c.clone(),
+                    values,
+                })
+            }
+        }
+    }
+
+    /// The eigenvalues of `A`.
+    pub fn eigenvalues(&self) -> &[Complex64] {
+        match self {
+            Propagator::Modal(m) => &m.eigen.values,
+            Propagator::Exponential(e) => &e.values,
+        }
+    }
+
+    /// Whether propagation is modal (exact on stiff matrices).
+    pub fn is_modal(&self) -> bool {
+        matches!(self, Propagator::Modal(_))
+    }
+
+    /// Starts a segment from state `x0` with inputs `u₀ + u₁ τ`.
+    pub fn start(&self, x0: &[f64], u0: &[f64], u1: &[f64]) -> Segment<'_> {
+        match self {
+            Propagator::Modal(m) => {
+                let n = x0.len();
+                let to_c = |v: &[f64]| {
+                    DVector::from_iterator(v.len(), v.iter().map(|&x| Complex64::new(x, 0.0)))
+                };
+                let z0 = &m.eigen.inverse * to_c(x0);
+                let w0 = &m.input * to_c(u0) + &m.affine;
+                let w1 = &m.input * to_c(u1);
+                Segment::Modal(ModalSegment {
+                    modal: m,
+                    z0: z0.iter().copied().collect(),
+                    w0: w0.iter().copied().collect(),
+                    w1: w1.iter().copied().collect(),
+                    scratch: vec![Complex64::new(0.0, 0.0); n],
+                })
+            }
+            Propagator::Exponential(e) => Segment::Exponential(ExponentialSegment {
+                exponential: e,
+                x0: DVector::from_column_slice(x0),
+                forcing0: &e.b * DVector::from_column_slice(u0) + &e.c,
+                forcing1: &e.b * DVector::from_column_slice(u1),
+            }),
+        }
+    }
+}
+
+/// One mode propagated from a known state with given input slopes.
+#[derive(Clone, Debug)]
+pub enum Segment<'p> {
+    /// Modal.
+    Modal(ModalSegment<'p>),
+    /// By the augmented exponential.
+    Exponential(ExponentialSegment<'p>),
+}
+
+/// A modal segment: the eigen-coordinates of the initial state and the forcing.
+#[derive(Clone, Debug)]
+pub struct ModalSegment<'p> {
+    modal: &'p Modal,
+    z0: Vec<Complex64>,
+    w0: Vec<Complex64>,
+    w1: Vec<Complex64>,
+    scratch: Vec<Complex64>,
+}
+
+/// A segment propagated by the exponential of the augmented matrix.
+#[derive(Clone, Debug)]
+pub struct ExponentialSegment<'p> {
+    exponential: &'p Exponential,
+    x0: DVector<f64>,
+    forcing0: DVector<f64>,
+    forcing1: DVector<f64>,
+}
+
+impl Segment<'_> {
+    /// The state at local time `τ` into `out`.
+    pub fn state_into(&mut self, tau: f64, out: &mut [f64]) {
+        match self {
+            Segment::Modal(s) => {
+                for j in 0..s.z0.len() {
+                    let lambda = s.modal.eigen.values[j];
+                    let x = lambda * tau;
+                    s.scratch[j] = x.exp() * s.z0[j]
+                        + s.w0[j] * phi(1, x) * tau
+                        + s.w1[j] * phi(2, x) * (tau * tau);
+                }
+                to_real(&s.modal.eigen.vectors, &s.scratch, out);
+            }
+            Segment::Exponential(s) => {
+                let x = s.augmented(tau, false);
+                out.copy_from_slice(x.as_slice());
+            }
+        }
+    }
+
+    /// The state at local time `τ`.
+    pub fn state(&mut self, tau: f64) -> Vec<f64> {
+        let mut out = vec![0.0; self.dimension()];
+        self.state_into(tau, &mut out);
+        out
+    }
+
+    /// `∫₀^τ x dt` into `out`.
+    pub fn integral_into(&mut self, tau: f64, out: &mut [f64]) {
+        match self {
+            Segment::Modal(s) => {
+                for j in 0..s.z0.len() {
+                    let lambda = s.modal.eigen.values[j];
+                    let x = lambda * tau;
+                    s.scratch[j] = s.z0[j] * phi(1, x) * tau
+                        + s.w0[j] * phi(2, x) * (tau * tau)
+                        + s.w1[j] * phi(3, x) * (tau * tau * tau);
+                }
+                to_real(&s.modal.eigen.vectors, &s.scratch, out);
+            }
+            Segment::Exponential(s) => {
+                let x = s.augmented(tau, true);
+                out.copy_from_slice(x.as_slice());
+            }
+        }
+    }
+
+    /// The number of states.
+    pub fn dimension(&self) -> usize {
+        match self {
+            Segment::Modal(s) => s.z0.len(),
+            Segment::Exponential(s) => s.x0.len(),
+        }
+    }
+}
+
+impl ExponentialSegment<'_> {
+    /// `x(τ)` (or `∫₀^τ x`) from the exponential of
+    /// `[[A, 0, B u₁, B u₀ + c], [I, 0, 0, 0], [0, 0, 0, 1], [0, 0, 0, 0]]`, whose flow carries
+    /// `(x, ∫x, τ, 1)`.
+    fn augmented(&self, tau: f64, integral: bool) -> DVector<f64> {
+        let e = self.exponential;
+        let n = e.a.nrows();
+        let size = 2 * n + 2;
+        let mut m = DMatrix::<f64>::zeros(size, size);
+        m.view_mut((0, 0), (n, n)).copy_from(&(&e.a * tau));
+        for i in 0..n {
+            m[(n + i, i)] = tau;
+            m[(i, 2 * n)] = self.forcing1[i] * tau;
+            m[(i, 2 * n + 1)] = self.forcing0[i] * tau;
+        }
+        m[(2 * n, 2 * n + 1)] = tau;
+        let mut start = DVector::<f64>::zeros(size);
+        start.rows_mut(0, n).copy_from(&self.x0);
+        start[2 * n + 1] = 1.0;
+        let result = match linalg::expm(&m) {
+            Some(exp) => exp * start,
+            None => DVector::from_element(size, f64::NAN),
+        };
+        let offset = if integral { n } else { 0 };
+        result.rows(offset, n).into_owned()
+    }
+}
+
+fn to_real(vectors: &DMatrix<Complex64>, z: &[Complex64], out: &mut [f64]) {
+    for (i, slot) in out.iter_mut().enumerate() {
+        let mut sum = 0.0;
+        for (j, zj) in z.iter().enumerate() {
+            let v = vectors[(i, j)];
+            sum += v.re * zj.re - v.im * zj.im;
+        }
+        *slot = sum;
+    }
+}
+
+/// The φ-functions of exponential integrators: `φ₀(x) = eˣ`,
+/// `φ_k(x) = (φ_{k-1}(x) - 1/(k-1)!)/x`, i.e. `Σ_j x^j/(j+k)!`.
+pub fn phi(k: u32, x: Complex64) -> Complex64 {
+    if x.norm() < 0.5 {
+        // The series converges fast: 20 terms reach machine precision for |x| < 0.5.
+        let mut term = Complex64::new(1.0 / factorial(k), 0.0);
+        let mut sum = term;
+        for j in 1..20 {
+            term = term * x / (j + k) as f64;
+            sum += term;
+        }
+        return sum;
+    }
+    let mut value = x.exp();
+    for j in 1..=k {
+        value = (value - Complex64::new(1.0 / factorial(j - 1), 0.0)) / x;
+    }
+    value
+}
+
+fn factorial(k: u32) -> f64 {
+    (1..=k).map(f64::from).product()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: f64, b: f64, tolerance: f64) -> bool {
+        (a - b).abs() <= tolerance * b.abs().max(1.0)
+    }
+
+    #[test]
+    fn phi_functions_match_their_definitions() {
+        for x in [1e-12, 0.3, -0.7, 2.0, -40.0, -1e6] {
+            let z = Complex64::new(x, 0.0);
+            let e = x.exp();
+            let expected1 = if x.abs() < 1e-8 {
+                1.0 + x / 2.0
+            } else {
+                (e - 1.0) / x
+            };
+            assert!(close(phi(1, z).re, expected1, 1e-13), "phi1({x})");
+            if x.abs() > 0.5 {
+                assert!(
+                    close(phi(2, z).re, (e - 1.0 - x) / (x * x), 1e-13),
+                    "phi2({x})"
+                );
+                assert!(
+                    close(
+                        phi(3, z).re,
+                        (e - 1.0 - x - x * x / 2.0) / (x * x * x),
+                        1e-12
+                    ),
+                    "phi3({x})"
+                );
+            }
+        }
+        // Limits at zero: 1/k!.
+        assert_eq!(phi(2, Complex64::new(0.0, 0.0)).re, 0.5);
+        assert!(close(phi(3, Complex64::new(0.0, 0.0)).re, 1.0 / 6.0, 1e-16));
+    }
+
+    #[test]
+    fn first_order_lag_with_a_ramp_is_exact() {
+        // dx/dt = -a x + u with u = u0 + u1 t and x(0) = x0. By hand:
+        // x(t) = x0 e^{-at} + (u0/a)(1 - e^{-at}) + (u1/a)(t - (1 - e^{-at})/a).
+        let (a, x0, u0, u1) = (3.0, 2.0, 1.5, -0.8);
+        let p = Propagator::new(
+            &DMatrix::from_element(1, 1, -a),
+            &DMatrix::from_element(1, 1, 1.0),
+            &DVector::from_element(1, 0.0),
+        );
+        assert!(p.is_modal());
+        let mut s = p.start(&[x0], &[u0], &[u1]);
+        for t in [0.0, 0.1, 1.0, 7.0] {
+            let e = (-a * t).exp();
+            let exact = x0 * e + u0 / a * (1.0 - e) + u1 / a * (t - (1.0 - e) / a);
+            assert!(close(s.state(t)[0], exact, 1e-14), "t = {t}");
+        }
+        // Its integral from 0 to t, by hand:
+        // x0 (1 - e)/a + (u0/a)(t - (1 - e)/a) + (u1/a)(t²/2 - (t - (1 - e)/a)/a).
+        let t = 1.7;
+        let e = (-a * t).exp();
+        let exact = x0 * (1.0 - e) / a
+            + u0 / a * (t - (1.0 - e) / a)
+            + u1 / a * (t * t / 2.0 - (t - (1.0 - e) / a) / a);
+        let mut out = [0.0];
+        s.integral_into(t, &mut out);
+        assert!(close(out[0], exact, 1e-14));
+    }
+
+    #[test]
+    fn stiff_mode_settles_exactly_at_its_quasi_steady_state() {
+        // The robot tip on a slack inner structure: m dv/dt = F - b v, m = 5e-15, b = 1250.
+        // After 1e-3 s the exact solution is F/b to machine precision.
+        let (m, b, force) = (0.5e-14, 1250.0, 2.875);
+        let p = Propagator::new(
+            &DMatrix::from_element(1, 1, -b / m),
+            &DMatrix::from_element(1, 1, 1.0 / m),
+            &DVector::from_element(1, 0.0),
+        );
+        let mut s = p.start(&[0.0], &[force], &[0.0]);
+        assert!(close(s.state(1e-3)[0], force / b, 1e-15));
+        assert!(close(
+            s.state(4e-18)[0],
+            force / b * (1.0 - (-1.0f64).exp()),
+            1e-12
+        ));
+    }
+
+    #[test]
+    fn defective_matrix_uses_the_exponential_and_is_exact() {
+        // A free mass pushed by a constant force F = 2 (p' = F, x' = p/m with m = 1):
+        // p(t) = F t, x(t) = F t²/2 from rest; with a ramp F = 2 + 3t: p = 2t + 1.5t², x = t² + t³/2.
+        let a = DMatrix::from_row_slice(2, 2, &[0.0, 0.0, 1.0, 0.0]);
+        let b = DMatrix::from_row_slice(2, 1, &[1.0, 0.0]);
+        let p = Propagator::new(&a, &b, &DVector::zeros(2));
+        assert!(!p.is_modal());
+        let mut s = p.start(&[0.0, 0.0], &[2.0], &[3.0]);
+        let t = 1.3;
+        let x = s.state(t);
+        assert!(close(x[0], 2.0 * t + 1.5 * t * t, 1e-13));
+        assert!(close(x[1], t * t + t * t * t / 2.0, 1e-13));
+        let mut out = [0.0; 2];
+        s.integral_into(t, &mut out);
+        assert!(close(out[1], t.powi(3) / 3.0 + t.powi(4) / 8.0, 1e-13));
+    }
+}
