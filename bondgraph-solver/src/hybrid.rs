@@ -52,7 +52,8 @@ pub struct Output {
 pub struct Settings {
     /// The most events a run may have.
     pub max_events: usize,
-    /// This many events in less than `chatter_window` times the duration is chattering.
+    /// This many events within `chatter_window` times the current time (at least one
+    /// second) is chattering.
     pub chatter_events: usize,
     /// See `chatter_events`.
     pub chatter_window: f64,
@@ -292,222 +293,27 @@ impl<'m> Simulator<'m> {
     /// [`SimError`] on inputs that do not match the model, modes that cannot be derived, no
     /// consistent mode, chattering, or non-finite states.
     pub fn run(&mut self, run: &Run<'_>) -> Result<Trajectory, SimError> {
-        if run.inputs.len() != self.model.inputs.len() {
-            return Err(SimError::Inputs(format!(
-                "model '{}' has {} inputs but {} signals were given",
-                self.model.name,
-                self.model.inputs.len(),
-                run.inputs.len()
-            )));
-        }
-        if run.initial_state.len() != self.storage.len() {
-            return Err(SimError::Inputs(format!(
-                "the initial state has {} values but model '{}' stores energy in {} elements",
-                run.initial_state.len(),
-                self.model.name,
-                self.storage.len()
-            )));
-        }
         if !(run.duration > 0.0 && run.duration.is_finite()) {
             return Err(SimError::Inputs(format!(
                 "the duration must be positive and finite, not {}",
                 run.duration
             )));
         }
-        let duration = run.duration;
         let sample = run
             .sample
             .filter(|s| *s > 0.0 && s.is_finite())
-            .unwrap_or(duration / 1000.0);
-        let mut breakpoints: Vec<f64> = run
-            .inputs
-            .iter()
-            .flat_map(|s| s.breakpoints())
-            .filter(|t| *t > 0.0 && *t < duration)
-            .collect();
-        breakpoints.push(duration);
-        breakpoints.sort_by(f64::total_cmp);
-        breakpoints.dedup();
-
-        let inputs_at = |t: f64| -> (Vec<f64>, Vec<f64>) {
-            (
-                run.inputs.iter().map(|s| s.value(t)).collect(),
-                run.inputs.iter().map(|s| s.rate(t)).collect(),
-            )
-        };
-
-        let mut recorder = Recorder::new(self.outputs.iter().map(|o| o.name.clone()).collect());
-        let mut t = 0.0;
-        let mut full = run.initial_state.clone();
-        let (u, rate) = inputs_at(0.0);
-        let mut mode = self.resolve(
+            .unwrap_or(run.duration / 1000.0);
+        let mut stepper = Stepper::new(
+            self,
+            run.inputs,
             run.initial_mode.clone(),
-            &full,
-            &u,
-            &rate,
-            0.0,
-            None,
-            &mut recorder,
+            run.initial_state.clone(),
+            Some(sample),
         )?;
-        let mut x = mode.project(&full, &u);
-        let mut integrals = vec![0.0; self.outputs.len()];
-        let mut armed = vec![false; mode.guards.len()];
-        let mut recent: VecDeque<f64> = VecDeque::new();
-        let mut next_sample = 0.0;
-        let mut stats = Stats::default();
-        recorder.enter(&mode.spec, 0.0);
-
-        while t < duration {
-            let end = *breakpoints.iter().find(|&&b| b > t).unwrap_or(&duration);
-            let length = end - t;
-            let (u0, u1) = inputs_at(t);
-            let current = mode.clone();
-            let mut segment = current.propagator.start(&x, &u0, &u1);
-            stats.segments += 1;
-            let local_inputs = |tau: f64| -> (Vec<f64>, Vec<f64>) {
-                (
-                    u0.iter().zip(&u1).map(|(a, b)| a + b * tau).collect(),
-                    u1.clone(),
-                )
-            };
-            let crossing =
-                events::first_crossing(&current, &mut segment, &local_inputs, length, &mut armed);
-            let stop = crossing.map_or(length, |c| c.tau);
-
-            // Samples inside the segment.
-            let mut state = vec![0.0; x.len()];
-            let mut integral_state = vec![0.0; x.len()];
-            while next_sample <= t + stop && next_sample <= duration {
-                let tau = (next_sample - t).max(0.0);
-                segment.state_into(tau, &mut state);
-                segment.integral_into(tau, &mut integral_state);
-                let (u, rate) = local_inputs(tau);
-                let values = self.output_values(
-                    &current,
-                    &state,
-                    &u,
-                    &rate,
-                    &integrals,
-                    &integral_state,
-                    &u0,
-                    &u1,
-                    tau,
-                );
-                recorder.sample(next_sample, &current.spec, values);
-                next_sample += sample;
-                if next_sample > duration && next_sample - sample < duration {
-                    next_sample = duration;
-                }
-            }
-
-            segment.state_into(stop, &mut state);
-            segment.integral_into(stop, &mut integral_state);
-            for (k, output) in self.outputs.iter().enumerate() {
-                if output.integral {
-                    integrals[k] +=
-                        integrated(&current.outputs[k], &integral_state, &u0, &u1, stop);
-                }
-            }
-            t += stop;
-            let (u, rate) = inputs_at(t);
-            x = state;
-            if x.iter().any(|v| !v.is_finite()) {
-                return Err(self.non_finite(t, &current, &x));
-            }
-
-            let Some(crossing) = crossing else {
-                continue;
-            };
-            // An event: rebuild the full state and switch.
-            full = current.reconstruct(&x, &u);
-            let guard = &current.guards[crossing.guard];
-            let element = self.model.element(guard.element).name.clone();
-            let before_values = self.output_values(
-                &current,
-                &x,
-                &u,
-                &rate,
-                &integrals,
-                &vec![0.0; x.len()],
-                &u,
-                &u1,
-                0.0,
-            );
-            recorder.sample(t, &current.spec, before_values);
-            let target = current.mode.with(guard.element, guard.leaves_to);
-            let reason = reason(guard, true);
-            let next = self.resolve(
-                target,
-                &full,
-                &u,
-                &rate,
-                t,
-                Some((&current, element, reason)),
-                &mut recorder,
-            )?;
-            stats.events = recorder.events.len();
-            if stats.events > self.settings.max_events {
-                return Err(SimError::TooManyEvents {
-                    t,
-                    limit: self.settings.max_events,
-                });
-            }
-            recent.push_back(t);
-            while recent.len() > self.settings.chatter_events {
-                recent.pop_front();
-            }
-            let window = self.settings.chatter_window * duration;
-            if recent.len() == self.settings.chatter_events
-                && recent.back().copied().unwrap_or(t) - recent.front().copied().unwrap_or(t)
-                    < window
-            {
-                let mut elements: Vec<String> = recorder
-                    .events
-                    .iter()
-                    .rev()
-                    .take(self.settings.chatter_events)
-                    .map(|e| e.element.clone())
-                    .collect();
-                elements.sort();
-                elements.dedup();
-                return Err(SimError::Chattering {
-                    t,
-                    events: self.settings.chatter_events,
-                    window,
-                    elements,
-                });
-            }
-            mode = next;
-            x = mode.project(&full, &u);
-            if x.iter().any(|v| !v.is_finite()) {
-                return Err(self.non_finite(t, &mode, &x));
-            }
-            armed = vec![false; mode.guards.len()];
-            recorder.enter(&mode.spec, t);
-            let after_values = self.output_values(
-                &mode,
-                &x,
-                &u,
-                &rate,
-                &integrals,
-                &vec![0.0; x.len()],
-                &u,
-                &u1,
-                0.0,
-            );
-            recorder.sample(t, &mode.spec, after_values);
+        while stepper.time() < run.duration {
+            stepper.advance(run.duration)?;
         }
-
-        let (u, _) = inputs_at(duration);
-        let full = mode.reconstruct(&x, &u);
-        stats.events = recorder.events.len();
-        stats.modes = recorder.modes.len();
-        Ok(recorder.finish(
-            duration,
-            self.storage.names.iter().cloned().zip(full).collect(),
-            mode.spec.clone(),
-            stats,
-        ))
+        Ok(stepper.finish())
     }
 
     /// Output values at a state; integrals add `∫` over the segment so far.
@@ -650,6 +456,329 @@ impl<'m> Simulator<'m> {
                 .collect(),
         }
     }
+}
+
+/// A simulation in progress, advanced piece by piece: for runs to a fixed time and for
+/// steady-state searches that decide how far to go as they learn the trajectory.
+pub struct Stepper<'s, 'm> {
+    simulator: &'s mut Simulator<'m>,
+    inputs: &'s [&'s dyn Signal],
+    breakpoints: Vec<f64>,
+    t: f64,
+    x: Vec<f64>,
+    mode: Arc<NumericMode>,
+    armed: Vec<bool>,
+    integrals: Vec<f64>,
+    recent: VecDeque<f64>,
+    sample: Option<f64>,
+    next_sample: f64,
+    recorder: Recorder,
+    stats: Stats,
+}
+
+impl<'s, 'm> Stepper<'s, 'm> {
+    /// Starts at time zero, making the initial mode consistent; records outputs every
+    /// `sample` seconds (none when `None`, for searches that only need the end).
+    ///
+    /// # Errors
+    /// As [`Simulator::run`].
+    pub fn new(
+        simulator: &'s mut Simulator<'m>,
+        inputs: &'s [&'s dyn Signal],
+        initial_mode: Mode,
+        initial_state: Vec<f64>,
+        sample: Option<f64>,
+    ) -> Result<Self, SimError> {
+        let model = simulator.model;
+        if inputs.len() != model.inputs.len() {
+            return Err(SimError::Inputs(format!(
+                "model '{}' has {} inputs but {} signals were given",
+                model.name,
+                model.inputs.len(),
+                inputs.len()
+            )));
+        }
+        if initial_state.len() != simulator.storage.len() {
+            return Err(SimError::Inputs(format!(
+                "the initial state has {} values but model '{}' stores energy in {} elements",
+                initial_state.len(),
+                model.name,
+                simulator.storage.len()
+            )));
+        }
+        let mut breakpoints: Vec<f64> = inputs
+            .iter()
+            .flat_map(|s| s.breakpoints())
+            .filter(|t| *t > 0.0 && t.is_finite())
+            .collect();
+        breakpoints.sort_by(f64::total_cmp);
+        breakpoints.dedup();
+        let mut recorder =
+            Recorder::new(simulator.outputs.iter().map(|o| o.name.clone()).collect());
+        let (u, rate) = values_at(inputs, 0.0);
+        let mode = simulator.resolve(
+            initial_mode,
+            &initial_state,
+            &u,
+            &rate,
+            0.0,
+            None,
+            &mut recorder,
+        )?;
+        let x = mode.project(&initial_state, &u);
+        recorder.enter(&mode.spec, 0.0);
+        let outputs = simulator.outputs.len();
+        Ok(Self {
+            armed: vec![false; mode.guards.len()],
+            simulator,
+            inputs,
+            breakpoints,
+            t: 0.0,
+            x,
+            mode,
+            integrals: vec![0.0; outputs],
+            recent: VecDeque::new(),
+            sample: sample.filter(|s| *s > 0.0 && s.is_finite()),
+            next_sample: 0.0,
+            recorder,
+            stats: Stats::default(),
+        })
+    }
+
+    /// The current time.
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// The current mode.
+    pub fn mode(&self) -> &Arc<NumericMode> {
+        &self.mode
+    }
+
+    /// The current state of the current mode.
+    pub fn state(&self) -> &[f64] {
+        &self.x
+    }
+
+    /// The inputs and their rates at time `t`.
+    pub fn inputs_at(&self, t: f64) -> (Vec<f64>, Vec<f64>) {
+        values_at(self.inputs, t)
+    }
+
+    /// The current full state (energy variables of every storage element).
+    pub fn full_state(&self) -> Vec<f64> {
+        let (u, _) = self.inputs_at(self.t);
+        self.mode.reconstruct(&self.x, &u)
+    }
+
+    /// The requested outputs now.
+    pub fn outputs(&self) -> Vec<f64> {
+        let (u, rate) = self.inputs_at(self.t);
+        let zeros = vec![0.0; self.x.len()];
+        self.simulator.output_values(
+            &self.mode,
+            &self.x,
+            &u,
+            &rate,
+            &self.integrals,
+            &zeros,
+            &u,
+            &rate,
+            0.0,
+        )
+    }
+
+    /// Whether each guard of the current mode has been seen below zero (can fire).
+    pub fn armed(&self) -> &[bool] {
+        &self.armed
+    }
+
+    /// The events so far.
+    pub fn events(&self) -> &[Event] {
+        &self.recorder.events
+    }
+
+    /// Advances to `until` or to the first event before it, whichever comes first; returns
+    /// whether it stopped at an event (the new mode already entered).
+    ///
+    /// # Errors
+    /// As [`Simulator::run`].
+    pub fn advance(&mut self, until: f64) -> Result<bool, SimError> {
+        while self.t < until {
+            let end = self
+                .breakpoints
+                .iter()
+                .copied()
+                .find(|&b| b > self.t)
+                .map_or(until, |b| b.min(until));
+            if self.segment(end)? {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+
+    /// Propagates the current mode to `end` or to its first event; true at an event.
+    fn segment(&mut self, end: f64) -> Result<bool, SimError> {
+        let length = end - self.t;
+        let (u0, u1) = self.inputs_at(self.t);
+        let current = self.mode.clone();
+        let mut segment = current.propagator.start(&self.x, &u0, &u1);
+        self.stats.segments += 1;
+        let local_inputs = |tau: f64| -> (Vec<f64>, Vec<f64>) {
+            (
+                u0.iter().zip(&u1).map(|(a, b)| a + b * tau).collect(),
+                u1.clone(),
+            )
+        };
+        let crossing = events::first_crossing(
+            &current,
+            &mut segment,
+            &local_inputs,
+            length,
+            &mut self.armed,
+        );
+        let stop = crossing.map_or(length, |c| c.tau);
+
+        let n = self.x.len();
+        let mut state = vec![0.0; n];
+        let mut integral_state = vec![0.0; n];
+        if let Some(sample) = self.sample {
+            while self.next_sample <= self.t + stop {
+                let tau = (self.next_sample - self.t).max(0.0);
+                segment.state_into(tau, &mut state);
+                segment.integral_into(tau, &mut integral_state);
+                let (u, rate) = local_inputs(tau);
+                let values = self.simulator.output_values(
+                    &current,
+                    &state,
+                    &u,
+                    &rate,
+                    &self.integrals,
+                    &integral_state,
+                    &u0,
+                    &u1,
+                    tau,
+                );
+                self.recorder
+                    .sample(self.next_sample, &current.spec, values);
+                self.next_sample += sample;
+            }
+        }
+        segment.state_into(stop, &mut state);
+        segment.integral_into(stop, &mut integral_state);
+        for (k, output) in self.simulator.outputs.iter().enumerate() {
+            if output.integral {
+                self.integrals[k] +=
+                    integrated(&current.outputs[k], &integral_state, &u0, &u1, stop);
+            }
+        }
+        // Land exactly on the end of the segment, not a rounding error short of it.
+        self.t = if crossing.is_some() {
+            self.t + stop
+        } else {
+            end
+        };
+        self.x = state;
+        if self.x.iter().any(|v| !v.is_finite()) {
+            return Err(self.simulator.non_finite(self.t, &current, &self.x));
+        }
+        let Some(crossing) = crossing else {
+            return Ok(false);
+        };
+
+        // An event: rebuild the full state, switch, and make the new mode consistent.
+        let t = self.t;
+        let (u, rate) = self.inputs_at(t);
+        let full = current.reconstruct(&self.x, &u);
+        let guard = &current.guards[crossing.guard];
+        let element = self.simulator.model.element(guard.element).name.clone();
+        if self.sample.is_some() {
+            let values = self.outputs();
+            self.recorder.sample(t, &current.spec, values);
+        }
+        let target = current.mode.with(guard.element, guard.leaves_to);
+        let next = self.simulator.resolve(
+            target,
+            &full,
+            &u,
+            &rate,
+            t,
+            Some((&current, element, reason(guard, true))),
+            &mut self.recorder,
+        )?;
+        self.check_chattering(t)?;
+        self.mode = next;
+        self.x = self.mode.project(&full, &u);
+        if self.x.iter().any(|v| !v.is_finite()) {
+            return Err(self.simulator.non_finite(t, &self.mode, &self.x));
+        }
+        self.armed = vec![false; self.mode.guards.len()];
+        self.recorder.enter(&self.mode.spec, t);
+        if self.sample.is_some() {
+            let values = self.outputs();
+            self.recorder.sample(t, &self.mode.spec, values);
+        }
+        Ok(true)
+    }
+
+    fn check_chattering(&mut self, t: f64) -> Result<(), SimError> {
+        let settings = self.simulator.settings;
+        self.stats.events = self.recorder.events.len();
+        if self.stats.events > settings.max_events {
+            return Err(SimError::TooManyEvents {
+                t,
+                limit: settings.max_events,
+            });
+        }
+        self.recent.push_back(t);
+        while self.recent.len() > settings.chatter_events {
+            self.recent.pop_front();
+        }
+        let window = settings.chatter_window * t.max(1.0);
+        let span =
+            self.recent.back().copied().unwrap_or(t) - self.recent.front().copied().unwrap_or(t);
+        if self.recent.len() == settings.chatter_events && span < window {
+            let mut elements: Vec<String> = self
+                .recorder
+                .events
+                .iter()
+                .rev()
+                .take(settings.chatter_events)
+                .map(|e| e.element.clone())
+                .collect();
+            elements.sort();
+            elements.dedup();
+            return Err(SimError::Chattering {
+                t,
+                events: settings.chatter_events,
+                window,
+                elements,
+            });
+        }
+        Ok(())
+    }
+
+    /// Ends the run: the trajectory recorded, with the final state.
+    pub fn finish(mut self) -> Trajectory {
+        let full = self.full_state();
+        self.stats.events = self.recorder.events.len();
+        self.stats.modes = self.recorder.modes.len();
+        let names = self.simulator.storage.names.clone();
+        self.recorder.finish(
+            self.t,
+            names.into_iter().zip(full).collect(),
+            self.mode.spec.clone(),
+            self.stats,
+        )
+    }
+}
+
+fn values_at(inputs: &[&dyn Signal], t: f64) -> (Vec<f64>, Vec<f64>) {
+    (
+        inputs.iter().map(|s| s.value(t)).collect(),
+        inputs.iter().map(|s| s.rate(t)).collect(),
+    )
 }
 
 /// `∫₀^τ y dt` of an output row over a segment, given `∫₀^τ x dt`.

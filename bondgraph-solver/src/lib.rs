@@ -5,5 +5,8 @@ pub mod hybrid;
 pub mod linalg;
 pub mod numeric;
 pub mod propagate;
+pub mod steady;
 
-pub use hybrid::{Event, Output, Run, Settings, Signal, SimError, Simulator, Stats, Trajectory};
+pub use hybrid::{
+    Event, Output, Run, Settings, Signal, SimError, Simulator, Stats, Stepper, Trajectory,
+};

@@ -91,6 +91,41 @@ impl Propagator {
         matches!(self, Propagator::Modal(_))
     }
 
+    /// The straight line a trajectory from `x` under constant inputs `u` approaches once its
+    /// decaying components have died out: `(x∞, ẋ∞)` with `x(τ) → x∞ + ẋ∞ τ`. Components with
+    /// eigenvalues below `zero` in magnitude are integrators and drift; decaying components sit
+    /// at their exact equilibria (`-w/λ`), free of the rounding noise a stiff mode puts into
+    /// `A x + B u + c`. `None` if some component grows or oscillates undamped, or `A` is
+    /// defective.
+    pub fn asymptote(&self, x: &[f64], u: &[f64], zero: f64) -> Option<(Vec<f64>, Vec<f64>)> {
+        let Propagator::Modal(m) = self else {
+            return None;
+        };
+        let n = x.len();
+        let to_c =
+            |v: &[f64]| DVector::from_iterator(v.len(), v.iter().map(|&x| Complex64::new(x, 0.0)));
+        let z = &m.eigen.inverse * to_c(x);
+        let w = &m.input * to_c(u) + &m.affine;
+        let mut position = vec![Complex64::new(0.0, 0.0); n];
+        let mut rate = vec![Complex64::new(0.0, 0.0); n];
+        for j in 0..n {
+            let lambda = m.eigen.values[j];
+            if lambda.norm() <= zero {
+                position[j] = z[j];
+                rate[j] = w[j];
+            } else if lambda.re < -zero {
+                position[j] = -w[j] / lambda;
+            } else {
+                return None;
+            }
+        }
+        let mut x_limit = vec![0.0; n];
+        let mut rate_limit = vec![0.0; n];
+        to_real(&m.eigen.vectors, &position, &mut x_limit);
+        to_real(&m.eigen.vectors, &rate, &mut rate_limit);
+        Some((x_limit, rate_limit))
+    }
+
     /// Starts a segment from state `x0` with inputs `u₀ + u₁ τ`.
     pub fn start(&self, x0: &[f64], u0: &[f64], u1: &[f64]) -> Segment<'_> {
         match self {

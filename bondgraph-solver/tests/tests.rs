@@ -1,4 +1,6 @@
 //! Whole-crate tests of the solver on real model files, against closed-form solutions.
 
+mod fig6;
+mod flagship;
 mod stick_slip;
 mod support;
