@@ -23,6 +23,7 @@ use bondgraph_core::guards::Watched;
 use bondgraph_core::model::{ElementMode, Model};
 use bondgraph_core::modes::{Mode, ModeCache};
 
+use crate::energy::EnergyBalance;
 use crate::events;
 use crate::numeric::{NumericGuard, NumericMode, Storage, dot};
 
@@ -81,6 +82,9 @@ pub struct Run<'a> {
     pub duration: f64,
     /// The output interval (`None`: a thousand samples).
     pub sample: Option<f64>,
+    /// Whether to keep the energy books ([`Trajectory::energy`]); it costs a quadrature per
+    /// segment.
+    pub audit_energy: bool,
 }
 
 /// A mode change.
@@ -134,6 +138,8 @@ pub struct Trajectory {
     pub final_mode: String,
     /// Work counts.
     pub stats: Stats,
+    /// The energy books, when asked for.
+    pub energy: Option<EnergyBalance>,
 }
 
 /// Why a simulation stopped.
@@ -310,6 +316,9 @@ impl<'m> Simulator<'m> {
             run.initial_state.clone(),
             Some(sample),
         )?;
+        if run.audit_energy {
+            stepper.audit_energy();
+        }
         while stepper.time() < run.duration {
             stepper.advance(run.duration)?;
         }
@@ -474,6 +483,7 @@ pub struct Stepper<'s, 'm> {
     next_sample: f64,
     recorder: Recorder,
     stats: Stats,
+    energy: Option<EnergyBalance>,
 }
 
 impl<'s, 'm> Stepper<'s, 'm> {
@@ -542,7 +552,27 @@ impl<'s, 'm> Stepper<'s, 'm> {
             next_sample: 0.0,
             recorder,
             stats: Stats::default(),
+            energy: None,
         })
+    }
+
+    /// Starts keeping the energy books from now on.
+    pub fn audit_energy(&mut self) {
+        let stored = NumericMode::stored_energy(
+            &self.simulator.storage,
+            self.simulator.model,
+            &self.full_state(),
+        );
+        self.energy = Some(EnergyBalance {
+            initial_stored: stored,
+            final_stored: stored,
+            ..EnergyBalance::default()
+        });
+    }
+
+    /// The energy books so far, if kept.
+    pub fn energy(&self) -> Option<EnergyBalance> {
+        self.energy
     }
 
     /// The current time.
@@ -665,6 +695,12 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 self.next_sample += sample;
             }
         }
+        if let Some(energy) = &mut self.energy {
+            let (supplied, dissipated) =
+                crate::energy::integrate_segment(&current, &mut segment, &u0, &u1, stop);
+            energy.supplied += supplied;
+            energy.dissipated += dissipated;
+        }
         segment.state_into(stop, &mut state);
         segment.integral_into(stop, &mut integral_state);
         for (k, output) in self.simulator.outputs.iter().enumerate() {
@@ -712,6 +748,14 @@ impl<'s, 'm> Stepper<'s, 'm> {
         self.x = self.mode.project(&full, &u);
         if self.x.iter().any(|v| !v.is_finite()) {
             return Err(self.simulator.non_finite(t, &self.mode, &self.x));
+        }
+        if let Some(energy) = &mut self.energy {
+            let storage = &self.simulator.storage;
+            let model = self.simulator.model;
+            let before = NumericMode::stored_energy(storage, model, &full);
+            let after =
+                NumericMode::stored_energy(storage, model, &self.mode.reconstruct(&self.x, &u));
+            energy.lost_at_events += before - after;
         }
         self.armed = vec![false; self.mode.guards.len()];
         self.recorder.enter(&self.mode.spec, t);
@@ -764,13 +808,19 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let full = self.full_state();
         self.stats.events = self.recorder.events.len();
         self.stats.modes = self.recorder.modes.len();
+        if let Some(energy) = &mut self.energy {
+            energy.final_stored =
+                NumericMode::stored_energy(&self.simulator.storage, self.simulator.model, &full);
+        }
         let names = self.simulator.storage.names.clone();
-        self.recorder.finish(
+        let mut trajectory = self.recorder.finish(
             self.t,
             names.into_iter().zip(full).collect(),
             self.mode.spec.clone(),
             self.stats,
-        )
+        );
+        trajectory.energy = self.energy;
+        trajectory
     }
 }
 
@@ -903,6 +953,7 @@ impl Recorder {
             final_state,
             final_mode,
             stats,
+            energy: None,
         }
     }
 }

@@ -1,5 +1,6 @@
 //! Simulation of the state equations that `bondgraph-core` derives.
 
+pub mod energy;
 pub mod events;
 pub mod hybrid;
 pub mod linalg;

@@ -147,6 +147,19 @@ pub struct NumericGuard {
     pub row: Row,
 }
 
+/// A one-port's effort and inflowing flow in one mode: its power intake is their product.
+#[derive(Clone, Debug)]
+pub struct Port {
+    /// The element.
+    pub element: ElementId,
+    /// Whether it supplies energy (a source) rather than dissipating it.
+    pub source: bool,
+    /// The effort on its bond.
+    pub effort: Row,
+    /// The flow into the element.
+    pub flow: Row,
+}
+
 /// One mode ready to simulate.
 #[derive(Clone, Debug)]
 pub struct NumericMode {
@@ -166,6 +179,9 @@ pub struct NumericMode {
     pub guards: Vec<NumericGuard>,
     /// The requested outputs in this mode.
     pub outputs: Vec<Row>,
+    /// Every one-port that exchanges energy without storing it (sources, resistors, friction
+    /// contacts): its effort and its flow into the element, for energy accounting.
+    pub ports: Vec<Port>,
     /// Exact propagation.
     pub propagator: Propagator,
     /// `R`: full state from the mode's states.
@@ -239,6 +255,25 @@ impl NumericMode {
             .iter()
             .map(|form| Row::from_form(form, n, m, values))
             .collect();
+        let ports = model
+            .element_ids()
+            .filter_map(|id| {
+                let source = match model.element(id).kind {
+                    ElementKind::EffortSource(_) | ElementKind::FlowSource(_) => true,
+                    ElementKind::Resistor(_) | ElementKind::Friction(_) => false,
+                    _ => return None,
+                };
+                let bond = model.element(id).bonds[0];
+                let sign =
+                    bondgraph_core::symbolic::RatFunc::integer(model.bond(bond).sign_into(id));
+                Some(Port {
+                    element: id,
+                    source,
+                    effort: Row::from_form(eq.bond_effort(bond), n, m, values),
+                    flow: Row::from_form(&eq.bond_flow(bond).scaled(&sign), n, m, values),
+                })
+            })
+            .collect();
         NumericMode {
             spec: derived.mode.spec(model),
             mode: derived.mode.clone(),
@@ -249,6 +284,7 @@ impl NumericMode {
             c,
             guards,
             outputs,
+            ports,
             reconstruct_state,
             reconstruct_input,
             reconstruct_constant,
@@ -287,6 +323,25 @@ impl NumericMode {
             .iter()
             .copied()
             .collect()
+    }
+
+    /// The energy stored in the full state: `p²/2m` for inertias, `q²/2C` for compliances,
+    /// and for tension-only elements `q²/2C` when stretched, nothing when slack.
+    pub fn stored_energy(storage: &Storage, model: &Model, full: &[f64]) -> f64 {
+        storage
+            .elements
+            .iter()
+            .zip(&storage.coefficients)
+            .zip(full)
+            .map(|((id, c), x)| {
+                let tension_only = matches!(model.element(*id).kind, ElementKind::TensionOnly(_));
+                if tension_only && *x < 0.0 {
+                    0.0
+                } else {
+                    x * x / (2.0 * c)
+                }
+            })
+            .sum()
     }
 
     /// A row's rate of change along the trajectory at `x`, with inputs `u` changing at `u̇`

@@ -32,6 +32,7 @@ fn fig6(model: &Model) -> Vec<Event> {
         initial_state: vec![0.0, 0.0, 5e-4 * v_ct],
         duration: 0.2,
         sample: Some(1e-3),
+        audit_energy: false,
     };
     simulator.run(&run).unwrap().events
 }

@@ -34,6 +34,7 @@ fn event_times_and_period_match_the_closed_form() {
         initial_state: vec![0.1, 0.0], // p_block = m V (riding with the belt), q_spring = 0
         duration: 3.5,
         sample: Some(0.01),
+        audit_energy: false,
     };
     let trajectory = simulator.run(&run).unwrap();
     let slip = (std::f64::consts::PI - 4f64.atan()) / 5.0;
