@@ -29,45 +29,40 @@ pub struct Crossing {
     pub tau: f64,
 }
 
-/// Bracketing samples over `(0, length]` for a mode with these eigenvalues.
+/// Bracketing samples over `(0, length]` for a mode with these eigenvalues: each decaying
+/// time scale `1/|λ|` sampled geometrically while it is active (from 0.02 to 40 time
+/// constants), every oscillation sixteen times a period while it lasts, and the whole
+/// segment uniformly.
 pub fn sample_times(values: &[Complex64], length: f64) -> Vec<f64> {
     const MAX_SAMPLES: usize = 20_000;
-    let mut times = Vec::new();
-    let fastest = values
-        .iter()
-        .map(|v| v.norm())
-        .filter(|r| *r > 0.0 && r.is_finite())
-        .fold(0.0, f64::max);
-    let start = if fastest > 0.0 {
-        (0.05 / fastest).min(length / 1024.0)
-    } else {
-        length / 1024.0
-    };
-    let mut t = start;
-    while t < length && times.len() < MAX_SAMPLES / 4 {
-        times.push(t);
-        t *= 1.5;
-    }
-    let uniform = length / 64.0;
-    for k in 1..64 {
-        times.push(k as f64 * uniform);
-    }
-    // Oscillations, while they last: sixteen samples a period.
+    let mut times = Vec::with_capacity(96);
     for v in values {
-        if v.im == 0.0 {
+        let rate = v.norm();
+        if rate == 0.0 || !rate.is_finite() {
             continue;
         }
-        let spacing = 2.0 * std::f64::consts::PI / v.im.abs() / 16.0;
-        let horizon = if v.re < 0.0 {
-            (40.0 / -v.re).min(length)
-        } else {
-            length
-        };
-        let count = ((horizon / spacing) as usize).min(MAX_SAMPLES / 2);
-        for k in 1..=count {
-            times.push(k as f64 * spacing);
+        if v.re < 0.0 {
+            let scale = 1.0 / rate;
+            let mut t = 0.02 * scale;
+            let end = (40.0 / -v.re).min(length);
+            while t < end {
+                times.push(t);
+                t *= 1.8;
+            }
+        }
+        if v.im != 0.0 {
+            let spacing = 2.0 * std::f64::consts::PI / v.im.abs() / 16.0;
+            let horizon = if v.re < 0.0 {
+                (40.0 / -v.re).min(length)
+            } else {
+                length
+            };
+            let count = ((horizon / spacing) as usize).min(MAX_SAMPLES / 2);
+            times.extend((1..=count).map(|k| k as f64 * spacing));
         }
     }
+    let uniform = length / 32.0;
+    times.extend((1..32).map(|k| k as f64 * uniform));
     times.push(length);
     times.retain(|t| *t > 0.0 && *t <= length);
     times.sort_by(f64::total_cmp);
@@ -77,11 +72,12 @@ pub fn sample_times(values: &[Complex64], length: f64) -> Vec<f64> {
 
 /// The first crossing of an armed guard in `(0, length]`, arming guards seen negative.
 ///
-/// `inputs(τ)` gives the inputs and their rates at local time `τ`.
+/// The inputs are `u₀ + u₁ τ` over the segment.
 pub fn first_crossing(
     mode: &NumericMode,
     segment: &mut Segment<'_>,
-    inputs: &dyn Fn(f64) -> (Vec<f64>, Vec<f64>),
+    u0: &[f64],
+    u1: &[f64],
     length: f64,
     armed: &mut [bool],
 ) -> Option<Crossing> {
@@ -90,11 +86,42 @@ pub fn first_crossing(
     }
     let n = segment.dimension();
     let mut x = vec![0.0; n];
+    let mut u = vec![0.0; u0.len()];
+    // In eigen-coordinates each guard is Re(Σ_j c_j z_j(τ)) + a + b τ with c = G V,
+    // a = H u₀ + R u₁ + k and b = H u₁: no change of coordinates per evaluation.
+    let modal: Option<Vec<(Vec<Complex64>, f64, f64)>> = segment.vectors().map(|v| {
+        mode.guards
+            .iter()
+            .map(|g| {
+                let c = (0..n)
+                    .map(|j| (0..n).map(|i| v[(i, j)] * g.row.state[i]).sum())
+                    .collect();
+                let a = crate::numeric::dot(&g.row.input, u0)
+                    + crate::numeric::dot(&g.row.rate, u1)
+                    + g.row.constant;
+                (c, a, crate::numeric::dot(&g.row.input, u1))
+            })
+            .collect()
+    });
     let mut evaluate = |segment: &mut Segment<'_>, tau: f64, values: &mut Vec<f64>| {
-        segment.state_into(tau, &mut x);
-        let (u, rate) = inputs(tau);
         values.clear();
-        values.extend(mode.guards.iter().map(|g| g.row.eval(&x, &u, &rate)));
+        if let Some(guards) = &modal
+            && let Some(z) = segment.modal_state(tau)
+        {
+            values.extend(guards.iter().map(|(c, a, b)| {
+                let mut sum = a + b * tau;
+                for (cj, zj) in c.iter().zip(z) {
+                    sum += cj.re * zj.re - cj.im * zj.im;
+                }
+                sum
+            }));
+            return;
+        }
+        segment.state_into(tau, &mut x);
+        for (k, slot) in u.iter_mut().enumerate() {
+            *slot = u0[k] + u1[k] * tau;
+        }
+        values.extend(mode.guards.iter().map(|g| g.row.eval(&x, &u, u1)));
     };
     let mut previous = Vec::with_capacity(mode.guards.len());
     evaluate(segment, 0.0, &mut previous);
@@ -115,8 +142,8 @@ pub fn first_crossing(
         let mut best: Option<Crossing> = None;
         for i in 0..current.len() {
             if armed[i] && previous[i] < 0.0 && current[i] >= 0.0 {
+                let mut values = Vec::with_capacity(current.len());
                 let root = refine(previous_tau, tau, previous[i], current[i], |t| {
-                    let mut values = Vec::new();
                     evaluate(segment, t, &mut values);
                     values[i]
                 });
@@ -206,6 +233,9 @@ mod tests {
             1.0,
         );
         assert!(times[0] <= 0.05 / 2.5e17);
+        // The stiff scale is sampled from 0.02 to 40 time constants, then left alone.
+        let stiff = times.iter().filter(|t| **t < 1e-15).count();
+        assert!((8..=16).contains(&stiff), "{stiff}");
         assert_eq!(*times.last().unwrap(), 1.0);
         // An oscillation of period 2π/10 is sampled at least sixteen times a period.
         let period = 2.0 * std::f64::consts::PI / 10.0;

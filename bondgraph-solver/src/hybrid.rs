@@ -661,13 +661,8 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 u1.clone(),
             )
         };
-        let crossing = events::first_crossing(
-            &current,
-            &mut segment,
-            &local_inputs,
-            length,
-            &mut self.armed,
-        );
+        let crossing =
+            events::first_crossing(&current, &mut segment, &u0, &u1, length, &mut self.armed);
         let stop = crossing.map_or(length, |c| c.tau);
 
         let n = self.x.len();

@@ -40,6 +40,13 @@ pub struct Modal {
     affine: DVector<Complex64>,
 }
 
+impl Modal {
+    /// The eigendecomposition behind it.
+    pub fn eigen(&self) -> &Eigen {
+        &self.eigen
+    }
+}
+
 /// The data of propagation by the augmented matrix exponential.
 #[derive(Clone, Debug)]
 pub struct Exponential {
@@ -189,11 +196,9 @@ impl Segment<'_> {
         match self {
             Segment::Modal(s) => {
                 for j in 0..s.z0.len() {
-                    let lambda = s.modal.eigen.values[j];
-                    let x = lambda * tau;
-                    s.scratch[j] = x.exp() * s.z0[j]
-                        + s.w0[j] * phi(1, x) * tau
-                        + s.w1[j] * phi(2, x) * (tau * tau);
+                    let [e, phi1, phi2, _] = phis(s.modal.eigen.values[j] * tau);
+                    s.scratch[j] =
+                        e * s.z0[j] + s.w0[j] * phi1 * tau + s.w1[j] * phi2 * (tau * tau);
                 }
                 to_real(&s.modal.eigen.vectors, &s.scratch, out);
             }
@@ -201,6 +206,30 @@ impl Segment<'_> {
                 let x = s.augmented(tau, false);
                 out.copy_from_slice(x.as_slice());
             }
+        }
+    }
+
+    /// The eigen-coordinates `z(τ)` of the state, for a modal segment (`None` otherwise):
+    /// guards precomputed in eigen-coordinates evaluate from these directly.
+    pub fn modal_state(&mut self, tau: f64) -> Option<&[Complex64]> {
+        match self {
+            Segment::Modal(s) => {
+                for j in 0..s.z0.len() {
+                    let [e, phi1, phi2, _] = phis(s.modal.eigen.values[j] * tau);
+                    s.scratch[j] =
+                        e * s.z0[j] + s.w0[j] * phi1 * tau + s.w1[j] * phi2 * (tau * tau);
+                }
+                Some(&s.scratch)
+            }
+            Segment::Exponential(_) => None,
+        }
+    }
+
+    /// The eigenvector matrix `V` of a modal segment.
+    pub fn vectors(&self) -> Option<&DMatrix<Complex64>> {
+        match self {
+            Segment::Modal(s) => Some(&s.modal.eigen.vectors),
+            Segment::Exponential(_) => None,
         }
     }
 
@@ -216,11 +245,10 @@ impl Segment<'_> {
         match self {
             Segment::Modal(s) => {
                 for j in 0..s.z0.len() {
-                    let lambda = s.modal.eigen.values[j];
-                    let x = lambda * tau;
-                    s.scratch[j] = s.z0[j] * phi(1, x) * tau
-                        + s.w0[j] * phi(2, x) * (tau * tau)
-                        + s.w1[j] * phi(3, x) * (tau * tau * tau);
+                    let [_, phi1, phi2, phi3] = phis(s.modal.eigen.values[j] * tau);
+                    s.scratch[j] = s.z0[j] * phi1 * tau
+                        + s.w0[j] * phi2 * (tau * tau)
+                        + s.w1[j] * phi3 * (tau * tau * tau);
                 }
                 to_real(&s.modal.eigen.vectors, &s.scratch, out);
             }
@@ -277,6 +305,51 @@ fn to_real(vectors: &DMatrix<Complex64>, z: &[Complex64], out: &mut [f64]) {
         }
         *slot = sum;
     }
+}
+
+/// `[φ₀, φ₁, φ₂, φ₃]` at `x` in one pass, in real arithmetic when `x` is real: the hot path
+/// of propagation and event location.
+pub fn phis(x: Complex64) -> [Complex64; 4] {
+    if x.im == 0.0 {
+        let [a, b, c, d] = real_phis(x.re);
+        let r = |v: f64| Complex64::new(v, 0.0);
+        return [r(a), r(b), r(c), r(d)];
+    }
+    if x.norm() < 0.5 {
+        let phi3 = phi(3, x);
+        let phi2 = 0.5 + x * phi3;
+        let phi1 = 1.0 + x * phi2;
+        return [1.0 + x * phi1, phi1, phi2, phi3];
+    }
+    let e = x.exp();
+    let phi1 = (e - 1.0) / x;
+    let phi2 = (phi1 - 1.0) / x;
+    let phi3 = (phi2 - 0.5) / x;
+    [e, phi1, phi2, phi3]
+}
+
+fn real_phis(x: f64) -> [f64; 4] {
+    if x.abs() < 0.5 {
+        // φ₃ by its series, then φ_{k-1} = 1/(k-1)! + x φ_k.
+        let mut term = 1.0 / 6.0;
+        let mut phi3 = term;
+        for j in 1..20 {
+            term *= x / (j + 3) as f64;
+            phi3 += term;
+            if term.abs() < 1e-17 * phi3.abs() {
+                break;
+            }
+        }
+        let phi2 = 0.5 + x * phi3;
+        let phi1 = 1.0 + x * phi2;
+        return [1.0 + x * phi1, phi1, phi2, phi3];
+    }
+    // Below -745 the exponential underflows to zero anyway.
+    let e = if x < -745.0 { 0.0 } else { x.exp() };
+    let phi1 = (e - 1.0) / x;
+    let phi2 = (phi1 - 1.0) / x;
+    let phi3 = (phi2 - 0.5) / x;
+    [e, phi1, phi2, phi3]
 }
 
 /// The φ-functions of exponential integrators: `φ₀(x) = eˣ`,
@@ -340,6 +413,30 @@ mod tests {
         // Limits at zero: 1/k!.
         assert_eq!(phi(2, Complex64::new(0.0, 0.0)).re, 0.5);
         assert!(close(phi(3, Complex64::new(0.0, 0.0)).re, 1.0 / 6.0, 1e-16));
+    }
+
+    #[test]
+    fn fused_phis_agree_with_the_definitions() {
+        for (re, im) in [
+            (1e-9, 0.0),
+            (0.3, 0.0),
+            (-0.7, 0.0),
+            (2.0, 0.0),
+            (-800.0, 0.0),
+            (0.2, 0.3),
+            (-3.0, 40.0),
+        ] {
+            let x = Complex64::new(re, im);
+            let fused = phis(x);
+            for k in 0..4 {
+                let reference = phi(k, x);
+                assert!(
+                    (fused[k as usize] - reference).norm() <= 1e-13 * reference.norm().max(1e-300),
+                    "phi{k}({x}): {} vs {reference}",
+                    fused[k as usize]
+                );
+            }
+        }
     }
 
     #[test]

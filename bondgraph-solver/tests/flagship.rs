@@ -111,3 +111,29 @@ fn catheter_slipping_and_pressure_driven_tip() {
     assert!(close(v, expected), "{v} vs {expected}");
     assert_eq!(mode, "fr_ge=slip+,k=slack,fr_ct=slip+");
 }
+
+#[test]
+fn the_tip_mass_is_parasitic_and_nothing_else_is() {
+    // m_ge/b = 5e-15/1250 = 4e-18 s against, at the fastest, the catheter servo's
+    // m_ct/K_p = 1e-8 s and the inner structure's b/(4 k_ge) = 6.25e-4 s.
+    let model = load("models/eversion/robot.ron");
+    let mut simulator = Simulator::new(&model, Vec::new());
+    let found = bondgraph_solver::parasitic::find(&mut simulator, 1e6).unwrap();
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].element, "ge");
+    assert!((found[0].time_constant - 4e-18).abs() < 1e-30);
+    assert!(found[0].ratio > 1e9);
+    // The textbook examples have nothing parasitic.
+    for file in [
+        "models/examples/two_masses.ron",
+        "models/examples/dc_motor.ron",
+    ] {
+        let model = load(file);
+        let mut simulator = Simulator::new(&model, Vec::new());
+        assert!(
+            bondgraph_solver::parasitic::find(&mut simulator, 1e6)
+                .unwrap()
+                .is_empty()
+        );
+    }
+}
