@@ -57,7 +57,7 @@ pub const CATHETER_COLUMN: &str = "v_ct_mm_s";
 /// Column name of the measured tip velocity, mm/s.
 pub const TIP_COLUMN: &str = "v_ge_mm_s";
 
-/// Every column of the format, in the order [`write`] writes them.
+/// Every column of the format, in the order [`write()`] writes them.
 pub const COLUMNS: [&str; 4] = [PRESSURE_COLUMN, CHANNEL_COLUMN, CATHETER_COLUMN, TIP_COLUMN];
 
 const NEGATIVE_PRESSURE: &str =
@@ -340,7 +340,7 @@ pub fn read_file(path: &Path) -> Result<Dataset, DataError> {
 }
 
 /// Checks a dataset built in code (e.g. synthetic data) against the rules [`read`] enforces on
-/// values, so that what [`write`] writes of it can be read back. Errors name the dataset and
+/// values, so that what [`write()`] writes of it can be read back. Errors name the dataset and
 /// each measurement's `row`.
 ///
 /// # Errors
