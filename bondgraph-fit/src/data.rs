@@ -1087,4 +1087,46 @@ mod tests {
             Err("synthetic: a header but no measurements after it".into())
         );
     }
+
+    mod properties {
+        use super::super::*;
+        use proptest::prelude::*;
+
+        fn measurement() -> impl Strategy<Value = Measurement> {
+            (
+                0.0..1e3f64,
+                0.0..50.0f64,
+                proptest::option::of(-50.0..50.0f64),
+                0.0..50.0f64,
+            )
+                .prop_map(|(pressure, channel, catheter, tip)| Measurement {
+                    pressure_kpa: pressure,
+                    channel_velocity_mm_s: channel,
+                    catheter_velocity_mm_s: catheter,
+                    tip_velocity_mm_s: tip,
+                    row: 0,
+                })
+        }
+
+        proptest! {
+            /// Whatever the text, reading returns a dataset or an error; it never panics.
+            #[test]
+            fn read_never_panics(text in "[-0-9a-zA-Z_.,#\"\\r\\n \t\u{feff}]{0,80}") {
+                let _ = read("fuzz.csv", &text);
+                let _ = read("fuzz.csv", &format!("{}\n{text}", COLUMNS.join(",")));
+            }
+
+            /// Every valid dataset reads back from what `write` makes of it, exactly.
+            #[test]
+            fn write_then_read(mut rows in proptest::collection::vec(measurement(), 1..20)) {
+                for (index, row) in rows.iter_mut().enumerate() {
+                    row.row = index + 2;
+                }
+                let dataset = Dataset { name: "synthetic".into(), rows };
+                prop_assert!(validate(&dataset).is_ok());
+                let again = read("synthetic", &write(&dataset));
+                prop_assert_eq!(again.map_err(|e| e.to_string()), Ok(dataset));
+            }
+        }
+    }
 }
