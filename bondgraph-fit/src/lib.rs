@@ -1,1 +1,12 @@
 //! Measured data against bond-graph models.
+//!
+//! A model derived from first principles is only as good as its agreement with the robot it
+//! describes. This crate is where the two meet: it reads measured steady states, calibrates a
+//! model's parameters on them, computes residuals, tries candidate extensions (small bond-graph
+//! fragments with a physical cause) that could explain what the model gets wrong, and selects
+//! among them on held-out data, saying when the data cannot tell candidates apart.
+//!
+//! For now it holds the first step, [`data`]: the CSV format of measured data, its reader
+//! (which refuses bad rows and says where they are) and its writer (for synthetic data).
+
+pub mod data;
