@@ -99,7 +99,7 @@ fn table_cells(c: &mut Criterion) {
         cells.push([110e3, 5.8e-3, v_ct]);
     }
     let settings = SteadySettings::default();
-    let mut sweep = |simulator: &mut Simulator<'_>| {
+    let sweep = |simulator: &mut Simulator<'_>| {
         cells
             .iter()
             .map(|inputs| {
