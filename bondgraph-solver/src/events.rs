@@ -169,48 +169,93 @@ pub fn first_crossing(
     None
 }
 
-/// Refines a bracket `[a, b]` with `f(a) < 0 <= f(b)` by Illinois-modified regula falsi with a
-/// bisection safeguard; returns the smallest `τ` found with `f(τ) >= 0`, to within a few ulps.
-fn refine(mut a: f64, mut b: f64, mut fa: f64, mut fb: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
-    // b stays on the non-negative side, a on the negative side.
-    let mut side = 0i32;
-    for _ in 0..200 {
-        let width = b - a;
-        if width <= 4.0 * f64::EPSILON * b.abs().max(f64::MIN_POSITIVE) {
+/// Refines a bracket `[a, b]` with `f(a) < 0 <= f(b)` by Brent's method (inverse quadratic
+/// interpolation, secant steps and bisection, as in Brent's `zeroin`); returns a `τ` with
+/// `f(τ) >= 0` within a few ulps of the root.
+fn refine(a: f64, b: f64, fa: f64, fb: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
+    // `low` keeps f < 0, `high` keeps f >= 0: the answer is `high`.
+    let (mut low, mut high, mut f_low, mut f_high) = (a, b, fa, fb);
+    // Brent's state: b the best estimate, a the previous, c the contrapoint.
+    let (mut xa, mut xb, mut fxa, mut fxb) = (a, b, fa, fb);
+    let (mut xc, mut fxc) = (xa, fxa);
+    let mut d = xb - xa;
+    let mut e = d;
+    for _ in 0..100 {
+        if high - low <= 4.0 * f64::EPSILON * high.abs().max(f64::MIN_POSITIVE) {
             break;
         }
-        let mut c = if fb - fa != 0.0 {
-            b - fb * (b - a) / (fb - fa)
+        if fxb.signum() == fxc.signum() {
+            xc = xa;
+            fxc = fxa;
+            d = xb - xa;
+            e = d;
+        }
+        if fxc.abs() < fxb.abs() {
+            xa = xb;
+            xb = xc;
+            xc = xa;
+            fxa = fxb;
+            fxb = fxc;
+            fxc = fxa;
+        }
+        let tolerance = 2.0 * f64::EPSILON * xb.abs();
+        let m = 0.5 * (xc - xb);
+        if m.abs() <= tolerance || fxb == 0.0 {
+            break;
+        }
+        if e.abs() >= tolerance && fxa.abs() > fxb.abs() {
+            let s = fxb / fxa;
+            let (mut p, mut q);
+            if xa == xc {
+                p = 2.0 * m * s;
+                q = 1.0 - s;
+            } else {
+                let qa = fxa / fxc;
+                let r = fxb / fxc;
+                p = s * (2.0 * m * qa * (qa - r) - (xb - xa) * (r - 1.0));
+                q = (qa - 1.0) * (r - 1.0) * (s - 1.0);
+            }
+            if p > 0.0 {
+                q = -q;
+            } else {
+                p = -p;
+            }
+            if 2.0 * p < (3.0 * m * q - (tolerance * q).abs()).min((e * q).abs()) {
+                e = d;
+                d = p / q;
+            } else {
+                d = m;
+                e = m;
+            }
         } else {
-            0.5 * (a + b)
+            d = m;
+            e = m;
+        }
+        xa = xb;
+        fxa = fxb;
+        xb += if d.abs() > tolerance {
+            d
+        } else {
+            tolerance.copysign(m)
         };
-        // Stay well inside the bracket; fall back to bisection when interpolation stalls.
-        let margin = 0.01 * width;
-        if !(c > a + margin && c < b - margin) {
-            c = 0.5 * (a + b);
+        fxb = f(xb);
+        if !fxb.is_finite() {
+            // Fall back to bisection of the sign bracket.
+            xb = 0.5 * (low + high);
+            fxb = f(xb);
         }
-        let mut fc = f(c);
-        if !fc.is_finite() {
-            c = 0.5 * (a + b);
-            fc = f(c);
-        }
-        if fc >= 0.0 {
-            b = c;
-            fb = fc;
-            if side == 1 {
-                fa *= 0.5;
+        if fxb >= 0.0 {
+            if xb < high {
+                high = xb;
+                f_high = fxb;
             }
-            side = 1;
-        } else {
-            a = c;
-            fa = fc;
-            if side == -1 {
-                fb *= 0.5;
-            }
-            side = -1;
+        } else if xb > low {
+            low = xb;
+            f_low = fxb;
         }
     }
-    b
+    let _ = (f_low, f_high);
+    high
 }
 
 #[cfg(test)]

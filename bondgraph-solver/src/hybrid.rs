@@ -655,12 +655,6 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let current = self.mode.clone();
         let mut segment = current.propagator.start(&self.x, &u0, &u1);
         self.stats.segments += 1;
-        let local_inputs = |tau: f64| -> (Vec<f64>, Vec<f64>) {
-            (
-                u0.iter().zip(&u1).map(|(a, b)| a + b * tau).collect(),
-                u1.clone(),
-            )
-        };
         let crossing =
             events::first_crossing(&current, &mut segment, &u0, &u1, length, &mut self.armed);
         let stop = crossing.map_or(length, |c| c.tau);
@@ -668,17 +662,24 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let n = self.x.len();
         let mut state = vec![0.0; n];
         let mut integral_state = vec![0.0; n];
+        let integrals_wanted = self.simulator.outputs.iter().any(|o| o.integral);
         if let Some(sample) = self.sample {
+            let mut u = vec![0.0; u0.len()];
             while self.next_sample <= self.t + stop {
                 let tau = (self.next_sample - self.t).max(0.0);
-                segment.state_into(tau, &mut state);
-                segment.integral_into(tau, &mut integral_state);
-                let (u, rate) = local_inputs(tau);
+                segment.state_and_integral_into(
+                    tau,
+                    &mut state,
+                    integrals_wanted.then_some(&mut integral_state[..]),
+                );
+                for (k, slot) in u.iter_mut().enumerate() {
+                    *slot = u0[k] + u1[k] * tau;
+                }
                 let values = self.simulator.output_values(
                     &current,
                     &state,
                     &u,
-                    &rate,
+                    &u1,
                     &self.integrals,
                     &integral_state,
                     &u0,
@@ -696,8 +697,11 @@ impl<'s, 'm> Stepper<'s, 'm> {
             energy.supplied += supplied;
             energy.dissipated += dissipated;
         }
-        segment.state_into(stop, &mut state);
-        segment.integral_into(stop, &mut integral_state);
+        segment.state_and_integral_into(
+            stop,
+            &mut state,
+            integrals_wanted.then_some(&mut integral_state[..]),
+        );
         for (k, output) in self.simulator.outputs.iter().enumerate() {
             if output.integral {
                 self.integrals[k] +=

@@ -70,7 +70,19 @@ pub fn eigen(a: &DMatrix<f64>) -> Result<Eigen, EigenError> {
     let (balanced, scale) = balance(a);
     let schur = nalgebra::Schur::try_new(balanced.clone(), f64::EPSILON, 10_000)
         .ok_or(EigenError::NoConvergence)?;
-    let mut values: Vec<Complex64> = schur.complex_eigenvalues().iter().copied().collect();
+    // A real eigenvalue may come out with an imaginary part of rounding size; snap it back so
+    // propagation can use real arithmetic for it.
+    let mut values: Vec<Complex64> = schur
+        .complex_eigenvalues()
+        .iter()
+        .map(|v| {
+            if v.im.abs() <= 1e-13 * v.re.abs() {
+                Complex64::new(v.re, 0.0)
+            } else {
+                *v
+            }
+        })
+        .collect();
     // Deterministic order: by real part, then imaginary part.
     values.sort_by(|x, y| {
         x.re.partial_cmp(&y.re)

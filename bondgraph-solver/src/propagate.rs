@@ -209,6 +209,40 @@ impl Segment<'_> {
         }
     }
 
+    /// The state at `τ` and, if `integral` is given, `∫₀^τ x dt`, sharing one evaluation of
+    /// the φ-functions.
+    pub fn state_and_integral_into(
+        &mut self,
+        tau: f64,
+        state: &mut [f64],
+        integral: Option<&mut [f64]>,
+    ) {
+        let Some(integral) = integral else {
+            self.state_into(tau, state);
+            return;
+        };
+        match self {
+            Segment::Modal(s) => {
+                let n = s.z0.len();
+                s.scratch.resize(2 * n, Complex64::new(0.0, 0.0));
+                for j in 0..n {
+                    let [e, phi1, phi2, phi3] = phis(s.modal.eigen.values[j] * tau);
+                    s.scratch[j] =
+                        e * s.z0[j] + s.w0[j] * phi1 * tau + s.w1[j] * phi2 * (tau * tau);
+                    s.scratch[n + j] = s.z0[j] * phi1 * tau
+                        + s.w0[j] * phi2 * (tau * tau)
+                        + s.w1[j] * phi3 * (tau * tau * tau);
+                }
+                to_real(&s.modal.eigen.vectors, &s.scratch[..n], state);
+                to_real(&s.modal.eigen.vectors, &s.scratch[n..], integral);
+            }
+            Segment::Exponential(_) => {
+                self.state_into(tau, state);
+                self.integral_into(tau, integral);
+            }
+        }
+    }
+
     /// The eigen-coordinates `z(τ)` of the state, for a modal segment (`None` otherwise):
     /// guards precomputed in eigen-coordinates evaluate from these directly.
     pub fn modal_state(&mut self, tau: f64) -> Option<&[Complex64]> {
@@ -219,7 +253,7 @@ impl Segment<'_> {
                     s.scratch[j] =
                         e * s.z0[j] + s.w0[j] * phi1 * tau + s.w1[j] * phi2 * (tau * tau);
                 }
-                Some(&s.scratch)
+                Some(&s.scratch[..s.z0.len()])
             }
             Segment::Exponential(_) => None,
         }
