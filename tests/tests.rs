@@ -6,5 +6,6 @@ mod cli;
 mod diagnostics;
 mod examples;
 mod paper;
+mod scenarios;
 mod snapshots;
 mod support;

@@ -22,6 +22,9 @@ pub enum DiagnosticKind {
     UnknownField,
     /// An element kind that does not exist (`Q(...)` instead of `I(...)`).
     UnknownElementKind,
+    /// A scenario's input signal kind that does not exist (`Rmp(...)` instead of
+    /// `Ramp(...)`).
+    UnknownSignalKind,
     /// A required field is missing.
     MissingField,
     /// Two fields that exclude each other are both given (a compliance and a stiffness).
@@ -46,7 +49,10 @@ pub enum DiagnosticKind {
     /// of two inputs, a division by an input).
     NotLinear,
     /// A parameter value, or an element's coefficient evaluated with the parameter
-    /// values, that is zero, negative or not finite where that is not allowed.
+    /// values, that is zero, negative or not finite where that is not allowed; in a
+    /// scenario, a number that is not finite, a duration or sample interval that is not
+    /// positive, a ramp that never reaches its ceiling, or table times that do not
+    /// increase.
     InvalidValue,
     /// The model has no elements.
     EmptyModel,
@@ -62,6 +68,13 @@ pub enum DiagnosticKind {
     BadMode,
     /// A requested output that names no bond of the model.
     BadOutput,
+    /// A scenario or model edit names an element, parameter or input that the model does
+    /// not have.
+    UnknownName,
+    /// A scenario gives no signal for an input the model uses.
+    MissingInput,
+    /// A scenario gives an initial state to an element that stores no energy.
+    NotStorage,
 }
 
 /// One problem found in a model, with where it is and what it concerns.

@@ -17,6 +17,7 @@
 //! assert_eq!(error.first().element.as_deref(), Some("mass"));
 //! ```
 mod checked;
+pub mod edit;
 pub mod parse;
 pub mod raw;
 pub mod source_map;

@@ -1,4 +1,4 @@
-//! Model file text to a [`RawModel`] and its [`SourceMap`], or one diagnostic.
+//! Model (and scenario) file text to a [`RawModel`] and its [`SourceMap`], or one diagnostic.
 //!
 //! ron reports an error as a code and a line/column span, phrased for programmers
 //! ("Unexpected field named `inertia` in `I`") and sometimes positioned on the whitespace
@@ -9,19 +9,51 @@
 //! the error when the whole text does not scan), and words the message in the model's
 //! own terms: `element 'mass': unknown field 'inertia'; expected 'inertance'`.
 //!
+//! Scenario files are RON of the same shape (a struct of fields whose sections are maps
+//! of named entries or lists), so [`parse_file`] reads them with the same machinery and
+//! [`FileKind`] supplies the few words that differ (`scenario`, `Scenario(...)`).
+//!
 //! ron stops at the first error, so a file that does not parse gives exactly one
 //! diagnostic; checks of the parsed model, which can report many, come later.
 
 use ron::error::{Position, SpannedError};
+use serde::de::DeserializeOwned;
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics};
 use crate::source::{SourceFile, Span};
 
 use super::raw::RawModel;
 use super::source_map::{
-    BondSpans, EntrySpans, Section, SourceMap, Token, TokenKind, closer, lex, open_brackets,
+    EntrySpans, ItemSpans, List, Section, SourceMap, Token, TokenKind, closer, lex, open_brackets,
     skip_trivia,
 };
+
+/// Which kind of file is read: the words diagnostics use for it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FileKind {
+    /// A model file, `Model(...)`.
+    Model,
+    /// A scenario file, `Scenario(...)`.
+    Scenario,
+}
+
+impl FileKind {
+    /// What messages call the file's top-level value: "model", "scenario".
+    pub fn noun(self) -> &'static str {
+        match self {
+            FileKind::Model => "model",
+            FileKind::Scenario => "scenario",
+        }
+    }
+
+    /// The optional struct name around the top-level value: "Model", "Scenario".
+    pub fn struct_name(self) -> &'static str {
+        match self {
+            FileKind::Model => "Model",
+            FileKind::Scenario => "Scenario",
+        }
+    }
+}
 
 /// Parses a model file into its raw model and the spans of its parts.
 ///
@@ -33,21 +65,35 @@ use super::source_map::{
 /// The source map normally covers every entry and bond of the raw model, one for one; if
 /// the scanner cannot read a text that ron accepted, it covers what it could read.
 pub fn parse_model(file: &SourceFile) -> Result<(RawModel, SourceMap), Diagnostics> {
+    parse_file(file, FileKind::Model)
+}
+
+/// Parses a file of `kind` into `T` (read with [`ron_options`](super::raw::ron_options))
+/// and the spans of its parts, as [`parse_model`] does for models: an empty file, or text
+/// that is not a `T`, gives one located diagnostic.
+pub fn parse_file<T: DeserializeOwned>(
+    file: &SourceFile,
+    kind: FileKind,
+) -> Result<(T, SourceMap), Diagnostics> {
     let text = file.text();
     if skip_trivia(text, 0) == Ok(text.len()) {
+        let diagnostic_kind = match kind {
+            FileKind::Model => DiagnosticKind::EmptyModel,
+            FileKind::Scenario => DiagnosticKind::Syntax,
+        };
         return Err(Diagnostic::new(
-            DiagnosticKind::EmptyModel,
-            "the file is empty; expected a Model(...)",
+            diagnostic_kind,
+            format!("the file is empty; expected a {}(...)", kind.struct_name()),
         )
         .at(file, Span::new(0, 0))
         .into());
     }
-    match RawModel::from_ron(text) {
-        Ok(model) => {
+    match super::raw::ron_options().from_str::<T>(text) {
+        Ok(value) => {
             let map = SourceMap::scan(text).unwrap_or_else(|| SourceMap::scan_partial(text));
-            Ok((model, map))
+            Ok((value, map))
         }
-        Err(error) => Err(diagnose(file, &error).into()),
+        Err(error) => Err(diagnose(file, &error, kind).into()),
     }
 }
 
@@ -111,12 +157,12 @@ fn shorten(text: &str) -> String {
     }
 }
 
-/// Where in the model an error position is.
+/// Where in the file an error position is.
 enum Place<'m> {
     /// Inside an entry of a map section.
     Entry(Section, &'m EntrySpans),
-    /// Inside the bond with this index.
-    Bond(usize, &'m BondSpans),
+    /// Inside the item of a list section with this index (a bond).
+    Item(List, usize, &'m ItemSpans),
     /// Inside a map section, between entries.
     Section(Section),
     /// In the value of another top-level field.
@@ -129,7 +175,7 @@ impl Place<'_> {
     /// The message prefix naming the entry or bond: `element 'mass': `.
     fn prefix(&self) -> String {
         match self {
-            Place::Entry(..) | Place::Bond(..) => format!("{}: ", self.name()),
+            Place::Entry(..) | Place::Item(..) => format!("{}: ", self.name()),
             Place::Section(_) | Place::Field(_) | Place::Model => String::new(),
         }
     }
@@ -139,7 +185,7 @@ impl Place<'_> {
     fn name(&self) -> String {
         match self {
             Place::Entry(section, entry) => format!("{} '{}'", section.noun(), entry.key),
-            Place::Bond(index, bond) => bond_name(*index, bond),
+            Place::Item(list, index, item) => item_name(*list, *index, item),
             Place::Section(_) | Place::Field(_) | Place::Model => String::new(),
         }
     }
@@ -153,11 +199,15 @@ impl Place<'_> {
     }
 }
 
-/// `bond 2 ('j' -> 'mass')`, or `bond 2` when its ends are not two names.
-fn bond_name(index: usize, bond: &BondSpans) -> String {
-    match &bond.ends[..] {
-        [(from, _), (to, _)] => format!("bond {} ('{from}' -> '{to}')", index + 1),
-        _ => format!("bond {}", index + 1),
+/// `bond 2 ('j' -> 'mass')`, or `bond 2` when its ends are not two names; `record item 2`
+/// for the items of other lists.
+fn item_name(list: List, index: usize, item: &ItemSpans) -> String {
+    match (list, &item.strings[..]) {
+        (List::Bonds, [(from, _), (to, _)]) => {
+            format!("bond {} ('{from}' -> '{to}')", index + 1)
+        }
+        (List::Bonds, _) => format!("bond {}", index + 1),
+        (list, _) => format!("{} item {}", list.field_name(), index + 1),
     }
 }
 
@@ -167,19 +217,24 @@ fn place_at(map: &SourceMap, offset: usize, inclusive: bool) -> Place<'_> {
     let inside = |span: Span| {
         span.contains(offset) || (inclusive && span.end == offset && span.start <= offset)
     };
-    for section in [Section::Parameters, Section::Inputs, Section::Elements] {
+    for section in Section::ALL {
         if let Some(entry) = map.entries(section).iter().find(|e| inside(e.span())) {
             return Place::Entry(section, entry);
         }
     }
-    if let Some((index, bond)) = map.bonds.iter().enumerate().find(|(_, b)| inside(b.span)) {
-        return Place::Bond(index, bond);
+    for list in List::ALL {
+        let items = map.items(list).iter().enumerate();
+        if let Some((index, item)) = items.clone().find(|(_, b)| inside(b.span)) {
+            return Place::Item(list, index, item);
+        }
     }
     match map.field_before(offset) {
-        Some((name, span)) if span.end <= offset => match Section::from_field_name(name) {
-            Some(section) => Place::Section(section),
-            None => Place::Field(name),
-        },
+        Some(field) if field.name_span.end <= offset => {
+            match Section::from_field_name(&field.name) {
+                Some(section) => Place::Section(section),
+                None => Place::Field(&field.name),
+            }
+        }
         _ => Place::Model,
     }
 }
@@ -246,7 +301,7 @@ fn line_column(file: &SourceFile, offset: usize) -> String {
 }
 
 /// Turns ron's error into one diagnostic.
-fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
+fn diagnose(file: &SourceFile, error: &SpannedError, file_kind: FileKind) -> Diagnostic {
     use DiagnosticKind as K;
     use ron::Error as E;
 
@@ -304,7 +359,7 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
     ) && matches!(place, Place::Section(_) | Place::Field(_) | Place::Model)
         && let Some(before) = token_before(text, focus.start).map(|t| t.span.end)
         && before > 0
-        && let found_before @ (Place::Entry(..) | Place::Bond(..)) =
+        && let found_before @ (Place::Entry(..) | Place::Item(..)) =
             place_at(map, before - 1, inclusive)
     {
         place = found_before;
@@ -317,20 +372,21 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
         && matches!(place, Place::Section(_) | Place::Field(_) | Place::Model)
         && let Some(before) = token_before(text, focus.start).map(|t| t.span.end)
         && before > 0
-        && let found_before @ (Place::Entry(..) | Place::Bond(..)) =
+        && let found_before @ (Place::Entry(..) | Place::Item(..)) =
             place_at(map, before - 1, inclusive)
     {
         comma_after = Some((found_before.name(), before));
         place = found_before;
     }
     let prefix = place.prefix();
+    let noun = file_kind.noun();
     let found_text = found.describe();
 
     // The span of the value the position is in, for problems with a whole value.
     let value_span = match &place {
         Place::Entry(_, entry) => entry.value_span,
-        Place::Bond(_, bond) => bond.span,
-        _ => map.model,
+        Place::Item(_, _, item) => item.span,
+        _ => map.root,
     };
     let field_name = match &place {
         Place::Entry(_, entry) => entry.field_at(focus.start).map(|f| f.name.as_str()),
@@ -345,7 +401,9 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
         (Place::Entry(section, entry), None) => {
             format!("{} '{}' must be", section.noun(), entry.key)
         }
-        (Place::Bond(index, bond), _) => format!("{} must be", bond_name(*index, bond)),
+        (Place::Item(list, index, item), _) => {
+            format!("{} must be", item_name(*list, *index, item))
+        }
         _ => "the value must be".to_string(),
     };
     let type_kind = if found.is_value() {
@@ -371,51 +429,63 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
         } => {
             let expected = one_of(expected);
             let message = match &place {
-                Place::Entry(..) | Place::Bond(..) => {
+                Place::Entry(..) | Place::Item(..) => {
                     format!("{prefix}unknown field '{found}'; expected {expected}")
                 }
-                _ => format!("unknown field '{found}' in the model; expected {expected}"),
+                _ => format!("unknown field '{found}' in the {noun}; expected {expected}"),
             };
             (K::UnknownField, message)
         }
         E::NoSuchEnumVariant {
             expected, found, ..
-        } => {
-            let message = match &place {
-                Place::Entry(Section::Elements, _) => format!(
+        } => match &place {
+            Place::Entry(Section::Inputs, _) if file_kind == FileKind::Scenario => (
+                K::UnknownSignalKind,
+                format!(
+                    "{prefix}unknown signal kind '{found}'; expected one of {}",
+                    expected.join(", ")
+                ),
+            ),
+            Place::Entry(Section::Elements, _) => (
+                K::UnknownElementKind,
+                format!(
                     "{prefix}unknown element kind '{found}'; expected one of {}",
                     expected.join(", ")
                 ),
-                _ => format!(
+            ),
+            _ => (
+                K::UnknownElementKind,
+                format!(
                     "{prefix}unknown variant '{found}'; expected one of {}",
                     expected.join(", ")
                 ),
-            };
-            (K::UnknownElementKind, message)
-        }
+            ),
+        },
         E::MissingStructField { field, .. } => {
             if !value_span.is_empty() {
                 span = value_span;
             }
             let message = match &place {
-                Place::Entry(..) | Place::Bond(..) => format!("{prefix}missing field '{field}'"),
-                _ => format!("missing field '{field}' in the model"),
+                Place::Entry(..) | Place::Item(..) => format!("{prefix}missing field '{field}'"),
+                _ => format!("missing field '{field}' in the {noun}"),
             };
             (K::MissingField, message)
         }
         E::DuplicateStructField { field, .. } => {
             let message = match &place {
-                Place::Entry(..) | Place::Bond(..) => {
+                Place::Entry(..) | Place::Item(..) => {
                     format!("{prefix}field '{field}' is given twice")
                 }
-                _ => format!("field '{field}' is given twice in the model"),
+                _ => format!("field '{field}' is given twice in the {noun}"),
             };
             (K::Syntax, message)
         }
         E::ExpectedDifferentStructName { expected, found } => {
             let message = match *expected {
-                "Model" => {
-                    format!("expected Model(...) or just (...) around the model, found '{found}'")
+                "Model" | "Scenario" => {
+                    format!(
+                        "expected {expected}(...) or just (...) around the {noun}, found '{found}'"
+                    )
                 }
                 "Bond" => format!(
                     "{prefix}expected a bond (\"from\", \"to\") or Bond(\"from\", \"to\"), found '{found}'"
@@ -426,7 +496,7 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
         }
         E::ExpectedNamedStructLike(name) if !name.is_empty() => {
             let what = match *name {
-                "Model" => "a Model(...)".to_string(),
+                "Model" | "Scenario" => format!("a {name}(...)"),
                 "Parameter" => "a parameter (value: ..., unit: \"...\")".to_string(),
                 "Input" => "an input (unit: \"...\", description: \"...\")".to_string(),
                 "Bond" => "a bond (\"from\", \"to\")".to_string(),
@@ -451,6 +521,26 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
             };
             (type_kind, message)
         }
+        E::ExpectedIdentifier | E::InvalidIdentifier(_) | E::SuggestRawIdentifier(_)
+            if file_kind == FileKind::Scenario
+                && matches!(&place, Place::Entry(Section::Inputs, entry)
+                    if focus.start == entry.value_span.start) =>
+        {
+            if let Found::Token(token, written) = &found
+                && token.kind == TokenKind::Number
+            {
+                notes.push(format!(
+                    "a constant input is written Constant({})",
+                    shorten(written)
+                ));
+            }
+            (
+                type_kind,
+                format!(
+                    "{prefix}expected a signal (Constant, Step, Ramp or Table), found {found_text}"
+                ),
+            )
+        }
         E::ExpectedIdentifier => match &place {
             Place::Entry(Section::Elements, entry) if focus.start == entry.value_span.start => (
                 type_kind,
@@ -471,10 +561,10 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
                     match section {
                         Section::Inputs => "an input",
                         Section::Parameters => "a parameter",
-                        Section::Elements => "an element",
+                        Section::Elements | Section::InitialState => "an element",
                     }
                 ),
-                Place::Bond(..) => {
+                Place::Item(List::Bonds, ..) => {
                     format!("{prefix}expected an element name in double quotes, found {found_text}")
                 }
                 _ => format!("{subject} a string in double quotes, found {found_text}"),
@@ -530,7 +620,7 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
             (type_kind, message)
         }
         E::ExpectedDifferentLength { expected, found } => match &place {
-            Place::Bond(..) => {
+            Place::Item(List::Bonds, ..) => {
                 if !value_span.is_empty() {
                     span = value_span;
                 }
@@ -601,7 +691,7 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
                 K::Syntax
             };
             let message = match &place {
-                Place::Bond(..) if found.is_value() => format!(
+                Place::Item(List::Bonds, ..) if found.is_value() => format!(
                     "{prefix}a bond names exactly two elements (\"from\", \"to\"), found another item {found_text}"
                 ),
                 _ => format!("{prefix}expected ')', found {found_text}"),
@@ -624,7 +714,7 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
         }
         E::TrailingCharacters => (
             K::Syntax,
-            format!("unexpected {found_text} after the end of the model"),
+            format!("unexpected {found_text} after the end of the {noun}"),
         ),
         E::UnexpectedChar(c) => (
             K::Syntax,
@@ -646,7 +736,7 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
         E::NoSuchExtension(name) => (
             K::Syntax,
             format!(
-                "unknown RON extension '{name}'; model files may enable implicit_some, unwrap_newtypes or unwrap_variant_newtypes"
+                "unknown RON extension '{name}'; {noun} files may enable implicit_some, unwrap_newtypes or unwrap_variant_newtypes"
             ),
         ),
         E::ExpectedAttribute | E::ExpectedAttributeEnd => (
@@ -676,7 +766,7 @@ fn diagnose(file: &SourceFile, error: &SpannedError) -> Diagnostic {
             "the file is nested too deeply to read".to_string(),
         ),
         E::Utf8Error(_) => (K::Syntax, "the file is not valid UTF-8".to_string()),
-        E::Io(message) => (K::Io, format!("could not read the model: {message}")),
+        E::Io(message) => (K::Io, format!("could not read the {noun}: {message}")),
         other => (
             K::Syntax,
             format!("{prefix}{}", lowercase_first(&other.to_string())),
@@ -829,7 +919,11 @@ Model(
         assert_eq!(map.bonds.len(), model.bonds.len());
         let keys: Vec<&str> = map.parameters.iter().map(|e| e.key.as_str()).collect();
         assert_eq!(keys, ["a", "b", "c", "d"]);
-        let ends: Vec<&str> = map.bonds[1].ends.iter().map(|(n, _)| n.as_str()).collect();
+        let ends: Vec<&str> = map.bonds[1]
+            .strings
+            .iter()
+            .map(|(n, _)| n.as_str())
+            .collect();
         assert_eq!(ends, ["y", "x"]);
         assert_eq!(map.elements[0].kind.as_deref(), Some("Zero"));
     }

@@ -1,36 +1,51 @@
-//! Where each part of a model file is: byte spans of entries, fields and bonds.
+//! Where each part of a model or scenario file is: byte spans of entries, fields and items.
 //!
 //! serde tells us where an error is, but a successfully parsed value carries no position,
 //! and later stages must still point at the file: a causal conflict found long after
 //! parsing names the element's line and column, and an unknown symbol in an expression is
 //! underlined inside the string it was written in. So, next to serde, a small independent
 //! RON scanner walks the same text and records the spans of the things users name:
-//! top-level fields, the entries of `parameters`, `inputs` and `elements` (key, kind,
-//! fields, string contents), and each bond.
+//! top-level fields and their values, the entries of the map sections (`parameters`,
+//! `inputs`, `elements`, `initial_state`: key, kind, fields, string contents), and the items
+//! of the list sections (`bonds`, `remove`, `record`).
 //!
-//! The scanner only knows the shape of a model file and skips any other value as a
+//! Model files and scenario files share this scanner: both are a struct of named fields
+//! whose sections are maps of named entries or lists of items, and a section's name says
+//! which it is in either kind of file. The scanner does not check which fields a file may
+//! have (serde does), and [`edit`](super::edit) uses the same spans to rewrite a model's
+//! text in place.
+//!
+//! The scanner only knows the shape of these files and skips any other value as a
 //! balanced group of tokens, so it accepts some texts ron rejects; it is not a validator.
-//! Entries and bonds are recorded one for one with serde's lists (file order, duplicates
+//! Entries and items are recorded one for one with serde's lists (file order, duplicates
 //! kept), so index `i` of [`SourceMap::elements`] is the span of element `i` of the raw
 //! model. Positions are byte offsets, so multi-byte characters anywhere do not shift them.
 
 use crate::source::Span;
 
-/// The spans of a model file's parts, in file order.
+/// The spans of a model or scenario file's parts, in file order. Sections the file does
+/// not have are empty.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct SourceMap {
     /// The whole top-level value, from its struct name (or `(`) to its `)`.
-    pub model: Span,
-    /// Each top-level field's name and the span of the name, in file order.
-    pub fields: Vec<(String, Span)>,
+    pub root: Span,
+    /// Each top-level field: its name, the name's span and the value's span, in file order.
+    pub fields: Vec<FieldSpan>,
     /// The entries of the `parameters` map, in file order, duplicates kept.
     pub parameters: Vec<EntrySpans>,
     /// The entries of the `inputs` map, in file order, duplicates kept.
     pub inputs: Vec<EntrySpans>,
-    /// The entries of the `elements` map, in file order, duplicates kept.
+    /// The entries of the `elements` map (model files), in file order, duplicates kept.
     pub elements: Vec<EntrySpans>,
-    /// The items of the `bonds` list, in file order.
-    pub bonds: Vec<BondSpans>,
+    /// The entries of the `initial_state` map (scenario files), in file order, duplicates
+    /// kept.
+    pub initial_state: Vec<EntrySpans>,
+    /// The items of the `bonds` list (model files), in file order.
+    pub bonds: Vec<ItemSpans>,
+    /// The items of the `remove` list (scenario files), in file order.
+    pub remove: Vec<ItemSpans>,
+    /// The items of the `record` list (scenario files), in file order.
+    pub record: Vec<ItemSpans>,
 }
 
 /// Where one `"name": value` entry of a map section is.
@@ -42,14 +57,15 @@ pub struct EntrySpans {
     pub key_span: Span,
     /// The whole value.
     pub value_span: Span,
-    /// The value's leading identifier, if any: the element kind (`"I"`, `"Zero"`), or a
-    /// struct name written before a parameter's `(...)`. A raw identifier's `r#` is removed.
+    /// The value's leading identifier, if any: the element kind (`"I"`, `"Zero"`), the
+    /// signal kind (`"Ramp"`), or a struct name written before a parameter's `(...)`. A raw
+    /// identifier's `r#` is removed.
     pub kind: Option<String>,
     /// The value's named fields, in file order.
     pub fields: Vec<FieldSpan>,
 }
 
-/// Where one `name: value` field inside an entry is.
+/// Where one `name: value` field is (inside an entry, or at the top level).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct FieldSpan {
     /// The field name.
@@ -64,34 +80,58 @@ pub struct FieldSpan {
     pub string_content: Option<Span>,
 }
 
-/// Where one bond of the `bonds` list is.
+/// Where one item of a list section is: a bond `("pump", "j1")`, or a string such as an
+/// element to remove or an output to record.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct BondSpans {
-    /// The whole item, e.g. `("pump", "j1")`.
+pub struct ItemSpans {
+    /// The whole item, e.g. `("pump", "j1")` or `"flow:ge"`.
     pub span: Span,
-    /// Each string literal in the tuple: its decoded text and the span of its content
-    /// (between the quotes).
-    pub ends: Vec<(String, Span)>,
+    /// The item's string literals: the item itself if it is one, or each string of its
+    /// tuple; each with its decoded text and the span of its content (between the quotes).
+    pub strings: Vec<(String, Span)>,
 }
 
 /// Which map section an entry is in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Section {
-    /// `parameters: {...}`.
+    /// `parameters: {...}`: a model's parameters, or a scenario's parameter values.
     Parameters,
-    /// `inputs: {...}`.
+    /// `inputs: {...}`: a model's inputs, or a scenario's input signals.
     Inputs,
-    /// `elements: {...}`.
+    /// `elements: {...}`, in model files.
     Elements,
+    /// `initial_state: {...}`, in scenario files.
+    InitialState,
+}
+
+/// Which list section an item is in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum List {
+    /// `bonds: [...]`, in model files.
+    Bonds,
+    /// `remove: [...]`, in scenario files.
+    Remove,
+    /// `record: [...]`, in scenario files.
+    Record,
 }
 
 impl Section {
-    /// What one entry of the section is called in messages: "parameter", "input", "element".
+    /// Every section, in the order lookups try them.
+    pub const ALL: [Section; 4] = [
+        Section::Parameters,
+        Section::Inputs,
+        Section::Elements,
+        Section::InitialState,
+    ];
+
+    /// What one entry of the section is called in messages: "parameter", "input",
+    /// "element", "initial state".
     pub fn noun(self) -> &'static str {
         match self {
             Section::Parameters => "parameter",
             Section::Inputs => "input",
             Section::Elements => "element",
+            Section::InitialState => "initial state",
         }
     }
 
@@ -101,17 +141,32 @@ impl Section {
             Section::Parameters => "parameters",
             Section::Inputs => "inputs",
             Section::Elements => "elements",
+            Section::InitialState => "initial_state",
         }
     }
 
     /// The section named by top-level field `name`, if it is one.
     pub fn from_field_name(name: &str) -> Option<Self> {
-        match name {
-            "parameters" => Some(Section::Parameters),
-            "inputs" => Some(Section::Inputs),
-            "elements" => Some(Section::Elements),
-            _ => None,
+        Self::ALL.into_iter().find(|s| s.field_name() == name)
+    }
+}
+
+impl List {
+    /// Every list section.
+    pub const ALL: [List; 3] = [List::Bonds, List::Remove, List::Record];
+
+    /// The list's field name in the file.
+    pub fn field_name(self) -> &'static str {
+        match self {
+            List::Bonds => "bonds",
+            List::Remove => "remove",
+            List::Record => "record",
         }
+    }
+
+    /// The list named by top-level field `name`, if it is one.
+    pub fn from_field_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|l| l.field_name() == name)
     }
 }
 
@@ -131,31 +186,56 @@ impl EntrySpans {
 
     /// The field whose name or value contains `offset`.
     pub fn field_at(&self, offset: usize) -> Option<&FieldSpan> {
-        self.fields.iter().find(|f| {
-            Span::new(f.name_span.start, f.value_span.end.max(f.name_span.end)).contains(offset)
-        })
+        self.fields.iter().find(|f| f.span().contains(offset))
+    }
+}
+
+impl FieldSpan {
+    /// From the start of the name to the end of the value.
+    pub fn span(&self) -> Span {
+        Span::new(
+            self.name_span.start,
+            self.value_span.end.max(self.name_span.end),
+        )
+    }
+
+    /// The string's content if the value is a string literal, else the whole value: where
+    /// a problem with the value's text is pointed at.
+    pub fn text_span(&self) -> Span {
+        self.string_content.unwrap_or(self.value_span)
+    }
+}
+
+impl ItemSpans {
+    /// The content of the item's only string (between the quotes) if it is one string,
+    /// else the whole item.
+    pub fn text_span(&self) -> Span {
+        match self.strings[..] {
+            [(_, content)] => content,
+            _ => self.span,
+        }
     }
 }
 
 impl SourceMap {
-    /// Scans a whole model file; `None` if the text is not a scannable model (a token RON
-    /// does not have, an unbalanced bracket, an unterminated string or comment, text after
-    /// the model, or an empty file).
+    /// Scans a whole model or scenario file; `None` if the text is not scannable (a token
+    /// RON does not have, an unbalanced bracket, an unterminated string or comment, text
+    /// after the top-level value, or an empty file).
     pub fn scan(text: &str) -> Option<SourceMap> {
         let mut walker = Walker::new(text);
-        match walker.model() {
+        match walker.document() {
             Ok(()) => Some(walker.map),
             Err(Stop) => None,
         }
     }
 
     /// Scans as much of `text` as it can: everything recorded before the first problem is
-    /// kept, and whatever was still open there (the model, an entry, a field, a bond)
-    /// extends to the end of `text`. Meant for the text up to a syntax error, to find the
-    /// entry the error is in.
+    /// kept, and whatever was still open there (the top-level value, an entry, a field, an
+    /// item) extends to the end of `text`. Meant for the text up to a syntax error, to find
+    /// the entry the error is in.
     pub fn scan_partial(text: &str) -> SourceMap {
         let mut walker = Walker::new(text);
-        let _ = walker.model();
+        let _ = walker.document();
         walker.close_open(text.len());
         walker.map
     }
@@ -166,7 +246,22 @@ impl SourceMap {
             Section::Parameters => &self.parameters,
             Section::Inputs => &self.inputs,
             Section::Elements => &self.elements,
+            Section::InitialState => &self.initial_state,
         }
+    }
+
+    /// The items of `list`.
+    pub fn items(&self, list: List) -> &[ItemSpans] {
+        match list {
+            List::Bonds => &self.bonds,
+            List::Remove => &self.remove,
+            List::Record => &self.record,
+        }
+    }
+
+    /// The top-level field called `name`, if the file has it (the first, if written twice).
+    pub fn field(&self, name: &str) -> Option<&FieldSpan> {
+        self.fields.iter().find(|f| f.name == name)
     }
 
     /// The element whose entry (key to end of value) contains byte `offset`.
@@ -174,20 +269,18 @@ impl SourceMap {
         self.elements.iter().find(|e| e.span().contains(offset))
     }
 
-    /// The parameter, input or element entry that contains byte `offset`, and its section.
+    /// The entry of any map section that contains byte `offset`, and its section.
     pub fn entry_containing(&self, offset: usize) -> Option<(Section, &EntrySpans)> {
-        [Section::Parameters, Section::Inputs, Section::Elements]
-            .into_iter()
-            .find_map(|section| {
-                self.entries(section)
-                    .iter()
-                    .find(|e| e.span().contains(offset))
-                    .map(|e| (section, e))
-            })
+        Section::ALL.into_iter().find_map(|section| {
+            self.entries(section)
+                .iter()
+                .find(|e| e.span().contains(offset))
+                .map(|e| (section, e))
+        })
     }
 
     /// The bond that contains byte `offset`, with its index in the `bonds` list.
-    pub fn bond_at(&self, offset: usize) -> Option<(usize, &BondSpans)> {
+    pub fn bond_at(&self, offset: usize) -> Option<(usize, &ItemSpans)> {
         self.bonds
             .iter()
             .enumerate()
@@ -196,11 +289,41 @@ impl SourceMap {
 
     /// The top-level field that `offset` is in: the last field whose name starts before
     /// `offset` (a field's value runs until the next field's name).
-    pub fn field_before(&self, offset: usize) -> Option<&(String, Span)> {
+    pub fn field_before(&self, offset: usize) -> Option<&FieldSpan> {
         self.fields
             .iter()
-            .take_while(|(_, span)| span.start <= offset)
+            .take_while(|f| f.name_span.start <= offset)
             .last()
+    }
+}
+
+/// The top-level items of the list that starts at the first `[` in `span` of `text`: the
+/// span of each item, in order (`[(0, 1), (2, 3)]` gives the spans of `(0, 1)` and
+/// `(2, 3)`). `None` if there is no such list or it does not scan; meant for pointing at one
+/// item of a list value that serde has already read, such as a point of a table.
+pub fn list_items(text: &str, span: Span) -> Option<Vec<Span>> {
+    let mut pos = span.start;
+    let open = loop {
+        let token = lex(text, pos).ok()??;
+        if token.span.end > span.end {
+            return None;
+        }
+        if token.is_punct(b'[') {
+            break token;
+        }
+        pos = token.span.end;
+    };
+    let mut walker = Walker::new(text);
+    walker.pos = open.span.end;
+    let mut items = Vec::new();
+    loop {
+        if walker.peek_is(b']').ok()? {
+            return Some(items);
+        }
+        let start = walker.peek().ok()??.span.start;
+        walker.value().ok()?;
+        items.push(Span::new(start, walker.last_end));
+        walker.comma_or(b']').ok()?;
     }
 }
 
@@ -580,7 +703,7 @@ impl<'a> Walker<'a> {
             pos: 0,
             last_end: 0,
             map: SourceMap {
-                model: Span::new(0, OPEN),
+                root: Span::new(0, OPEN),
                 ..SourceMap::default()
             },
         }
@@ -633,19 +756,20 @@ impl<'a> Walker<'a> {
         name.strip_prefix("r#").unwrap_or(name).to_string()
     }
 
-    fn model(&mut self) -> Step {
+    /// The whole file: attributes, then the top-level struct of named fields.
+    fn document(&mut self) -> Step {
         while self.peek()?.is_some_and(|t| t.kind == TokenKind::Attribute) {
             self.next()?;
         }
         let first = self.peek()?.ok_or(Stop)?;
-        self.map.model.start = first.span.start;
+        self.map.root.start = first.span.start;
         if first.kind == TokenKind::Ident {
             self.next()?;
         }
         self.expect(b'(')?;
         loop {
             if self.peek_is(b')')? {
-                self.map.model.end = self.next()?.span.end;
+                self.map.root.end = self.next()?.span.end;
                 break;
             }
             let name = self.next()?;
@@ -653,12 +777,27 @@ impl<'a> Walker<'a> {
                 return Err(Stop);
             }
             let field = self.ident_name(&name);
-            self.map.fields.push((field.clone(), name.span));
             self.expect(b':')?;
-            match Section::from_field_name(&field) {
-                Some(section) if self.peek_is(b'{')? => self.section(section)?,
-                None if field == "bonds" && self.peek_is(b'[')? => self.bonds()?,
-                _ => self.value()?,
+            let value_start = skip_trivia(self.text, self.pos).unwrap_or(self.pos);
+            self.map.fields.push(FieldSpan {
+                name: field.clone(),
+                name_span: name.span,
+                value_span: Span::new(value_start, OPEN),
+                string_content: None,
+            });
+            let mut content = None;
+            match (
+                Section::from_field_name(&field),
+                List::from_field_name(&field),
+            ) {
+                (Some(section), _) if self.peek_is(b'{')? => self.section(section)?,
+                (_, Some(list)) if self.peek_is(b'[')? => self.list(list)?,
+                _ => content = self.field_value()?,
+            }
+            let end = self.last_end;
+            if let Some(field) = self.map.fields.last_mut() {
+                field.value_span.end = end;
+                field.string_content = content;
             }
             self.comma_or(b')')?;
         }
@@ -673,6 +812,15 @@ impl<'a> Walker<'a> {
             Section::Parameters => &mut self.map.parameters,
             Section::Inputs => &mut self.map.inputs,
             Section::Elements => &mut self.map.elements,
+            Section::InitialState => &mut self.map.initial_state,
+        }
+    }
+
+    fn items_mut(&mut self, list: List) -> &mut Vec<ItemSpans> {
+        match list {
+            List::Bonds => &mut self.map.bonds,
+            List::Remove => &mut self.map.remove,
+            List::Record => &mut self.map.record,
         }
     }
 
@@ -797,7 +945,9 @@ impl<'a> Walker<'a> {
         Ok(None)
     }
 
-    fn bonds(&mut self) -> Step {
+    /// A list section: each item is a string, or a tuple (optionally named, as in
+    /// `Bond("a", "b")`) whose strings are recorded, or any other value.
+    fn list(&mut self, list: List) -> Step {
         self.expect(b'[')?;
         loop {
             if self.peek_is(b']')? {
@@ -805,40 +955,50 @@ impl<'a> Walker<'a> {
                 return Ok(());
             }
             let first = self.peek()?.ok_or(Stop)?;
-            self.map.bonds.push(BondSpans {
+            self.items_mut(list).push(ItemSpans {
                 span: Span::new(first.span.start, OPEN),
-                ends: Vec::new(),
+                strings: Vec::new(),
             });
-            if first.kind == TokenKind::Ident {
+            if first.kind == TokenKind::Str {
                 self.next()?;
-            }
-            if self.peek_is(b'(')? {
-                self.next()?;
-                loop {
-                    if self.peek_is(b')')? {
-                        self.next()?;
-                        break;
-                    }
-                    match self.peek()? {
-                        Some(token) if token.kind == TokenKind::Str => {
-                            self.next()?;
-                            let name = string_value(self.text, &token);
-                            if let Some(bond) = self.map.bonds.last_mut() {
-                                bond.ends.push((name, token.content));
-                            }
-                        }
-                        _ => self.value()?,
-                    }
-                    self.comma_or(b')')?;
+                self.record_string(list, &first);
+            } else {
+                if first.kind == TokenKind::Ident {
+                    self.next()?;
                 }
-            } else if first.kind != TokenKind::Ident {
-                self.value()?;
+                if self.peek_is(b'(')? {
+                    self.next()?;
+                    loop {
+                        if self.peek_is(b')')? {
+                            self.next()?;
+                            break;
+                        }
+                        match self.peek()? {
+                            Some(token) if token.kind == TokenKind::Str => {
+                                self.next()?;
+                                self.record_string(list, &token);
+                            }
+                            _ => self.value()?,
+                        }
+                        self.comma_or(b')')?;
+                    }
+                } else if first.kind != TokenKind::Ident {
+                    self.value()?;
+                }
             }
             let end = self.last_end;
-            if let Some(bond) = self.map.bonds.last_mut() {
-                bond.span.end = end;
+            if let Some(item) = self.items_mut(list).last_mut() {
+                item.span.end = end;
             }
             self.comma_or(b']')?;
+        }
+    }
+
+    /// Records string `token` in the current item of `list`.
+    fn record_string(&mut self, list: List, token: &Token) {
+        let name = string_value(self.text, token);
+        if let Some(item) = self.items_mut(list).last_mut() {
+            item.strings.push((name, token.content));
         }
     }
 
@@ -892,21 +1052,30 @@ impl<'a> Walker<'a> {
             }
             span.start = span.start.min(end);
         };
-        close(&mut self.map.model);
-        for entry in self
-            .map
+        let map = &mut self.map;
+        close(&mut map.root);
+        for field in &mut map.fields {
+            close(&mut field.value_span);
+        }
+        for entry in map
             .parameters
             .iter_mut()
-            .chain(&mut self.map.inputs)
-            .chain(&mut self.map.elements)
+            .chain(&mut map.inputs)
+            .chain(&mut map.elements)
+            .chain(&mut map.initial_state)
         {
             close(&mut entry.value_span);
             for field in &mut entry.fields {
                 close(&mut field.value_span);
             }
         }
-        for bond in &mut self.map.bonds {
-            close(&mut bond.span);
+        for item in map
+            .bonds
+            .iter_mut()
+            .chain(&mut map.remove)
+            .chain(&mut map.record)
+        {
+            close(&mut item.span);
         }
     }
 }
@@ -948,12 +1117,12 @@ Model (
     #[test]
     fn records_the_model_and_its_top_level_fields() {
         let map = SourceMap::scan(MODEL).expect("scannable");
-        assert!(at(map.model).starts_with("Model (\n    name:"));
-        assert!(at(map.model).ends_with("],\n)"));
+        assert!(at(map.root).starts_with("Model (\n    name:"));
+        assert!(at(map.root).ends_with("],\n)"));
         let fields: Vec<(&str, &str)> = map
             .fields
             .iter()
-            .map(|(name, span)| (name.as_str(), at(*span)))
+            .map(|f| (f.name.as_str(), at(f.name_span)))
             .collect();
         assert_eq!(
             fields,
@@ -1063,7 +1232,10 @@ Model (
             .map(|b| {
                 (
                     at(b.span),
-                    b.ends.iter().map(|(n, s)| (n.as_str(), at(*s))).collect(),
+                    b.strings
+                        .iter()
+                        .map(|(n, s)| (n.as_str(), at(*s)))
+                        .collect(),
                 )
             })
             .collect();
@@ -1101,7 +1273,7 @@ Model (
         assert_eq!((section, entry.key.as_str()), (Section::Elements, "pump"));
         assert_eq!(map.entry_containing(offset("cylinder")), None);
         let (index, bond) = map.bond_at(offset("\"mass\" )")).unwrap();
-        assert_eq!((index, bond.ends[1].0.as_str()), (1, "mass"));
+        assert_eq!((index, bond.strings[1].0.as_str()), (1, "mass"));
         assert_eq!(map.bond_at(offset("\"pump\",")), Some((0, &map.bonds[0])));
         assert_eq!(map.bond_at(offset(" ,")), None);
         assert_eq!(
@@ -1109,7 +1281,7 @@ Model (
             Some(&map.elements[0].fields[0])
         );
         assert_eq!(
-            map.field_before(offset("\"P_s\"")).map(|f| f.0.as_str()),
+            map.field_before(offset("\"P_s\"")).map(|f| f.name.as_str()),
             Some("inputs")
         );
     }
@@ -1165,7 +1337,7 @@ Model (
             &text[mass.fields[0].string_content.unwrap().start..][..1],
             "m"
         );
-        assert_eq!(map.model, Span::new(0, text.len()));
+        assert_eq!(map.root, Span::new(0, text.len()));
         assert_eq!(
             map.element_at(text.len() - 1).map(|e| e.key.as_str()),
             Some("mass")
@@ -1174,12 +1346,94 @@ Model (
         let bonds = SourceMap::scan_partial("(name: \"x\", bonds: [(\"a\", \"b\"), (\"c\",");
         assert_eq!(bonds.bonds.len(), 2);
         assert_eq!(
-            bonds.bonds[1].ends,
+            bonds.bonds[1].strings,
             vec![("c".to_string(), Span::new(34, 35))]
         );
         assert_eq!(bonds.bonds[1].span, Span::new(32, 37));
 
         assert_eq!(SourceMap::scan_partial(""), SourceMap::default());
+    }
+
+    /// A scenario file: the same scanner records its map sections, its lists of strings
+    /// and every top-level field's value.
+    const SCENARIO: &str = r#"Scenario(
+    name: "fig6",
+    remove: ["rubbing", r"fr_ct",],
+    parameters: { "dv": 1e-6 },
+    inputs: {
+        "P_s": Ramp(slope: 1.0e6, ceiling: 2.0e5),
+        "v_ac": Constant(5.8e-3),
+        "x": Table([(0.0, 0.0), (1.0, /* two */ 2.0) , (2.0, 2.0)]),
+    },
+    initial_mode: Some("fr_ge=stuck"),
+    initial_state: { "k": -1.0e-4 },
+    duration: 0.2,
+    record: ["flow:ge", "integral:flow:ge"],
+)"#;
+
+    #[test]
+    fn records_the_sections_and_fields_of_a_scenario() {
+        let map = SourceMap::scan(SCENARIO).expect("scannable");
+        let at = |span: Span| &SCENARIO[span.start..span.end];
+        let fields: Vec<(&str, &str)> = map
+            .fields
+            .iter()
+            .map(|f| (f.name.as_str(), at(f.value_span)))
+            .collect();
+        assert_eq!(fields[0], ("name", "\"fig6\""));
+        assert_eq!(fields[1], ("remove", "[\"rubbing\", r\"fr_ct\",]"));
+        assert_eq!(fields[5], ("initial_state", "{ \"k\": -1.0e-4 }"));
+        assert_eq!(fields[6], ("duration", "0.2"));
+        assert_eq!(map.field("name").unwrap().text_span(), Span::new(21, 25));
+        let mode = map.field("initial_mode").unwrap();
+        assert_eq!(at(mode.value_span), "Some(\"fr_ge=stuck\")");
+        assert_eq!(at(mode.text_span()), "fr_ge=stuck");
+
+        let strings = |list: List| -> Vec<(String, &str)> {
+            map.items(list)
+                .iter()
+                .map(|item| (item.strings[0].0.clone(), at(item.text_span())))
+                .collect()
+        };
+        assert_eq!(
+            strings(List::Remove),
+            [("rubbing".into(), "rubbing"), ("fr_ct".into(), "fr_ct")]
+        );
+        assert_eq!(at(map.remove[1].span), "r\"fr_ct\"");
+        assert_eq!(
+            strings(List::Record),
+            [
+                ("flow:ge".into(), "flow:ge"),
+                ("integral:flow:ge".into(), "integral:flow:ge")
+            ]
+        );
+
+        assert_eq!(at(map.parameters[0].value_span), "1e-6");
+        let inputs: Vec<(&str, Option<&str>, &str)> = map
+            .inputs
+            .iter()
+            .map(|e| (e.key.as_str(), e.kind.as_deref(), at(e.value_span)))
+            .collect();
+        assert_eq!(inputs[1], ("v_ac", Some("Constant"), "Constant(5.8e-3)"));
+        let ramp = &map.inputs[0];
+        assert_eq!(at(ramp.field("ceiling").unwrap().value_span), "2.0e5");
+        assert_eq!(map.initial_state[0].key, "k");
+        assert_eq!(at(map.initial_state[0].value_span), "-1.0e-4");
+        let (section, entry) = map
+            .entry_containing(SCENARIO.find("-1.0e-4").unwrap())
+            .unwrap();
+        assert_eq!((section, entry.key.as_str()), (Section::InitialState, "k"));
+
+        let table = map.inputs[2].value_span;
+        let points: Vec<&str> = list_items(SCENARIO, table)
+            .unwrap()
+            .into_iter()
+            .map(at)
+            .collect();
+        assert_eq!(points, ["(0.0, 0.0)", "(1.0, /* two */ 2.0)", "(2.0, 2.0)"]);
+        assert_eq!(list_items(SCENARIO, ramp.value_span), None);
+        assert_eq!(list_items("[1, (2", Span::new(0, 6)), None);
+        assert_eq!(list_items("[]", Span::new(0, 2)), Some(vec![]));
     }
 
     #[test]

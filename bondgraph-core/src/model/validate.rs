@@ -35,7 +35,7 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
     };
 
     if raw.elements.is_empty() {
-        let span = v.field_span("elements").unwrap_or(map.model);
+        let span = v.field_span("elements").unwrap_or(map.root);
         v.problems.push(
             Diagnostic::new(
                 DiagnosticKind::EmptyModel,
@@ -153,12 +153,12 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
     let mut bonds = Vec::new();
     for (index, raw_bond) in raw.bonds.iter().enumerate() {
         let bond_spans = map.bonds.get(index);
-        let span = bond_spans.map_or(map.model, |b| b.span);
+        let span = bond_spans.map_or(map.root, |b| b.span);
         let mut ends = [ElementId(u32::MAX); 2];
         let mut ok = true;
         for (side, name) in [&raw_bond.0, &raw_bond.1].into_iter().enumerate() {
             let end_span = bond_spans
-                .and_then(|b| b.ends.get(side))
+                .and_then(|b| b.strings.get(side))
                 .map_or(span, |(_, s)| *s);
             match element_index.get(name) {
                 Some(id) if id.0 != u32::MAX => ends[side] = *id,
@@ -257,15 +257,11 @@ enum Sign {
 
 impl Validator<'_> {
     fn entry_span(&self, entries: &[EntrySpans], index: usize) -> Span {
-        entries.get(index).map_or(self.map.model, |e| e.key_span)
+        entries.get(index).map_or(self.map.root, |e| e.key_span)
     }
 
     fn field_span(&self, name: &str) -> Option<Span> {
-        self.map
-            .fields
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, s)| *s)
+        self.map.field(name).map(|f| f.name_span)
     }
 
     fn field_value_span(&self, entries: &[EntrySpans], index: usize, field: &str) -> Option<Span> {

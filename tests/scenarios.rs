@@ -1,0 +1,177 @@
+//! Model edits and scenarios on the real model files: the eversion robot without its
+//! catheter, parameter changes, and the example scenarios in `models/scenarios/`.
+
+use bondgraph_core::equations::Options;
+use bondgraph_core::model::{
+    self,
+    edit::{self, Edit},
+};
+use bondgraph_core::modes::{self, Mode};
+use bondgraph_core::source::SourceFile;
+use bondgraph_core::{Diagnostic, DiagnosticKind};
+
+use crate::support::root;
+
+const ROBOT: &str = "models/eversion/robot.ron";
+
+/// The catheter and everything that only serves it.
+const CATHETER: [&str; 7] = [
+    "rubbing",
+    "fr_ct",
+    "catheter",
+    "ct",
+    "servo_force",
+    "servo",
+    "servo_command",
+];
+
+fn read(relative: &str) -> std::sync::Arc<SourceFile> {
+    let text = std::fs::read_to_string(root().join(relative))
+        .unwrap_or_else(|e| panic!("{relative}: {e}"));
+    SourceFile::new(relative, text)
+}
+
+fn remove(names: &[&str]) -> Edit {
+    Edit {
+        remove: names.iter().map(|s| s.to_string()).collect(),
+        parameters: Vec::new(),
+    }
+}
+
+/// Kind, message, line and column of a located diagnostic.
+fn summary(d: &Diagnostic) -> (DiagnosticKind, &str, usize, usize) {
+    let location = d.location.as_ref().expect("located");
+    (d.kind, d.message.as_str(), location.line, location.column)
+}
+
+#[test]
+fn the_robot_without_its_catheter() {
+    let robot = read(ROBOT);
+    let edited = edit::apply(&robot, &remove(&CATHETER)).unwrap();
+    assert_eq!(edited.name(), "models/eversion/robot.ron (edited)");
+    let model = model::load_source(&edited).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(model.elements.len(), 10);
+    assert_eq!(model.bonds.len(), 9);
+    for name in CATHETER {
+        assert_eq!(model.element_named(name), None, "{name}");
+    }
+    // The comments and the rest of the file are kept as written.
+    assert!(
+        edited
+            .text()
+            .starts_with(robot.text().lines().next().unwrap())
+    );
+    assert!(edited.text().contains("        // Tip to inner structure:"));
+    assert!(
+        edited
+            .text()
+            .contains("        (\"active_channel\", \"channel\"),\n    ],\n")
+    );
+    // The tip is stuck at the nozzle and the string taut: the initial mode derives, with
+    // the string's stretch as its only state (the stuck tip holds no momentum).
+    let initial = Mode::initial(&model);
+    assert_eq!(initial.spec(&model), "fr_ge=stuck,k=taut");
+    let derived = modes::derive(&model, &initial, &Options::default()).unwrap();
+    let states: Vec<&str> = derived
+        .equations
+        .states
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect();
+    assert_eq!(states, ["q_k"]);
+}
+
+#[test]
+fn setting_the_dead_band() {
+    let robot = read(ROBOT);
+    let edit = Edit {
+        remove: Vec::new(),
+        parameters: vec![("dv".into(), 2.5e-7), ("K_p".into(), 6.0e4)],
+    };
+    let edited = edit::apply(&robot, &edit).unwrap();
+    assert!(edited.text().contains(
+        "\"dv\": (value: 2.5e-7, unit: \"m/s\", description: \"Karnopp dead band (not given in the paper)\"),"
+    ));
+    let model = model::load_source(&edited).unwrap();
+    let value = |name: &str| {
+        model
+            .parameters
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| p.value)
+    };
+    assert_eq!(value("dv"), Some(2.5e-7));
+    assert_eq!(value("K_p"), Some(6.0e4));
+    assert_eq!(value("b"), Some(1250.0));
+    assert_eq!(edited.text().lines().count(), robot.text().lines().count());
+}
+
+#[test]
+fn edits_the_robot_does_not_allow() {
+    let robot = read(ROBOT);
+    let edit = Edit {
+        remove: vec!["catheterr".into()],
+        parameters: vec![("dV".into(), 1.0), ("b".into(), f64::NAN)],
+    };
+    let error = edit::apply(&robot, &edit).unwrap_err();
+    let got: Vec<_> = error.iter().map(summary).collect();
+    assert_eq!(
+        got,
+        [
+            (
+                DiagnosticKind::UnknownName,
+                "cannot remove element 'catheterr': model 'eversion_robot' has no element 'catheterr'",
+                60,
+                5
+            ),
+            (
+                DiagnosticKind::UnknownName,
+                "cannot set parameter 'dV': model 'eversion_robot' has no parameter 'dV'",
+                38,
+                5
+            ),
+            (
+                DiagnosticKind::InvalidValue,
+                "cannot set parameter 'b' to NaN: the value must be a finite number",
+                45,
+                9
+            ),
+        ]
+    );
+    assert_eq!(error.0[0].notes, ["did you mean 'catheter'?"]);
+    assert_eq!(error.0[1].notes, ["did you mean 'dv'?"]);
+    assert_eq!(error.0[2].element.as_deref(), Some("b"));
+}
+
+#[test]
+fn a_junction_left_with_one_bond_is_reported_when_the_edit_is_loaded() {
+    let robot = read(ROBOT);
+    // Without the tip's mass (a line above 'rubbing') and without what 'rubbing' joins.
+    let edited = edit::apply_traced(&robot, &remove(&["ge", "fr_ct", "catheter"])).unwrap();
+    let error = model::load_source(&edited.file).unwrap_err();
+    let first = error.first();
+    assert_eq!(
+        summary(first),
+        (
+            DiagnosticKind::BondCount,
+            "0-junction 'rubbing' has 1 bond; a junction joins two or more",
+            71,
+            9
+        )
+    );
+    assert_eq!(
+        first.location.as_ref().unwrap().file,
+        "models/eversion/robot.ron (edited)"
+    );
+    // Traced back to the robot's own file, line 72.
+    let relocated = edited.relocate(first.clone(), &robot);
+    let location = relocated.location.unwrap();
+    assert_eq!(
+        (location.file.as_str(), location.line, location.column),
+        (ROBOT, 72, 9)
+    );
+    assert_eq!(
+        &robot.text()[location.span.start..location.span.end],
+        "\"rubbing\""
+    );
+}
