@@ -5,6 +5,10 @@
 //! model file, and any failure exits non-zero.
 
 mod diagnostics;
+#[allow(dead_code)]
+mod plot;
+#[allow(dead_code)]
+mod trajectory;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
