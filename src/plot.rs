@@ -531,6 +531,7 @@ mod tests {
                 events: 3,
                 modes: 4,
             },
+            energy: None,
         }
     }
 

@@ -192,6 +192,7 @@ mod tests {
                 events: 1,
                 modes: 2,
             },
+            energy: None,
         }
     }
 
