@@ -1,0 +1,130 @@
+//! Optional model reduction: taking out parasitic storage.
+//!
+//! A mass or compliance whose time constant is many orders of magnitude below every other
+//! (the eversion robot's 5e-15 kg tip against a 1250 N·s/m damper: 4e-18 s) makes the state
+//! equations stiff without changing anything at the time scales of interest. Removing it is
+//! the singular-perturbation limit: its junction then balances its efforts (or flows)
+//! algebraically, and causality gives the velocity it carried to a neighbouring resistor.
+//! Finding such elements takes numbers (eigenvalues), which is the solver's business
+//! (`bondgraph_solver::parasitic`); this module performs the reduction as an ordinary model
+//! edit, so the reduced model is a model file like any other, and reports what it removed.
+//! It is never applied silently.
+
+use std::sync::Arc;
+
+use crate::diagnostics::{Diagnostic, DiagnosticKind, Result};
+use crate::model::edit::{self, Edit};
+use crate::model::{ElementKind, Model};
+use crate::source::SourceFile;
+
+/// A model with storage elements removed.
+#[derive(Clone, Debug)]
+pub struct Reduced {
+    /// The reduced model.
+    pub model: Model,
+    /// Its text.
+    pub source: Arc<SourceFile>,
+    /// The storage elements removed.
+    pub removed: Vec<String>,
+}
+
+/// `model` (read from `source`) without the storage elements `elements`.
+///
+/// # Errors
+/// [`DiagnosticKind::UndefinedElement`] for a name that is not an element,
+/// [`DiagnosticKind::InvalidValue`] for an element that stores no energy (only inertias and
+/// compliances can be parasitic), and whatever the reduced model breaks (a junction left
+/// with one bond).
+pub fn without_storage(model: &Model, source: &SourceFile, elements: &[String]) -> Result<Reduced> {
+    for name in elements {
+        let Some(id) = model.element_named(name) else {
+            return Err(Diagnostic::new(
+                DiagnosticKind::UndefinedElement,
+                format!(
+                    "cannot reduce '{name}': model '{}' has no such element",
+                    model.name
+                ),
+            )
+            .element(name.clone())
+            .into());
+        };
+        let element = model.element(id);
+        if !matches!(
+            element.kind,
+            ElementKind::Inertia(_) | ElementKind::Compliance(_)
+        ) {
+            return Err(Diagnostic::new(
+                DiagnosticKind::InvalidValue,
+                format!(
+                    "cannot reduce '{name}': it is a {}, and only inertias and compliances can be parasitic storage",
+                    element.kind.description()
+                ),
+            )
+            .at_location(model.locate_element(id))
+            .element(name.clone())
+            .into());
+        }
+    }
+    let edit = Edit {
+        remove: elements.to_vec(),
+        parameters: Vec::new(),
+    };
+    let edited = edit::apply(source, &edit)?;
+    let reduced_source = SourceFile::new(
+        format!("{} (without {})", source.name(), elements.join(", ")),
+        edited.text(),
+    );
+    let model = crate::model::load_source(&reduced_source)?;
+    Ok(Reduced {
+        model,
+        source: reduced_source,
+        removed: elements.to_vec(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TWO_MASSES: &str = r#"Model(name: "tip",
+        parameters: {"m": (value: 1e-12), "M": (value: 2.0), "b": (value: 3.0), "k": (value: 5.0)},
+        inputs: {"F": ()},
+        elements: {"push": Se(effort: "F"), "v": One, "tiny": I(inertance: "m"),
+                   "damper": R(resistance: "b"), "coupling": Zero, "spring": C(stiffness: "k"),
+                   "w": One, "body": I(inertance: "M")},
+        bonds: [("push", "v"), ("v", "tiny"), ("v", "damper"), ("v", "coupling"),
+                ("coupling", "spring"), ("coupling", "w"), ("w", "body")])"#;
+
+    #[test]
+    fn removing_a_tiny_mass_leaves_a_valid_model_with_one_state_less() {
+        let source = SourceFile::new("tip.ron", TWO_MASSES);
+        let model = crate::model::load_source(&source).unwrap();
+        let reduced = without_storage(&model, &source, &["tiny".into()]).unwrap();
+        assert_eq!(reduced.removed, ["tiny"]);
+        assert_eq!(reduced.model.elements.len(), model.elements.len() - 1);
+        assert_eq!(reduced.source.name(), "tip.ron (without tiny)");
+        // By hand: without the tiny mass the damper sets v from F - k q = b v, so with states
+        // (q_spring, p_body): dq/dt = v - p/M = -(k/b) q - p/M + F/b and dp/dt = k q.
+        let laws = crate::laws::plain_laws(&reduced.model);
+        let eq = crate::equations::derive(&reduced.model, &laws, &Default::default()).unwrap();
+        let names: Vec<&str> = eq.states.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["q_spring", "p_body"]);
+        let text = |rows: Vec<Vec<crate::symbolic::RatFunc>>| -> Vec<Vec<String>> {
+            rows.iter()
+                .map(|r| r.iter().map(|e| e.text(&eq.symbols)).collect())
+                .collect()
+        };
+        assert_eq!(text(eq.a()), [["-k/b", "-1/M"], ["k", "0"]]);
+        assert_eq!(text(eq.b()), [["1/b"], ["0"]]);
+    }
+
+    #[test]
+    fn only_storage_can_be_removed() {
+        let source = SourceFile::new("tip.ron", TWO_MASSES);
+        let model = crate::model::load_source(&source).unwrap();
+        let error = without_storage(&model, &source, &["damper".into()]).unwrap_err();
+        assert_eq!(error.first().kind, DiagnosticKind::InvalidValue);
+        let error = without_storage(&model, &source, &["nope".into()]).unwrap_err();
+        assert_eq!(error.first().kind, DiagnosticKind::UndefinedElement);
+    }
+}
