@@ -6,7 +6,10 @@
 //! fragments with a physical cause) that could explain what the model gets wrong, and selects
 //! among them on held-out data, saying when the data cannot tell candidates apart.
 //!
-//! For now it holds the first step, [`data`]: the CSV format of measured data, its reader
-//! (which refuses bad rows and says where they are) and its writer (for synthetic data).
+//! - [`data`]: the CSV format of measured data, its reader (which refuses bad rows and says
+//!   where they are) and its writer (for synthetic data);
+//! - [`experiment`]: the protocol that turns a row of data into a simulation, and the
+//!   prediction of rows as steady states.
 
 pub mod data;
+pub mod experiment;

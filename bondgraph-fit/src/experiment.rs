@@ -1,0 +1,251 @@
+//! How a row of measured data becomes a simulation: the experimental protocol, as data.
+//!
+//! A measurement says "at this pressure, channel speed and catheter speed, the tip settled at
+//! this velocity". To predict it, a model must know which of its inputs those conditions set,
+//! in which units, which output is the tip velocity, what "no catheter in the lumen" means for
+//! its structure, and where each run starts. That knowledge belongs to the model, not to the
+//! program, so it lives in a small RON file next to the model (for the flagship,
+//! `models/eversion/experiment.ron`):
+//!
+//! ```ron
+//! Experiment(
+//!     pressure: "P_s",                 // the model input set by P_s_kPa (in Pa)
+//!     channel_velocity: "v_ac",        // set by v_ac_mm_s (in m/s)
+//!     catheter_velocity: "v_ct_des",   // set by v_ct_mm_s (in m/s)
+//!     tip_velocity: "flow:ge",         // the output compared with v_ge_mm_s
+//!     without_catheter: ["rubbing", "fr_ct", "catheter", "ct", "servo_force", "servo", "servo_command"],
+//!     initial_mode: "fr_ge=stuck,k=taut,fr_ct=stuck",
+//! )
+//! ```
+//!
+//! Each row is predicted as the steady state reached from rest (every storage element empty)
+//! in `initial_mode`, with the row's conditions held constant: the experiments set the
+//! pressure, then moved the channel at constant speed and filmed the tip once steady.
+
+use std::sync::Arc;
+
+use bondgraph_core::equations::OutputSpec;
+use bondgraph_core::model::edit::{self, Edit};
+use bondgraph_core::model::{self, Model};
+use bondgraph_core::modes::Mode;
+use bondgraph_core::source::SourceFile;
+use bondgraph_solver::steady::{SteadySettings, steady_state};
+use bondgraph_solver::{Output, Simulator};
+use serde::Deserialize;
+
+use crate::data::Measurement;
+
+/// The experimental protocol of a model.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(rename = "Experiment", deny_unknown_fields)]
+pub struct Experiment {
+    /// The model input set by the supply pressure.
+    pub pressure: String,
+    /// The model input set by the active-channel velocity.
+    pub channel_velocity: String,
+    /// The model input set by the catheter velocity.
+    pub catheter_velocity: String,
+    /// The output compared with the measured tip velocity (`flow:ge`).
+    pub tip_velocity: String,
+    /// The elements removed when a row has no catheter.
+    pub without_catheter: Vec<String>,
+    /// The mode every run starts in; assignments to removed elements are dropped.
+    pub initial_mode: String,
+}
+
+/// Why a prediction failed.
+#[derive(Clone, Debug)]
+pub struct ExperimentError(pub String);
+
+impl std::fmt::Display for ExperimentError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ExperimentError {}
+
+impl Experiment {
+    /// Reads an experiment description from RON text, naming `name` in errors.
+    ///
+    /// # Errors
+    /// Syntax errors and unknown or missing fields, with the line and column.
+    pub fn parse(name: &str, text: &str) -> Result<Self, ExperimentError> {
+        ron::Options::default()
+            .from_str(text)
+            .map_err(|e| ExperimentError(format!("{name}:{}:{}: {}", e.span.start.line, e.span.start.col, e.code)))
+    }
+}
+
+/// One model variant ready to predict rows: the model and its simulator's setup.
+struct Variant {
+    model: Model,
+    pressure: usize,
+    channel: usize,
+    catheter: Option<usize>,
+    output: OutputSpec,
+    initial: Mode,
+}
+
+/// Predicts the steady tip velocity of measurements with a model.
+pub struct Predictor {
+    with_catheter: Variant,
+    without_catheter: Option<Variant>,
+    settings: SteadySettings,
+}
+
+impl Predictor {
+    /// Prepares `model` (read from `source`) for `experiment`: the model as is for rows with a
+    /// catheter, and without the catheter's elements for rows without one.
+    ///
+    /// # Errors
+    /// When the experiment names inputs, outputs or elements the model does not have, or the
+    /// model without its catheter is not valid.
+    pub fn new(model: Model, source: &Arc<SourceFile>, experiment: &Experiment) -> Result<Self, ExperimentError> {
+        let without = if experiment.without_catheter.is_empty() {
+            None
+        } else {
+            let edit = Edit {
+                remove: experiment.without_catheter.clone(),
+                parameters: Vec::new(),
+            };
+            let edited = edit::apply(source, &edit).map_err(|d| ExperimentError(d.to_string()))?;
+            let reduced = model::load_source(&edited).map_err(|d| ExperimentError(d.to_string()))?;
+            Some(Variant::new(with_values(reduced, &model), experiment, false)?)
+        };
+        Ok(Self {
+            with_catheter: Variant::new(model, experiment, true)?,
+            without_catheter: without,
+            settings: SteadySettings::default(),
+        })
+    }
+
+    /// The model used for rows with a catheter.
+    pub fn model(&self) -> &Model {
+        &self.with_catheter.model
+    }
+
+    /// Sets parameter values (by name) in every variant, for calibration; the structure and
+    /// so the symbolic equations do not change.
+    ///
+    /// # Errors
+    /// When a name is not a parameter of the model.
+    pub fn set_parameters(&mut self, values: &[(String, f64)]) -> Result<(), ExperimentError> {
+        for variant in std::iter::once(&mut self.with_catheter).chain(self.without_catheter.as_mut()) {
+            for (name, value) in values {
+                let parameter = variant
+                    .model
+                    .parameters
+                    .iter_mut()
+                    .find(|p| &p.name == name)
+                    .ok_or_else(|| ExperimentError(format!("'{name}' is not a parameter of model '{}'", variant.model.name)))?;
+                parameter.value = *value;
+                variant.model.values[parameter.symbol.index()] = *value;
+            }
+        }
+        Ok(())
+    }
+
+    /// The predicted steady tip velocity of each row, in mm/s.
+    ///
+    /// # Errors
+    /// When a simulation fails or does not settle.
+    pub fn predict(&self, rows: &[Measurement]) -> Result<Vec<f64>, ExperimentError> {
+        let mut predictions = vec![f64::NAN; rows.len()];
+        for (variant, with) in [(Some(&self.with_catheter), true), (self.without_catheter.as_ref(), false)] {
+            let indices: Vec<usize> = (0..rows.len())
+                .filter(|&i| rows[i].catheter_velocity_mm_s.is_some() == with)
+                .collect();
+            if indices.is_empty() {
+                continue;
+            }
+            let Some(variant) = variant else {
+                return Err(ExperimentError(
+                    "rows without a catheter, but the experiment names no catheter elements to remove".into(),
+                ));
+            };
+            let outputs = vec![Output {
+                name: "tip".into(),
+                spec: variant.output.clone(),
+                integral: false,
+            }];
+            let mut simulator = Simulator::new(&variant.model, outputs);
+            let storage = simulator.storage().len();
+            for i in indices {
+                let row = &rows[i];
+                let mut inputs = vec![0.0; variant.model.inputs.len()];
+                inputs[variant.pressure] = row.pressure_kpa * 1e3;
+                inputs[variant.channel] = row.channel_velocity_mm_s * 1e-3;
+                if let (Some(k), Some(v)) = (variant.catheter, row.catheter_velocity_mm_s) {
+                    inputs[k] = v * 1e-3;
+                }
+                let steady = steady_state(
+                    &mut simulator,
+                    &inputs,
+                    variant.initial.clone(),
+                    vec![0.0; storage],
+                    &self.settings,
+                )
+                .map_err(|e| ExperimentError(format!("row {} ({}): {e}", row.row, describe(row))))?;
+                predictions[i] = steady.outputs[0] * 1e3;
+            }
+        }
+        Ok(predictions)
+    }
+}
+
+/// `reduced` with the parameter values of `original` (the edit keeps the file's values; a
+/// calibrated model may have others).
+fn with_values(mut reduced: Model, original: &Model) -> Model {
+    for parameter in &mut reduced.parameters {
+        if let Some(source) = original.parameters.iter().find(|p| p.name == parameter.name) {
+            parameter.value = source.value;
+            reduced.values[parameter.symbol.index()] = source.value;
+        }
+    }
+    reduced
+}
+
+fn describe(row: &Measurement) -> String {
+    match row.catheter_velocity_mm_s {
+        Some(v) => format!("P_s = {} kPa, v_ac = {} mm/s, v_ct = {v} mm/s", row.pressure_kpa, row.channel_velocity_mm_s),
+        None => format!("P_s = {} kPa, v_ac = {} mm/s, no catheter", row.pressure_kpa, row.channel_velocity_mm_s),
+    }
+}
+
+impl Variant {
+    fn new(model: Model, experiment: &Experiment, with_catheter: bool) -> Result<Self, ExperimentError> {
+        let input = |name: &str| {
+            model
+                .input_named(name)
+                .map(|i| i.index())
+                .ok_or_else(|| ExperimentError(format!("the experiment's input '{name}' is not an input of model '{}'", model.name)))
+        };
+        let pressure = input(&experiment.pressure)?;
+        let channel = input(&experiment.channel_velocity)?;
+        let catheter = if with_catheter {
+            Some(input(&experiment.catheter_velocity)?)
+        } else {
+            None
+        };
+        let output = OutputSpec::parse(&model, &experiment.tip_velocity).map_err(|d| ExperimentError(d.to_string()))?;
+        // Keep the assignments to elements this variant has.
+        let spec: Vec<&str> = experiment
+            .initial_mode
+            .split(',')
+            .filter(|part| {
+                part.split_once('=')
+                    .is_some_and(|(name, _)| model.element_named(name.trim()).is_some())
+            })
+            .collect();
+        let initial = Mode::parse(&model, &spec.join(",")).map_err(|d| ExperimentError(d.to_string()))?;
+        Ok(Self {
+            model,
+            pressure,
+            channel,
+            catheter,
+            output,
+            initial,
+        })
+    }
+}

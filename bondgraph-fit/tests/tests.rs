@@ -1,0 +1,4 @@
+//! Whole-crate tests of the fit crate on the bundled models and data.
+
+mod support;
+mod tables;
