@@ -3,7 +3,7 @@
 //! A model file says what the system is; a scenario file says what is done to it: the
 //! signal on every input, the mode and state it starts in, how long it runs and what is
 //! recorded, and which variant of the model is used (elements removed, parameter values
-//! changed; see [`edit`]. Keeping these apart lets one model serve
+//! changed; see [`edit`]). Keeping these apart lets one model serve
 //! every experiment (each figure of a paper is one scenario), and lets a scenario state
 //! its variant of the model in two lines instead of a copy of the model file.
 //!
