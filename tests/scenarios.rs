@@ -7,10 +7,11 @@ use bondgraph_core::model::{
     edit::{self, Edit},
 };
 use bondgraph_core::modes::{self, Mode};
+use bondgraph_core::scenario::{self, Record, Signal};
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::{Diagnostic, DiagnosticKind};
 
-use crate::support::root;
+use crate::support::{ron_files, root};
 
 const ROBOT: &str = "models/eversion/robot.ron";
 
@@ -174,4 +175,89 @@ fn a_junction_left_with_one_bond_is_reported_when_the_edit_is_loaded() {
         &robot.text()[location.span.start..location.span.end],
         "\"rubbing\""
     );
+}
+
+/// Every file in `models/scenarios/` loads against the model it names in its first line.
+#[test]
+fn every_example_scenario_loads() {
+    let files = ron_files("models/scenarios");
+    assert!(files.len() >= 2, "{files:?}");
+    for relative in files {
+        let source = read(&relative);
+        let first = source.text().lines().next().unwrap();
+        let model = first
+            .split(['(', ')'])
+            .find(|part| part.starts_with("models/"))
+            .unwrap_or_else(|| panic!("{relative}: the first line names the model"));
+        scenario::load(&source, &read(model)).unwrap_or_else(|e| panic!("{relative}:\n{e}"));
+    }
+}
+
+#[test]
+fn belt_stick_slip() {
+    let scenario = scenario::load(
+        &read("models/scenarios/belt_stick_slip.ron"),
+        &read("models/examples/belt_friction.ron"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scenario.name, "belt_stick_slip");
+    assert_eq!(
+        scenario.model.source.name(),
+        "models/examples/belt_friction.ron"
+    );
+    assert_eq!(scenario.inputs, [Signal::Constant(0.1)]);
+    assert_eq!(scenario.duration, 3.0);
+    assert_eq!(scenario.sample, Some(1.0e-3));
+    let records: Vec<String> = scenario.record.iter().map(Record::name).collect();
+    assert_eq!(records, ["flow:block", "effort:spring"]);
+    assert_eq!(
+        scenario.initial_mode.spec(&scenario.model),
+        "friction=stuck"
+    );
+    assert!(scenario.initial_state.is_empty());
+    assert!(scenario.breakpoints().is_empty());
+}
+
+#[test]
+fn robot_growth_without_the_catheter() {
+    let scenario = scenario::load(&read("models/scenarios/robot_growth.ron"), &read(ROBOT))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let model = &scenario.model;
+    assert_eq!(model.source.name(), "models/eversion/robot.ron (edited)");
+    assert_eq!((model.elements.len(), model.bonds.len()), (10, 9));
+    // P_s, v_ac, and v_ct_des, which drives nothing once the servo is removed.
+    let names: Vec<&str> = model.inputs.iter().map(|i| i.name.as_str()).collect();
+    assert_eq!(names, ["P_s", "v_ac", "v_ct_des"]);
+    assert_eq!(scenario.inputs[2], Signal::Constant(0.0));
+    // The tip breaks away when A P_s = 1e-4 m^2 * P_s reaches 11.7 N: at 117 kPa, t = 0.117 s.
+    let pressure = &scenario.inputs[0];
+    assert_eq!(pressure.ceiling_time(), Some(0.13));
+    assert!((pressure.value(0.117) - 1.17e5).abs() < 1e-6);
+    assert_eq!(scenario.breakpoints(), [0.0, 0.13]);
+    assert_eq!(scenario.initial_mode.spec(model), "fr_ge=stuck,k=slack");
+    let derived = modes::derive(model, &scenario.initial_mode, &Options::default()).unwrap();
+    assert_eq!(derived.equations.states.len(), 1);
+    assert!(matches!(scenario.record[2], Record::Integral(_)));
+}
+
+/// A scenario that asks for the catheter it removes is told so, in its own file.
+#[test]
+fn a_scenario_that_uses_what_it_removes() {
+    let text = read("models/scenarios/robot_growth.ron")
+        .text()
+        .replace("\"effort:k\"", "\"flow:ct\"");
+    let error =
+        scenario::load(&SourceFile::new("robot_growth.ron", text), &read(ROBOT)).unwrap_err();
+    let d = error.first();
+    assert_eq!(
+        summary(d),
+        (
+            DiagnosticKind::BadOutput,
+            "output 'flow:ct': the model has no element 'ct'",
+            19,
+            26
+        )
+    );
+    assert_eq!(d.notes, ["the scenario removes 'ct'"]);
+    assert_eq!(d.element.as_deref(), Some("ct"));
 }

@@ -8,7 +8,9 @@
 //! Each stage is a value that can be printed and tested on its own:
 //! [`model`] (the checked model), [`causality`] (causal strokes, derivative causality,
 //! arbitrary choices), [`equations`] (symbolic, sparse state equations, printable as text,
-//! LaTeX and JSON).
+//! LaTeX and JSON), [`modes`] (the modes of switching elements), and [`scenario`] (how a
+//! model is driven in a simulation: input signals, initial conditions, what to record, and
+//! the model's variant, made by [`model::edit`]).
 //!
 //! # Example
 //!
@@ -55,6 +57,7 @@ pub mod laws;
 pub mod linear;
 pub mod model;
 pub mod modes;
+pub mod scenario;
 pub mod source;
 pub mod symbolic;
 

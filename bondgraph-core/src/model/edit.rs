@@ -9,7 +9,7 @@
 //! must be connected) applies to the variant with the same diagnostics, and the variant can
 //! be printed and read by a person.
 //!
-//! The [`SourceMap`] gives the span of every element entry, bond and parameter value, so an
+//! The [`SourceMap`](super::source_map::SourceMap) gives the span of every element entry, bond and parameter value, so an
 //! [`Edit`] is a list of text replacements: an element's entry and every bond that touches
 //! it are cut out (whole lines when they stand on their own lines), and a parameter's
 //! `value` is replaced by the shortest text that reads back as exactly the same `f64`.

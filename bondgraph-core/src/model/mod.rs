@@ -5,6 +5,8 @@
 //! positions), [`parse`] runs both and turns ron's errors into diagnostics that name the
 //! element and point at the offending token, and [`validate`] checks names, expressions,
 //! values and the graph and builds the [`Model`] that every later stage works on.
+//! [`edit`] makes variants of a model file (elements removed, parameter values set) by
+//! editing its text, so that a variant is loaded and checked like any model file.
 //!
 //! # Example
 //! ```

@@ -161,7 +161,7 @@ pub enum RawElement {
 pub struct RawBond(pub String, pub String);
 
 /// Reads a RON map as its entries in file order, keeping duplicate keys.
-fn entries<'de, D, T>(deserializer: D) -> Result<Vec<(String, T)>, D::Error>
+pub(crate) fn entries<'de, D, T>(deserializer: D) -> Result<Vec<(String, T)>, D::Error>
 where
     D: Deserializer<'de>,
     T: Deserialize<'de>,
