@@ -71,9 +71,12 @@ impl Experiment {
     /// # Errors
     /// Syntax errors and unknown or missing fields, with the line and column.
     pub fn parse(name: &str, text: &str) -> Result<Self, ExperimentError> {
-        ron::Options::default()
-            .from_str(text)
-            .map_err(|e| ExperimentError(format!("{name}:{}:{}: {}", e.span.start.line, e.span.start.col, e.code)))
+        ron::Options::default().from_str(text).map_err(|e| {
+            ExperimentError(format!(
+                "{name}:{}:{}: {}",
+                e.span.start.line, e.span.start.col, e.code
+            ))
+        })
     }
 }
 
@@ -101,7 +104,11 @@ impl Predictor {
     /// # Errors
     /// When the experiment names inputs, outputs or elements the model does not have, or the
     /// model without its catheter is not valid.
-    pub fn new(model: Model, source: &Arc<SourceFile>, experiment: &Experiment) -> Result<Self, ExperimentError> {
+    pub fn new(
+        model: Model,
+        source: &Arc<SourceFile>,
+        experiment: &Experiment,
+    ) -> Result<Self, ExperimentError> {
         let without = if experiment.without_catheter.is_empty() {
             None
         } else {
@@ -110,8 +117,13 @@ impl Predictor {
                 parameters: Vec::new(),
             };
             let edited = edit::apply(source, &edit).map_err(|d| ExperimentError(d.to_string()))?;
-            let reduced = model::load_source(&edited).map_err(|d| ExperimentError(d.to_string()))?;
-            Some(Variant::new(with_values(reduced, &model), experiment, false)?)
+            let reduced =
+                model::load_source(&edited).map_err(|d| ExperimentError(d.to_string()))?;
+            Some(Variant::new(
+                with_values(reduced, &model),
+                experiment,
+                false,
+            )?)
         };
         Ok(Self {
             with_catheter: Variant::new(model, experiment, true)?,
@@ -131,14 +143,21 @@ impl Predictor {
     /// # Errors
     /// When a name is not a parameter of the model.
     pub fn set_parameters(&mut self, values: &[(String, f64)]) -> Result<(), ExperimentError> {
-        for variant in std::iter::once(&mut self.with_catheter).chain(self.without_catheter.as_mut()) {
+        for variant in
+            std::iter::once(&mut self.with_catheter).chain(self.without_catheter.as_mut())
+        {
             for (name, value) in values {
                 let parameter = variant
                     .model
                     .parameters
                     .iter_mut()
                     .find(|p| &p.name == name)
-                    .ok_or_else(|| ExperimentError(format!("'{name}' is not a parameter of model '{}'", variant.model.name)))?;
+                    .ok_or_else(|| {
+                        ExperimentError(format!(
+                            "'{name}' is not a parameter of model '{}'",
+                            variant.model.name
+                        ))
+                    })?;
                 parameter.value = *value;
                 variant.model.values[parameter.symbol.index()] = *value;
             }
@@ -152,7 +171,10 @@ impl Predictor {
     /// When a simulation fails or does not settle.
     pub fn predict(&self, rows: &[Measurement]) -> Result<Vec<f64>, ExperimentError> {
         let mut predictions = vec![f64::NAN; rows.len()];
-        for (variant, with) in [(Some(&self.with_catheter), true), (self.without_catheter.as_ref(), false)] {
+        for (variant, with) in [
+            (Some(&self.with_catheter), true),
+            (self.without_catheter.as_ref(), false),
+        ] {
             let indices: Vec<usize> = (0..rows.len())
                 .filter(|&i| rows[i].catheter_velocity_mm_s.is_some() == with)
                 .collect();
@@ -186,7 +208,9 @@ impl Predictor {
                     vec![0.0; storage],
                     &self.settings,
                 )
-                .map_err(|e| ExperimentError(format!("row {} ({}): {e}", row.row, describe(row))))?;
+                .map_err(|e| {
+                    ExperimentError(format!("row {} ({}): {e}", row.row, describe(row)))
+                })?;
                 predictions[i] = steady.outputs[0] * 1e3;
             }
         }
@@ -198,7 +222,11 @@ impl Predictor {
 /// calibrated model may have others).
 fn with_values(mut reduced: Model, original: &Model) -> Model {
     for parameter in &mut reduced.parameters {
-        if let Some(source) = original.parameters.iter().find(|p| p.name == parameter.name) {
+        if let Some(source) = original
+            .parameters
+            .iter()
+            .find(|p| p.name == parameter.name)
+        {
             parameter.value = source.value;
             reduced.values[parameter.symbol.index()] = source.value;
         }
@@ -208,18 +236,30 @@ fn with_values(mut reduced: Model, original: &Model) -> Model {
 
 fn describe(row: &Measurement) -> String {
     match row.catheter_velocity_mm_s {
-        Some(v) => format!("P_s = {} kPa, v_ac = {} mm/s, v_ct = {v} mm/s", row.pressure_kpa, row.channel_velocity_mm_s),
-        None => format!("P_s = {} kPa, v_ac = {} mm/s, no catheter", row.pressure_kpa, row.channel_velocity_mm_s),
+        Some(v) => format!(
+            "P_s = {} kPa, v_ac = {} mm/s, v_ct = {v} mm/s",
+            row.pressure_kpa, row.channel_velocity_mm_s
+        ),
+        None => format!(
+            "P_s = {} kPa, v_ac = {} mm/s, no catheter",
+            row.pressure_kpa, row.channel_velocity_mm_s
+        ),
     }
 }
 
 impl Variant {
-    fn new(model: Model, experiment: &Experiment, with_catheter: bool) -> Result<Self, ExperimentError> {
+    fn new(
+        model: Model,
+        experiment: &Experiment,
+        with_catheter: bool,
+    ) -> Result<Self, ExperimentError> {
         let input = |name: &str| {
-            model
-                .input_named(name)
-                .map(|i| i.index())
-                .ok_or_else(|| ExperimentError(format!("the experiment's input '{name}' is not an input of model '{}'", model.name)))
+            model.input_named(name).map(|i| i.index()).ok_or_else(|| {
+                ExperimentError(format!(
+                    "the experiment's input '{name}' is not an input of model '{}'",
+                    model.name
+                ))
+            })
         };
         let pressure = input(&experiment.pressure)?;
         let channel = input(&experiment.channel_velocity)?;
@@ -228,7 +268,8 @@ impl Variant {
         } else {
             None
         };
-        let output = OutputSpec::parse(&model, &experiment.tip_velocity).map_err(|d| ExperimentError(d.to_string()))?;
+        let output = OutputSpec::parse(&model, &experiment.tip_velocity)
+            .map_err(|d| ExperimentError(d.to_string()))?;
         // Keep the assignments to elements this variant has.
         let spec: Vec<&str> = experiment
             .initial_mode
@@ -238,7 +279,8 @@ impl Variant {
                     .is_some_and(|(name, _)| model.element_named(name.trim()).is_some())
             })
             .collect();
-        let initial = Mode::parse(&model, &spec.join(",")).map_err(|d| ExperimentError(d.to_string()))?;
+        let initial =
+            Mode::parse(&model, &spec.join(",")).map_err(|d| ExperimentError(d.to_string()))?;
         Ok(Self {
             model,
             pressure,

@@ -23,8 +23,11 @@ pub fn load(relative: &str) -> (Model, Arc<SourceFile>) {
 /// The flagship's experiment description.
 pub fn experiment() -> Experiment {
     let path = "models/eversion/experiment.ron";
-    Experiment::parse(path, &std::fs::read_to_string(root().join(path)).expect("file"))
-        .expect("valid experiment")
+    Experiment::parse(
+        path,
+        &std::fs::read_to_string(root().join(path)).expect("file"),
+    )
+    .expect("valid experiment")
 }
 
 /// A bundled dataset.

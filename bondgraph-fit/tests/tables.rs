@@ -17,7 +17,10 @@ fn pressure_driven(p_kpa: f64) -> f64 {
 #[test]
 fn table_three_by_hand() {
     let rows = dataset("table3.csv").rows;
-    for (file, limit) in [("models/eversion/robot.ron", 0.5), ("models/eversion/paper.ron", 1.0)] {
+    for (file, limit) in [
+        ("models/eversion/robot.ron", 0.5),
+        ("models/eversion/paper.ron", 1.0),
+    ] {
         let predicted = predictor(file).predict(&rows).unwrap();
         for (row, v) in rows.iter().zip(&predicted) {
             let expected = if row.pressure_kpa * 1e3 * 1e-4 < 11.7 {
@@ -44,8 +47,12 @@ fn table_six_by_hand() {
     //   paper:    v = (A P_s - F_C_ge + K_p v_ct)/(b + K_p),     limited to v_ac
     let rows = dataset("table6.csv").rows;
     let (a, p, f, b, k) = (1e-4, 110e3, 9.125, 1250.0, 5e4);
-    let robot = predictor("models/eversion/robot.ron").predict(&rows).unwrap();
-    let paper = predictor("models/eversion/paper.ron").predict(&rows).unwrap();
+    let robot = predictor("models/eversion/robot.ron")
+        .predict(&rows)
+        .unwrap();
+    let paper = predictor("models/eversion/paper.ron")
+        .predict(&rows)
+        .unwrap();
     for (i, row) in rows.iter().enumerate() {
         let v_ct = row.catheter_velocity_mm_s.unwrap() * 1e-3;
         let (flagship, structure) = if v_ct == 0.0 {
@@ -56,7 +63,15 @@ fn table_six_by_hand() {
                 ((a * p - f + k * v_ct) / (b + k)).min(5.8e-3) * 1e3,
             )
         };
-        assert!((robot[i] - flagship).abs() < 1e-9, "robot at {v_ct}: {} vs {flagship}", robot[i]);
-        assert!((paper[i] - structure).abs() < 1e-9, "paper at {v_ct}: {} vs {structure}", paper[i]);
+        assert!(
+            (robot[i] - flagship).abs() < 1e-9,
+            "robot at {v_ct}: {} vs {flagship}",
+            robot[i]
+        );
+        assert!(
+            (paper[i] - structure).abs() < 1e-9,
+            "paper at {v_ct}: {} vs {structure}",
+            paper[i]
+        );
     }
 }

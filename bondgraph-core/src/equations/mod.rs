@@ -1,10 +1,10 @@
 //! State equations `dx/dt = A x + B u + c` of one mode, with symbolic entries.
 //!
 //! The derivation runs in four steps, each in its own module:
-//! 1. [`causality`](crate::causality) assigns causal strokes (SCAP);
-//! 2. [`elimination`] expresses every bond variable through states, inputs and the unknown
+//! 1. [`causality`](crate::causality::assign) assigns causal strokes (SCAP);
+//! 2. `elimination` expresses every bond variable through states, inputs and the unknown
 //!    efforts of dependent storage, solving algebraic loops symbolically;
-//! 3. [`merging`] folds dependent storage into the states it follows;
+//! 3. `merging` folds dependent storage into the states it follows;
 //! 4. optionally, the states change from energy variables (momenta `p`, displacements `q`)
 //!    to co-energy variables (velocities `v`, efforts `f`), as textbooks and papers write them.
 //!
