@@ -4,7 +4,7 @@
 //! `slack`. A mode of the whole model picks one for each, and in a mode every element has a
 //! plain law ([`crate::laws::for_mode`]), so each mode is derived exactly like a model without
 //! switching: causality, merging (a stuck contact makes storage dependent), equations. The
-//! [guards](crate::guards) of a mode say when it is left and for which mode.
+//! guards of a mode ([`crate::guards`]) say when it is left and for which mode.
 //!
 //! Modes are written as specifications, `fr_ge=slip+,fr_ct=stuck,string=taut`; elements not
 //! named keep their initial mode.
