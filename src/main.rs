@@ -5,9 +5,7 @@
 //! model file, and any failure exits non-zero.
 
 mod diagnostics;
-#[allow(dead_code)]
 mod plot;
-#[allow(dead_code)]
 mod trajectory;
 
 use std::io::Write;
@@ -65,6 +63,23 @@ enum Command {
         #[arg(long = "output", value_name = "SPEC")]
         outputs: Vec<String>,
     },
+    /// Simulate a model driven by a scenario file; print the trajectory as CSV or JSON.
+    Simulate {
+        /// The model file (RON).
+        model: PathBuf,
+        /// The scenario file (RON): inputs, initial mode and state, duration, outputs.
+        #[arg(long)]
+        scenario: PathBuf,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = SimulateFormat::Csv)]
+        format: SimulateFormat,
+        /// Write the trajectory to this file instead of standard output.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+        /// Also plot the recorded outputs against time, with the modes shaded, as SVG.
+        #[arg(long, value_name = "FILE.svg")]
+        plot: Option<PathBuf>,
+    },
     /// List the modes reachable from the initial mode, their states and their guards.
     Modes {
         /// The model file (RON).
@@ -76,6 +91,12 @@ enum Command {
         #[arg(long, value_enum, default_value_t = ModesFormat::Text)]
         format: ModesFormat,
     },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum SimulateFormat {
+    Csv,
+    Json,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -106,15 +127,23 @@ enum Format {
 /// A failure to report: diagnostics, and the source they point into when there is one.
 struct Failure {
     diagnostics: Diagnostics,
-    source: Option<Arc<SourceFile>>,
+    /// The files the diagnostics may point into.
+    sources: Vec<Arc<SourceFile>>,
 }
 
 impl From<Diagnostics> for Failure {
     fn from(diagnostics: Diagnostics) -> Self {
         Self {
             diagnostics,
-            source: None,
+            sources: Vec::new(),
         }
+    }
+}
+
+impl Failure {
+    /// A failure with a plain message (no file to point into).
+    fn message(kind: DiagnosticKind, message: impl Into<String>) -> Self {
+        Self::from(Diagnostics::from(Diagnostic::new(kind, message)))
     }
 }
 
@@ -125,11 +154,14 @@ fn main() -> ExitCode {
         Err(failure) => {
             let mut stderr = std::io::stderr().lock();
             for diagnostic in failure.diagnostics.iter() {
-                let _ = writeln!(
-                    stderr,
-                    "{}",
-                    diagnostics::render(diagnostic, failure.source.as_deref())
-                );
+                let source = diagnostic.location.as_ref().and_then(|location| {
+                    failure
+                        .sources
+                        .iter()
+                        .find(|s| s.name() == location.file)
+                        .map(|s| s.as_ref())
+                });
+                let _ = writeln!(stderr, "{}", diagnostics::render(diagnostic, source));
             }
             let count = failure.diagnostics.0.len();
             if count > 1 {
@@ -237,6 +269,13 @@ fn run(cli: Cli) -> Result<(), Failure> {
             print(&text);
             Ok(())
         }
+        Command::Simulate {
+            model,
+            scenario,
+            format,
+            out,
+            plot,
+        } => simulate(&model, &scenario, format, out.as_deref(), plot.as_deref()),
         Command::Modes {
             model,
             states,
@@ -256,6 +295,83 @@ fn run(cli: Cli) -> Result<(), Failure> {
             Ok(())
         }
     }
+}
+
+/// `bondgraph simulate`.
+fn simulate(
+    model: &Path,
+    scenario: &Path,
+    format: SimulateFormat,
+    out: Option<&Path>,
+    plot: Option<&Path>,
+) -> Result<(), Failure> {
+    let model_source = read_source(model)?;
+    let scenario_source = read_source(scenario)?;
+    let sources = vec![model_source.clone(), scenario_source.clone()];
+    let loaded =
+        bondgraph_core::scenario::load(&scenario_source, &model_source).map_err(|d| Failure {
+            diagnostics: d,
+            sources: sources.clone(),
+        })?;
+    let started = std::time::Instant::now();
+    let trajectory = bondgraph_solver::scenario::run(&loaded, false)
+        .map_err(|e| Failure::message(DiagnosticKind::Simulation, e.to_string()))?;
+    let elapsed = started.elapsed();
+    let text = match format {
+        SimulateFormat::Csv => trajectory::to_csv(&trajectory),
+        SimulateFormat::Json => json(&trajectory::to_json(
+            &trajectory,
+            &loaded.model.name,
+            &loaded.name,
+        ))?,
+    };
+    match out {
+        Some(path) => write_file(path, &text)?,
+        None => print(&text),
+    }
+    if let Some(path) = plot {
+        let title = format!("{}: scenario {}", loaded.model.name, loaded.name);
+        let svg = plot::plot_svg(&trajectory, &title, &[])
+            .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot: {e}")))?;
+        write_file(path, &svg)?;
+    }
+    eprintln!(
+        "simulated {} s of '{}' in {:.3} ms: {} events, {} modes, {} segments",
+        trajectory.final_time,
+        loaded.name,
+        elapsed.as_secs_f64() * 1e3,
+        trajectory.stats.events,
+        trajectory.stats.modes,
+        trajectory.stats.segments
+    );
+    Ok(())
+}
+
+/// Reads a file into a [`SourceFile`].
+fn read_source(path: &Path) -> Result<Arc<SourceFile>, Failure> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|error| {
+        Failure::message(DiagnosticKind::Io, format!("cannot read '{name}': {error}"))
+    })?;
+    Ok(SourceFile::new(name, text))
+}
+
+/// Writes `text` to `path`, creating its directory.
+fn write_file(path: &Path, text: &str) -> Result<(), Failure> {
+    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent).map_err(|e| {
+            Failure::message(
+                DiagnosticKind::Io,
+                format!("cannot create '{}': {e}", parent.display()),
+            )
+        })?;
+    }
+    std::fs::write(path, text).map_err(|e| {
+        Failure::message(
+            DiagnosticKind::Io,
+            format!("cannot write '{}': {e}", path.display()),
+        )
+    })
 }
 
 impl StatesArg {
@@ -283,10 +399,10 @@ fn parse_mode(
 fn load(path: &Path) -> Result<(Model, Arc<SourceFile>), Failure> {
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|error| {
-        Failure::from(Diagnostics::from(Diagnostic::new(
+        Failure::message(
             DiagnosticKind::Io,
             format!("cannot read model file '{name}': {error}"),
-        )))
+        )
     })?;
     let source = SourceFile::new(name, text);
     let model = model::load_source(&source).map_err(|d| with_source(d, &source))?;
@@ -296,7 +412,7 @@ fn load(path: &Path) -> Result<(Model, Arc<SourceFile>), Failure> {
 fn with_source(diagnostics: Diagnostics, source: &Arc<SourceFile>) -> Failure {
     Failure {
         diagnostics,
-        source: Some(source.clone()),
+        sources: vec![source.clone()],
     }
 }
 

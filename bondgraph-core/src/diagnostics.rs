@@ -68,6 +68,8 @@ pub enum DiagnosticKind {
     BadMode,
     /// A requested output that names no bond of the model.
     BadOutput,
+    /// A simulation that could not go on (no consistent mode, chattering, non-finite states).
+    Simulation,
     /// A scenario or model edit names an element, parameter or input that the model does
     /// not have.
     UnknownName,

@@ -480,7 +480,9 @@ pub struct Stepper<'s, 'm> {
     integrals: Vec<f64>,
     recent: VecDeque<f64>,
     sample: Option<f64>,
-    next_sample: f64,
+    /// The index of the next sample: its time is `index × sample`, not a running sum that
+    /// would drift by rounding.
+    next_sample: u64,
     recorder: Recorder,
     stats: Stats,
     energy: Option<EnergyBalance>,
@@ -549,7 +551,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
             integrals: vec![0.0; outputs],
             recent: VecDeque::new(),
             sample: sample.filter(|s| *s > 0.0 && s.is_finite()),
-            next_sample: 0.0,
+            next_sample: 0,
             recorder,
             stats: Stats::default(),
             energy: None,
@@ -665,8 +667,9 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let integrals_wanted = self.simulator.outputs.iter().any(|o| o.integral);
         if let Some(sample) = self.sample {
             let mut u = vec![0.0; u0.len()];
-            while self.next_sample <= self.t + stop {
-                let tau = (self.next_sample - self.t).max(0.0);
+            while self.next_sample as f64 * sample <= self.t + stop {
+                let time = self.next_sample as f64 * sample;
+                let tau = (time - self.t).max(0.0);
                 segment.state_and_integral_into(
                     tau,
                     &mut state,
@@ -686,9 +689,8 @@ impl<'s, 'm> Stepper<'s, 'm> {
                     &u1,
                     tau,
                 );
-                self.recorder
-                    .sample(self.next_sample, &current.spec, values);
-                self.next_sample += sample;
+                self.recorder.sample(time, &current.spec, values);
+                self.next_sample += 1;
             }
         }
         if let Some(energy) = &mut self.energy {

@@ -7,6 +7,7 @@ pub mod linalg;
 pub mod numeric;
 pub mod parasitic;
 pub mod propagate;
+pub mod scenario;
 pub mod steady;
 
 pub use hybrid::{
