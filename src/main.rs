@@ -6,6 +6,7 @@
 
 mod diagnostics;
 mod plot;
+mod reproduce;
 mod trajectory;
 
 use std::io::Write;
@@ -80,6 +81,15 @@ enum Command {
         #[arg(long, value_name = "FILE.svg")]
         plot: Option<PathBuf>,
     },
+    /// The main job: the flagship eversion robot against the paper's tables and Fig. 6.
+    Reproduce {
+        /// Where to write the report, tables, plots and JSON.
+        #[arg(long, value_name = "DIR", default_value = "out")]
+        out: PathBuf,
+        /// What to print: a summary, or the results as JSON.
+        #[arg(long, value_enum, default_value_t = ReproduceFormat::Text)]
+        format: ReproduceFormat,
+    },
     /// List the modes reachable from the initial mode, their states and their guards.
     Modes {
         /// The model file (RON).
@@ -91,6 +101,12 @@ enum Command {
         #[arg(long, value_enum, default_value_t = ModesFormat::Text)]
         format: ModesFormat,
     },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum ReproduceFormat {
+    Text,
+    Json,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -125,7 +141,7 @@ enum Format {
 }
 
 /// A failure to report: diagnostics, and the source they point into when there is one.
-struct Failure {
+pub(crate) struct Failure {
     diagnostics: Diagnostics,
     /// The files the diagnostics may point into.
     sources: Vec<Arc<SourceFile>>,
@@ -276,6 +292,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             out,
             plot,
         } => simulate(&model, &scenario, format, out.as_deref(), plot.as_deref()),
+        Command::Reproduce { out, format } => reproduce::run(&out, format == ReproduceFormat::Json),
         Command::Modes {
             model,
             states,
@@ -357,7 +374,7 @@ fn read_source(path: &Path) -> Result<Arc<SourceFile>, Failure> {
 }
 
 /// Writes `text` to `path`, creating its directory.
-fn write_file(path: &Path, text: &str) -> Result<(), Failure> {
+pub(crate) fn write_file(path: &Path, text: &str) -> Result<(), Failure> {
     if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(parent).map_err(|e| {
             Failure::message(
@@ -416,7 +433,7 @@ fn with_source(diagnostics: Diagnostics, source: &Arc<SourceFile>) -> Failure {
     }
 }
 
-fn json(value: &impl serde::Serialize) -> Result<String, Failure> {
+pub(crate) fn json(value: &impl serde::Serialize) -> Result<String, Failure> {
     serde_json::to_string_pretty(value)
         .map(|mut s| {
             s.push('\n');
@@ -436,6 +453,6 @@ fn count(n: usize, noun: &str) -> String {
 }
 
 /// Writes to stdout, ignoring a closed pipe (`bondgraph ... | head`).
-fn print(text: &str) {
+pub(crate) fn print(text: &str) {
     let _ = std::io::stdout().lock().write_all(text.as_bytes());
 }

@@ -12,7 +12,7 @@
 //!     pressure: "P_s",                 // the model input set by P_s_kPa (in Pa)
 //!     channel_velocity: "v_ac",        // set by v_ac_mm_s (in m/s)
 //!     catheter_velocity: "v_ct_des",   // set by v_ct_mm_s (in m/s)
-//!     tip_velocity: "flow:ge",         // the output compared with v_ge_mm_s
+//!     tip_velocity: "flow:pressure",   // the output compared with v_ge_mm_s
 //!     without_catheter: ["rubbing", "fr_ct", "catheter", "ct", "servo_force", "servo", "servo_command"],
 //!     initial_mode: "fr_ge=stuck,k=taut,fr_ct=stuck",
 //! )
@@ -45,7 +45,7 @@ pub struct Experiment {
     pub channel_velocity: String,
     /// The model input set by the catheter velocity.
     pub catheter_velocity: String,
-    /// The output compared with the measured tip velocity (`flow:ge`).
+    /// The output compared with the measured tip velocity (`flow:pressure`).
     pub tip_velocity: String,
     /// The elements removed when a row has no catheter.
     pub without_catheter: Vec<String>,

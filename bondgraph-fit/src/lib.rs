@@ -9,7 +9,11 @@
 //! - [`data`]: the CSV format of measured data, its reader (which refuses bad rows and says
 //!   where they are) and its writer (for synthetic data);
 //! - [`experiment`]: the protocol that turns a row of data into a simulation, and the
-//!   prediction of rows as steady states.
+//!   prediction of rows as steady states;
+//! - [`reproduce`]: the main job, the flagship against the paper's tables and figure, and
+//!   [`report`], its report.
 
 pub mod data;
 pub mod experiment;
+pub mod report;
+pub mod reproduce;

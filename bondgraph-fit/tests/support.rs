@@ -40,3 +40,49 @@ pub fn predictor(relative: &str) -> Predictor {
     let (model, source) = load(relative);
     Predictor::new(model, &source, &experiment()).expect("predictor")
 }
+
+/// The main job's inputs, read from the repository.
+pub struct Files(Vec<(String, String)>);
+
+impl Files {
+    /// Reads the bundled files.
+    pub fn read() -> Self {
+        Files(
+            [
+                "models/eversion/robot.ron",
+                "models/eversion/paper.ron",
+                "models/eversion/experiment.ron",
+                "models/eversion/data/table3.csv",
+                "models/eversion/data/table3_paper_sim.csv",
+                "models/eversion/data/table6.csv",
+                "models/eversion/data/table6_paper_sim.csv",
+                "models/eversion/fig6.ron",
+            ]
+            .iter()
+            .map(|p| {
+                let text = std::fs::read_to_string(root().join(p)).expect("bundled file");
+                (p.to_string(), text)
+            })
+            .collect(),
+        )
+    }
+
+    /// The bundle the main job reads.
+    pub fn bundle(&self) -> bondgraph_fit::reproduce::Bundle<'_> {
+        use bondgraph_fit::reproduce::{Bundle, Named};
+        let n = |i: usize| Named {
+            name: &self.0[i].0,
+            text: &self.0[i].1,
+        };
+        Bundle {
+            robot: n(0),
+            paper: n(1),
+            experiment: n(2),
+            table3: n(3),
+            table3_sim: n(4),
+            table6: n(5),
+            table6_sim: n(6),
+            fig6: n(7),
+        }
+    }
+}

@@ -1,0 +1,128 @@
+//! `bondgraph reproduce`: the main job, with the flagship's model and data built in.
+
+use std::path::Path;
+
+use bondgraph_core::DiagnosticKind;
+use bondgraph_fit::reproduce::{Bundle, Named, Reproduction, TableRow, reproduce};
+use bondgraph_solver::Trajectory;
+use serde_json::json;
+
+use crate::{Failure, json, plot, print, trajectory, write_file};
+
+/// The bundled files, as they are in the repository.
+macro_rules! bundled {
+    ($path:literal) => {
+        Named {
+            name: $path,
+            text: include_str!(concat!("../", $path)),
+        }
+    };
+}
+
+/// The flagship's model, the paper's structure, the protocol, the data and the Fig. 6 scenario.
+pub const BUNDLE: Bundle<'static> = Bundle {
+    robot: bundled!("models/eversion/robot.ron"),
+    paper: bundled!("models/eversion/paper.ron"),
+    experiment: bundled!("models/eversion/experiment.ron"),
+    table3: bundled!("models/eversion/data/table3.csv"),
+    table3_sim: bundled!("models/eversion/data/table3_paper_sim.csv"),
+    table6: bundled!("models/eversion/data/table6.csv"),
+    table6_sim: bundled!("models/eversion/data/table6_paper_sim.csv"),
+    fig6: bundled!("models/eversion/fig6.ron"),
+};
+
+/// Runs the main job and writes its results under `out`.
+pub fn run(out: &Path, as_json: bool) -> Result<(), Failure> {
+    let started = std::time::Instant::now();
+    let result = reproduce(&BUNDLE)
+        .map_err(|e| Failure::message(DiagnosticKind::Simulation, e.to_string()))?;
+    let elapsed = started.elapsed();
+    let document = to_json(&result);
+    let text = json(&document)?;
+    write_file(&out.join("report.md"), &result.report())?;
+    write_file(&out.join("reproduce.json"), &text)?;
+    write_file(&out.join("table3.csv"), &table_csv(&result.table3))?;
+    write_file(&out.join("table6.csv"), &table_csv(&result.table6))?;
+    for (name, trajectory) in [("robot", &result.fig6.robot), ("paper", &result.fig6.paper)] {
+        write_file(
+            &out.join(format!("fig6_{name}.csv")),
+            &trajectory::to_csv(trajectory),
+        )?;
+        let svg = plot::plot_svg(
+            trajectory,
+            &format!(
+                "Fig. 6 scenario, {name}.ron: v_ac = 5.8 mm/s, P_s = 1e6 t Pa, v_ct = 6.3 mm/s"
+            ),
+            &[],
+        )
+        .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot Fig. 6: {e}")))?;
+        write_file(&out.join(format!("fig6_{name}.svg")), &svg)?;
+    }
+    if as_json {
+        print(&text);
+    } else {
+        print(&result.summary());
+        print(&format!(
+            "\nwritten to {}/: report.md, table3.csv, table6.csv, fig6_robot.svg, fig6_paper.svg, \
+             fig6_robot.csv, fig6_paper.csv, reproduce.json ({:.0} ms)\n",
+            out.display(),
+            elapsed.as_secs_f64() * 1e3
+        ));
+    }
+    Ok(())
+}
+
+fn events(trajectory: &Trajectory) -> serde_json::Value {
+    json!(trajectory
+        .events
+        .iter()
+        .map(|e| json!({"t": e.t, "from": e.from, "to": e.to, "element": e.element, "reason": e.reason}))
+        .collect::<Vec<_>>())
+}
+
+/// The `reproduce` JSON document (DESIGN.md's fields and more).
+fn to_json(result: &Reproduction) -> serde_json::Value {
+    json!({
+        "table3": result.table3,
+        "table6": result.table6,
+        "errors": result.errors,
+        "fig6": {
+            "events": events(&result.fig6.robot),
+            "paper_model_events": events(&result.fig6.paper),
+            "paper_reported": [
+                {"t": 0.06, "what": "State 2 -> State 4"},
+                {"t": 0.1, "what": "State 3 briefly"},
+                {"t": 0.106, "what": "catheter breaks away, State 4"},
+            ],
+        },
+        "reduction": {
+            "removed": result.reduction.removed.iter().map(|p| json!({
+                "element": p.element,
+                "time_constant_s": p.time_constant,
+                "next_time_constant_s": p.next_time_constant,
+                "ratio": p.ratio,
+            })).collect::<Vec<_>>(),
+            "cells": result.reduction.cells,
+            "largest_difference_mm_s": result.reduction.largest_difference_mm_s,
+        },
+    })
+}
+
+fn table_csv(rows: &[TableRow]) -> String {
+    let mut out = String::from(
+        "P_s_kPa,v_ac_mm_s,v_ct_mm_s,exp_mm_s,paper_sim_mm_s,model_mm_s,paper_model_mm_s\n",
+    );
+    for r in rows {
+        out.push_str(&format!(
+            "{},{},{},{},{},{},{}\n",
+            r.P_s_kPa,
+            r.v_ac_mm_s,
+            r.v_ct_mm_s.map_or(String::new(), |v| v.to_string()),
+            r.exp_mm_s,
+            r.paper_sim_mm_s,
+            r.model_mm_s,
+            r.paper_model_mm_s
+        ));
+    }
+    out
+}
