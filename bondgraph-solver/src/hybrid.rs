@@ -17,7 +17,7 @@ use std::collections::{HashMap, VecDeque};
 use std::fmt;
 use std::sync::Arc;
 
-use bondgraph_core::diagnostics::Diagnostics;
+use bondgraph_core::diagnostics::{DiagnosticKind, Diagnostics};
 use bondgraph_core::equations::{Options, OutputSpec};
 use bondgraph_core::guards::Watched;
 use bondgraph_core::model::{ElementMode, Model};
@@ -443,7 +443,14 @@ impl<'m> Simulator<'m> {
         rate: &[f64],
     ) -> Result<bool, SimError> {
         let stuck = mode.mode.with(guard.element, ElementMode::Stuck);
-        let target = self.mode(&stuck)?;
+        // A contact whose relative velocity is imposed (a velocity source drives it) cannot
+        // stick at all: it passes through zero velocity into the opposite slip.
+        let target = match self.mode(&stuck) {
+            Err(SimError::Derivation(d)) if d.has(DiagnosticKind::CausalConflict) => {
+                return Ok(false);
+            }
+            other => other?,
+        };
         let x = target.project(full, u);
         Ok(!target.guards.iter().any(|g| {
             g.element == guard.element
@@ -729,6 +736,12 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let (u, rate) = self.inputs_at(t);
         let full = current.reconstruct(&self.x, &u);
         let guard = &current.guards[crossing.guard];
+        if guard.requires_hold && !self.simulator.can_hold(&current, guard, &full, &u, &rate)? {
+            // Static friction cannot hold: no switch. The guard rests until it has been left
+            // again, and the contact slips on to its next guard (through zero velocity).
+            self.armed[crossing.guard] = false;
+            return Ok(false);
+        }
         let element = self.simulator.model.element(guard.element).name.clone();
         if self.sample.is_some() {
             let values = self.outputs();

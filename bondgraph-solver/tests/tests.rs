@@ -5,3 +5,4 @@ mod fig6;
 mod flagship;
 mod stick_slip;
 mod support;
+mod trouble;
