@@ -308,7 +308,7 @@ fn runs(trajectory: &Trajectory, i: usize) -> Vec<Stretch> {
     let plottable = |x: f64| x.is_finite() && x.abs() <= LARGEST_PLOTTED;
     let mut runs = vec![Vec::new()];
     for (k, &t) in trajectory.times.iter().enumerate() {
-        let value = trajectory.values.get(k).and_then(|row| row.get(i)).copied();
+        let value = trajectory.value(k, i);
         match value {
             Some(y) if plottable(t) && plottable(y) => {
                 if let Some(run) = runs.last_mut() {
@@ -475,7 +475,7 @@ mod tests {
         let times: Vec<f64> = (0..=200).map(|k| f64::from(k) * 1e-3).collect();
         let values = times
             .iter()
-            .map(|&t| {
+            .flat_map(|&t| {
                 let v_ge = match mode_at(t) {
                     0 => 0.0,
                     1 => 3.0945e-3 * (t - 0.007) / 0.013,
@@ -493,7 +493,7 @@ mod tests {
                 } else {
                     -5.5
                 };
-                vec![f_k, v_ge, x_ge, f_fr_ct]
+                [f_k, v_ge, x_ge, f_fr_ct]
             })
             .collect();
         let sample_modes = times.iter().map(|&t| mode_at(t)).collect();
@@ -606,7 +606,7 @@ mod tests {
     #[test]
     fn a_constant_signal_plots_around_its_value() {
         let mut trajectory = fig6_like();
-        for row in &mut trajectory.values {
+        for row in trajectory.values.chunks_mut(4) {
             row[0] = 5.0;
             row[1] = 0.0;
         }
@@ -620,13 +620,13 @@ mod tests {
     #[test]
     fn unplottable_samples_leave_gaps() {
         let mut trajectory = fig6_like();
-        trajectory.values[50][1] = f64::NAN;
-        trajectory.values[100][1] = f64::INFINITY;
-        trajectory.values[101][1] = -f64::INFINITY;
-        for row in &mut trajectory.values {
+        trajectory.values[50 * 4 + 1] = f64::NAN;
+        trajectory.values[100 * 4 + 1] = f64::INFINITY;
+        trajectory.values[101 * 4 + 1] = -f64::INFINITY;
+        for row in trajectory.values.chunks_mut(4) {
             row[3] = f64::NAN;
         }
-        trajectory.values[150].clear();
+        trajectory.values[150 * 4 + 1] = f64::NAN;
         trajectory.times[180] = f64::NAN;
         let svg = plot_svg(&trajectory, "gaps", &[vec![1], vec![3]]).unwrap();
         // The velocity in five pieces, the all-NaN force not at all.
@@ -660,7 +660,7 @@ mod tests {
         // One sample, huge values, inconsistent intervals and events, unknown modes.
         let mut odd = fig6_like();
         odd.times.truncate(1);
-        odd.values = vec![vec![1e308, -1e299, 1e-300, 7.0]];
+        odd.values = vec![1e308, -1e299, 1e-300, 7.0];
         odd.intervals = vec![(f64::NAN, 1.0, 0), (0.5, 0.1, 1), (-5.0, 5.0, 99)];
         odd.events[0].t = f64::INFINITY;
         odd.modes = vec![String::new(), "x".repeat(300)];

@@ -32,12 +32,10 @@ pub fn to_csv(trajectory: &Trajectory) -> String {
     csv.push('\n');
     for (i, &t) in trajectory.times.iter().enumerate() {
         let mut row = vec![number(t), field(mode_spec(trajectory, i).unwrap_or(""))];
-        let values = trajectory.values.get(i);
-        row.extend((0..trajectory.output_names.len()).map(|j| {
-            values
-                .and_then(|v| v.get(j))
-                .map_or(String::new(), |&x| number(x))
-        }));
+        row.extend(
+            (0..trajectory.output_names.len())
+                .map(|j| trajectory.value(i, j).map_or(String::new(), number)),
+        );
         csv.push_str(&row.join(","));
         csv.push('\n');
     }
@@ -65,15 +63,12 @@ pub fn to_json(trajectory: &Trajectory, model_name: &str, scenario_name: &str) -
         .iter()
         .enumerate()
         .map(|(i, &t)| {
-            let values = trajectory.values.get(i);
             let named: Map<String, Value> = trajectory
                 .output_names
                 .iter()
                 .enumerate()
                 .map(|(j, name)| {
-                    let value = values
-                        .and_then(|v| v.get(j))
-                        .map_or(Value::Null, |&x| x.into());
+                    let value = trajectory.value(i, j).map_or(Value::Null, |x| x.into());
                     (name.clone(), value)
                 })
                 .collect();
@@ -170,7 +165,7 @@ mod tests {
         Trajectory {
             output_names: vec!["v_ge".into(), "f_k".into()],
             times: vec![0.0, 0.05, 0.1],
-            values: vec![vec![0.0, 0.0], vec![1.5e-7, 12.25], vec![0.0029, -3.0e20]],
+            values: vec![0.0, 0.0, 1.5e-7, 12.25, 0.0029, -3.0e20],
             sample_modes: vec![0, 0, 1],
             modes: vec![
                 "fr_ge=stuck,k=slack,fr_ct=slip-".into(),
@@ -221,7 +216,8 @@ mod tests {
         odd.modes = vec![String::new()];
         odd.sample_modes = vec![0, 7];
         odd.times.truncate(2);
-        odd.values = vec![vec![1.0, f64::NAN]];
+        // One sample recorded in full, the other not at all.
+        odd.values = vec![1.0, f64::NAN];
         assert_eq!(
             to_csv(&odd),
             "t,mode,\"effort:a,b\",\"say \"\"hi\"\"\"\n0,,1,NaN\n0.05,,,\n"
@@ -318,8 +314,9 @@ mod tests {
     #[test]
     fn json_writes_non_finite_numbers_and_missing_modes_as_null() {
         let mut odd = trajectory();
-        odd.values[0][1] = f64::INFINITY;
-        odd.values[1].clear();
+        odd.values[1] = f64::INFINITY;
+        // Only the first sample recorded.
+        odd.values.truncate(2);
         odd.sample_modes[2] = 9;
         odd.intervals.push((0.1, 0.2, 5));
         let json = to_json(&odd, "m", "s");

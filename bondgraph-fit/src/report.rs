@@ -273,27 +273,21 @@ impl Reproduction {
             .collect();
         let ratio = |r: &TableRow| r.v_ct_mm_s.map_or(f64::NAN, |v| v / r.model_mm_s);
         let structure = |r: &TableRow| r.v_ct_mm_s.map_or(f64::NAN, |v| v / r.paper_model_mm_s);
+        let ratios: Vec<String> = locked.iter().map(|r| format!("{:.2}", ratio(r))).collect();
+        let structure_ratios: Vec<String> = locked
+            .iter()
+            .map(|r| format!("{:.2}", structure(r)))
+            .collect();
         let _ = writeln!(
             out,
             "\nAt 110 kPa the pressure alone cannot break the tip away; the catheter, stuck to the \
              inner structure, drags it along and its servo drives both. In robot.ron the inner \
              structure moves at twice the tip's speed, so the tip follows at about half the \
-             catheter's ({}), as the paper measures (\"v_ge <= v_ct/2 due to the eversion \
-             mechanism\"); in paper.ron the catheter drags the tip itself, at about its own speed \
-             ({}), twice the measured values.",
-            format!(
-                "v_ct/v_ge = {}",
-                locked
-                    .iter()
-                    .map(|r| format!("{:.2}", ratio(r)))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-            locked
-                .iter()
-                .map(|r| format!("{:.2}", structure(r)))
-                .collect::<Vec<_>>()
-                .join(", ")
+             catheter's (v_ct/v_ge = {}), as the paper measures (\"v_ge <= v_ct/2 due to the \
+             eversion mechanism\"); in paper.ron the catheter drags the tip itself, at about its \
+             own speed (v_ct/v_ge = {}), twice the measured values.",
+            ratios.join(", "),
+            structure_ratios.join(", ")
         );
         if !self.findings.table6_disagreements.is_empty() {
             let cells: Vec<String> = self
@@ -359,7 +353,13 @@ impl Reproduction {
             .output_names
             .iter()
             .position(|n| n == "effort:fr_ct")
-            && let Some(last) = self.fig6.paper.values.last()
+            && let Some(last) = self
+                .fig6
+                .paper
+                .times
+                .len()
+                .checked_sub(1)
+                .and_then(|k| self.fig6.paper.value(k, index))
         {
             let trajectory = &self.fig6.paper;
             let stuck = trajectory
@@ -373,7 +373,7 @@ impl Reproduction {
                         trajectory.times[k] >= e.t
                             && trajectory.modes[trajectory.sample_modes[k]] == e.to
                     })
-                    .map(|k| trajectory.values[k][index])
+                    .and_then(|k| trajectory.value(k, index))
             });
             if let (Some(stuck), Some(force)) = (stuck, at_sticking) {
                 let _ = writeln!(
@@ -384,7 +384,7 @@ impl Reproduction {
                      catheter had been pushing the tip), is {:.2} N at {} s, short of F_S_ct = \
                      6.05 N: the accelerating pressure has to take over the catheter's load before \
                      the contact can slip the other way.",
-                    stuck.t, force, last[index], trajectory.final_time
+                    stuck.t, force, last, trajectory.final_time
                 );
             }
         }

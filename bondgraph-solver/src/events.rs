@@ -32,7 +32,7 @@ pub struct Crossing {
 /// Bracketing samples over `(0, length]` for a mode with these eigenvalues: each decaying
 /// time scale `1/|λ|` sampled geometrically while it is active (from 0.02 to 40 time
 /// constants), every oscillation sixteen times a period while it lasts, and the whole
-/// segment uniformly.
+/// segment uniformly (sixteen intervals).
 pub fn sample_times(values: &[Complex64], length: f64) -> Vec<f64> {
     const MAX_SAMPLES: usize = 20_000;
     let mut times = Vec::with_capacity(96);
@@ -61,8 +61,8 @@ pub fn sample_times(values: &[Complex64], length: f64) -> Vec<f64> {
             times.extend((1..=count).map(|k| k as f64 * spacing));
         }
     }
-    let uniform = length / 32.0;
-    times.extend((1..32).map(|k| k as f64 * uniform));
+    let uniform = length / 16.0;
+    times.extend((1..16).map(|k| k as f64 * uniform));
     times.push(length);
     times.retain(|t| *t > 0.0 && *t <= length);
     times.sort_by(f64::total_cmp);

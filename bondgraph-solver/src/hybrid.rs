@@ -26,6 +26,7 @@ use bondgraph_core::modes::{Mode, ModeCache};
 use crate::energy::EnergyBalance;
 use crate::events;
 use crate::numeric::{NumericGuard, NumericMode, Storage, dot};
+use num_complex::Complex64;
 
 /// A time-varying input, piecewise linear between its breakpoints.
 pub trait Signal {
@@ -120,8 +121,9 @@ pub struct Trajectory {
     pub output_names: Vec<String>,
     /// Sample times.
     pub times: Vec<f64>,
-    /// The outputs at each sample time.
-    pub values: Vec<Vec<f64>>,
+    /// The outputs at the sample times, row-major: output `j` of sample `k` is
+    /// `values[k * output_names.len() + j]` (see [`Trajectory::value`]).
+    pub values: Vec<f64>,
     /// The mode at each sample time (index into `modes`).
     pub sample_modes: Vec<usize>,
     /// The modes visited, by specification.
@@ -140,6 +142,23 @@ pub struct Trajectory {
     pub stats: Stats,
     /// The energy books, when asked for.
     pub energy: Option<EnergyBalance>,
+}
+
+impl Trajectory {
+    /// Output `output` at sample `sample`, if recorded.
+    pub fn value(&self, sample: usize, output: usize) -> Option<f64> {
+        let width = self.output_names.len();
+        if output >= width {
+            return None;
+        }
+        self.values.get(sample * width + output).copied()
+    }
+
+    /// Every output at sample `sample`, if recorded in full.
+    pub fn row(&self, sample: usize) -> Option<&[f64]> {
+        let width = self.output_names.len();
+        self.values.get(sample * width..(sample + 1) * width)
+    }
 }
 
 /// Why a simulation stopped.
@@ -673,30 +692,70 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let mut integral_state = vec![0.0; n];
         let integrals_wanted = self.simulator.outputs.iter().any(|o| o.integral);
         if let Some(sample) = self.sample {
+            let mode_index = self.recorder.mode_index(&current.spec);
+            // In eigen-coordinates each output is Re(Σ c_j z_j(τ)) + a + b τ (and its integral
+            // Re(Σ c_j ∫z_j) + a τ + b τ²/2), with c = row V, a = d·u₀ + r·u₁ + k, b = d·u₁.
+            let modal: Option<Vec<(Vec<Complex64>, f64, f64)>> = segment.vectors().map(|v| {
+                current
+                    .outputs
+                    .iter()
+                    .map(|row| {
+                        let c = (0..n)
+                            .map(|j| (0..n).map(|i| v[(i, j)] * row.state[i]).sum())
+                            .collect();
+                        let a = dot(&row.input, &u0) + dot(&row.rate, &u1) + row.constant;
+                        (c, a, dot(&row.input, &u1))
+                    })
+                    .collect()
+            });
             let mut u = vec![0.0; u0.len()];
             while self.next_sample as f64 * sample <= self.t + stop {
                 let time = self.next_sample as f64 * sample;
                 let tau = (time - self.t).max(0.0);
-                segment.state_and_integral_into(
-                    tau,
-                    &mut state,
-                    integrals_wanted.then_some(&mut integral_state[..]),
-                );
-                for (k, slot) in u.iter_mut().enumerate() {
-                    *slot = u0[k] + u1[k] * tau;
-                }
-                let values = self.simulator.output_values(
-                    &current,
-                    &state,
-                    &u,
-                    &u1,
-                    &self.integrals,
-                    &integral_state,
-                    &u0,
-                    &u1,
-                    tau,
-                );
-                self.recorder.sample(time, &current.spec, values);
+                let values = match (&modal, segment.modal_state_and_integral(tau)) {
+                    (Some(coefficients), Some((z, iz))) => self
+                        .simulator
+                        .outputs
+                        .iter()
+                        .zip(coefficients)
+                        .enumerate()
+                        .map(|(k, (output, (c, a, b)))| {
+                            let re = |w: &[Complex64]| -> f64 {
+                                c.iter()
+                                    .zip(w)
+                                    .map(|(x, y)| x.re * y.re - x.im * y.im)
+                                    .sum()
+                            };
+                            if output.integral {
+                                self.integrals[k] + re(iz) + a * tau + b * tau * tau / 2.0
+                            } else {
+                                re(z) + a + b * tau
+                            }
+                        })
+                        .collect(),
+                    _ => {
+                        segment.state_and_integral_into(
+                            tau,
+                            &mut state,
+                            integrals_wanted.then_some(&mut integral_state[..]),
+                        );
+                        for (k, slot) in u.iter_mut().enumerate() {
+                            *slot = u0[k] + u1[k] * tau;
+                        }
+                        self.simulator.output_values(
+                            &current,
+                            &state,
+                            &u,
+                            &u1,
+                            &self.integrals,
+                            &integral_state,
+                            &u0,
+                            &u1,
+                            tau,
+                        )
+                    }
+                };
+                self.recorder.sample_in(time, mode_index, values);
                 self.next_sample += 1;
             }
         }
@@ -887,7 +946,7 @@ fn reason(guard: &NumericGuard, crossed: bool) -> String {
 struct Recorder {
     output_names: Vec<String>,
     times: Vec<f64>,
-    values: Vec<Vec<f64>>,
+    values: Vec<f64>,
     sample_modes: Vec<usize>,
     modes: Vec<String>,
     intervals: Vec<(f64, f64, usize)>,
@@ -928,11 +987,16 @@ impl Recorder {
         self.intervals.push((t, t, index));
     }
 
-    fn sample(&mut self, t: f64, spec: &str, values: Vec<f64>) {
+    fn sample(&mut self, t: f64, spec: &str, values: impl IntoIterator<Item = f64>) {
         let index = self.mode_index(spec);
+        self.sample_in(t, index, values);
+    }
+
+    /// A sample in the mode of index `mode` (see [`Recorder::mode_index`]).
+    fn sample_in(&mut self, t: f64, mode: usize, values: impl IntoIterator<Item = f64>) {
         self.times.push(t);
-        self.values.push(values);
-        self.sample_modes.push(index);
+        self.values.extend(values);
+        self.sample_modes.push(mode);
     }
 
     fn event(&mut self, t: f64, from: String, to: String, element: String, reason: String) {

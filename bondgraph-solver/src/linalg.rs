@@ -70,18 +70,21 @@ pub fn eigen(a: &DMatrix<f64>) -> Result<Eigen, EigenError> {
     let (balanced, scale) = balance(a);
     let schur = nalgebra::Schur::try_new(balanced.clone(), f64::EPSILON, 10_000)
         .ok_or(EigenError::NoConvergence)?;
-    // A real eigenvalue may come out with an imaginary part of rounding size; snap it back so
-    // propagation can use real arithmetic for it.
+    // A real eigenvalue may come out with an imaginary part of rounding size (relative to the
+    // eigenvalue, or to the matrix for one near zero); snap it back so propagation can use
+    // real arithmetic for it.
+    let norm = one_norm(&balanced).max(f64::MIN_POSITIVE);
+    let snap = |v: Complex64| {
+        if v.im.abs() <= 1e-13 * v.re.abs() || v.im.abs() <= 1e-14 * norm {
+            Complex64::new(v.re, 0.0)
+        } else {
+            v
+        }
+    };
     let mut values: Vec<Complex64> = schur
         .complex_eigenvalues()
         .iter()
-        .map(|v| {
-            if v.im.abs() <= 1e-13 * v.re.abs() {
-                Complex64::new(v.re, 0.0)
-            } else {
-                *v
-            }
-        })
+        .map(|v| snap(*v))
         .collect();
     // Deterministic order: by real part, then imaginary part.
     values.sort_by(|x, y| {
@@ -90,7 +93,6 @@ pub fn eigen(a: &DMatrix<f64>) -> Result<Eigen, EigenError> {
             .then(x.im.partial_cmp(&y.im).unwrap_or(std::cmp::Ordering::Equal))
     });
     let complex: DMatrix<Complex64> = balanced.map(|x| Complex64::new(x, 0.0));
-    let norm = one_norm(&balanced).max(f64::MIN_POSITIVE);
 
     let mut vectors = DMatrix::<Complex64>::zeros(n, n);
     let mut i = 0;
@@ -106,7 +108,8 @@ pub fn eigen(a: &DMatrix<f64>) -> Result<Eigen, EigenError> {
                 values[i],
                 inverse_iteration(&complex, values[i], norm),
             );
-            values[i] = value;
+            // Refinement works in complex arithmetic; keep a real eigenvalue real.
+            values[i] = snap(value);
             vectors.set_column(i, &vector);
         } else {
             let basis = null_space(&complex, values[i], norm, j - i)?;
@@ -394,6 +397,8 @@ mod tests {
             "{:?}",
             e.values
         );
+        // Real eigenvalues stay real after refinement (propagation uses real arithmetic).
+        assert!(e.values.iter().all(|v| v.im == 0.0), "{:?}", e.values);
         // A V = V Λ, column by column, relative to each eigenvalue's own scale.
         let ac = a.map(|x| Complex64::new(x, 0.0));
         for j in 0..2 {

@@ -34,6 +34,8 @@ pub enum Propagator {
 #[derive(Clone, Debug)]
 pub struct Modal {
     eigen: Eigen,
+    /// `1/λ` (zero for a zero eigenvalue), for components that have decayed.
+    inverse_values: Vec<Complex64>,
     /// `V⁻¹ B`.
     input: DMatrix<Complex64>,
     /// `V⁻¹ c`.
@@ -65,8 +67,20 @@ impl Propagator {
                 let to_complex = |m: &DMatrix<f64>| m.map(|x| Complex64::new(x, 0.0));
                 let input = &eigen.inverse * to_complex(b);
                 let affine = &eigen.inverse * c.map(|x| Complex64::new(x, 0.0));
+                let inverse_values = eigen
+                    .values
+                    .iter()
+                    .map(|v| {
+                        if v.norm() == 0.0 {
+                            Complex64::new(0.0, 0.0)
+                        } else {
+                            1.0 / v
+                        }
+                    })
+                    .collect();
                 Propagator::Modal(Modal {
                     eigen,
+                    inverse_values,
                     input,
                     affine,
                 })
@@ -200,7 +214,7 @@ impl Segment<'_> {
                     s.scratch[j] =
                         e * s.z0[j] + s.w0[j] * phi1 * tau + s.w1[j] * phi2 * (tau * tau);
                 }
-                to_real(&s.modal.eigen.vectors, &s.scratch, out);
+                to_real(&s.modal.eigen.vectors, &s.scratch[..s.z0.len()], out);
             }
             Segment::Exponential(s) => {
                 let x = s.augmented(tau, false);
@@ -248,12 +262,45 @@ impl Segment<'_> {
     pub fn modal_state(&mut self, tau: f64) -> Option<&[Complex64]> {
         match self {
             Segment::Modal(s) => {
+                let m = s.modal;
                 for j in 0..s.z0.len() {
-                    let [e, phi1, phi2, _] = phis(s.modal.eigen.values[j] * tau);
-                    s.scratch[j] =
-                        e * s.z0[j] + s.w0[j] * phi1 * tau + s.w1[j] * phi2 * (tau * tau);
+                    s.scratch[j] = coordinate(
+                        m.eigen.values[j],
+                        m.inverse_values[j],
+                        tau,
+                        s.z0[j],
+                        s.w0[j],
+                        s.w1[j],
+                    );
                 }
                 Some(&s.scratch[..s.z0.len()])
+            }
+            Segment::Exponential(_) => None,
+        }
+    }
+
+    /// The eigen-coordinates of the state and of its integral at `τ`, `(z(τ), ∫₀^τ z)`, for a
+    /// modal segment (`None` otherwise).
+    pub fn modal_state_and_integral(&mut self, tau: f64) -> Option<(&[Complex64], &[Complex64])> {
+        match self {
+            Segment::Modal(s) => {
+                let n = s.z0.len();
+                let m = s.modal;
+                s.scratch.resize(2 * n, Complex64::new(0.0, 0.0));
+                for j in 0..n {
+                    let (z, integral) = coordinate_and_integral(
+                        m.eigen.values[j],
+                        m.inverse_values[j],
+                        tau,
+                        s.z0[j],
+                        s.w0[j],
+                        s.w1[j],
+                    );
+                    s.scratch[j] = z;
+                    s.scratch[n + j] = integral;
+                }
+                let (z, integral) = s.scratch.split_at(n);
+                Some((z, integral))
             }
             Segment::Exponential(_) => None,
         }
@@ -284,7 +331,7 @@ impl Segment<'_> {
                         + s.w0[j] * phi2 * (tau * tau)
                         + s.w1[j] * phi3 * (tau * tau * tau);
                 }
-                to_real(&s.modal.eigen.vectors, &s.scratch, out);
+                to_real(&s.modal.eigen.vectors, &s.scratch[..s.z0.len()], out);
             }
             Segment::Exponential(s) => {
                 let x = s.augmented(tau, true);
@@ -328,6 +375,51 @@ impl ExponentialSegment<'_> {
         let offset = if integral { n } else { 0 };
         result.rows(offset, n).into_owned()
     }
+}
+
+/// One eigen-coordinate at `τ`: `e^{λτ} z₀ + τ φ₁(λτ) w₀ + τ² φ₂(λτ) w₁`. Once a real
+/// eigenvalue's component has decayed to nothing (`λτ < -745`, where `e^{λτ}` is exactly zero
+/// in floating point) this is `-w₀/λ - w₁ (1/λ + τ)/λ`, with no exponential or division: the
+/// stiff components of a mode spend almost all their time there.
+#[inline]
+fn coordinate(
+    lambda: Complex64,
+    inverse: Complex64,
+    tau: f64,
+    z0: Complex64,
+    w0: Complex64,
+    w1: Complex64,
+) -> Complex64 {
+    if lambda.im == 0.0 && lambda.re * tau < -745.0 {
+        return -(w0 * inverse) - w1 * (inverse + tau) * inverse;
+    }
+    let [e, phi1, phi2, _] = phis(lambda * tau);
+    e * z0 + w0 * phi1 * tau + w1 * phi2 * (tau * tau)
+}
+
+/// `(coordinate, ∫₀^τ coordinate)`, with the same shortcut for decayed components:
+/// `∫ = -z₀/λ - w₀ (1/λ + τ)/λ - w₁ ((1/λ + τ)/λ + τ²/2)/λ`.
+#[inline]
+fn coordinate_and_integral(
+    lambda: Complex64,
+    inverse: Complex64,
+    tau: f64,
+    z0: Complex64,
+    w0: Complex64,
+    w1: Complex64,
+) -> (Complex64, Complex64) {
+    if lambda.im == 0.0 && lambda.re * tau < -745.0 {
+        let a = (inverse + tau) * inverse;
+        return (
+            -(w0 * inverse) - w1 * a,
+            -(z0 * inverse) - w0 * a - w1 * (a + 0.5 * tau * tau) * inverse,
+        );
+    }
+    let [e, phi1, phi2, phi3] = phis(lambda * tau);
+    (
+        e * z0 + w0 * phi1 * tau + w1 * phi2 * (tau * tau),
+        z0 * phi1 * tau + w0 * phi2 * (tau * tau) + w1 * phi3 * (tau * tau * tau),
+    )
 }
 
 fn to_real(vectors: &DMatrix<Complex64>, z: &[Complex64], out: &mut [f64]) {
@@ -471,6 +563,28 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn decayed_components_take_the_shortcut_exactly() {
+        // Past λτ = -745 the shortcut and the φ-functions must agree.
+        let (lambda, tau) = (Complex64::new(-2.5e17, 0.0), 1e-12);
+        let (z0, w0, w1) = (
+            Complex64::new(0.3, 0.0),
+            Complex64::new(7e16, 0.0),
+            Complex64::new(-2e17, 0.0),
+        );
+        let inverse = 1.0 / lambda;
+        let [e, phi1, phi2, phi3] = phis(lambda * tau);
+        let full = e * z0 + w0 * phi1 * tau + w1 * phi2 * (tau * tau);
+        let full_integral =
+            z0 * phi1 * tau + w0 * phi2 * (tau * tau) + w1 * phi3 * (tau * tau * tau);
+        assert!(
+            (coordinate(lambda, inverse, tau, z0, w0, w1) - full).norm() <= 1e-15 * full.norm()
+        );
+        let (z, integral) = coordinate_and_integral(lambda, inverse, tau, z0, w0, w1);
+        assert!((z - full).norm() <= 1e-15 * full.norm());
+        assert!((integral - full_integral).norm() <= 1e-14 * full_integral.norm());
     }
 
     #[test]
