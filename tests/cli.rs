@@ -352,3 +352,124 @@ fn an_unknown_output_element_is_a_clear_error_naming_it() {
     ]);
     assert!(err.contains("the model has no element 'dashpot'"), "{err}");
 }
+
+/// A fresh directory under the system's temporary directory.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("bondgraph-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+#[test]
+fn reproduce_writes_its_results_and_the_json_contract() {
+    let dir = scratch("reproduce");
+    let out = dir.to_string_lossy().to_string();
+    let summary = succeed(&["reproduce", "--out", &out]);
+    assert!(summary.contains("RMS error"), "{summary}");
+    for file in [
+        "report.md",
+        "reproduce.json",
+        "table3.csv",
+        "table6.csv",
+        "fig6_robot.svg",
+        "fig6_paper.svg",
+        "fig6_robot.csv",
+        "fig6_paper.csv",
+    ] {
+        assert!(dir.join(file).exists(), "{file} not written");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("reproduce.json")).unwrap())
+            .unwrap();
+    let table3 = json["table3"].as_array().unwrap();
+    assert_eq!(table3.len(), 27);
+    assert_eq!(json["table6"].as_array().unwrap().len(), 6);
+    for row in table3 {
+        for field in [
+            "P_s_kPa",
+            "v_ac_mm_s",
+            "v_ct_mm_s",
+            "exp_mm_s",
+            "paper_sim_mm_s",
+            "model_mm_s",
+            "paper_model_mm_s",
+        ] {
+            assert!(row.get(field).is_some(), "missing {field}");
+        }
+    }
+    // By hand: at 120 kPa the flagship's tip slides at (A P_s - F_C_ge)/b
+    // = (12 - 9.125)/1250 m/s = 2.3 mm/s.
+    let cell = table3
+        .iter()
+        .find(|r| r["P_s_kPa"] == 120.0 && r["v_ac_mm_s"] == 5.8)
+        .unwrap();
+    assert!((cell["model_mm_s"].as_f64().unwrap() - 2.3).abs() < 1e-9);
+    let events = json["fig6"]["events"].as_array().unwrap();
+    assert!(!events.is_empty());
+    for field in ["t", "from", "to", "element", "reason"] {
+        assert!(events[0].get(field).is_some(), "missing {field}");
+    }
+    // The same JSON on standard output with --format json.
+    let printed: serde_json::Value =
+        serde_json::from_str(&succeed(&["reproduce", "--out", &out, "--format", "json"])).unwrap();
+    assert_eq!(printed["table3"], json["table3"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn simulate_prints_csv_and_json_and_plots() {
+    let dir = scratch("simulate");
+    let plot = dir.join("belt.svg").to_string_lossy().to_string();
+    let csv = succeed(&[
+        "simulate",
+        "models/examples/belt_friction.ron",
+        "--scenario",
+        "models/scenarios/belt_stick_slip.ron",
+        "--plot",
+        &plot,
+    ]);
+    let header = csv.lines().next().unwrap();
+    assert!(header.starts_with("t,mode,"), "{header}");
+    assert!(std::fs::read_to_string(&plot).unwrap().contains("<svg"));
+    let json: serde_json::Value = serde_json::from_str(&succeed(&[
+        "simulate",
+        "models/examples/belt_friction.ron",
+        "--scenario",
+        "models/scenarios/belt_stick_slip.ron",
+        "--format",
+        "json",
+    ]))
+    .unwrap();
+    // The first breakaway: the spring holds k q = F_S after q = F_S/k = 0.1 m at 0.1 m/s.
+    let events = json["events"].as_array().unwrap();
+    assert!(
+        (events[0]["t"].as_f64().unwrap() - 1.0).abs() < 1e-9,
+        "{events:?}"
+    );
+    assert_eq!(events[0]["to"], "friction=slip+");
+    assert!(json["final"]["states"].get("q_spring").is_some());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn simulate_reports_a_bad_scenario_at_its_line() {
+    let dir = scratch("bad-scenario");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bad.ron");
+    std::fs::write(
+        &path,
+        "Scenario(\n    name: \"bad\",\n    inputs: { \"v_blet\": Constant(0.1) },\n    duration: 1.0,\n)\n",
+    )
+    .unwrap();
+    let output = run(&[
+        "simulate",
+        "models/examples/belt_friction.ron",
+        "--scenario",
+        &path.to_string_lossy(),
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("bad.ron:3:"), "{stderr}");
+    assert!(stderr.contains("v_blet"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
