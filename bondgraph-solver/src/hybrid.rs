@@ -254,6 +254,8 @@ pub struct Simulator<'m> {
     model: &'m Model,
     storage: Storage,
     outputs: Vec<Output>,
+    /// The parameter values substituted, indexed like [`Model::values`].
+    values: Vec<f64>,
     symbolic: ModeCache<'m>,
     numeric: HashMap<Mode, Arc<NumericMode>>,
     settings: Settings,
@@ -266,6 +268,7 @@ impl<'m> Simulator<'m> {
             model,
             storage: Storage::of(model),
             outputs,
+            values: model.values.clone(),
             symbolic: ModeCache::new(model, Options::default()),
             numeric: HashMap::new(),
             settings: Settings::default(),
@@ -276,6 +279,34 @@ impl<'m> Simulator<'m> {
     pub fn with_settings(mut self, settings: Settings) -> Self {
         self.settings = settings;
         self
+    }
+
+    /// Substitutes other parameter values (indexed like [`Model::values`]) from now on,
+    /// keeping the symbolic modes derived so far: the fast path of a calibration, which
+    /// changes numbers but never the structure.
+    ///
+    /// # Errors
+    /// [`SimError::Inputs`] when `values` does not have one value per parameter of the model.
+    pub fn set_parameter_values(&mut self, values: &[f64]) -> Result<(), SimError> {
+        if values.len() != self.model.values.len() {
+            return Err(SimError::Inputs(format!(
+                "{} parameter values given, but model '{}' has {} parameters",
+                values.len(),
+                self.model.name,
+                self.model.values.len()
+            )));
+        }
+        if values != self.values.as_slice() {
+            self.values = values.to_vec();
+            self.storage = Storage::with_values(self.model, values);
+            self.numeric.clear();
+        }
+        Ok(())
+    }
+
+    /// The parameter values substituted, indexed like [`Model::values`].
+    pub fn parameter_values(&self) -> &[f64] {
+        &self.values
     }
 
     /// The storage elements making up the full state.
@@ -304,6 +335,7 @@ impl<'m> Simulator<'m> {
             .collect();
         let numeric = Arc::new(NumericMode::new(
             self.model,
+            &self.values,
             &self.storage,
             &derived,
             &forms,

@@ -33,6 +33,12 @@ pub struct Storage {
 impl Storage {
     /// The storage elements of `model`: inertias, compliances and tension-only elements.
     pub fn of(model: &Model) -> Self {
+        Self::with_values(model, &model.values)
+    }
+
+    /// The storage elements of `model` with the parameter values `values` (indexed like
+    /// [`Model::values`]) in their coefficients.
+    pub fn with_values(model: &Model, values: &[f64]) -> Self {
         let mut storage = Storage {
             elements: Vec::new(),
             names: Vec::new(),
@@ -48,7 +54,7 @@ impl Storage {
             };
             storage.elements.push(id);
             storage.names.push(format!("{letter}_{}", element.name));
-            storage.coefficients.push(model.evaluate(coefficient));
+            storage.coefficients.push(coefficient.eval(values));
         }
         storage
     }
@@ -195,16 +201,17 @@ pub struct NumericMode {
 }
 
 impl NumericMode {
-    /// Puts numbers into a derived mode; `outputs` are the rows of requested outputs.
+    /// Puts numbers into a derived mode: the parameter `values` (indexed like
+    /// [`Model::values`]); `outputs` are the rows of requested outputs.
     pub fn new(
         model: &Model,
+        values: &[f64],
         storage: &Storage,
         derived: &ModeEquations,
         outputs: &[LinearForm],
     ) -> Self {
         let eq: &StateEquations = &derived.equations;
         let (n, m) = (eq.states.len(), eq.inputs.len());
-        let values = &model.values;
         let evaluate = |rows: Vec<Vec<bondgraph_core::symbolic::RatFunc>>, columns: usize| {
             DMatrix::from_fn(rows.len(), columns, |i, j| rows[i][j].eval(values))
         };

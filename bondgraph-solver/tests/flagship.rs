@@ -137,3 +137,47 @@ fn the_tip_mass_is_parasitic_and_nothing_else_is() {
         );
     }
 }
+
+#[test]
+fn new_parameter_values_keep_the_derived_modes_and_change_the_numbers() {
+    // A calibration changes numbers, never the structure: one simulator, three values of
+    // the nozzle's viscous coefficient b, each against the catheter-locked closed form
+    // (`catheter_locked_regime`), v = (A P_s - F_C_ge + 2 K_p v_des)/(b + 4 K_p).
+    let model = load("models/eversion/robot.ron");
+    let outputs = vec![Output {
+        name: "flow:ge".into(),
+        spec: OutputSpec::parse(&model, "flow:ge").unwrap(),
+        integral: false,
+    }];
+    let mut simulator = Simulator::new(&model, outputs);
+    let n = simulator.storage().len();
+    let start = Mode::parse(&model, "fr_ge=stuck,k=slack,fr_ct=stuck").unwrap();
+    let inputs = [110e3, 5.8e-3, 1.8e-3];
+    let b_index = model
+        .parameters
+        .iter()
+        .find(|p| p.name == "b")
+        .unwrap()
+        .symbol
+        .index();
+    for b in [1250.0, 2500.0, 600.0] {
+        let mut values = model.values.clone();
+        values[b_index] = b;
+        simulator.set_parameter_values(&values).unwrap();
+        let steady = steady_state(
+            &mut simulator,
+            &inputs,
+            start.clone(),
+            vec![0.0; n],
+            &SteadySettings::default(),
+        )
+        .unwrap();
+        let expected = (A * 110e3 - F_C_GE + 2.0 * K_P * 1.8e-3) / (b + 4.0 * K_P);
+        assert!(
+            close(steady.outputs[0], expected),
+            "b = {b}: {} against {expected}",
+            steady.outputs[0]
+        );
+    }
+    assert!(simulator.set_parameter_values(&[1.0]).is_err());
+}
