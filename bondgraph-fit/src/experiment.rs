@@ -90,11 +90,25 @@ struct Variant {
     initial: Mode,
 }
 
-/// Predicts the steady tip velocity of measurements with a model.
+/// A model prepared to predict measurements: the model as is for rows with a catheter, and
+/// without the catheter's elements for rows without one.
+///
+/// A `Predictor` owns the models; [`Predictor::evaluator`] makes an [`Evaluator`], which keeps
+/// the simulators (and so every mode derived symbolically) between predictions and takes new
+/// parameter values without deriving anything again: what a calibration needs.
 pub struct Predictor {
     with_catheter: Variant,
     without_catheter: Option<Variant>,
     settings: SteadySettings,
+}
+
+/// The prediction of one row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Prediction {
+    /// The steady tip velocity, mm/s.
+    pub tip_velocity_mm_s: f64,
+    /// The mode the model settles in (`fr_ge=slip+,k=slack`).
+    pub mode: String,
 }
 
 impl Predictor {
@@ -137,8 +151,8 @@ impl Predictor {
         &self.with_catheter.model
     }
 
-    /// Sets parameter values (by name) in every variant, for calibration; the structure and
-    /// so the symbolic equations do not change.
+    /// Sets parameter values (by name) in every variant; the structure and so the symbolic
+    /// equations do not change. (An [`Evaluator`] does the same without touching the models.)
     ///
     /// # Errors
     /// When a name is not a parameter of the model.
@@ -147,19 +161,16 @@ impl Predictor {
             std::iter::once(&mut self.with_catheter).chain(self.without_catheter.as_mut())
         {
             for (name, value) in values {
-                let parameter = variant
+                let index = variant.parameter_index(name)?;
+                variant.model.values[index] = *value;
+                if let Some(parameter) = variant
                     .model
                     .parameters
                     .iter_mut()
                     .find(|p| &p.name == name)
-                    .ok_or_else(|| {
-                        ExperimentError(format!(
-                            "'{name}' is not a parameter of model '{}'",
-                            variant.model.name
-                        ))
-                    })?;
-                parameter.value = *value;
-                variant.model.values[parameter.symbol.index()] = *value;
+                {
+                    parameter.value = *value;
+                }
             }
         }
         Ok(())
@@ -170,29 +181,106 @@ impl Predictor {
     /// # Errors
     /// When a simulation fails or does not settle.
     pub fn predict(&self, rows: &[Measurement]) -> Result<Vec<f64>, ExperimentError> {
-        let mut predictions = vec![f64::NAN; rows.len()];
-        for (variant, with) in [
-            (Some(&self.with_catheter), true),
-            (self.without_catheter.as_ref(), false),
-        ] {
+        Ok(self
+            .evaluator(&[])?
+            .predict(rows)?
+            .into_iter()
+            .map(|p| p.tip_velocity_mm_s)
+            .collect())
+    }
+
+    /// An evaluator whose [`Evaluator::set`] takes values of the parameters `names`, in order.
+    ///
+    /// # Errors
+    /// When a name is not a parameter of the model.
+    pub fn evaluator(&self, names: &[String]) -> Result<Evaluator<'_>, ExperimentError> {
+        let slots = |variant: &Variant| {
+            names
+                .iter()
+                .map(|name| variant.parameter_index(name))
+                .collect::<Result<Vec<_>, _>>()
+        };
+        let with = Session::new(&self.with_catheter, slots(&self.with_catheter)?);
+        let without = match &self.without_catheter {
+            Some(variant) => Some(Session::new(variant, slots(variant)?)),
+            None => None,
+        };
+        Ok(Evaluator {
+            sessions: [Some(with), without],
+            settings: self.settings,
+        })
+    }
+}
+
+/// Predicts rows with changing parameter values, keeping every mode derived so far.
+pub struct Evaluator<'p> {
+    /// With the catheter, and without it.
+    sessions: [Option<Session<'p>>; 2],
+    settings: SteadySettings,
+}
+
+/// One variant's simulator and where the evaluator's parameters sit in its values.
+struct Session<'p> {
+    variant: &'p Variant,
+    simulator: Simulator<'p>,
+    slots: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl<'p> Session<'p> {
+    fn new(variant: &'p Variant, slots: Vec<usize>) -> Self {
+        let outputs = vec![Output {
+            name: "tip".into(),
+            spec: variant.output.clone(),
+            integral: false,
+        }];
+        Self {
+            variant,
+            simulator: Simulator::new(&variant.model, outputs),
+            slots,
+            values: variant.model.values.clone(),
+        }
+    }
+}
+
+impl Evaluator<'_> {
+    /// Sets the values of the evaluator's parameters (in the order they were named).
+    ///
+    /// # Panics
+    /// When `values` does not have one value per parameter named.
+    pub fn set(&mut self, values: &[f64]) {
+        for session in self.sessions.iter_mut().flatten() {
+            assert_eq!(values.len(), session.slots.len(), "one value per parameter");
+            for (&slot, &value) in session.slots.iter().zip(values) {
+                session.values[slot] = value;
+            }
+            session
+                .simulator
+                .set_parameter_values(&session.values)
+                .expect("values indexed like the model's");
+        }
+    }
+
+    /// The predicted steady state of each row.
+    ///
+    /// # Errors
+    /// When a simulation fails or does not settle, naming the row.
+    pub fn predict(&mut self, rows: &[Measurement]) -> Result<Vec<Prediction>, ExperimentError> {
+        let mut predictions: Vec<Option<Prediction>> = vec![None; rows.len()];
+        for (k, with) in [(0, true), (1, false)] {
             let indices: Vec<usize> = (0..rows.len())
                 .filter(|&i| rows[i].catheter_velocity_mm_s.is_some() == with)
                 .collect();
             if indices.is_empty() {
                 continue;
             }
-            let Some(variant) = variant else {
+            let Some(session) = self.sessions[k].as_mut() else {
                 return Err(ExperimentError(
                     "rows without a catheter, but the experiment names no catheter elements to remove".into(),
                 ));
             };
-            let outputs = vec![Output {
-                name: "tip".into(),
-                spec: variant.output.clone(),
-                integral: false,
-            }];
-            let mut simulator = Simulator::new(&variant.model, outputs);
-            let storage = simulator.storage().len();
+            let variant = session.variant;
+            let storage = session.simulator.storage().len();
             for i in indices {
                 let row = &rows[i];
                 let mut inputs = vec![0.0; variant.model.inputs.len()];
@@ -202,7 +290,7 @@ impl Predictor {
                     inputs[k] = v * 1e-3;
                 }
                 let steady = steady_state(
-                    &mut simulator,
+                    &mut session.simulator,
                     &inputs,
                     variant.initial.clone(),
                     vec![0.0; storage],
@@ -211,10 +299,16 @@ impl Predictor {
                 .map_err(|e| {
                     ExperimentError(format!("row {} ({}): {e}", row.row, describe(row)))
                 })?;
-                predictions[i] = steady.outputs[0] * 1e3;
+                predictions[i] = Some(Prediction {
+                    tip_velocity_mm_s: steady.outputs[0] * 1e3,
+                    mode: steady.mode,
+                });
             }
         }
-        Ok(predictions)
+        Ok(predictions
+            .into_iter()
+            .map(|p| p.expect("every row predicted"))
+            .collect())
     }
 }
 
@@ -248,6 +342,21 @@ fn describe(row: &Measurement) -> String {
 }
 
 impl Variant {
+    /// Where the parameter `name` sits in the model's values.
+    fn parameter_index(&self, name: &str) -> Result<usize, ExperimentError> {
+        self.model
+            .parameters
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| p.symbol.index())
+            .ok_or_else(|| {
+                ExperimentError(format!(
+                    "'{name}' is not a parameter of model '{}'",
+                    self.model.name
+                ))
+            })
+    }
+
     fn new(
         model: Model,
         experiment: &Experiment,
