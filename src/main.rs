@@ -90,6 +90,17 @@ enum Command {
         #[arg(long, value_enum, default_value_t = ReproduceFormat::Text)]
         format: ReproduceFormat,
     },
+    /// Merge extensions (bond-graph fragments, RON) into a model; print the extended model file.
+    Extend {
+        /// The model file (RON).
+        model: PathBuf,
+        /// The extension files (RON), merged in order.
+        #[arg(required = true)]
+        extensions: Vec<PathBuf>,
+        /// Write the extended model to this file instead of standard output.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+    },
     /// List the modes reachable from the initial mode, their states and their guards.
     Modes {
         /// The model file (RON).
@@ -293,6 +304,11 @@ fn run(cli: Cli) -> Result<(), Failure> {
             plot,
         } => simulate(&model, &scenario, format, out.as_deref(), plot.as_deref()),
         Command::Reproduce { out, format } => reproduce::run(&out, format == ReproduceFormat::Json),
+        Command::Extend {
+            model,
+            extensions,
+            out,
+        } => extend(&model, &extensions, out.as_deref()),
         Command::Modes {
             model,
             states,
@@ -361,6 +377,43 @@ fn simulate(
         trajectory.stats.modes,
         trajectory.stats.segments
     );
+    Ok(())
+}
+
+/// Merges extensions into a model, checks the result and prints or writes it.
+fn extend(model: &Path, extensions: &[PathBuf], out: Option<&Path>) -> Result<(), Failure> {
+    use bondgraph_core::model::extension::{self, Extension};
+    let base = read_source(model)?;
+    let mut sources = vec![base.clone()];
+    let mut fragments = Vec::new();
+    for path in extensions {
+        let source = read_source(path)?;
+        sources.push(source.clone());
+        let fragment = Extension::load(&source).map_err(|d| Failure {
+            diagnostics: d,
+            sources: sources.clone(),
+        })?;
+        fragments.push(fragment);
+    }
+    let failure = |diagnostics| Failure {
+        diagnostics,
+        sources: sources.clone(),
+    };
+    let extended = extension::merge(&base, &fragments).map_err(failure)?;
+    let merged = extended.load().map_err(failure)?;
+    match out {
+        Some(path) => {
+            write_file(path, extended.file.text())?;
+            eprintln!(
+                "{}: model '{}' written ({}, {})",
+                path.display(),
+                merged.name,
+                count(merged.elements.len(), "element"),
+                count(merged.bonds.len(), "bond")
+            );
+        }
+        None => print(extended.file.text()),
+    }
     Ok(())
 }
 

@@ -860,3 +860,18 @@ fn damaged_examples_never_panic() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn value_outside_bounds() {
+    check(
+        "value_outside_bounds",
+        Expect {
+            kind: DiagnosticKind::InvalidValue,
+            line: 6,
+            column: 50,
+            element: Some("k"),
+            underlined: "(0.0, 100.0)",
+            message: "parameter 'k' has value 200, outside its bounds (0, 100)",
+        },
+    );
+}

@@ -122,7 +122,7 @@ fn edits_the_robot_does_not_allow() {
             (
                 DiagnosticKind::UnknownName,
                 "cannot remove element 'catheterr': model 'eversion_robot' has no element 'catheterr'",
-                60,
+                62,
                 5
             ),
             (
@@ -134,7 +134,7 @@ fn edits_the_robot_does_not_allow() {
             (
                 DiagnosticKind::InvalidValue,
                 "cannot set parameter 'b' to NaN: the value must be a finite number",
-                45,
+                47,
                 9
             ),
         ]
@@ -156,7 +156,7 @@ fn a_junction_left_with_one_bond_is_reported_when_the_edit_is_loaded() {
         (
             DiagnosticKind::BondCount,
             "0-junction 'rubbing' has 1 bond; a junction joins two or more",
-            71,
+            73,
             9
         )
     );
@@ -164,12 +164,12 @@ fn a_junction_left_with_one_bond_is_reported_when_the_edit_is_loaded() {
         first.location.as_ref().unwrap().file,
         "models/eversion/robot.ron (edited)"
     );
-    // Traced back to the robot's own file, line 72.
+    // Traced back to the robot's own file, line 74.
     let relocated = edited.relocate(first.clone(), &robot);
     let location = relocated.location.unwrap();
     assert_eq!(
         (location.file.as_str(), location.line, location.column),
-        (ROBOT, 72, 9)
+        (ROBOT, 74, 9)
     );
     assert_eq!(
         &robot.text()[location.span.start..location.span.end],

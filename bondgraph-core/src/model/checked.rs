@@ -78,6 +78,9 @@ pub struct Parameter {
     pub unit: Option<String>,
     /// What it is.
     pub description: Option<String>,
+    /// The range a calibration may move it in, `(low, high)` with `low < high` and the value
+    /// inside, if the file gives one.
+    pub bounds: Option<(f64, f64)>,
     /// Its symbol in [`Model::symbols`].
     pub symbol: Symbol,
     /// The span of its name in the file.

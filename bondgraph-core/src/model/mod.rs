@@ -20,6 +20,7 @@
 //! ```
 mod checked;
 pub mod edit;
+pub mod extension;
 pub mod parse;
 pub mod raw;
 pub mod reduction;

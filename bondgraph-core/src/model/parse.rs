@@ -35,6 +35,8 @@ pub enum FileKind {
     Model,
     /// A scenario file, `Scenario(...)`.
     Scenario,
+    /// A model extension, `Extension(...)`.
+    Extension,
 }
 
 impl FileKind {
@@ -43,6 +45,7 @@ impl FileKind {
         match self {
             FileKind::Model => "model",
             FileKind::Scenario => "scenario",
+            FileKind::Extension => "extension",
         }
     }
 
@@ -51,6 +54,7 @@ impl FileKind {
         match self {
             FileKind::Model => "Model",
             FileKind::Scenario => "Scenario",
+            FileKind::Extension => "Extension",
         }
     }
 }
@@ -79,7 +83,7 @@ pub fn parse_file<T: DeserializeOwned>(
     if skip_trivia(text, 0) == Ok(text.len()) {
         let diagnostic_kind = match kind {
             FileKind::Model => DiagnosticKind::EmptyModel,
-            FileKind::Scenario => DiagnosticKind::Syntax,
+            FileKind::Scenario | FileKind::Extension => DiagnosticKind::Syntax,
         };
         return Err(Diagnostic::new(
             diagnostic_kind,
@@ -959,7 +963,7 @@ Model(
         assert_eq!(d.kind, DiagnosticKind::UnknownField);
         assert_eq!(
             d.message,
-            "parameter 'm': unknown field 'units'; expected one of 'value', 'unit', 'description'"
+            "parameter 'm': unknown field 'units'; expected one of 'value', 'unit', 'description', 'bounds'"
         );
         assert_eq!((line, column), (5, 27));
         assert_eq!(d.element.as_deref(), Some("m"));

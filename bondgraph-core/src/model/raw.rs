@@ -67,6 +67,9 @@ pub struct RawParameter {
     pub unit: Option<String>,
     /// A description for people.
     pub description: Option<String>,
+    /// The range a calibration may move the value in, `(low, high)`: physical limits (a
+    /// friction force is not negative) or the plausible range of a fitted coefficient.
+    pub bounds: Option<(f64, f64)>,
 }
 
 /// An external input: a signal given at simulation time.
@@ -243,6 +246,7 @@ mod tests {
                 value: 1.5,
                 unit: Some("kg".into()),
                 description: Some("the mass".into()),
+                bounds: None,
             }
         );
         assert_eq!(model.parameters[1].1.value, 100.0);

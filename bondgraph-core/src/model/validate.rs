@@ -82,6 +82,9 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
                     .element(name.clone()),
             );
         }
+        if let Some(bounds) = raw_parameter.bounds {
+            v.check_bounds(name, raw_parameter.value, bounds, index);
+        }
         parameters.push((name.clone(), raw_parameter.clone(), span));
     }
     let mut inputs = Vec::new();
@@ -110,6 +113,7 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
                 value: raw_parameter.value,
                 unit: raw_parameter.unit,
                 description: raw_parameter.description,
+                bounds: raw_parameter.bounds,
                 symbol,
                 span,
             }
@@ -262,6 +266,29 @@ impl Validator<'_> {
 
     fn field_span(&self, name: &str) -> Option<Span> {
         self.map.field(name).map(|f| f.name_span)
+    }
+
+    /// Bounds must be finite, `low < high`, and hold the parameter's value.
+    fn check_bounds(&mut self, name: &str, value: f64, (low, high): (f64, f64), index: usize) {
+        let problem = if !low.is_finite() || !high.is_finite() {
+            format!("parameter '{name}' has bounds ({low}, {high}); bounds must be finite numbers")
+        } else if low >= high {
+            format!(
+                "parameter '{name}' has bounds ({low}, {high}); the low bound must be below the high one"
+            )
+        } else if !(low..=high).contains(&value) {
+            format!("parameter '{name}' has value {value}, outside its bounds ({low}, {high})")
+        } else {
+            return;
+        };
+        let span = self
+            .field_value_span(&self.map.parameters, index, "bounds")
+            .unwrap_or_else(|| self.entry_span(&self.map.parameters, index));
+        self.problems.push(
+            Diagnostic::new(DiagnosticKind::InvalidValue, problem)
+                .at(&self.file, span)
+                .element(name),
+        );
     }
 
     fn field_value_span(&self, entries: &[EntrySpans], index: usize, field: &str) -> Option<Span> {

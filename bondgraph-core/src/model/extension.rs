@@ -1,0 +1,596 @@
+//! Model extensions: bond-graph fragments merged into a model file.
+//!
+//! When a model disagrees with measurements, the cause is often a piece of physics it leaves
+//! out: a force nobody modelled, a friction that depends on the load. An extension writes that
+//! piece down as a small bond-graph fragment with a physical cause, its own parameters (with
+//! bounds, for calibration) and, where it changes an element rather than adding one, the
+//! replacement of that element:
+//!
+//! ```ron
+//! Extension(
+//!     id: "supply-flow-resistance",
+//!     cause: "growth draws liquid through the supply line, so tip pressure sags in proportion to v_ge",
+//!     evidence: "measure the tank pressure while the tip grows",
+//!     parameters: { "R_s": (value: 0.0, unit: "Pa*s/m^3", bounds: (0.0, 1e10)) },
+//!     elements: { "supply_line": R(resistance: "A^2*R_s") },
+//!     bonds: [("tip", "supply_line")],
+//! )
+//! ```
+//!
+//! Fields: `id`, `cause` (one sentence), `evidence` (optional: the measurement that would
+//! show the effect directly), `parameters` and `inputs` (new ones), `elements` (new ones,
+//! and the new version of each element named in `replace`), `replace` (names of the base
+//! model's elements that `elements` gives anew) and `bonds` (new bonds, which may join new
+//! elements to the base model's).
+//!
+//! [`merge`] writes the fragments into the base model's *text*: entries are appended to the
+//! model's sections and replaced elements are rewritten in place, comments and layout kept,
+//! and the model is renamed `base+id`. The result is an ordinary model file that
+//! [`load_source`](super::load_source) checks like any other, that `bondgraph equations`
+//! and `simulate` accept, and that a person can read. A problem the merged model has (a bond
+//! to an element neither file defines) is reported at the line of the file it came from:
+//! [`Extended::load`] points diagnostics about copied text back into the extension file.
+//!
+//! # Example
+//! ```
+//! use bondgraph_core::model::extension::{self, Extension};
+//! use bondgraph_core::source::SourceFile;
+//!
+//! let base = SourceFile::new("msd.ron", r#"Model(name: "msd",
+//!     parameters: {"m": (value: 2.0), "b": (value: 4.0)},
+//!     inputs: {"F": ()},
+//!     elements: {"push": Se(effort: "F"), "v": One, "mass": I(inertance: "m"), "damper": R(resistance: "b")},
+//!     bonds: [("push", "v"), ("v", "mass"), ("v", "damper")])"#);
+//! let fragment = SourceFile::new("air.ron", r#"Extension(
+//!     id: "air-drag",
+//!     cause: "the air resists the mass in proportion to its speed",
+//!     parameters: {"b_air": (value: 1.0, bounds: (0.0, 10.0))},
+//!     elements: {"air": R(resistance: "b_air")},
+//!     bonds: [("v", "air")],
+//! )"#);
+//! let extension = Extension::load(&fragment).unwrap();
+//! let extended = extension::merge(&base, &[extension]).unwrap();
+//! let model = extended.load().unwrap();
+//! assert_eq!(model.name, "msd+air-drag");
+//! assert_eq!(model.elements.len(), 5);
+//! assert_eq!(model.parameters[2].bounds, Some((0.0, 10.0)));
+//! ```
+
+use std::collections::HashSet;
+use std::sync::Arc;
+
+use serde::Deserialize;
+
+use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
+use crate::source::{SourceFile, Span};
+
+use super::Model;
+use super::parse::{FileKind, parse_file, parse_model};
+use super::raw::{RawBond, RawElement, RawInput, RawParameter, entries};
+use super::source_map::{SourceMap, TokenKind, lex};
+use super::validate::suggest;
+
+/// An extension file, exactly as serde reads it.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(rename = "Extension", deny_unknown_fields)]
+pub struct RawExtension {
+    /// A short name, lower case with dashes (`ac-fluid-displacement`).
+    pub id: String,
+    /// The physical cause, in one sentence.
+    pub cause: String,
+    /// The measurement that would show the effect directly, for people.
+    pub evidence: Option<String>,
+    /// New parameters.
+    #[serde(default, deserialize_with = "entries")]
+    pub parameters: Vec<(String, RawParameter)>,
+    /// New inputs.
+    #[serde(default, deserialize_with = "entries")]
+    pub inputs: Vec<(String, RawInput)>,
+    /// New elements, and the new version of each element named in `replace`.
+    #[serde(default, deserialize_with = "entries")]
+    pub elements: Vec<(String, RawElement)>,
+    /// The base model's elements that `elements` gives anew.
+    #[serde(default)]
+    pub replace: Vec<String>,
+    /// New bonds.
+    #[serde(default)]
+    pub bonds: Vec<RawBond>,
+}
+
+/// A parsed extension file, with the spans of its parts.
+#[derive(Clone, Debug)]
+pub struct Extension {
+    /// What the file says.
+    pub raw: RawExtension,
+    source: Arc<SourceFile>,
+    map: SourceMap,
+}
+
+impl Extension {
+    /// Parses the extension in `source`.
+    ///
+    /// # Errors
+    /// Syntax errors, unknown fields and element kinds, an id that is not lower case with
+    /// dashes, and an element named in `replace` that `elements` does not give.
+    pub fn load(source: &Arc<SourceFile>) -> Result<Self> {
+        let (raw, map) = parse_file::<RawExtension>(source, FileKind::Extension)?;
+        let mut problems = Vec::new();
+        let field_span = |name: &str| map.field(name).map_or(map.root, |f| f.value_span);
+        let id_ok = !raw.id.is_empty()
+            && raw
+                .id
+                .chars()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-');
+        if !id_ok {
+            problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::InvalidValue,
+                    format!(
+                        "extension id \"{}\" must be lower-case letters, digits and dashes",
+                        raw.id
+                    ),
+                )
+                .at(source, field_span("id")),
+            );
+        }
+        for name in &raw.replace {
+            if !raw.elements.iter().any(|(n, _)| n == name) {
+                problems.push(
+                    Diagnostic::new(
+                        DiagnosticKind::UnknownName,
+                        format!(
+                            "extension '{}' replaces element '{name}' but gives no new '{name}' under elements",
+                            raw.id
+                        ),
+                    )
+                    .at(source, field_span("replace"))
+                    .element(name.clone()),
+                );
+            }
+        }
+        if map.elements.len() != raw.elements.len()
+            || map.parameters.len() != raw.parameters.len()
+            || map.inputs.len() != raw.inputs.len()
+            || map.bonds.len() != raw.bonds.len()
+        {
+            problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::Syntax,
+                    "this extension is written in a way that cannot be merged; write its \
+                     elements, parameters, inputs and bonds as plain maps and lists",
+                )
+                .at(source, map.root),
+            );
+        }
+        if !problems.is_empty() {
+            return Err(Diagnostics(problems));
+        }
+        Ok(Self {
+            raw,
+            source: Arc::clone(source),
+            map,
+        })
+    }
+
+    /// Reads and parses the extension file at `path`.
+    ///
+    /// # Errors
+    /// An unreadable file, and everything [`Extension::load`] reports.
+    pub fn read(path: &std::path::Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Diagnostic::new(
+                DiagnosticKind::Io,
+                format!("cannot read extension '{}': {e}", path.display()),
+            )
+        })?;
+        Self::load(&SourceFile::new(path.display().to_string(), text))
+    }
+
+    /// The extension's id.
+    pub fn id(&self) -> &str {
+        &self.raw.id
+    }
+
+    /// The file it was read from.
+    pub fn source(&self) -> &Arc<SourceFile> {
+        &self.source
+    }
+}
+
+/// A model file with extensions merged in, and where each part of its text came from.
+#[derive(Clone, Debug)]
+pub struct Extended {
+    /// The merged model file, named `base + id + ...`.
+    pub file: Arc<SourceFile>,
+    base: Arc<SourceFile>,
+    extensions: Vec<Arc<SourceFile>>,
+    /// The merged text, piece by piece, in order.
+    pieces: Vec<Piece>,
+}
+
+/// A stretch of the merged text and where it came from.
+#[derive(Clone, Copy, Debug)]
+struct Piece {
+    merged: Span,
+    origin: Origin,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Origin {
+    /// Copied from the base model, starting at this offset.
+    Base(usize),
+    /// Copied from extension `.0`, starting at offset `.1`.
+    Extension(usize, usize),
+    /// Written by the merge (separators, comments), at this offset of the base model.
+    Generated(usize),
+}
+
+/// Text that replaces a span of the base model: written text and copies from extensions.
+struct Splice {
+    at: Span,
+    parts: Vec<Part>,
+}
+
+enum Part {
+    Text(String),
+    Copy(usize, Span),
+}
+
+impl Extended {
+    /// Checks the merged model, with every diagnostic pointed at the file and line its
+    /// text came from (the base model or an extension).
+    ///
+    /// # Errors
+    /// Every problem of the merged model, as [`load_source`](super::load_source) reports it.
+    pub fn load(&self) -> Result<Model> {
+        super::load_source(&self.file)
+            .map_err(|d| Diagnostics(d.0.into_iter().map(|d| self.relocate(d)).collect()))
+    }
+
+    /// `diagnostic`, if it points into the merged text, pointed at the file its text came
+    /// from.
+    pub fn relocate(&self, mut diagnostic: Diagnostic) -> Diagnostic {
+        let Some(location) = &diagnostic.location else {
+            return diagnostic;
+        };
+        if location.file != self.file.name() {
+            return diagnostic;
+        }
+        let span = location.span;
+        let Some(piece) = self
+            .pieces
+            .iter()
+            .find(|p| p.merged.contains(span.start) || p.merged.start == span.start)
+        else {
+            return diagnostic;
+        };
+        let shift = span.start - piece.merged.start;
+        let length = span.len().min(piece.merged.end - span.start);
+        let (file, start, length) = match piece.origin {
+            Origin::Base(start) => (&self.base, start + shift, length),
+            Origin::Extension(i, start) => (&self.extensions[i], start + shift, length),
+            Origin::Generated(at) => (&self.base, at, 0),
+        };
+        diagnostic.location = Some(file.locate(Span::new(start, start + length)));
+        diagnostic
+    }
+}
+
+/// Merges `extensions` into the model file `base`, in order.
+///
+/// # Errors
+/// The base model's syntax error, and every conflict between the base and the extensions,
+/// located in the extension: a replaced element the base does not have, a new element,
+/// parameter or input the base already has, two extensions replacing the same element.
+/// Problems of the merged model (a bond to an unknown element) are found by
+/// [`Extended::load`].
+pub fn merge(base: &Arc<SourceFile>, extensions: &[Extension]) -> Result<Extended> {
+    let (raw, map) = parse_model(base)?;
+    let text = base.text();
+    let mut problems = Vec::new();
+    let mut splices: Vec<Splice> = Vec::new();
+    let mut replaced: HashSet<&str> = HashSet::new();
+    let base_elements: Vec<&str> = raw.elements.iter().map(|(n, _)| n.as_str()).collect();
+
+    for (e, extension) in extensions.iter().enumerate() {
+        let ext = &extension.raw;
+        let ext_map = &extension.map;
+        let here = |span: Span| extension.source.locate(span);
+        // Clashes of new names with the base model's.
+        let clash = |kind: &str, name: &str, span: Span, note: &str| {
+            let mut d = Diagnostic::new(
+                DiagnosticKind::DuplicateName,
+                format!(
+                    "extension '{}' adds {kind} '{name}', which model '{}' already has",
+                    ext.id, raw.name
+                ),
+            )
+            .at_location(here(span))
+            .element(name);
+            if !note.is_empty() {
+                d = d.note(note);
+            }
+            d
+        };
+        for ((name, _), spans) in ext.parameters.iter().zip(&ext_map.parameters) {
+            if raw.parameters.iter().any(|(n, _)| n == name)
+                || raw.inputs.iter().any(|(n, _)| n == name)
+            {
+                problems.push(clash("parameter", name, spans.key_span, ""));
+            }
+        }
+        for ((name, _), spans) in ext.inputs.iter().zip(&ext_map.inputs) {
+            if raw.inputs.iter().any(|(n, _)| n == name)
+                || raw.parameters.iter().any(|(n, _)| n == name)
+            {
+                problems.push(clash("input", name, spans.key_span, ""));
+            }
+        }
+        for ((name, _), spans) in ext.elements.iter().zip(&ext_map.elements) {
+            let replaces = ext.replace.contains(name);
+            let exists = base_elements.contains(&name.as_str());
+            if replaces && !exists {
+                let mut d = Diagnostic::new(
+                    DiagnosticKind::UnknownName,
+                    format!(
+                        "extension '{}' replaces element '{name}', which model '{}' does not have",
+                        ext.id, raw.name
+                    ),
+                )
+                .at_location(here(spans.key_span))
+                .element(name.clone());
+                if let Some(suggestion) = suggest(name, base_elements.iter().copied()) {
+                    d = d.note(format!("did you mean '{suggestion}'?"));
+                }
+                problems.push(d);
+            } else if !replaces && exists {
+                problems.push(clash(
+                    "element",
+                    name,
+                    spans.key_span,
+                    &format!("to change the model's '{name}', list it under replace"),
+                ));
+            } else if replaces && !replaced.insert(name.as_str()) {
+                problems.push(
+                    Diagnostic::new(
+                        DiagnosticKind::DuplicateName,
+                        format!("element '{name}' is replaced by two extensions"),
+                    )
+                    .at_location(here(spans.key_span))
+                    .element(name.clone()),
+                );
+            } else if replaces {
+                let index = base_elements
+                    .iter()
+                    .position(|n| n == name)
+                    .expect("exists");
+                splices.push(Splice {
+                    at: map.elements[index].value_span,
+                    parts: vec![Part::Copy(e, spans.value_span)],
+                });
+            }
+        }
+    }
+    if !problems.is_empty() {
+        return Err(Diagnostics(problems));
+    }
+
+    // New entries and bonds, appended to the base model's sections.
+    let ids: Vec<&str> = extensions.iter().map(Extension::id).collect();
+    let marker = format!("// added by extension {}", quoted_list(&ids));
+    let sections: [(&str, &[super::source_map::EntrySpans]); 3] = [
+        ("parameters", &map.parameters),
+        ("inputs", &map.inputs),
+        ("elements", &map.elements),
+    ];
+    for (section, base_entries) in sections {
+        let items: Vec<(usize, Span)> = extensions
+            .iter()
+            .enumerate()
+            .flat_map(|(e, x)| {
+                let entries = match section {
+                    "parameters" => &x.map.parameters,
+                    "inputs" => &x.map.inputs,
+                    _ => &x.map.elements,
+                };
+                entries
+                    .iter()
+                    .filter(move |s| section != "elements" || !x.raw.replace.contains(&s.key))
+                    .map(move |s| (e, s.span()))
+            })
+            .collect();
+        let last = base_entries.last().map(|s| s.span().end);
+        if let Some(splice) = append(text, &map, section, '{', last, items, &marker) {
+            splices.push(splice);
+        }
+    }
+    let bonds: Vec<(usize, Span)> = extensions
+        .iter()
+        .enumerate()
+        .flat_map(|(e, x)| x.map.bonds.iter().map(move |b| (e, b.span)))
+        .collect();
+    let last_bond = map.bonds.last().map(|b| b.span.end);
+    if let Some(splice) = append(text, &map, "bonds", '[', last_bond, bonds, &marker) {
+        splices.push(splice);
+    }
+
+    // The name, and a header saying what was merged.
+    let name = std::iter::once(raw.name.as_str())
+        .chain(ids.iter().copied())
+        .collect::<Vec<_>>()
+        .join("+");
+    if let Some(field) = map.field("name") {
+        splices.push(Splice {
+            at: field.value_span,
+            parts: vec![Part::Text(ron_string(&name))],
+        });
+    }
+    let mut header = format!(
+        "// Model '{}' ({}) extended by `bondgraph extend`.\n",
+        raw.name,
+        base.name()
+    );
+    for extension in extensions {
+        header.push_str(&format!(
+            "// Extension '{}' ({}): {}\n",
+            extension.raw.id,
+            extension.source.name(),
+            extension.raw.cause
+        ));
+    }
+    header.push_str("//\n");
+    splices.push(Splice {
+        at: Span::new(0, 0),
+        parts: vec![Part::Text(header)],
+    });
+
+    splices.sort_by_key(|s| (s.at.start, s.at.end));
+    let mut merged = String::with_capacity(text.len() + 1024);
+    let mut pieces = Vec::new();
+    let mut position = 0;
+    let mut push = |merged: &mut String, content: &str, origin: Origin| {
+        if content.is_empty() {
+            return;
+        }
+        let start = merged.len();
+        merged.push_str(content);
+        pieces.push(Piece {
+            merged: Span::new(start, merged.len()),
+            origin,
+        });
+    };
+    for splice in &splices {
+        push(
+            &mut merged,
+            &text[position..splice.at.start],
+            Origin::Base(position),
+        );
+        for part in &splice.parts {
+            match part {
+                Part::Text(t) => push(&mut merged, t, Origin::Generated(splice.at.start)),
+                Part::Copy(e, span) => push(
+                    &mut merged,
+                    &extensions[*e].source.text()[span.start..span.end],
+                    Origin::Extension(*e, span.start),
+                ),
+            }
+        }
+        position = splice.at.end;
+    }
+    push(&mut merged, &text[position..], Origin::Base(position));
+    let file_name = format!("{}+{}", base.name(), ids.join("+"));
+    Ok(Extended {
+        file: SourceFile::new(file_name, merged),
+        base: Arc::clone(base),
+        extensions: extensions.iter().map(|x| Arc::clone(&x.source)).collect(),
+        pieces,
+    })
+}
+
+/// The splice that appends `items` (copied from extensions) to the section `field` of the
+/// base model, whose last item ends at `last`; a missing section is added before the
+/// model's closing parenthesis.
+fn append(
+    text: &str,
+    map: &SourceMap,
+    field: &str,
+    open: char,
+    last: Option<usize>,
+    items: Vec<(usize, Span)>,
+    marker: &str,
+) -> Option<Splice> {
+    if items.is_empty() {
+        return None;
+    }
+    let close = if open == '{' { '}' } else { ']' };
+    let mut parts = Vec::new();
+    let Some(section) = map.field(field) else {
+        // `    field: { items },` before the root's `)`.
+        let last_field = map.fields.last().map(|f| f.value_span.end);
+        let (at, comma) = after_item(text, last_field.unwrap_or(map.root.start + 1));
+        if last_field.is_some() && !comma {
+            parts.push(Part::Text(",".into()));
+        }
+        parts.push(Part::Text(format!(
+            "\n    {field}: {open}\n        {marker}"
+        )));
+        for (e, span) in items {
+            parts.push(Part::Text("\n        ".into()));
+            parts.push(Part::Copy(e, span));
+            parts.push(Part::Text(",".into()));
+        }
+        parts.push(Part::Text(format!("\n    {close},")));
+        return Some(Splice {
+            at: Span::new(at, at),
+            parts,
+        });
+    };
+    let (at, indent) = match last {
+        Some(end) => {
+            let (at, comma) = after_item(text, end);
+            if !comma {
+                parts.push(Part::Text(",".into()));
+            }
+            (at, indentation(text, end))
+        }
+        None => (section.value_span.start + 1, "        ".to_string()),
+    };
+    parts.push(Part::Text(format!("\n{indent}{marker}")));
+    for (e, span) in items {
+        parts.push(Part::Text(format!("\n{indent}")));
+        parts.push(Part::Copy(e, span));
+        parts.push(Part::Text(",".into()));
+    }
+    if last.is_none() {
+        parts.push(Part::Text("\n    ".into()));
+    }
+    Some(Splice {
+        at: Span::new(at, at),
+        parts,
+    })
+}
+
+/// Where to insert after the item ending at `end`: after its comma if it has one, and after
+/// a comment that ends its line; and whether it has a comma.
+fn after_item(text: &str, end: usize) -> (usize, bool) {
+    let mut at = end;
+    let mut comma = false;
+    if let Ok(Some(token)) = lex(text, end)
+        && token.kind == TokenKind::Punct(b',')
+    {
+        at = token.span.end;
+        comma = true;
+    }
+    let line_end = text[at..].find('\n').map_or(text.len(), |i| at + i);
+    let rest = text[at..line_end].trim();
+    if rest.is_empty() || rest.starts_with("//") {
+        if comma || rest.is_empty() {
+            at = line_end;
+        }
+    }
+    (at, comma)
+}
+
+/// The indentation of the line holding `offset`.
+fn indentation(text: &str, offset: usize) -> String {
+    let line_start = text[..offset].rfind('\n').map_or(0, |i| i + 1);
+    text[line_start..]
+        .chars()
+        .take_while(|c| *c == ' ' || *c == '\t')
+        .collect()
+}
+
+/// `s` as a RON string literal.
+fn ron_string(s: &str) -> String {
+    format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
+}
+
+fn quoted_list(ids: &[&str]) -> String {
+    ids.iter()
+        .map(|id| format!("'{id}'"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+#[cfg(test)]
+mod tests;
