@@ -563,10 +563,8 @@ fn after_item(text: &str, end: usize) -> (usize, bool) {
     }
     let line_end = text[at..].find('\n').map_or(text.len(), |i| at + i);
     let rest = text[at..line_end].trim();
-    if rest.is_empty() || rest.starts_with("//") {
-        if comma || rest.is_empty() {
-            at = line_end;
-        }
+    if rest.is_empty() || (comma && rest.starts_with("//")) {
+        at = line_end;
     }
     (at, comma)
 }
