@@ -13,7 +13,9 @@
 //! - [`reproduce`]: the main job, the flagship against the paper's tables and figure, and
 //!   [`report`], its report.
 
+pub mod calibrate;
 pub mod data;
 pub mod experiment;
 pub mod report;
 pub mod reproduce;
+pub mod stats;

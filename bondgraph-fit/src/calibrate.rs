@@ -1,0 +1,470 @@
+//! Bounded nonlinear least squares, built for steady-state models.
+//!
+//! The forward model is a steady state of a switching system, which makes the residuals
+//! piecewise smooth in the parameters: a viscous coefficient moves every sliding row, but a
+//! breakaway force only decides *which* rows slide, so the residuals are flat in it almost
+//! everywhere and jump where a row changes regime. Levenberg–Marquardt handles the first
+//! kind; for the second (a Jacobian column that is zero), a one-dimensional scan over the
+//! parameter's bounds finds the interval of values that fit best, takes its middle, and
+//! reports the interval as the uncertainty, which is the honest answer for a threshold.
+//!
+//! Parameters are moved in unit coordinates (`0` at the low bound, `1` at the high one), so
+//! a force in newtons and a resistance of `1e10` are stepped alike; a step that would leave
+//! the box is projected back onto it, and a parameter held at a bound by its gradient is
+//! left out of the step. Uncertainty comes from the Jacobian at the optimum,
+//! `σ̂² (JᵀJ)⁻¹` with `σ̂² = SSE/(n - p)`, for parameters that are neither flat nor at a bound.
+
+use crate::stats::{cholesky_solve, spd_inverse};
+
+/// How a calibration searches.
+#[derive(Clone, Copy, Debug)]
+pub struct Settings {
+    /// Levenberg–Marquardt iterations, at most.
+    pub max_iterations: usize,
+    /// Stop when an accepted step lowers the sum of squares by less than this fraction.
+    pub tolerance: f64,
+    /// Forward-difference step, in unit coordinates.
+    pub step: f64,
+    /// Points of the scan of a flat parameter over its bounds.
+    pub scan_points: usize,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            max_iterations: 60,
+            tolerance: 1e-9,
+            step: 1e-5,
+            scan_points: 25,
+        }
+    }
+}
+
+/// The result of a calibration.
+#[derive(Clone, Debug)]
+pub struct Fit {
+    /// The fitted values.
+    pub values: Vec<f64>,
+    /// The residuals at the fitted values (model minus data).
+    pub residuals: Vec<f64>,
+    /// Their sum of squares.
+    pub sse: f64,
+    /// The standard error of each value, where the Jacobian determines it.
+    pub std_errors: Vec<Option<f64>>,
+    /// For a parameter the residuals are flat in (a threshold), the interval of equally
+    /// good values.
+    pub intervals: Vec<Option<(f64, f64)>>,
+    /// Whether each value ended on a bound.
+    pub at_bound: Vec<bool>,
+    /// The Jacobian at the fitted values, `d residual_i / d value_j`, row-major.
+    pub jacobian: Vec<f64>,
+    /// Forward-model evaluations used.
+    pub evaluations: usize,
+}
+
+/// Why a calibration failed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CalibrationError(pub String);
+
+impl std::fmt::Display for CalibrationError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for CalibrationError {}
+
+/// Minimises the sum of squared `residuals(values)` over the box `bounds`, from `start`.
+///
+/// `residuals` returns `None` where the model cannot be evaluated (a simulation that does
+/// not settle); such points are treated as infinitely bad.
+///
+/// # Errors
+/// When the model cannot be evaluated at the start, or a bound is not a finite interval.
+pub fn least_squares(
+    residuals: &mut dyn FnMut(&[f64]) -> Option<Vec<f64>>,
+    start: &[f64],
+    bounds: &[(f64, f64)],
+    settings: &Settings,
+) -> Result<Fit, CalibrationError> {
+    for (i, &(lo, hi)) in bounds.iter().enumerate() {
+        if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+            return Err(CalibrationError(format!(
+                "parameter {i}: bounds ({lo}, {hi}) are not a finite interval"
+            )));
+        }
+    }
+    let mut problem = Problem {
+        residuals,
+        bounds,
+        evaluations: 0,
+    };
+    let mut u: Vec<f64> = start
+        .iter()
+        .zip(bounds)
+        .map(|(&x, &(lo, hi))| ((x - lo) / (hi - lo)).clamp(0.0, 1.0))
+        .collect();
+    let mut r = problem.eval(&u).ok_or_else(|| {
+        CalibrationError("the model cannot be evaluated at the starting values".into())
+    })?;
+    let mut intervals = vec![None; u.len()];
+    for _round in 0..3 {
+        let (next_u, next_r) = problem.levenberg_marquardt(u, r, settings);
+        u = next_u;
+        r = next_r;
+        // Parameters the residuals do not move: scan them.
+        let jacobian = problem.jacobian(&u, &r, settings.step);
+        let mut moved = false;
+        for j in 0..u.len() {
+            let column_norm: f64 = (0..r.len())
+                .map(|i| jacobian[i * u.len() + j].powi(2))
+                .sum();
+            if column_norm > 0.0 {
+                intervals[j] = None;
+                continue;
+            }
+            let (best, interval, best_r) = problem.scan(&u, j, &r, settings.scan_points);
+            moved |= (best - u[j]).abs() > 1e-9 && sse(&best_r) < sse(&r);
+            u[j] = best;
+            r = best_r;
+            intervals[j] = Some(interval);
+        }
+        if !moved {
+            break;
+        }
+    }
+    let jacobian_u = problem.jacobian(&u, &r, settings.step);
+    let n = r.len();
+    let p = u.len();
+    let scale: Vec<f64> = bounds.iter().map(|(lo, hi)| hi - lo).collect();
+    let jacobian: Vec<f64> = (0..n * p).map(|k| jacobian_u[k] / scale[k % p]).collect();
+    let at_bound: Vec<bool> = u.iter().map(|&v| v <= 1e-9 || v >= 1.0 - 1e-9).collect();
+    let total = sse(&r);
+    // Covariance over the parameters the data determines smoothly.
+    let free: Vec<usize> = (0..p)
+        .filter(|&j| intervals[j].is_none() && !at_bound[j])
+        .collect();
+    let mut std_errors = vec![None; p];
+    if n > free.len() && !free.is_empty() {
+        let sigma2 = total / (n - free.len()) as f64;
+        let m = free.len();
+        let mut jtj = vec![0.0; m * m];
+        for (a, &ja) in free.iter().enumerate() {
+            for (b, &jb) in free.iter().enumerate() {
+                jtj[a * m + b] = (0..n)
+                    .map(|i| jacobian[i * p + ja] * jacobian[i * p + jb])
+                    .sum();
+            }
+        }
+        if let Some(inverse) = spd_inverse(&jtj, m) {
+            for (a, &j) in free.iter().enumerate() {
+                std_errors[j] = Some((sigma2 * inverse[a * m + a]).sqrt());
+            }
+        }
+    }
+    let to_x = |j: usize, v: f64| bounds[j].0 + v * scale[j];
+    Ok(Fit {
+        values: u.iter().enumerate().map(|(j, &v)| to_x(j, v)).collect(),
+        sse: total,
+        residuals: r,
+        std_errors,
+        intervals: intervals
+            .iter()
+            .enumerate()
+            .map(|(j, i)| i.map(|(a, b)| (to_x(j, a), to_x(j, b))))
+            .collect(),
+        at_bound,
+        jacobian,
+        evaluations: problem.evaluations,
+    })
+}
+
+fn sse(r: &[f64]) -> f64 {
+    r.iter().map(|v| v * v).sum()
+}
+
+struct Problem<'a> {
+    residuals: &'a mut dyn FnMut(&[f64]) -> Option<Vec<f64>>,
+    bounds: &'a [(f64, f64)],
+    evaluations: usize,
+}
+
+impl Problem<'_> {
+    fn eval(&mut self, u: &[f64]) -> Option<Vec<f64>> {
+        self.evaluations += 1;
+        let x: Vec<f64> = u
+            .iter()
+            .zip(self.bounds)
+            .map(|(&v, &(lo, hi))| lo + v * (hi - lo))
+            .collect();
+        (self.residuals)(&x).filter(|r| r.iter().all(|v| v.is_finite()))
+    }
+
+    /// Forward differences in unit coordinates (backwards at the upper bound); a column
+    /// whose perturbed point cannot be evaluated is zero.
+    fn jacobian(&mut self, u: &[f64], r: &[f64], h: f64) -> Vec<f64> {
+        let (n, p) = (r.len(), u.len());
+        let mut jacobian = vec![0.0; n * p];
+        for j in 0..p {
+            let step = if u[j] + h > 1.0 { -h } else { h };
+            let mut moved = u.to_vec();
+            moved[j] += step;
+            if let Some(rj) = self.eval(&moved) {
+                for i in 0..n {
+                    jacobian[i * p + j] = (rj[i] - r[i]) / step;
+                }
+            }
+        }
+        jacobian
+    }
+
+    fn levenberg_marquardt(
+        &mut self,
+        mut u: Vec<f64>,
+        mut r: Vec<f64>,
+        settings: &Settings,
+    ) -> (Vec<f64>, Vec<f64>) {
+        let p = u.len();
+        let mut lambda = 1e-3;
+        let mut cost = sse(&r);
+        for _ in 0..settings.max_iterations {
+            let jacobian = self.jacobian(&u, &r, settings.step);
+            let n = r.len();
+            let gradient: Vec<f64> = (0..p)
+                .map(|j| (0..n).map(|i| jacobian[i * p + j] * r[i]).sum())
+                .collect();
+            // Held at a bound by the gradient, or not moved by anything: out of this step.
+            let free: Vec<usize> = (0..p)
+                .filter(|&j| {
+                    let column: f64 = (0..n).map(|i| jacobian[i * p + j].powi(2)).sum();
+                    column > 0.0
+                        && !(u[j] <= 0.0 && gradient[j] > 0.0)
+                        && !(u[j] >= 1.0 && gradient[j] < 0.0)
+                })
+                .collect();
+            if free.is_empty() {
+                break;
+            }
+            let m = free.len();
+            let mut jtj = vec![0.0; m * m];
+            for (a, &ja) in free.iter().enumerate() {
+                for (b, &jb) in free.iter().enumerate() {
+                    jtj[a * m + b] = (0..n)
+                        .map(|i| jacobian[i * p + ja] * jacobian[i * p + jb])
+                        .sum();
+                }
+            }
+            let rhs: Vec<f64> = free.iter().map(|&j| -gradient[j]).collect();
+            let mut improved = false;
+            for _ in 0..12 {
+                let mut damped = jtj.clone();
+                for a in 0..m {
+                    damped[a * m + a] += lambda * (jtj[a * m + a] + 1e-12);
+                }
+                let Some(delta) = cholesky_solve(&damped, &rhs) else {
+                    lambda *= 10.0;
+                    continue;
+                };
+                let mut trial = u.clone();
+                for (a, &j) in free.iter().enumerate() {
+                    trial[j] = (u[j] + delta[a]).clamp(0.0, 1.0);
+                }
+                match self.eval(&trial) {
+                    Some(trial_r) if sse(&trial_r) < cost => {
+                        let trial_cost = sse(&trial_r);
+                        let decrease = (cost - trial_cost) / cost.max(1e-300);
+                        u = trial;
+                        r = trial_r;
+                        cost = trial_cost;
+                        lambda = (lambda / 3.0).max(1e-9);
+                        improved = decrease > settings.tolerance;
+                        break;
+                    }
+                    _ => lambda *= 4.0,
+                }
+            }
+            if !improved {
+                break;
+            }
+        }
+        (u, r)
+    }
+
+    /// The best value of parameter `j` on a grid over its bounds (others fixed), refined to
+    /// the edges of the best interval by bisection: `(middle, interval, residuals there)`.
+    fn scan(
+        &mut self,
+        u: &[f64],
+        j: usize,
+        r: &[f64],
+        points: usize,
+    ) -> (f64, (f64, f64), Vec<f64>) {
+        let at = |v: f64| {
+            let mut w = u.to_vec();
+            w[j] = v;
+            w
+        };
+        let grid: Vec<f64> = (0..points)
+            .map(|k| k as f64 / (points - 1) as f64)
+            .collect();
+        let costs: Vec<f64> = grid
+            .iter()
+            .map(|&v| self.eval(&at(v)).map_or(f64::INFINITY, |r| sse(&r)))
+            .collect();
+        let current = sse(r);
+        let best_cost = costs.iter().copied().fold(current, f64::min);
+        let same = |c: f64| c <= best_cost * (1.0 + 1e-12) + 1e-300;
+        // The best grid interval that holds the current value if it is among the best,
+        // else the one around the first best grid point.
+        let seed = if same(current) {
+            u[j]
+        } else {
+            grid[costs.iter().position(|&c| same(c)).expect("a best point")]
+        };
+        let below = grid.iter().rposition(|&g| g <= seed).unwrap_or(0);
+        let mut lo_k = below;
+        while lo_k > 0 && same(costs[lo_k - 1]) {
+            lo_k -= 1;
+        }
+        let mut hi_k = below;
+        while hi_k + 1 < points && same(costs[hi_k + 1]) {
+            hi_k += 1;
+        }
+        let (mut lo, mut hi) = (grid[lo_k].min(seed), grid[hi_k].max(seed));
+        // Bisect each edge between the last good and the first bad grid point.
+        let refine = |good: f64, bad: f64, this: &mut Self| {
+            let (mut good, mut bad) = (good, bad);
+            for _ in 0..10 {
+                let mid = 0.5 * (good + bad);
+                let c = this.eval(&at(mid)).map_or(f64::INFINITY, |r| sse(&r));
+                if same(c) {
+                    good = mid;
+                } else {
+                    bad = mid;
+                }
+            }
+            good
+        };
+        if lo_k > 0 && !same(costs[lo_k - 1]) {
+            lo = refine(lo, grid[lo_k - 1], self);
+        }
+        if hi_k + 1 < points && !same(costs[hi_k + 1]) {
+            hi = refine(hi, grid[hi_k + 1], self);
+        }
+        let middle = 0.5 * (lo + hi);
+        match self.eval(&at(middle)) {
+            Some(middle_r) if same(sse(&middle_r)) => (middle, (lo, hi), middle_r),
+            _ => (
+                seed,
+                (lo, hi),
+                self.eval(&at(seed)).unwrap_or_else(|| r.to_vec()),
+            ),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fit(
+        mut f: impl FnMut(&[f64]) -> Option<Vec<f64>>,
+        start: &[f64],
+        bounds: &[(f64, f64)],
+    ) -> Fit {
+        least_squares(&mut f, start, bounds, &Settings::default()).unwrap()
+    }
+
+    #[test]
+    fn a_straight_line_with_the_textbook_standard_errors() {
+        // y = 1 + 2x with residuals +1, -1, -1, +1 at x = 0..3 (orthogonal to 1 and x):
+        // the fit is exactly a = 1, b = 2, SSE = 4, σ̂² = 4/2, and
+        // SE(b) = sqrt(σ̂²/Sxx) = sqrt(2/5), SE(a) = sqrt(σ̂² Σx²/(n Sxx)) = sqrt(2·14/20).
+        let x = [0.0, 1.0, 2.0, 3.0];
+        let y = [2.0, 2.0, 4.0, 8.0];
+        let result = fit(
+            |p| Some(x.iter().zip(&y).map(|(x, y)| p[0] + p[1] * x - y).collect()),
+            &[0.0, 0.0],
+            &[(-10.0, 10.0), (-10.0, 10.0)],
+        );
+        assert!((result.values[0] - 1.0).abs() < 1e-6, "{:?}", result.values);
+        assert!((result.values[1] - 2.0).abs() < 1e-6);
+        assert!((result.sse - 4.0).abs() < 1e-9);
+        assert!((result.std_errors[1].unwrap() - (0.4f64).sqrt()).abs() < 1e-6);
+        assert!((result.std_errors[0].unwrap() - (1.4f64).sqrt()).abs() < 1e-6);
+    }
+
+    #[test]
+    fn an_exponential_decay_is_recovered() {
+        // Noise-free y = 3 exp(-0.7 t): the minimum is exact.
+        let t: Vec<f64> = (0..20).map(|k| k as f64 * 0.25).collect();
+        let result = fit(
+            |p| {
+                Some(
+                    t.iter()
+                        .map(|&t| p[0] * (-p[1] * t).exp() - 3.0 * (-0.7 * t).exp())
+                        .collect(),
+                )
+            },
+            &[1.0, 0.1],
+            &[(0.0, 10.0), (0.0, 5.0)],
+        );
+        assert!((result.values[0] - 3.0).abs() < 1e-5, "{:?}", result.values);
+        assert!((result.values[1] - 0.7).abs() < 1e-5);
+    }
+
+    #[test]
+    fn a_bound_holds_a_parameter_the_data_would_push_past_it() {
+        // Data y = -1 with a model y = c, c in [0, 5]: the best c is the bound 0.
+        let result = fit(|p| Some(vec![p[0] + 1.0; 4]), &[2.0], &[(0.0, 5.0)]);
+        assert_eq!(result.values[0], 0.0);
+        assert!(result.at_bound[0]);
+        assert_eq!(result.std_errors[0], None);
+    }
+
+    #[test]
+    fn a_threshold_is_located_by_its_interval() {
+        // Rows at "pressures" 1..=10; a row moves (residual 0) when its pressure exceeds
+        // the threshold, else it is off by 1. Rows 6..=10 move in the data, so every
+        // threshold in [5, 6) fits perfectly and nothing else does.
+        let pressures: Vec<f64> = (1..=10).map(f64::from).collect();
+        let result = fit(
+            |p| {
+                Some(
+                    pressures
+                        .iter()
+                        .map(|&x| f64::from(u8::from((x > p[0]) != (x >= 6.0))))
+                        .collect(),
+                )
+            },
+            &[2.0],
+            &[(0.0, 12.0)],
+        );
+        assert_eq!(result.sse, 0.0);
+        let (lo, hi) = result.intervals[0].unwrap();
+        assert!(
+            (lo - 5.0).abs() < 0.02 && (hi - 6.0).abs() < 0.02,
+            "{lo} {hi}"
+        );
+        assert!(result.values[0] >= 5.0 && result.values[0] < 6.0);
+    }
+
+    #[test]
+    fn aliased_parameters_have_no_standard_errors() {
+        // y = (a + b) x: only the sum is determined.
+        let x = [1.0, 2.0, 3.0];
+        let result = fit(
+            |p| {
+                Some(
+                    x.iter()
+                        .map(|x| (p[0] + p[1]) * x - 3.0 * x + 0.01 * x * x)
+                        .collect(),
+                )
+            },
+            &[0.5, 0.5],
+            &[(0.0, 10.0), (0.0, 10.0)],
+        );
+        assert!((result.values[0] + result.values[1] - 3.0).abs() < 0.1);
+        assert_eq!(result.std_errors, vec![None, None]);
+    }
+}
