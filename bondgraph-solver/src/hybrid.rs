@@ -195,6 +195,13 @@ pub enum SimError {
         /// The limit.
         limit: usize,
     },
+    /// Time stopped advancing: steps shorter than the spacing of doubles at `t`.
+    Stalled {
+        /// When.
+        t: f64,
+        /// The mode.
+        mode: String,
+    },
     /// A state became infinite or not a number.
     NonFinite {
         /// When.
@@ -226,6 +233,10 @@ impl fmt::Display for SimError {
                 f,
                 "chattering at t = {t} s: {events} events in {window:e} s, switching {}",
                 quoted(elements)
+            ),
+            SimError::Stalled { t, mode } => write!(
+                f,
+                "time stopped advancing at t = {t} s in mode {mode}: its steps are shorter than the spacing of floating-point numbers there"
             ),
             SimError::TooManyEvents { t, limit } => {
                 write!(f, "more than {limit} events by t = {t} s")
@@ -694,7 +705,9 @@ impl<'s, 'm> Stepper<'s, 'm> {
     /// # Errors
     /// As [`Simulator::run`].
     pub fn advance(&mut self, until: f64) -> Result<bool, SimError> {
+        let mut stalls = 0;
         while self.t < until {
+            let before = self.t;
             let end = self
                 .breakpoints
                 .iter()
@@ -703,6 +716,15 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 .map_or(until, |b| b.min(until));
             if self.segment(end)? {
                 return Ok(true);
+            }
+            if self.t <= before {
+                stalls += 1;
+                if stalls > 1000 {
+                    return Err(SimError::Stalled {
+                        t: self.t,
+                        mode: self.mode.spec.clone(),
+                    });
+                }
             }
         }
         Ok(false)

@@ -99,6 +99,9 @@ impl Signal for Constant {
     }
 }
 
+/// Steps in a row that do not advance time before the search gives up.
+const STALLS_BEFORE_ZENO: usize = 1000;
+
 /// The steady state reached from `initial_state` in `initial_mode` with constant `inputs`.
 ///
 /// # Errors
@@ -118,9 +121,27 @@ pub fn steady_state(
         mode: stepper.mode().spec.clone(),
         why,
     };
+    // A mode whose events come ever closer together (Zeno) can stop the clock: steps below
+    // the spacing of doubles at the current time. Say so rather than loop.
+    let mut last_time = f64::NEG_INFINITY;
+    let mut stalls = 0;
     loop {
         if stepper.time() > settings.max_time {
             return Err(not_steady(&stepper, "it had not settled".into()));
+        }
+        if stepper.time() > last_time {
+            last_time = stepper.time();
+            stalls = 0;
+        } else {
+            stalls += 1;
+            if stalls > STALLS_BEFORE_ZENO {
+                return Err(not_steady(
+                    &stepper,
+                    format!(
+                        "time stopped advancing: {STALLS_BEFORE_ZENO} steps without progress (Zeno behaviour)"
+                    ),
+                ));
+            }
         }
         let mode = stepper.mode().clone();
         let values = mode.propagator.eigenvalues();
