@@ -5,8 +5,10 @@
 //! model file, and any failure exits non-zero.
 
 mod diagnostics;
+mod discover;
 mod plot;
 mod reproduce;
+mod residual_plot;
 mod trajectory;
 
 use std::io::Write;
@@ -89,6 +91,28 @@ enum Command {
         /// What to print: a summary, or the results as JSON.
         #[arg(long, value_enum, default_value_t = ReproduceFormat::Text)]
         format: ReproduceFormat,
+    },
+    /// What a model gets wrong on measured data, and which candidate extension explains it.
+    Discover {
+        /// The model file (RON).
+        #[arg(long)]
+        model: PathBuf,
+        /// The measured data (CSV: P_s_kPa, v_ac_mm_s, v_ct_mm_s, v_ge_mm_s); repeat to
+        /// analyse several files together.
+        #[arg(long, required = true)]
+        data: Vec<PathBuf>,
+        /// The experiment file (default: experiment.ron beside the model).
+        #[arg(long)]
+        experiment: Option<PathBuf>,
+        /// The folder of candidate extensions (default: extensions/ beside the model).
+        #[arg(long, value_name = "DIR")]
+        extensions: Option<PathBuf>,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = ReproduceFormat::Text)]
+        format: ReproduceFormat,
+        /// Also write the report, the JSON, the extended model and residual plots here.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
     },
     /// Merge extensions (bond-graph fragments, RON) into a model; print the extended model file.
     Extend {
@@ -304,6 +328,21 @@ fn run(cli: Cli) -> Result<(), Failure> {
             plot,
         } => simulate(&model, &scenario, format, out.as_deref(), plot.as_deref()),
         Command::Reproduce { out, format } => reproduce::run(&out, format == ReproduceFormat::Json),
+        Command::Discover {
+            model,
+            data,
+            experiment,
+            extensions,
+            format,
+            out,
+        } => discover::run(&discover::Args {
+            model,
+            data,
+            experiment,
+            extensions,
+            json: format == ReproduceFormat::Json,
+            out,
+        }),
         Command::Extend {
             model,
             extensions,

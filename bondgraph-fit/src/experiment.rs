@@ -25,8 +25,9 @@
 use std::sync::Arc;
 
 use bondgraph_core::equations::OutputSpec;
+use bondgraph_core::linear::Var;
 use bondgraph_core::model::edit::{self, Edit};
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::{self, ElementKind, Model};
 use bondgraph_core::modes::Mode;
 use bondgraph_core::source::SourceFile;
 use bondgraph_solver::steady::{SteadySettings, steady_state};
@@ -51,6 +52,35 @@ pub struct Experiment {
     pub without_catheter: Vec<String>,
     /// The mode every run starts in; assignments to removed elements are dropped.
     pub initial_mode: String,
+    /// The parameters a calibration refits on any data (the ones the model's authors
+    /// estimated from measurements rather than measured directly).
+    #[serde(default)]
+    pub fitted: Vec<String>,
+    /// The parameters refitted in addition when the data has catheter rows.
+    #[serde(default)]
+    pub fitted_with_catheter: Vec<String>,
+    /// Operating regimes, named physically, each by the switching elements' modes that
+    /// define it (`("static", "fr_ge=stuck")`): the first whose every assignment holds in
+    /// the mode a row settles in names the row's regime.
+    #[serde(default)]
+    pub regimes: Vec<(String, String)>,
+}
+
+impl Experiment {
+    /// The physical name of the regime a row that settled in `mode` is in, or the mode
+    /// itself when no regime matches.
+    pub fn regime(&self, mode: &str) -> String {
+        let assignments: Vec<&str> = mode.split(',').map(str::trim).collect();
+        self.regimes
+            .iter()
+            .find(|(_, pattern)| {
+                pattern
+                    .split(',')
+                    .map(str::trim)
+                    .all(|part| assignments.contains(&part))
+            })
+            .map_or_else(|| mode.to_string(), |(name, _)| name.clone())
+    }
 }
 
 /// Why a prediction failed.
@@ -266,18 +296,28 @@ impl Evaluator<'_> {
     /// # Errors
     /// When a simulation fails or does not settle, naming the row.
     pub fn predict(&mut self, rows: &[Measurement]) -> Result<Vec<Prediction>, ExperimentError> {
-        let mut predictions: Vec<Option<Prediction>> = vec![None; rows.len()];
+        self.predict_each(rows).into_iter().collect()
+    }
+
+    /// The predicted steady state of each row, or why that row has none (a simulation that
+    /// does not settle, as in a stick-slip cycle), row by row.
+    pub fn predict_each(
+        &mut self,
+        rows: &[Measurement],
+    ) -> Vec<Result<Prediction, ExperimentError>> {
+        let mut predictions: Vec<Option<Result<Prediction, ExperimentError>>> =
+            (0..rows.len()).map(|_| None).collect();
         for (k, with) in [(0, true), (1, false)] {
             let indices: Vec<usize> = (0..rows.len())
                 .filter(|&i| rows[i].catheter_velocity_mm_s.is_some() == with)
                 .collect();
-            if indices.is_empty() {
-                continue;
-            }
             let Some(session) = self.sessions[k].as_mut() else {
-                return Err(ExperimentError(
-                    "rows without a catheter, but the experiment names no catheter elements to remove".into(),
-                ));
+                for i in indices {
+                    predictions[i] = Some(Err(ExperimentError(
+                        "rows without a catheter, but the experiment names no catheter elements to remove".into(),
+                    )));
+                }
+                continue;
             };
             let variant = session.variant;
             let storage = session.simulator.storage().len();
@@ -289,27 +329,74 @@ impl Evaluator<'_> {
                 if let (Some(k), Some(v)) = (variant.catheter, row.catheter_velocity_mm_s) {
                     inputs[k] = v * 1e-3;
                 }
-                let steady = steady_state(
-                    &mut session.simulator,
-                    &inputs,
-                    variant.initial.clone(),
-                    vec![0.0; storage],
-                    &self.settings,
-                )
-                .map_err(|e| {
+                let located = |e: String| {
                     ExperimentError(format!("row {} ({}): {e}", row.row, describe(row)))
-                })?;
-                predictions[i] = Some(Prediction {
-                    tip_velocity_mm_s: steady.outputs[0] * 1e3,
-                    mode: steady.mode,
-                });
+                };
+                let prediction = check_friction_levels(&variant.model, &session.values, &inputs)
+                    .map_err(located)
+                    .and_then(|()| {
+                        steady_state(
+                            &mut session.simulator,
+                            &inputs,
+                            variant.initial.clone(),
+                            vec![0.0; storage],
+                            &self.settings,
+                        )
+                        .map_err(|e| located(e.to_string()))
+                    })
+                    .map(|steady| Prediction {
+                        tip_velocity_mm_s: steady.outputs[0] * 1e3,
+                        mode: steady.mode,
+                    });
+                predictions[i] = Some(prediction);
             }
         }
-        Ok(predictions
+        predictions
             .into_iter()
             .map(|p| p.expect("every row predicted"))
-            .collect())
+            .collect()
     }
+
+    /// Gives up on rows that have not settled after `seconds` of simulated time (a
+    /// calibration tries values where the model oscillates forever).
+    pub fn set_max_time(&mut self, seconds: f64) {
+        self.settings.max_time = seconds;
+    }
+}
+
+/// A friction contact must break away at or above its Coulomb force, and neither may be
+/// negative: parameter values a calibration tries can violate this where the model file's
+/// values did not, and the contact then has no consistent mode.
+fn check_friction_levels(model: &Model, values: &[f64], inputs: &[f64]) -> Result<(), String> {
+    let level = |form: &bondgraph_core::linear::LinearForm| -> f64 {
+        form.terms()
+            .iter()
+            .map(|(var, coefficient)| {
+                let c = coefficient.eval(values);
+                match var {
+                    Var::Constant => c,
+                    Var::Input(i) => c * inputs[*i as usize],
+                    _ => 0.0,
+                }
+            })
+            .sum()
+    };
+    for id in model.element_ids() {
+        let element = model.element(id);
+        if let ElementKind::Friction(friction) = &element.kind {
+            let (f_s, f_c) = (
+                level(&friction.breakaway.value),
+                level(&friction.coulomb.value),
+            );
+            if f_c < 0.0 || f_s < f_c {
+                return Err(format!(
+                    "friction contact '{}': breakaway {f_s} N and Coulomb {f_c} N, but F_S >= F_C >= 0",
+                    element.name
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// `reduced` with the parameter values of `original` (the edit keeps the file's values; a

@@ -15,7 +15,9 @@
 
 pub mod calibrate;
 pub mod data;
+pub mod discover;
 pub mod experiment;
 pub mod report;
 pub mod reproduce;
 pub mod stats;
+pub mod synthetic;

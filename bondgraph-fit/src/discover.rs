@@ -1,0 +1,1138 @@
+//! What a model gets wrong on measured data, which candidate extension explains it, and the
+//! gain on held-out data.
+//!
+//! The procedure, for a base model, its experiment, the data and a library of candidate
+//! extensions:
+//!
+//! 1. **Baseline**: refit the parameters the experiment names as fitted (`F_C_ge`, `b`,
+//!    `F_S_ge`; plus the catheter's on catheter data) and score the model on held-out data:
+//!    leave-one-column-out over the active-channel speeds (the paper fitted on one speed and
+//!    validated on the others) and k-fold (k = 5, rows dealt round-robin).
+//! 2. **Residuals** of the baseline by operating regime (named by the mode each row settles
+//!    in) and by each experimental factor, with the trend and whether it stands out of the
+//!    noise.
+//! 3. **Candidates**: each extension merged into the base model, refitted with the base's
+//!    fitted parameters and its own, and scored the same way. A candidate whose parameters
+//!    move no prediction anywhere in their bounds is untestable on this data (a catheter
+//!    effect on data without a catheter); one whose effect the base parameters can mimic
+//!    exactly (its Jacobian columns lie in the span of theirs) is aliased with the base.
+//! 4. **Selection**: a candidate qualifies when its gain is beyond the noise — an F-test of
+//!    its sum of squares against the baseline's at level 0.01 divided by the number of
+//!    candidates tried (Bonferroni), a lower corrected Akaike criterion, and a lower
+//!    held-out RMSE. The qualifying candidate with the lowest held-out RMSE is selected; if
+//!    none qualifies, `selected` is `null`.
+//! 5. **Indistinguishable** candidates: those that also qualify and fit the data no worse
+//!    than the selected one beyond the noise (or, when nothing is selected, those aliased
+//!    with the base), each with the measurement that would separate them: a condition where
+//!    the two fitted models' predictions differ by more than three noise levels, searched
+//!    over a grid of conditions wider than the data's, or, when no steady tip velocity
+//!    separates them, what the extension's file says would show its effect directly.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use bondgraph_core::model::edit::{self, Edit};
+use bondgraph_core::model::extension::{self, Extension};
+use bondgraph_core::model::{self, Model};
+use bondgraph_core::source::SourceFile;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::calibrate::{self, Fit};
+use crate::data::Measurement;
+use crate::experiment::{Experiment, Predictor};
+use crate::stats;
+
+/// How `discover` tests.
+#[derive(Clone, Copy, Debug)]
+pub struct Settings {
+    /// The family-wise significance level of the F-tests, shared among the candidates.
+    pub alpha: f64,
+    /// Folds of the k-fold cross-validation.
+    pub folds: usize,
+    /// The calibration's settings.
+    pub calibration: calibrate::Settings,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            alpha: 0.01,
+            folds: 5,
+            calibration: calibrate::Settings::default(),
+        }
+    }
+}
+
+/// Why discovery failed.
+#[derive(Clone, Debug)]
+pub struct DiscoverError(pub String);
+
+impl std::fmt::Display for DiscoverError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for DiscoverError {}
+
+fn error(e: impl std::fmt::Display) -> DiscoverError {
+    DiscoverError(e.to_string())
+}
+
+/// A candidate extension, merged into the base model.
+#[derive(Clone, Debug)]
+pub struct Candidate {
+    /// The extension's id.
+    pub id: String,
+    /// Its physical cause.
+    pub cause: String,
+    /// What would show it directly.
+    pub evidence: Option<String>,
+    /// Its own parameters with bounds (the ones calibration fits), in file order.
+    pub parameters: Vec<String>,
+    /// The extended model file.
+    pub source: Arc<SourceFile>,
+    /// The extended model.
+    pub model: Model,
+}
+
+impl Candidate {
+    /// Merges `extension` into the model file `base`.
+    ///
+    /// # Errors
+    /// Every problem of the merge or of the merged model, located in the file it came from.
+    pub fn new(base: &Arc<SourceFile>, extension: &Extension) -> Result<Self, DiscoverError> {
+        let extended = extension::merge(base, std::slice::from_ref(extension)).map_err(error)?;
+        let model = extended.load().map_err(error)?;
+        let parameters = extension
+            .raw
+            .parameters
+            .iter()
+            .filter(|(_, p)| p.bounds.is_some())
+            .map(|(name, _)| name.clone())
+            .collect();
+        Ok(Self {
+            id: extension.raw.id.clone(),
+            cause: extension.raw.cause.clone(),
+            evidence: extension.raw.evidence.clone(),
+            parameters,
+            source: extended.file,
+            model,
+        })
+    }
+}
+
+/// A parameter's fitted value and how well the data determines it.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Estimate {
+    /// The fitted value.
+    pub value: f64,
+    /// Its standard error, where the Jacobian determines it.
+    pub std_error: Option<f64>,
+    /// For a threshold, the interval of values that fit equally well.
+    pub interval: Option<(f64, f64)>,
+    /// Whether the fit ended on a bound.
+    pub at_bound: bool,
+}
+
+/// The base model's scores.
+#[derive(Clone, Debug, Serialize)]
+pub struct Baseline {
+    /// RMSE of the fit on all rows, mm/s.
+    pub rmse_fit_mm_s: f64,
+    /// RMSE on held-out rows, mm/s.
+    pub rmse_heldout_mm_s: f64,
+    /// The refitted parameters.
+    pub params: BTreeMap<String, Estimate>,
+}
+
+/// One candidate's result.
+#[derive(Clone, Debug, Serialize)]
+pub struct Ranked {
+    /// The extension's id.
+    pub id: String,
+    /// Every refitted parameter (the base's and its own).
+    pub params: BTreeMap<String, Estimate>,
+    /// RMSE of the fit on all rows, mm/s.
+    pub rmse_fit_mm_s: f64,
+    /// RMSE on held-out rows, mm/s.
+    pub rmse_heldout_mm_s: f64,
+    /// The corrected Akaike criterion against the baseline's (negative: better).
+    pub score: f64,
+    /// The F-test's p-value against the baseline.
+    pub p_value: f64,
+    /// What the data says of it: `selected`, `indistinguishable`, `qualifies`,
+    /// `not significant`, `aliased with the base` or `no effect on this data`.
+    pub verdict: String,
+}
+
+/// Residuals of one regime.
+#[derive(Clone, Debug, Serialize)]
+pub struct RegimeResiduals {
+    /// The regime's physical name.
+    pub regime: String,
+    /// Rows in it.
+    pub rows: usize,
+    /// Mean residual (model minus measured), mm/s.
+    pub mean_mm_s: f64,
+    /// Root-mean-square residual, mm/s.
+    pub rmse_mm_s: f64,
+    /// Whether the mean stands out of the noise (beyond three standard errors).
+    pub stands_out: bool,
+}
+
+/// The trend of the residuals along one experimental factor.
+#[derive(Clone, Debug, Serialize)]
+pub struct FactorTrend {
+    /// `P_s_kPa`, `v_ac_mm_s` or `v_ct_mm_s`.
+    pub factor: String,
+    /// The regime the trend is taken in (`all` for every row).
+    pub regime: String,
+    /// Residual change per unit of the factor, mm/s per unit.
+    pub slope: f64,
+    /// Its standard error.
+    pub std_error: f64,
+    /// Whether it stands out of the noise (|slope| > 3 standard errors).
+    pub stands_out: bool,
+}
+
+/// Residuals by regime and by factor.
+#[derive(Clone, Debug, Serialize)]
+pub struct Residuals {
+    /// By operating regime.
+    pub by_regime: Vec<RegimeResiduals>,
+    /// By experimental factor, over all rows and within each regime with enough rows.
+    pub by_factor: Vec<FactorTrend>,
+}
+
+/// One row with its predictions.
+#[derive(Clone, Debug, Serialize)]
+#[allow(non_snake_case)]
+pub struct RowResult {
+    /// Tank pressure, kPa.
+    pub P_s_kPa: f64,
+    /// Active-channel speed, mm/s.
+    pub v_ac_mm_s: f64,
+    /// Catheter speed, mm/s (none without a catheter).
+    pub v_ct_mm_s: Option<f64>,
+    /// Measured tip velocity, mm/s.
+    pub measured_mm_s: f64,
+    /// The refitted base model's, mm/s.
+    pub baseline_mm_s: f64,
+    /// The selected extended model's, mm/s.
+    pub selected_mm_s: Option<f64>,
+    /// The regime the base model settles in.
+    pub regime: String,
+}
+
+/// A measurement that would tell two candidates apart.
+#[derive(Clone, Debug, Serialize)]
+pub struct Separation {
+    /// The candidate the selected one (or the baseline) is confused with.
+    pub id: String,
+    /// What to measure.
+    pub measurement: String,
+}
+
+/// Held-out RMSE before and after the extension.
+#[derive(Clone, Debug, Serialize)]
+pub struct Gain {
+    /// The baseline's, mm/s.
+    pub rmse_heldout_before_mm_s: f64,
+    /// The selected extension's (the baseline's when nothing is selected), mm/s.
+    pub rmse_heldout_after_mm_s: f64,
+}
+
+/// Everything `discover` finds.
+#[derive(Clone, Debug, Serialize)]
+pub struct Discovery {
+    /// The data's name.
+    pub data: String,
+    /// Rows used.
+    pub rows: usize,
+    /// The noise level estimated from the best model's residuals, mm/s.
+    pub noise_mm_s: f64,
+    /// The base model.
+    pub baseline: Baseline,
+    /// Candidates, best held-out RMSE first.
+    pub ranking: Vec<Ranked>,
+    /// The selected extension, or `None` when none gains beyond the noise.
+    pub selected: Option<String>,
+    /// Its physical cause.
+    pub cause: Option<String>,
+    /// Candidates the data cannot tell apart from the selected one (or from the baseline).
+    pub indistinguishable: Vec<String>,
+    /// For each of them, what would separate it.
+    pub separation: Vec<Separation>,
+    /// Candidates with no effect on this data.
+    pub untestable: Vec<String>,
+    /// The gain.
+    pub gain: Gain,
+    /// Residuals of the baseline.
+    pub residuals_before: Residuals,
+    /// Residuals of the selected extension.
+    pub residuals_after: Option<Residuals>,
+    /// Every row.
+    pub table: Vec<RowResult>,
+    /// The selected extended model with its fitted values, as a model file.
+    #[serde(skip)]
+    pub extended_model: Option<String>,
+}
+
+/// A model fitted and cross-validated.
+struct Assessment {
+    names: Vec<String>,
+    fit: Fit,
+    predictions: Vec<f64>,
+    modes: Vec<String>,
+    heldout_sse: f64,
+    heldout_count: usize,
+    /// Predictions (held out, or of the final fit) that did not settle.
+    unsettled: usize,
+}
+
+/// Simulated time within which a row must settle; the experiments filmed steady growth
+/// within seconds, and a model that has not settled after this is oscillating (a stick-slip
+/// cycle), which a steady velocity cannot describe.
+const SETTLE_WITHIN_S: f64 = 2.0;
+
+impl Assessment {
+    fn rmse_fit(&self) -> f64 {
+        (self.fit.sse / self.predictions.len() as f64).sqrt()
+    }
+
+    fn rmse_heldout(&self) -> f64 {
+        (self.heldout_sse / self.heldout_count.max(1) as f64).sqrt()
+    }
+
+    fn estimates(&self) -> BTreeMap<String, Estimate> {
+        self.names
+            .iter()
+            .enumerate()
+            .map(|(j, name)| {
+                (
+                    name.clone(),
+                    Estimate {
+                        value: self.fit.values[j],
+                        std_error: self.fit.std_errors[j],
+                        interval: self.fit.intervals[j],
+                        at_bound: self.fit.at_bound[j],
+                    },
+                )
+            })
+            .collect()
+    }
+
+    fn aicc(&self) -> f64 {
+        let n = self.predictions.len() as f64;
+        let k = self.names.len() as f64;
+        let sse = self.fit.sse.max(1e-300);
+        n * (sse / n).ln() + 2.0 * k + 2.0 * k * (k + 1.0) / (n - k - 1.0).max(1.0)
+    }
+}
+
+/// Names, bounds and starting values of the parameters to fit.
+type FittedParameters = (Vec<String>, Vec<(f64, f64)>, Vec<f64>);
+
+/// How an experimental factor is read from a row (`None`: the row does not have it).
+type Factor = fn(&Measurement) -> Option<f64>;
+
+/// The names of the parameters to fit for `rows`, with their bounds and starting values.
+fn fitted_parameters(
+    model: &Model,
+    experiment: &Experiment,
+    rows: &[Measurement],
+    own: &[String],
+) -> Result<FittedParameters, DiscoverError> {
+    let catheter = rows.iter().any(|r| r.catheter_velocity_mm_s.is_some());
+    let mut names: Vec<String> = experiment.fitted.clone();
+    if catheter {
+        names.extend(experiment.fitted_with_catheter.iter().cloned());
+    }
+    names.extend(own.iter().cloned());
+    let mut bounds = Vec::new();
+    let mut start = Vec::new();
+    for name in &names {
+        let parameter = model
+            .parameters
+            .iter()
+            .find(|p| &p.name == name)
+            .ok_or_else(|| {
+                DiscoverError(format!(
+                    "the experiment fits '{name}', which is not a parameter of model '{}'",
+                    model.name
+                ))
+            })?;
+        let b = parameter.bounds.ok_or_else(|| {
+            DiscoverError(format!(
+                "parameter '{name}' of model '{}' is fitted but has no bounds; give it bounds: (low, high)",
+                model.name
+            ))
+        })?;
+        bounds.push(b);
+        start.push(parameter.value);
+    }
+    Ok((names, bounds, start))
+}
+
+/// Fits `model` on `rows` and cross-validates it.
+fn assess(
+    model: &Model,
+    source: &Arc<SourceFile>,
+    experiment: &Experiment,
+    rows: &[Measurement],
+    own: &[String],
+    warm: Option<(&[String], &[f64])>,
+    settings: &Settings,
+) -> Result<Assessment, DiscoverError> {
+    let (names, bounds, file_start) = fitted_parameters(model, experiment, rows, own)?;
+    // Steady states are piecewise linear in the parameters, with basins that differ in which
+    // rows slide (a low Coulomb force with a high viscous coefficient, or the reverse), so
+    // every fit starts from several points and keeps the best: the model file's values; the
+    // base model's fit, where there is one (a candidate contains the base model at its own
+    // parameters' no-effect values, so it then does no worse than the base); and the middle
+    // of the bounds.
+    let mut starts = vec![file_start.clone()];
+    if let Some((warm_names, warm_values)) = warm {
+        let mut start = file_start.clone();
+        for (name, value) in warm_names.iter().zip(warm_values) {
+            if let Some(j) = names.iter().position(|n| n == name) {
+                start[j] = *value;
+            }
+        }
+        starts.push(start);
+    }
+    starts.push(bounds.iter().map(|(lo, hi)| 0.5 * (lo + hi)).collect());
+    let predictor = Predictor::new(model.clone(), source, experiment).map_err(error)?;
+    let mut evaluator = predictor.evaluator(&names).map_err(error)?;
+    evaluator.set_max_time(SETTLE_WITHIN_S);
+    let mut fit_on = |train: &[Measurement], starts: &[&[f64]]| -> Result<Fit, DiscoverError> {
+        let measured: Vec<f64> = train.iter().map(|r| r.tip_velocity_mm_s).collect();
+        let mut residuals = |x: &[f64]| -> Option<Vec<f64>> {
+            evaluator.set(x);
+            let predictions = evaluator.predict(train).ok()?;
+            Some(
+                predictions
+                    .iter()
+                    .zip(&measured)
+                    .map(|(p, m)| p.tip_velocity_mm_s - m)
+                    .collect(),
+            )
+        };
+        let mut best: Option<Fit> = None;
+        let mut failure = None;
+        for from in starts {
+            match calibrate::least_squares(&mut residuals, from, &bounds, &settings.calibration) {
+                Ok(fit) if best.as_ref().is_none_or(|b| fit.sse < b.sse) => best = Some(fit),
+                Ok(_) => {}
+                Err(e) => failure = Some(e),
+            }
+        }
+        best.ok_or_else(|| error(failure.expect("at least one start")))
+    };
+    let start_refs: Vec<&[f64]> = starts.iter().map(Vec::as_slice).collect();
+    let fit = fit_on(rows, &start_refs)?;
+
+    // Held-out errors: leave one active-channel column out, then k-fold.
+    let mut schemes: Vec<Vec<Vec<usize>>> = Vec::new();
+    let mut speeds: Vec<f64> = rows.iter().map(|r| r.channel_velocity_mm_s).collect();
+    speeds.sort_by(f64::total_cmp);
+    speeds.dedup();
+    if speeds.len() >= 2 {
+        schemes.push(
+            speeds
+                .iter()
+                .map(|&s| {
+                    (0..rows.len())
+                        .filter(|&i| rows[i].channel_velocity_mm_s == s)
+                        .collect()
+                })
+                .collect(),
+        );
+    }
+    let k = settings.folds.min(rows.len());
+    if k >= 2 {
+        schemes.push(
+            (0..k)
+                .map(|f| (0..rows.len()).filter(|i| i % k == f).collect())
+                .collect(),
+        );
+    }
+    let mut heldout_sse = 0.0;
+    let mut heldout_count = 0;
+    let mut folds: Vec<(Vec<Measurement>, Vec<Measurement>)> = Vec::new();
+    for scheme in &schemes {
+        for held in scheme {
+            let train: Vec<Measurement> = (0..rows.len())
+                .filter(|i| !held.contains(i))
+                .map(|i| rows[i].clone())
+                .collect();
+            let test: Vec<Measurement> = held.iter().map(|&i| rows[i].clone()).collect();
+            folds.push((train, test));
+        }
+    }
+    let mut fold_fits = Vec::new();
+    for (train, _) in &folds {
+        fold_fits.push(fit_on(train, &[&fit.values, &file_start])?);
+    }
+    let mut unsettled = 0;
+    for ((_, test), fold_fit) in folds.iter().zip(&fold_fits) {
+        evaluator.set(&fold_fit.values);
+        for (p, row) in evaluator.predict_each(test).iter().zip(test) {
+            match p {
+                Ok(p) => {
+                    heldout_sse += (p.tip_velocity_mm_s - row.tip_velocity_mm_s).powi(2);
+                    heldout_count += 1;
+                }
+                Err(_) => unsettled += 1,
+            }
+        }
+    }
+    evaluator.set(&fit.values);
+    let predictions: Vec<(f64, String)> = evaluator
+        .predict_each(rows)
+        .into_iter()
+        .map(|p| match p {
+            Ok(p) => (p.tip_velocity_mm_s, p.mode),
+            Err(_) => {
+                unsettled += 1;
+                (f64::NAN, "does not settle".to_string())
+            }
+        })
+        .collect();
+    Ok(Assessment {
+        names,
+        predictions: predictions.iter().map(|p| p.0).collect(),
+        modes: predictions.into_iter().map(|p| p.1).collect(),
+        unsettled,
+        fit,
+        heldout_sse,
+        heldout_count,
+    })
+}
+
+/// Whether the candidate's own parameters' Jacobian columns lie in the span of the base
+/// parameters' (so the base refit can mimic its effect): the relative norm of what the
+/// projection leaves, below 2%.
+fn aliased_with_base(fit: &Fit, base: usize, own: usize) -> bool {
+    let p = base + own;
+    let n = fit.residuals.len();
+    let column = |j: usize| -> Vec<f64> { (0..n).map(|i| fit.jacobian[i * p + j]).collect() };
+    // A base parameter held at a bound can mimic an effect in one direction only.
+    let base_columns: Vec<Vec<f64>> = (0..base)
+        .filter(|&j| !fit.at_bound[j])
+        .map(column)
+        .filter(|c| c.iter().any(|v| *v != 0.0))
+        .collect();
+    (base..p).all(|j| {
+        let c = column(j);
+        let norm: f64 = c.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if norm == 0.0 {
+            return false;
+        }
+        let m = base_columns.len();
+        let mut btb = vec![0.0; m * m];
+        let mut btc = vec![0.0; m];
+        for a in 0..m {
+            for b in 0..m {
+                btb[a * m + b] = dot(&base_columns[a], &base_columns[b]);
+            }
+            btc[a] = dot(&base_columns[a], &c);
+        }
+        let Some(beta) = stats::cholesky_solve(&btb, &btc) else {
+            return false;
+        };
+        let left: f64 = (0..n)
+            .map(|i| {
+                let fitted: f64 = (0..m).map(|a| beta[a] * base_columns[a][i]).sum();
+                (c[i] - fitted).powi(2)
+            })
+            .sum::<f64>()
+            .sqrt();
+        left < 0.02 * norm
+    })
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Whether the candidate's own parameters move no prediction anywhere in their bounds.
+fn no_effect(candidate: &Candidate, assessment: &Assessment) -> bool {
+    let base = assessment.names.len() - candidate.parameters.len();
+    (base..assessment.names.len()).all(|j| {
+        let whole = candidate
+            .model
+            .parameters
+            .iter()
+            .find(|p| p.name == assessment.names[j])
+            .and_then(|p| p.bounds);
+        match (assessment.fit.intervals[j], whole) {
+            (Some((lo, hi)), Some((a, b))) => {
+                (lo - a).abs() <= 1e-6 * (b - a) && (hi - b).abs() <= 1e-6 * (b - a)
+            }
+            _ => false,
+        }
+    })
+}
+
+/// Residuals (model minus measured) by regime and by factor.
+fn residuals(
+    rows: &[Measurement],
+    predictions: &[f64],
+    regimes: &[String],
+    noise: f64,
+) -> Residuals {
+    let mut names: Vec<&String> = Vec::new();
+    for regime in regimes {
+        if !names.contains(&regime) {
+            names.push(regime);
+        }
+    }
+    let residual = |i: usize| predictions[i] - rows[i].tip_velocity_mm_s;
+    let settled = |i: &usize| predictions[*i].is_finite();
+    let by_regime = names
+        .iter()
+        .map(|&name| {
+            let members: Vec<usize> = (0..rows.len())
+                .filter(|&i| &regimes[i] == name)
+                .filter(settled)
+                .collect();
+            let n = members.len() as f64;
+            let mean = members.iter().map(|&i| residual(i)).sum::<f64>() / n;
+            let rmse = (members.iter().map(|&i| residual(i).powi(2)).sum::<f64>() / n).sqrt();
+            RegimeResiduals {
+                regime: name.clone(),
+                rows: members.len(),
+                mean_mm_s: mean,
+                rmse_mm_s: rmse,
+                stands_out: mean.abs() > 3.0 * noise / n.sqrt(),
+            }
+        })
+        .collect();
+    let factors: [(&str, Factor); 3] = [
+        ("P_s_kPa", |r| Some(r.pressure_kpa)),
+        ("v_ac_mm_s", |r| Some(r.channel_velocity_mm_s)),
+        ("v_ct_mm_s", |r| r.catheter_velocity_mm_s),
+    ];
+    let mut by_factor = Vec::new();
+    let groups = std::iter::once((
+        "all".to_string(),
+        (0..rows.len()).filter(settled).collect::<Vec<_>>(),
+    ))
+    .chain(names.iter().map(|&name| {
+        (
+            name.clone(),
+            (0..rows.len())
+                .filter(|&i| &regimes[i] == name)
+                .filter(settled)
+                .collect(),
+        )
+    }));
+    for (group, members) in groups {
+        for (factor, value) in &factors {
+            let points: Vec<(f64, f64)> = members
+                .iter()
+                .filter_map(|&i| value(&rows[i]).map(|x| (x, residual(i))))
+                .collect();
+            if points.len() < 4 {
+                continue;
+            }
+            let (x, y): (Vec<f64>, Vec<f64>) = points.into_iter().unzip();
+            if let Some((slope, se)) = stats::slope(&x, &y) {
+                by_factor.push(FactorTrend {
+                    factor: (*factor).to_string(),
+                    regime: group.clone(),
+                    slope,
+                    std_error: se,
+                    stands_out: slope.abs() > 3.0 * se.max(1e-12),
+                });
+            }
+        }
+    }
+    Residuals {
+        by_regime,
+        by_factor,
+    }
+}
+
+/// A model with fitted values, ready to predict any condition.
+struct Fitted<'a> {
+    model: &'a Model,
+    source: &'a Arc<SourceFile>,
+    names: &'a [String],
+    values: &'a [f64],
+}
+
+impl Fitted<'_> {
+    fn predict(
+        &self,
+        experiment: &Experiment,
+        rows: &[Measurement],
+    ) -> Result<Vec<f64>, DiscoverError> {
+        let predictor =
+            Predictor::new(self.model.clone(), self.source, experiment).map_err(error)?;
+        let mut evaluator = predictor.evaluator(self.names).map_err(error)?;
+        evaluator.set_max_time(SETTLE_WITHIN_S);
+        evaluator.set(self.values);
+        Ok(evaluator
+            .predict_each(rows)
+            .into_iter()
+            .map(|p| p.map_or(f64::NAN, |p| p.tip_velocity_mm_s))
+            .collect())
+    }
+}
+
+/// Conditions wider than the data's: pressures from half the lowest to 1.5 times the
+/// highest, channel speeds from a third of the slowest to twice the fastest, and the data's
+/// catheter speeds (and a wider set) where it has a catheter.
+fn probe_conditions(rows: &[Measurement]) -> Vec<Measurement> {
+    let range = |f: &dyn Fn(&Measurement) -> f64| {
+        rows.iter()
+            .map(f)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
+            })
+    };
+    let (p_lo, p_hi) = range(&|r| r.pressure_kpa);
+    let (v_lo, v_hi) = range(&|r| r.channel_velocity_mm_s);
+    let catheters: Vec<Option<f64>> = if rows.iter().any(|r| r.catheter_velocity_mm_s.is_some()) {
+        let top = rows
+            .iter()
+            .filter_map(|r| r.catheter_velocity_mm_s)
+            .fold(0.0, f64::max);
+        (0..=8)
+            .map(|k| Some(top * 2.0 * f64::from(k) / 8.0))
+            .collect()
+    } else {
+        vec![None]
+    };
+    let mut conditions = Vec::new();
+    for k in 0..=12 {
+        let p = 0.5 * p_lo + (1.5 * p_hi - 0.5 * p_lo) * f64::from(k) / 12.0;
+        for m in 0..=5 {
+            let v = v_lo / 3.0 + (2.0 * v_hi - v_lo / 3.0) * f64::from(m) / 5.0;
+            for &c in &catheters {
+                conditions.push(Measurement {
+                    pressure_kpa: p,
+                    channel_velocity_mm_s: v,
+                    catheter_velocity_mm_s: c,
+                    tip_velocity_mm_s: 0.0,
+                    row: 0,
+                });
+            }
+        }
+    }
+    conditions
+}
+
+fn describe(row: &Measurement) -> String {
+    let mut s = format!(
+        "P_s = {:.0} kPa, v_ac = {:.1} mm/s",
+        row.pressure_kpa, row.channel_velocity_mm_s
+    );
+    if let Some(v) = row.catheter_velocity_mm_s {
+        s.push_str(&format!(", v_ct = {v:.1} mm/s"));
+    }
+    s
+}
+
+/// Runs the whole procedure.
+///
+/// # Errors
+/// When the base model or a candidate cannot be simulated on the data, or a fitted
+/// parameter has no bounds.
+pub fn discover(
+    base: &Arc<SourceFile>,
+    experiment: &Experiment,
+    data_name: &str,
+    rows: &[Measurement],
+    candidates: &[Candidate],
+    settings: &Settings,
+) -> Result<Discovery, DiscoverError> {
+    if rows.len() < 8 {
+        return Err(DiscoverError(format!(
+            "{data_name}: {} rows; discovery needs at least 8 to fit and hold some out",
+            rows.len()
+        )));
+    }
+    let base_model = model::load_source(base).map_err(error)?;
+    let n = rows.len() as f64;
+    let baseline = assess(&base_model, base, experiment, rows, &[], None, settings)?;
+    let warm = Some((baseline.names.as_slice(), baseline.fit.values.as_slice()));
+    let assessed: Vec<Result<Assessment, DiscoverError>> = candidates
+        .par_iter()
+        .map(|c| {
+            assess(
+                &c.model,
+                &c.source,
+                experiment,
+                rows,
+                &c.parameters,
+                warm,
+                settings,
+            )
+        })
+        .collect();
+    let assessed: Vec<Assessment> = assessed.into_iter().collect::<Result<_, _>>()?;
+    let p0 = baseline.names.len();
+
+    // Verdicts.
+    let untestable: Vec<bool> = candidates
+        .iter()
+        .zip(&assessed)
+        .map(|(c, a)| no_effect(c, a))
+        .collect();
+    let aliased: Vec<bool> = candidates
+        .iter()
+        .zip(&assessed)
+        .map(|(c, a)| aliased_with_base(&a.fit, p0, c.parameters.len()))
+        .collect();
+    let tried = untestable.iter().filter(|u| !**u).count().max(1);
+    let level = settings.alpha / tried as f64;
+    let p_values: Vec<f64> = assessed
+        .iter()
+        .map(|a| {
+            let k = (a.names.len() - p0) as f64;
+            let dof = n - a.names.len() as f64;
+            if k == 0.0 || dof <= 0.0 || a.fit.sse >= baseline.fit.sse {
+                return 1.0;
+            }
+            let f = ((baseline.fit.sse - a.fit.sse) / k) / (a.fit.sse.max(1e-300) / dof);
+            stats::f_survival(f, k, dof)
+        })
+        .collect();
+    let qualifies: Vec<bool> = (0..candidates.len())
+        .map(|i| {
+            !untestable[i]
+                && assessed[i].unsettled == 0
+                && p_values[i] < level
+                && assessed[i].aicc() < baseline.aicc()
+                && assessed[i].rmse_heldout() < baseline.rmse_heldout()
+        })
+        .collect();
+    let selected = (0..candidates.len())
+        .filter(|&i| qualifies[i])
+        .min_by(|&a, &b| {
+            assessed[a]
+                .rmse_heldout()
+                .total_cmp(&assessed[b].rmse_heldout())
+        });
+    let best = selected.map_or(&baseline, |i| &assessed[i]);
+    let noise = (best.fit.sse / (n - best.names.len() as f64).max(1.0)).sqrt();
+    let indistinguishable: Vec<usize> = match selected {
+        // Those that also explain the effect (their F-test passes) and fit no worse than the
+        // selected one beyond the noise: held-out scores are left out here, since they
+        // measure extrapolation, in which aliased models can differ by the luck of a fold.
+        Some(s) => (0..candidates.len())
+            .filter(|&i| {
+                i != s
+                    && !untestable[i]
+                    && p_values[i] < level
+                    && assessed[i].fit.sse - assessed[s].fit.sse < 4.0 * noise * noise
+            })
+            .collect(),
+        None => (0..candidates.len())
+            .filter(|&i| aliased[i] && !untestable[i])
+            .collect(),
+    };
+
+    // What would separate them.
+    let probes = probe_conditions(rows);
+    let reference = match selected {
+        Some(s) => Fitted {
+            model: &candidates[s].model,
+            source: &candidates[s].source,
+            names: &assessed[s].names,
+            values: &assessed[s].fit.values,
+        },
+        None => Fitted {
+            model: &base_model,
+            source: base,
+            names: &baseline.names,
+            values: &baseline.fit.values,
+        },
+    };
+    let reference_predictions = reference.predict(experiment, &probes)?;
+    let mut separation = Vec::new();
+    for &i in &indistinguishable {
+        let other = Fitted {
+            model: &candidates[i].model,
+            source: &candidates[i].source,
+            names: &assessed[i].names,
+            values: &assessed[i].fit.values,
+        };
+        let predictions = other.predict(experiment, &probes)?;
+        let (k, difference) = predictions
+            .iter()
+            .zip(&reference_predictions)
+            .map(|(a, b)| if (a - b).is_nan() { 0.0 } else { (a - b).abs() })
+            .enumerate()
+            .fold(
+                (0, 0.0),
+                |(bk, bd), (k, d)| if d > bd { (k, d) } else { (bk, bd) },
+            );
+        let against = selected.map_or("the base model".to_string(), |s| {
+            format!("'{}'", candidates[s].id)
+        });
+        let measurement = if difference > 3.0 * noise {
+            format!(
+                "the steady tip velocity at {}: '{}' predicts {:.2} mm/s, {against} {:.2} mm/s ({:.1} noise levels apart)",
+                describe(&probes[k]),
+                candidates[i].id,
+                predictions[k],
+                reference_predictions[k],
+                difference / noise
+            )
+        } else {
+            format!(
+                "no steady tip velocity tells '{}' from {against} (they differ by at most {:.3} mm/s); {}",
+                candidates[i].id,
+                difference,
+                candidates[i]
+                    .evidence
+                    .as_deref()
+                    .unwrap_or("a measurement of the effect itself is needed")
+            )
+        };
+        separation.push(Separation {
+            id: candidates[i].id.clone(),
+            measurement,
+        });
+    }
+
+    // Ranking.
+    let mut order: Vec<usize> = (0..candidates.len()).collect();
+    order.sort_by(|&a, &b| {
+        assessed[a]
+            .rmse_heldout()
+            .total_cmp(&assessed[b].rmse_heldout())
+    });
+    let ranking = order
+        .iter()
+        .map(|&i| {
+            let verdict = if Some(i) == selected {
+                "selected"
+            } else if indistinguishable.contains(&i) {
+                "indistinguishable"
+            } else if untestable[i] {
+                "no effect on this data"
+            } else if aliased[i] {
+                "aliased with the base"
+            } else if qualifies[i] {
+                "qualifies"
+            } else {
+                "not significant"
+            };
+            Ranked {
+                id: candidates[i].id.clone(),
+                params: assessed[i].estimates(),
+                rmse_fit_mm_s: assessed[i].rmse_fit(),
+                rmse_heldout_mm_s: assessed[i].rmse_heldout(),
+                score: assessed[i].aicc() - baseline.aicc(),
+                p_value: p_values[i],
+                verdict: verdict.to_string(),
+            }
+        })
+        .collect();
+
+    let regimes: Vec<String> = baseline
+        .modes
+        .iter()
+        .map(|m| experiment.regime(m))
+        .collect();
+    let residuals_before = residuals(rows, &baseline.predictions, &regimes, noise);
+    let residuals_after = selected.map(|s| {
+        let regimes: Vec<String> = assessed[s]
+            .modes
+            .iter()
+            .map(|m| experiment.regime(m))
+            .collect();
+        residuals(rows, &assessed[s].predictions, &regimes, noise)
+    });
+    let table = rows
+        .iter()
+        .enumerate()
+        .map(|(i, r)| RowResult {
+            P_s_kPa: r.pressure_kpa,
+            v_ac_mm_s: r.channel_velocity_mm_s,
+            v_ct_mm_s: r.catheter_velocity_mm_s,
+            measured_mm_s: r.tip_velocity_mm_s,
+            baseline_mm_s: baseline.predictions[i],
+            selected_mm_s: selected.map(|s| assessed[s].predictions[i]),
+            regime: regimes[i].clone(),
+        })
+        .collect();
+    let extended_model = match selected {
+        Some(s) => {
+            let edit = Edit {
+                remove: Vec::new(),
+                parameters: assessed[s]
+                    .names
+                    .iter()
+                    .cloned()
+                    .zip(assessed[s].fit.values.iter().copied())
+                    .collect(),
+            };
+            Some(
+                edit::apply(&candidates[s].source, &edit)
+                    .map_err(error)?
+                    .text()
+                    .to_string(),
+            )
+        }
+        None => None,
+    };
+    Ok(Discovery {
+        data: data_name.to_string(),
+        rows: rows.len(),
+        noise_mm_s: noise,
+        baseline: Baseline {
+            rmse_fit_mm_s: baseline.rmse_fit(),
+            rmse_heldout_mm_s: baseline.rmse_heldout(),
+            params: baseline.estimates(),
+        },
+        ranking,
+        selected: selected.map(|s| candidates[s].id.clone()),
+        cause: selected.map(|s| candidates[s].cause.clone()),
+        indistinguishable: indistinguishable
+            .iter()
+            .map(|&i| candidates[i].id.clone())
+            .collect(),
+        separation,
+        untestable: (0..candidates.len())
+            .filter(|&i| untestable[i])
+            .map(|i| candidates[i].id.clone())
+            .collect(),
+        gain: Gain {
+            rmse_heldout_before_mm_s: baseline.rmse_heldout(),
+            rmse_heldout_after_mm_s: best.rmse_heldout(),
+        },
+        residuals_before,
+        residuals_after,
+        table,
+        extended_model,
+    })
+}
+
+impl Discovery {
+    /// A readable report: what the base model gets wrong, the candidates, the selection and
+    /// the gain.
+    pub fn summary(&self) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "{}: {} rows; noise estimated at {:.3} mm/s (RMS residual of the best model)",
+            self.data, self.rows, self.noise_mm_s
+        );
+        let _ = writeln!(
+            s,
+            "\nbase model, refitted: RMSE {:.3} mm/s on the fit, {:.3} mm/s held out",
+            self.baseline.rmse_fit_mm_s, self.baseline.rmse_heldout_mm_s
+        );
+        for (name, e) in &self.baseline.params {
+            let _ = writeln!(s, "  {name} = {}", estimate(e));
+        }
+        let _ = writeln!(s, "\nwhat it gets wrong (model minus measured):");
+        write_residuals(&mut s, &self.residuals_before);
+        let _ = writeln!(s, "\ncandidates, best held-out RMSE first:");
+        let _ = writeln!(
+            s,
+            "  {:<30} {:>9} {:>9} {:>8} {:>9}  verdict",
+            "id", "fit", "held-out", "dAICc", "p"
+        );
+        for r in &self.ranking {
+            let _ = writeln!(
+                s,
+                "  {:<30} {:>9.3} {:>9.3} {:>8.1} {:>9.2e}  {}",
+                r.id, r.rmse_fit_mm_s, r.rmse_heldout_mm_s, r.score, r.p_value, r.verdict
+            );
+        }
+        match &self.selected {
+            Some(id) => {
+                let _ = writeln!(
+                    s,
+                    "\nselected: {id}: {}",
+                    self.cause.as_deref().unwrap_or("")
+                );
+                if let Some(r) = self.ranking.iter().find(|r| &r.id == id) {
+                    for (name, e) in &r.params {
+                        let _ = writeln!(s, "  {name} = {}", estimate(e));
+                    }
+                }
+                if let Some(after) = &self.residuals_after {
+                    let _ = writeln!(s, "residuals after:");
+                    write_residuals(&mut s, after);
+                }
+            }
+            None => {
+                let _ = writeln!(
+                    s,
+                    "\nselected: null (no candidate gains beyond what the noise explains)"
+                );
+            }
+        }
+        let _ = writeln!(
+            s,
+            "held-out RMSE: {:.3} mm/s before, {:.3} mm/s after",
+            self.gain.rmse_heldout_before_mm_s, self.gain.rmse_heldout_after_mm_s
+        );
+        if !self.separation.is_empty() {
+            let against = self.selected.as_deref().unwrap_or("the base model");
+            let _ = writeln!(s, "\ncannot be told apart from {against} on this data:");
+            for sep in &self.separation {
+                let _ = writeln!(s, "  {}: {}", sep.id, sep.measurement);
+            }
+        }
+        if !self.untestable.is_empty() {
+            let _ = writeln!(
+                s,
+                "\nno effect on this data (untestable here): {}",
+                self.untestable.join(", ")
+            );
+        }
+        s
+    }
+}
+
+fn estimate(e: &Estimate) -> String {
+    let mut s = format!("{:.6}", e.value);
+    if let Some(se) = e.std_error {
+        s.push_str(&format!(" ± {se:.3e}"));
+    }
+    if let Some((lo, hi)) = e.interval {
+        s.push_str(&format!(" (any value in [{lo:.4}, {hi:.4}] fits as well)"));
+    }
+    if e.at_bound {
+        s.push_str(" (at its bound)");
+    }
+    s
+}
+
+fn write_residuals(s: &mut String, residuals: &Residuals) {
+    use std::fmt::Write;
+    for r in &residuals.by_regime {
+        let _ = writeln!(
+            s,
+            "  {:<18} {:>2} rows: mean {:+.3} mm/s, RMS {:.3} mm/s{}",
+            r.regime,
+            r.rows,
+            r.mean_mm_s,
+            r.rmse_mm_s,
+            if r.stands_out {
+                "  <- beyond the noise"
+            } else {
+                ""
+            }
+        );
+    }
+    for t in residuals.by_factor.iter().filter(|t| t.stands_out) {
+        let _ = writeln!(
+            s,
+            "  trend along {} ({}): {:+.4} ± {:.4} mm/s per unit  <- beyond the noise",
+            t.factor, t.regime, t.slope, t.std_error
+        );
+    }
+}

@@ -1,0 +1,252 @@
+//! Hidden-effect tests: synthetic data from the flagship with one candidate extension hidden
+//! in it (its parameter drawn from a seed), handed to `discover` as CSV only.
+//!
+//! The truth of the base model is the model file's values (the paper's Table IV); noise is
+//! 0.05-0.1 mm/s (drawn per seed). What each id must give, derived from the steady states:
+//! - `ac-fluid-displacement` and `ac-sheath-drag`: a sliding tip obeys
+//!   `b v = A P_s - F_C + c v_ac` with the displacement force, and
+//!   `(b + 4 c_sd) v = A P_s - F_C + 2 c_sd v_ac` with the drag, so a refit of `b` makes them
+//!   the same model (c = 2 c_sd); the taut and static regimes do not tell them apart either.
+//!   The hidden one must be selected or be reported indistinguishable from the selected one.
+//! - `supply-flow-resistance` adds `A² R_s` to `b` exactly, and
+//!   `pressure-dependent-friction` scales `A P_s` by `1 - mu_P`, which a refit of `F_S`,
+//!   `F_C` and `b` (divided by `1 - mu_P`) absorbs: nothing can be selected, the hidden id
+//!   must be reported as indistinguishable from the base model, and the refitted `b` must
+//!   carry the effect (`b + A² R_s`, or `b/(1 - mu_P)`).
+
+use std::sync::Arc;
+
+use bondgraph_core::model::extension::Extension;
+use bondgraph_core::source::SourceFile;
+use bondgraph_fit::data::{self, Dataset};
+use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};
+use bondgraph_fit::synthetic::{self, Noise};
+
+use crate::support::{experiment, root};
+
+const BASE: &str = "models/eversion/robot.ron";
+
+fn base() -> Arc<SourceFile> {
+    SourceFile::new(
+        BASE,
+        std::fs::read_to_string(root().join(BASE)).expect("robot.ron"),
+    )
+}
+
+fn library() -> Vec<Candidate> {
+    let dir = root().join("models/eversion/extensions");
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "ron"))
+        .collect();
+    paths.sort();
+    let base = base();
+    paths
+        .iter()
+        .map(|p| {
+            let extension = Extension::read(p).unwrap();
+            Candidate::new(&base, &extension).unwrap()
+        })
+        .collect()
+}
+
+/// Synthetic Table III data with `hidden` (an id and its parameter value), or nothing,
+/// written as CSV and read back, then discovered.
+fn discover_hidden(hidden: Option<(&str, &str, f64)>, seed: u64) -> Discovery {
+    let library = library();
+    let experiment = experiment();
+    let mut noise = Noise::new(seed);
+    let sigma = 0.05 + 0.05 * noise.uniform();
+    let (model, source, values) = match hidden {
+        Some((id, parameter, value)) => {
+            let c = library
+                .iter()
+                .find(|c| c.id == id)
+                .expect("id in the library");
+            (
+                c.model.clone(),
+                c.source.clone(),
+                vec![(parameter.to_string(), value)],
+            )
+        }
+        None => {
+            let base = base();
+            (
+                bondgraph_core::model::load_source(&base).unwrap(),
+                base,
+                vec![],
+            )
+        }
+    };
+    let rows = synthetic::measure(
+        &model,
+        &source,
+        &experiment,
+        &values,
+        &synthetic::table3_design(),
+        sigma,
+        &mut noise,
+    )
+    .unwrap();
+    let csv = data::write(&Dataset {
+        name: "synthetic.csv".into(),
+        rows,
+    });
+    let dataset = data::read("synthetic.csv", &csv).unwrap();
+    discover::discover(
+        &base(),
+        &experiment,
+        &dataset.name,
+        &dataset.rows,
+        &library,
+        &Settings::default(),
+    )
+    .unwrap()
+}
+
+/// A value drawn uniformly in `[lo, hi]` from the seed.
+fn draw(seed: u64, lo: f64, hi: f64) -> f64 {
+    let mut noise = Noise::new(seed ^ 0x5EED);
+    lo + (hi - lo) * noise.uniform()
+}
+
+/// A fitted value and its standard error.
+fn param(d: &Discovery, id: &str, name: &str) -> (f64, f64) {
+    let estimate = &d.ranking.iter().find(|r| r.id == id).unwrap().params[name];
+    (estimate.value, estimate.std_error.unwrap_or(f64::INFINITY))
+}
+
+/// The tolerance of a recovered parameter: within four of the fit's own standard errors
+/// (the noise is known, so the standard error is honest), and those errors below 30% of the
+/// truth (so that the data really determine it).
+fn recovered(estimate: (f64, f64), truth: f64) -> bool {
+    (estimate.0 - truth).abs() < 4.0 * estimate.1 && estimate.1 < 0.3 * truth
+}
+
+fn explained(d: &Discovery) -> String {
+    d.summary()
+}
+
+/// `ac-fluid-displacement` or its alias is selected, the other reported, and the force per
+/// unit channel speed recovered (as `c_ac`, or as `2 c_sd` if the drag is chosen).
+#[test]
+fn hidden_fluid_displacement_is_found() {
+    for seed in [1, 2, 3] {
+        let c_ac = draw(seed, 80.0, 160.0);
+        let d = discover_hidden(Some(("ac-fluid-displacement", "c_ac", c_ac)), seed);
+        let report = explained(&d);
+        let selected = d.selected.as_deref().expect(&report);
+        assert!(
+            selected == "ac-fluid-displacement"
+                || d.indistinguishable
+                    .iter()
+                    .any(|i| i == "ac-fluid-displacement"),
+            "{report}"
+        );
+        let estimate = match selected {
+            "ac-fluid-displacement" => param(&d, selected, "c_ac"),
+            "ac-sheath-drag" => {
+                let (value, se) = param(&d, selected, "c_sd");
+                (2.0 * value, 2.0 * se)
+            }
+            other => panic!("selected {other}\n{report}"),
+        };
+        assert!(
+            recovered(estimate, c_ac),
+            "{estimate:?} vs {c_ac}\n{report}"
+        );
+        assert!(
+            d.gain.rmse_heldout_after_mm_s < d.gain.rmse_heldout_before_mm_s,
+            "{report}"
+        );
+    }
+}
+
+/// The sheath drag is found as itself or as the displacement force it cannot be told from.
+#[test]
+fn hidden_sheath_drag_is_found_or_reported_with_its_alias() {
+    for seed in [4, 5, 6] {
+        let c_sd = draw(seed, 60.0, 120.0);
+        let d = discover_hidden(Some(("ac-sheath-drag", "c_sd", c_sd)), seed);
+        let report = explained(&d);
+        let selected = d.selected.as_deref().expect(&report);
+        assert!(
+            selected == "ac-sheath-drag"
+                || d.indistinguishable.iter().any(|i| i == "ac-sheath-drag"),
+            "{report}"
+        );
+        let estimate = match selected {
+            "ac-sheath-drag" => param(&d, selected, "c_sd"),
+            "ac-fluid-displacement" => {
+                let (value, se) = param(&d, selected, "c_ac");
+                (value / 2.0, se / 2.0)
+            }
+            other => panic!("selected {other}\n{report}"),
+        };
+        assert!(
+            recovered(estimate, c_sd),
+            "{estimate:?} vs {c_sd}\n{report}"
+        );
+        assert!(
+            d.gain.rmse_heldout_after_mm_s < d.gain.rmse_heldout_before_mm_s,
+            "{report}"
+        );
+    }
+}
+
+/// A supply-line resistance is a viscous coefficient in disguise on steady data.
+#[test]
+fn hidden_supply_resistance_is_reported_as_aliased_with_b() {
+    for seed in [7, 8] {
+        let r_s = draw(seed, 2.0e10, 5.0e10);
+        let d = discover_hidden(Some(("supply-flow-resistance", "R_s", r_s)), seed);
+        let report = explained(&d);
+        assert_eq!(d.selected, None, "{report}");
+        assert!(
+            d.indistinguishable
+                .iter()
+                .any(|i| i == "supply-flow-resistance"),
+            "{report}"
+        );
+        // The refitted b carries the resistance: b + A² R_s with A = 1e-4 m², b = 1250.
+        let b = d.baseline.params["b"].value;
+        let expected = 1250.0 + 1e-8 * r_s;
+        assert!(
+            (b / expected - 1.0).abs() < 0.05,
+            "{b} vs {expected}\n{report}"
+        );
+    }
+}
+
+/// Pressure-dependent nozzle friction is a refit of F_S, F_C and b in disguise.
+#[test]
+fn hidden_pressure_dependent_friction_is_reported_as_aliased() {
+    for seed in [9, 10] {
+        let mu = draw(seed, 0.05, 0.15);
+        let d = discover_hidden(Some(("pressure-dependent-friction", "mu_P", mu)), seed);
+        let report = explained(&d);
+        assert_eq!(d.selected, None, "{report}");
+        assert!(
+            d.indistinguishable
+                .iter()
+                .any(|i| i == "pressure-dependent-friction"),
+            "{report}"
+        );
+        // b/(1 - mu_P) and F_C/(1 - mu_P), from b = 1250 N s/m and F_C = 9.125 N.
+        let b = d.baseline.params["b"].value;
+        assert!(
+            (b / (1250.0 / (1.0 - mu)) - 1.0).abs() < 0.05,
+            "{b}\n{report}"
+        );
+    }
+}
+
+/// Nothing hidden: nothing selected.
+#[test]
+fn nothing_hidden_nothing_selected() {
+    for seed in [11, 12, 13] {
+        let d = discover_hidden(None, seed);
+        assert_eq!(d.selected, None, "{}", explained(&d));
+    }
+}

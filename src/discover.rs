@@ -1,0 +1,147 @@
+//! `bondgraph discover`: a model against measured data, and the candidate extensions.
+
+use std::path::{Path, PathBuf};
+
+use bondgraph_core::DiagnosticKind;
+use bondgraph_core::model::extension::Extension;
+use bondgraph_fit::data;
+use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};
+use bondgraph_fit::experiment::Experiment;
+
+use crate::{Failure, json, print, read_source, residual_plot, write_file};
+
+/// The command line of `discover`.
+pub struct Args {
+    pub model: PathBuf,
+    pub data: Vec<PathBuf>,
+    pub experiment: Option<PathBuf>,
+    pub extensions: Option<PathBuf>,
+    pub json: bool,
+    pub out: Option<PathBuf>,
+}
+
+fn fail(kind: DiagnosticKind, message: impl std::fmt::Display) -> Failure {
+    Failure::message(kind, message.to_string())
+}
+
+/// Reads the library: every `*.ron` in `dir`, in name order.
+pub fn library(
+    base: &std::sync::Arc<bondgraph_core::source::SourceFile>,
+    dir: &Path,
+) -> Result<Vec<Candidate>, Failure> {
+    let entries = std::fs::read_dir(dir).map_err(|e| {
+        fail(
+            DiagnosticKind::Io,
+            format!("cannot read the extensions folder '{}': {e}", dir.display()),
+        )
+    })?;
+    let mut paths: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "ron"))
+        .collect();
+    paths.sort();
+    let mut candidates = Vec::new();
+    for path in paths {
+        let source = read_source(&path)?;
+        let extension = Extension::load(&source).map_err(|d| Failure {
+            diagnostics: d,
+            sources: vec![source.clone()],
+        })?;
+        candidates.push(
+            Candidate::new(base, &extension).map_err(|e| fail(DiagnosticKind::Simulation, e))?,
+        );
+    }
+    Ok(candidates)
+}
+
+/// Runs `discover`.
+pub fn run(args: &Args) -> Result<(), Failure> {
+    let base = read_source(&args.model)?;
+    let folder = args.model.parent().unwrap_or(Path::new("."));
+    let experiment_path = args
+        .experiment
+        .clone()
+        .unwrap_or_else(|| folder.join("experiment.ron"));
+    let experiment_text = std::fs::read_to_string(&experiment_path).map_err(|e| {
+        fail(
+            DiagnosticKind::Io,
+            format!(
+                "cannot read the experiment file '{}': {e} (give one with --experiment)",
+                experiment_path.display()
+            ),
+        )
+    })?;
+    let experiment = Experiment::parse(&experiment_path.display().to_string(), &experiment_text)
+        .map_err(|e| fail(DiagnosticKind::Syntax, e))?;
+    let mut names = Vec::new();
+    let mut rows = Vec::new();
+    for path in &args.data {
+        let dataset = data::read_file(path).map_err(|e| fail(DiagnosticKind::Syntax, e))?;
+        names.push(dataset.name);
+        rows.extend(dataset.rows);
+    }
+    let dataset = data::Dataset {
+        name: names.join(" + "),
+        rows,
+    };
+    let extensions = args
+        .extensions
+        .clone()
+        .unwrap_or_else(|| folder.join("extensions"));
+    let candidates = library(&base, &extensions)?;
+    let started = std::time::Instant::now();
+    let discovery = discover::discover(
+        &base,
+        &experiment,
+        &dataset.name,
+        &dataset.rows,
+        &candidates,
+        &Settings::default(),
+    )
+    .map_err(|e| fail(DiagnosticKind::Simulation, e))?;
+    let elapsed = started.elapsed();
+    let text = json(&discovery)?;
+    if let Some(out) = &args.out {
+        write_outputs(out, &discovery, &text)?;
+    }
+    if args.json {
+        print(&text);
+    } else {
+        print(&discovery.summary());
+        print(&format!(
+            "\n{} candidates fitted and cross-validated in {:.2} s\n",
+            candidates.len(),
+            elapsed.as_secs_f64()
+        ));
+        if let Some(out) = &args.out {
+            print(&format!("written to {}/\n", out.display()));
+        }
+    }
+    Ok(())
+}
+
+/// Writes the report, the JSON, the extended model and the residual plots.
+pub fn write_outputs(out: &Path, discovery: &Discovery, json_text: &str) -> Result<(), Failure> {
+    write_file(&out.join("discover.json"), json_text)?;
+    write_file(&out.join("discover.txt"), &discovery.summary())?;
+    if let (Some(id), Some(model)) = (&discovery.selected, &discovery.extended_model) {
+        write_file(&out.join(format!("{id}.ron")), model)?;
+    }
+    let plot = |after: bool| {
+        let title = if after {
+            format!(
+                "Residuals with {}",
+                discovery.selected.as_deref().unwrap_or("")
+            )
+        } else {
+            "Residuals of the refitted base model".to_string()
+        };
+        residual_plot::residual_svg(&discovery.table, &title, after)
+            .map_err(|e| fail(DiagnosticKind::Io, format!("cannot plot residuals: {e}")))
+    };
+    write_file(&out.join("residuals_before.svg"), &plot(false)?)?;
+    if discovery.selected.is_some() {
+        write_file(&out.join("residuals_after.svg"), &plot(true)?)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,119 @@
+//! Residuals of a fit against the tank pressure, one series per active-channel speed, before
+//! and after an extension: where a model goes wrong, and whether the extension fixes it.
+
+use std::error::Error;
+
+use bondgraph_fit::discover::RowResult;
+use plotters::prelude::*;
+
+const COLOURS: [RGBColor; 6] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+];
+
+/// An SVG of `model - measured` against `P_s` for each `v_ac` (and `v_ct`, on catheter
+/// data): the baseline's residuals when `after` is false, the selected model's otherwise.
+///
+/// # Errors
+/// A message when there is nothing to draw or drawing fails.
+pub fn residual_svg(rows: &[RowResult], title: &str, after: bool) -> Result<String, String> {
+    let points: Vec<(String, f64, f64)> = rows
+        .iter()
+        .filter_map(|r| {
+            let model = if after {
+                r.selected_mm_s?
+            } else {
+                r.baseline_mm_s
+            };
+            let series = match r.v_ct_mm_s {
+                Some(v) => format!("v_ac = {} mm/s, catheter", r.v_ac_mm_s)
+                    .replace("catheter", &format!("v_ct = {v} mm/s")),
+                None => format!("v_ac = {} mm/s", r.v_ac_mm_s),
+            };
+            // Catheter sweeps vary v_ct: plot them against v_ct instead of P_s.
+            let x = r.v_ct_mm_s.map_or(r.P_s_kPa, |v| v);
+            let series = if r.v_ct_mm_s.is_some() {
+                format!("P_s = {} kPa, v_ac = {} mm/s", r.P_s_kPa, r.v_ac_mm_s)
+            } else {
+                series
+            };
+            Some((series, x, model - r.measured_mm_s))
+        })
+        .collect();
+    if points.is_empty() {
+        return Err("no residuals to plot".into());
+    }
+    let catheter = rows.iter().any(|r| r.v_ct_mm_s.is_some());
+    let mut svg = String::new();
+    draw(&mut svg, &points, title, catheter).map_err(|e| e.to_string())?;
+    Ok(svg)
+}
+
+fn draw(
+    svg: &mut String,
+    points: &[(String, f64, f64)],
+    title: &str,
+    catheter: bool,
+) -> Result<(), Box<dyn Error>> {
+    let root = SVGBackend::with_string(svg, (800, 480)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (x_lo, x_hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+            (a.min(p.1), b.max(p.1))
+        });
+    let y_max = points.iter().map(|p| p.2.abs()).fold(0.25, f64::max) * 1.15;
+    let pad = ((x_hi - x_lo) * 0.05).max(1.0);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d((x_lo - pad)..(x_hi + pad), -y_max..y_max)?;
+    chart
+        .configure_mesh()
+        .light_line_style(TRANSPARENT)
+        .bold_line_style(BLACK.mix(0.12))
+        .x_desc(if catheter { "v_ct (mm/s)" } else { "P_s (kPa)" })
+        .y_desc("model - measured (mm/s)")
+        .label_style(("sans-serif", 14))
+        .axis_desc_style(("sans-serif", 16))
+        .draw()?;
+    chart.draw_series(std::iter::once(PathElement::new(
+        [(x_lo - pad, 0.0), (x_hi + pad, 0.0)],
+        BLACK.mix(0.5).stroke_width(1),
+    )))?;
+    let mut names: Vec<&str> = Vec::new();
+    for (name, _, _) in points {
+        if !names.contains(&name.as_str()) {
+            names.push(name);
+        }
+    }
+    for (k, name) in names.iter().enumerate() {
+        let colour = COLOURS[k % COLOURS.len()];
+        let mut series: Vec<(f64, f64)> = points
+            .iter()
+            .filter(|p| p.0 == *name)
+            .map(|p| (p.1, p.2))
+            .collect();
+        series.sort_by(|a, b| a.0.total_cmp(&b.0));
+        chart.draw_series(LineSeries::new(series.clone(), colour.stroke_width(2)))?;
+        chart
+            .draw_series(series.iter().map(|&p| Circle::new(p, 4, colour.filled())))?
+            .label(*name)
+            .legend(move |(x, y)| Circle::new((x + 8, y), 4, colour.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.3))
+        .label_font(("sans-serif", 14))
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
