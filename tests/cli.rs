@@ -409,6 +409,27 @@ fn reproduce_writes_its_results_and_the_json_contract() {
     for field in ["t", "from", "to", "element", "reason"] {
         assert!(events[0].get(field).is_some(), "missing {field}");
     }
+    // What the refitted model gets wrong on Table III, with every library candidate tried.
+    let discrepancy = &json["discrepancy"];
+    let library = std::fs::read_dir(root().join("models/eversion/extensions"))
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "ron")
+        })
+        .count();
+    assert_eq!(discrepancy["ranking"].as_array().unwrap().len(), library);
+    assert!(discrepancy.get("selected").is_some());
+    assert!(
+        discrepancy["baseline"]["rmse_heldout_mm_s"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    assert!(dir.join("discrepancy/residuals_before.svg").exists());
     // The same JSON on standard output with --format json.
     let printed: serde_json::Value =
         serde_json::from_str(&succeed(&["reproduce", "--out", &out, "--format", "json"])).unwrap();
@@ -471,5 +492,62 @@ fn simulate_reports_a_bad_scenario_at_its_line() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("bad.ron:3:"), "{stderr}");
     assert!(stderr.contains("v_blet"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn discover_prints_the_json_contract() {
+    let printed = succeed(&[
+        "discover",
+        "--model",
+        "models/eversion/robot.ron",
+        "--data",
+        "models/eversion/data/table3.csv",
+        "--format",
+        "json",
+    ]);
+    let json: serde_json::Value = serde_json::from_str(&printed).unwrap();
+    for field in ["rmse_fit_mm_s", "rmse_heldout_mm_s"] {
+        assert!(
+            json["baseline"][field].as_f64().is_some(),
+            "missing {field}"
+        );
+    }
+    for field in ["id", "params", "rmse_heldout_mm_s", "score"] {
+        assert!(json["ranking"][0].get(field).is_some(), "missing {field}");
+    }
+    assert!(json.get("selected").is_some() && json["indistinguishable"].is_array());
+    for field in ["rmse_heldout_before_mm_s", "rmse_heldout_after_mm_s"] {
+        assert!(json["gain"][field].as_f64().is_some(), "missing {field}");
+    }
+    // Best held-out RMSE first.
+    let scores: Vec<f64> = json["ranking"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["rmse_heldout_mm_s"].as_f64().unwrap())
+        .collect();
+    assert!(scores.windows(2).all(|w| w[0] <= w[1]), "{scores:?}");
+}
+
+#[test]
+fn extend_writes_a_model_and_points_at_the_fragment_line() {
+    let extended = succeed(&[
+        "extend",
+        "models/eversion/robot.ron",
+        "models/eversion/extensions/ac-sheath-drag.ron",
+    ]);
+    assert!(extended.contains("name: \"eversion_robot+ac-sheath-drag\""));
+    let dir = scratch("extend");
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.ron");
+    std::fs::write(
+        &bad,
+        "Extension(\n    id: \"bad\",\n    cause: \"a typo\",\n    elements: {\"drag\": R(resistance: \"b\")},\n    bonds: [(\"tipp\", \"drag\")],\n)\n",
+    )
+    .unwrap();
+    let err = fail(&["extend", "models/eversion/robot.ron", bad.to_str().unwrap()]);
+    assert!(err.contains("bad.ron:5:"), "{err}");
+    assert!(err.contains("tipp"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

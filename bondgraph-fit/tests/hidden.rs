@@ -250,3 +250,58 @@ fn nothing_hidden_nothing_selected() {
         assert_eq!(d.selected, None, "{}", explained(&d));
     }
 }
+
+/// The detection rate over many seeds, for the README (slow: run with
+/// `cargo test --release -p bondgraph-fit --test tests detection_rate -- --ignored --nocapture`).
+/// "Found" is the test's own criterion for each id: selected or indistinguishable from the
+/// selection for the two channel effects, reported as aliased with the base model for the
+/// other two, and `selected: null` for data with nothing hidden.
+#[test]
+#[ignore = "slow: a statistic for the README, not a check"]
+fn detection_rate() {
+    let seeds = 100u64..120;
+    let cases: [(&str, Option<(&str, &str, f64, f64)>); 5] = [
+        (
+            "ac-fluid-displacement",
+            Some(("ac-fluid-displacement", "c_ac", 80.0, 160.0)),
+        ),
+        (
+            "ac-sheath-drag",
+            Some(("ac-sheath-drag", "c_sd", 60.0, 120.0)),
+        ),
+        (
+            "supply-flow-resistance",
+            Some(("supply-flow-resistance", "R_s", 2.0e10, 5.0e10)),
+        ),
+        (
+            "pressure-dependent-friction",
+            Some(("pressure-dependent-friction", "mu_P", 0.05, 0.15)),
+        ),
+        ("nothing hidden", None),
+    ];
+    for (name, case) in cases {
+        let mut found = 0;
+        for seed in seeds.clone() {
+            let d = match case {
+                Some((id, parameter, lo, hi)) => {
+                    discover_hidden(Some((id, parameter, draw(seed, lo, hi))), seed)
+                }
+                None => discover_hidden(None, seed),
+            };
+            let ok = match case {
+                None => d.selected.is_none(),
+                Some((id, ..)) if id.starts_with("ac-") => {
+                    d.selected.as_deref() == Some(id) || d.indistinguishable.iter().any(|i| i == id)
+                }
+                Some((id, ..)) => {
+                    d.selected.is_none() && d.indistinguishable.iter().any(|i| i == id)
+                }
+            };
+            found += usize::from(ok);
+        }
+        println!(
+            "detection rate, {name}: {found}/{}",
+            seeds.end - seeds.start
+        );
+    }
+}
