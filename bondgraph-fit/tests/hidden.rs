@@ -260,7 +260,9 @@ fn nothing_hidden_nothing_selected() {
 #[ignore = "slow: a statistic for the README, not a check"]
 fn detection_rate() {
     let seeds = 100u64..120;
-    let cases: [(&str, Option<(&str, &str, f64, f64)>); 5] = [
+    // A hidden id, its parameter and the range it is drawn from.
+    type Hidden = Option<(&'static str, &'static str, f64, f64)>;
+    let cases: [(&str, Hidden); 5] = [
         (
             "ac-fluid-displacement",
             Some(("ac-fluid-displacement", "c_ac", 80.0, 160.0)),
