@@ -90,15 +90,18 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .unwrap_or_else(|| folder.join("extensions"));
     let candidates = library(&base, &extensions)?;
     let started = std::time::Instant::now();
-    let discovery = discover::discover(
+    let progress = progress_bar(candidates.len() as u64 + 1);
+    let discovery = discover::discover_with_progress(
         &base,
         &experiment,
         &dataset.name,
         &dataset.rows,
         &candidates,
         &Settings::default(),
+        &|| progress.inc(1),
     )
     .map_err(|e| fail(DiagnosticKind::Simulation, e))?;
+    progress.finish_and_clear();
     let elapsed = started.elapsed();
     let text = json(&discovery)?;
     if let Some(out) = &args.out {
@@ -118,6 +121,24 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
     }
     Ok(())
+}
+
+/// A progress bar on standard error when it is a terminal (hidden otherwise, so that logs
+/// and pipes stay clean): the models fitted and cross-validated so far.
+pub fn progress_bar(models: u64) -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(models);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} fitting and cross-validating: {pos}/{len} models [{elapsed}]",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar.enable_steady_tick(std::time::Duration::from_millis(120));
+    bar
 }
 
 /// Writes the report, the JSON, the extended model and the residual plots.

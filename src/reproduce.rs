@@ -60,15 +60,19 @@ fn discrepancy() -> Result<Discovery, Failure> {
             Extension::load(&SourceFile::new(named.name, named.text)).map_err(|e| fail(&e))?;
         candidates.push(Candidate::new(&base, &extension).map_err(|e| fail(&e))?);
     }
-    discover::discover(
+    let progress = crate::discover::progress_bar(candidates.len() as u64 + 1);
+    let discovery = discover::discover_with_progress(
         &base,
         &experiment,
         &table3.name,
         &table3.rows,
         &candidates,
         &Settings::default(),
+        &|| progress.inc(1),
     )
-    .map_err(|e| fail(&e))
+    .map_err(|e| fail(&e));
+    progress.finish_and_clear();
+    discovery
 }
 
 /// Runs the main job and writes its results under `out`.

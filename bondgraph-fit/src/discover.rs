@@ -751,6 +751,31 @@ pub fn discover(
     candidates: &[Candidate],
     settings: &Settings,
 ) -> Result<Discovery, DiscoverError> {
+    discover_with_progress(
+        base,
+        experiment,
+        data_name,
+        rows,
+        candidates,
+        settings,
+        &|| {},
+    )
+}
+
+/// [`discover`], calling `done` each time a model (the base, then each candidate, in any
+/// order) has been fitted and cross-validated: for a progress bar.
+///
+/// # Errors
+/// As [`discover`].
+pub fn discover_with_progress(
+    base: &Arc<SourceFile>,
+    experiment: &Experiment,
+    data_name: &str,
+    rows: &[Measurement],
+    candidates: &[Candidate],
+    settings: &Settings,
+    done: &(dyn Fn() + Sync),
+) -> Result<Discovery, DiscoverError> {
     if rows.len() < 8 {
         return Err(DiscoverError(format!(
             "{data_name}: {} rows; discovery needs at least 8 to fit and hold some out",
@@ -760,6 +785,7 @@ pub fn discover(
     let base_model = model::load_source(base).map_err(error)?;
     let n = rows.len() as f64;
     let baseline = assess(&base_model, base, experiment, rows, &[], None, settings)?;
+    done();
     let warm = Some((baseline.names.as_slice(), baseline.fit.values.as_slice()));
     let assessed: Vec<Result<Assessment, DiscoverError>> = candidates
         .par_iter()
