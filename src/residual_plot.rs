@@ -6,15 +6,6 @@ use std::error::Error;
 use bondgraph_fit::discover::RowResult;
 use plotters::prelude::*;
 
-const COLOURS: [RGBColor; 6] = [
-    RGBColor(0, 114, 178),
-    RGBColor(213, 94, 0),
-    RGBColor(0, 158, 115),
-    RGBColor(204, 121, 167),
-    RGBColor(230, 159, 0),
-    RGBColor(86, 180, 233),
-];
-
 /// An SVG of `model - measured` against `P_s` for each `v_ac` (and `v_ct`, on catheter
 /// data): the baseline's residuals when `after` is false, the selected model's otherwise.
 ///
@@ -94,7 +85,8 @@ fn draw(
         }
     }
     for (k, name) in names.iter().enumerate() {
-        let colour = COLOURS[k % COLOURS.len()];
+        // The palette of the trajectory plots (Okabe-Ito, safe with colour blindness).
+        let colour = crate::plot::mode_colour(k);
         let mut series: Vec<(f64, f64)> = points
             .iter()
             .filter(|p| p.0 == *name)
