@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use bondgraph_core::DiagnosticKind;
-use bondgraph_core::model::extension::Extension;
+use bondgraph_core::model::extension::{self, Extension};
 use bondgraph_fit::data;
 use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};
 use bondgraph_fit::experiment::Experiment;
@@ -47,6 +47,14 @@ pub fn library(
             diagnostics: d,
             sources: vec![source.clone()],
         })?;
+        // Check the merge first, so that its problems are shown with the lines they point
+        // at, in the base model or in the extension.
+        extension::merge(base, std::slice::from_ref(&extension))
+            .and_then(|extended| extended.load())
+            .map_err(|d| Failure {
+                diagnostics: d,
+                sources: vec![base.clone(), source.clone()],
+            })?;
         candidates.push(
             Candidate::new(base, &extension).map_err(|e| fail(DiagnosticKind::Simulation, e))?,
         );

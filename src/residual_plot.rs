@@ -20,17 +20,13 @@ pub fn residual_svg(rows: &[RowResult], title: &str, after: bool) -> Result<Stri
             } else {
                 r.baseline_mm_s
             };
-            let series = match r.v_ct_mm_s {
-                Some(v) => format!("v_ac = {} mm/s, catheter", r.v_ac_mm_s)
-                    .replace("catheter", &format!("v_ct = {v} mm/s")),
-                None => format!("v_ac = {} mm/s", r.v_ac_mm_s),
-            };
-            // Catheter sweeps vary v_ct: plot them against v_ct instead of P_s.
-            let x = r.v_ct_mm_s.map_or(r.P_s_kPa, |v| v);
-            let series = if r.v_ct_mm_s.is_some() {
-                format!("P_s = {} kPa, v_ac = {} mm/s", r.P_s_kPa, r.v_ac_mm_s)
-            } else {
-                series
+            // Catheter sweeps vary v_ct: plot them against v_ct, one series per condition.
+            let (series, x) = match r.v_ct_mm_s {
+                Some(v_ct) => (
+                    format!("P_s = {} kPa, v_ac = {} mm/s", r.P_s_kPa, r.v_ac_mm_s),
+                    v_ct,
+                ),
+                None => (format!("v_ac = {} mm/s", r.v_ac_mm_s), r.P_s_kPa),
             };
             Some((series, x, model - r.measured_mm_s))
         })

@@ -549,5 +549,17 @@ fn extend_writes_a_model_and_points_at_the_fragment_line() {
     let err = fail(&["extend", "models/eversion/robot.ron", bad.to_str().unwrap()]);
     assert!(err.contains("bad.ron:5:"), "{err}");
     assert!(err.contains("tipp"), "{err}");
+    // The same fragment in a library handed to discover: the same located message.
+    let err = fail(&[
+        "discover",
+        "--model",
+        "models/eversion/robot.ron",
+        "--data",
+        "models/eversion/data/table3.csv",
+        "--extensions",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(err.contains("bad.ron:5:"), "{err}");
+    assert!(!err.contains("error: error"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

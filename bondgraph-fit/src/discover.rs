@@ -610,6 +610,8 @@ fn residuals(
                 stands_out: mean.abs() > 3.0 * noise / n.sqrt(),
             }
         })
+        // A regime whose every row failed to settle has no residuals.
+        .filter(|r| r.rows > 0)
         .collect();
     let factors: [(&str, Factor); 3] = [
         ("P_s_kPa", |r| Some(r.pressure_kpa)),
