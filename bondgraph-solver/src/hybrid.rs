@@ -20,7 +20,7 @@ use std::sync::Arc;
 use bondgraph_core::diagnostics::{DiagnosticKind, Diagnostics};
 use bondgraph_core::equations::{Options, OutputSpec};
 use bondgraph_core::guards::Watched;
-use bondgraph_core::model::{ElementMode, Model};
+use bondgraph_core::model::{ElementId, ElementMode, Model};
 use bondgraph_core::modes::{Mode, ModeCache};
 
 use crate::energy::EnergyBalance;
@@ -435,9 +435,20 @@ impl<'m> Simulator<'m> {
         let mut mode = candidate;
         loop {
             if tried.contains(&mode) {
-                let specs = tried.iter().map(|m| m.spec(self.model)).collect();
                 switched.sort();
                 switched.dedup();
+                let last = self.mode(tried.last().expect("a mode was tried"))?;
+                if let Some(found) = self.search_consistent(&tried[0], &switched, full, u, rate)? {
+                    recorder.event(
+                        t,
+                        last.spec.clone(),
+                        found.spec.clone(),
+                        switched.join(","),
+                        "no single switch is consistent; this combination is".into(),
+                    );
+                    return Ok(found);
+                }
+                let specs = tried.iter().map(|m| m.spec(self.model)).collect();
                 return Err(SimError::NoConsistentMode {
                     t,
                     tried: specs,
@@ -474,6 +485,103 @@ impl<'m> Simulator<'m> {
                 }
             }
         }
+    }
+
+    /// The consistent mode among every combination of the modes of `elements` (by name),
+    /// the rest as in `candidate`: what [`Simulator::resolve`] falls back on when switching
+    /// one element at a time cycles.
+    ///
+    /// Switching one contact at a time judges each against the others' current modes. Two
+    /// contacts at rest can then send each other round in a circle: the nozzle cannot hold
+    /// the tip alone, the catheter cannot hold it alone, and with both slipping each looks
+    /// as if it could stick again because its velocity is still inside the dead band. Here a
+    /// combination is consistent when no guard is entered, where a dead-band guard (back to
+    /// stuck) counts only if its relative velocity is not already leaving the band: a contact
+    /// at rest whose velocity grows in its slip direction is breaking away. Of several
+    /// consistent combinations the one with the most contacts stuck wins (static friction
+    /// holds where it can), then the one closest to `candidate`.
+    fn search_consistent(
+        &mut self,
+        candidate: &Mode,
+        elements: &[String],
+        full: &[f64],
+        u: &[f64],
+        rate: &[f64],
+    ) -> Result<Option<Arc<NumericMode>>, SimError> {
+        let mut choices: Vec<(ElementId, &[ElementMode])> = Vec::new();
+        for name in elements {
+            let Some(id) = self.model.element_named(name) else {
+                continue;
+            };
+            let options: &[ElementMode] = match candidate.of(id) {
+                Some(ElementMode::Taut | ElementMode::Slack) => {
+                    &[ElementMode::Taut, ElementMode::Slack]
+                }
+                Some(_) => &[
+                    ElementMode::Stuck,
+                    ElementMode::SlipPositive,
+                    ElementMode::SlipNegative,
+                ],
+                None => continue,
+            };
+            choices.push((id, options));
+        }
+        let combinations: usize = choices.iter().map(|(_, o)| o.len()).product();
+        let mut best: Option<((usize, usize), Arc<NumericMode>)> = None;
+        for index in 0..combinations {
+            let mut mode = candidate.clone();
+            let mut rest = index;
+            for (id, options) in &choices {
+                mode = mode.with(*id, options[rest % options.len()]);
+                rest /= options.len();
+            }
+            let numeric = match self.mode(&mode) {
+                Ok(numeric) => numeric,
+                Err(SimError::Derivation(_)) => continue,
+                Err(e) => return Err(e),
+            };
+            if !self.consistent(&numeric, full, u, rate)? {
+                continue;
+            }
+            let stuck = choices
+                .iter()
+                .filter(|(id, _)| mode.of(*id) == Some(ElementMode::Stuck))
+                .count();
+            let distance = choices
+                .iter()
+                .filter(|(id, _)| mode.of(*id) != candidate.of(*id))
+                .count();
+            let rank = (usize::MAX - stuck, distance);
+            if best.as_ref().is_none_or(|(r, _)| rank < *r) {
+                best = Some((rank, numeric));
+            }
+        }
+        Ok(best.map(|(_, numeric)| numeric))
+    }
+
+    /// Whether no guard of `mode` is entered at this instant, counting a dead-band guard
+    /// only while its relative velocity is not leaving the band.
+    fn consistent(
+        &mut self,
+        mode: &NumericMode,
+        full: &[f64],
+        u: &[f64],
+        rate: &[f64],
+    ) -> Result<bool, SimError> {
+        let x = mode.project(full, u);
+        for guard in &mode.guards {
+            if !self.entered(mode, guard, &x, u, rate) {
+                continue;
+            }
+            if guard.requires_hold {
+                let leaving = mode.row_rate(&guard.row, &x, u, rate) < 0.0;
+                if leaving || !self.can_hold(mode, guard, full, u, rate)? {
+                    continue;
+                }
+            }
+            return Ok(false);
+        }
+        Ok(true)
     }
 
     /// Whether a guard is satisfied at entry and not moving out: the mode would be left at

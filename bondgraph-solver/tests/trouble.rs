@@ -1,8 +1,10 @@
 //! Numerical trouble is detected and reported with the elements involved.
 
+use bondgraph_core::equations::OutputSpec;
 use bondgraph_core::model;
 use bondgraph_core::modes::Mode;
-use bondgraph_solver::{Run, Settings, Signal, SimError, Simulator};
+use bondgraph_solver::steady::{SteadySettings, steady_state};
+use bondgraph_solver::{Output, Run, Settings, Signal, SimError, Simulator};
 
 use crate::support::{Constant, load};
 
@@ -177,4 +179,80 @@ fn no_consistent_mode_is_reported_with_the_modes_tried() {
         }
         other => panic!("expected no consistent mode, got {other}"),
     }
+}
+
+#[test]
+fn two_contacts_that_cannot_hold_alone_break_away_together() {
+    // A light body pushed by F = 13 N rests on a nozzle contact (F_S = 11.5 N, F_C = 0,
+    // viscous b = 2000 N·s/m) and carries a load through a second contact (F_S = 6 N,
+    // F_C = 5.5 N); the load is held back by a damper R = 5e4 N·s/m. Neither contact can
+    // hold alone: all stuck, the nozzle must hold all 13 N; nozzle slipping, the second
+    // contact must pass all 13 N to the load. Switching one contact at a time sends them round
+    // in a circle (each looks as if it could stick again while its velocity is still in the
+    // dead band); both slip. Steady state by hand: the body obeys F - F_C2 - b v = 0,
+    // v = 7.5/2000 = 3.75 mm/s; the load F_C2 = R w, w = 0.11 mm/s < v, so the second
+    // contact keeps slipping forward.
+    let text = r#"Model(
+        name: "two_contacts",
+        parameters: {
+            "m": (value: 1.0e-12), "F": (value: 13.0),
+            "F_S1": (value: 11.5), "F_C1": (value: 0.0), "b": (value: 2000.0),
+            "F_S2": (value: 6.0), "F_C2": (value: 5.5),
+            "m_2": (value: 5.0e-4), "R": (value: 5.0e4), "dv": (value: 1.0e-6),
+        },
+        elements: {
+            "push": Se(effort: "F"),
+            "body": One,
+            "mass": I(inertance: "m"),
+            "nozzle": Friction(breakaway: "F_S1", coulomb: "F_C1", viscous: "b", dead_band: "dv"),
+            "rubbing": Zero,
+            "contact": Friction(breakaway: "F_S2", coulomb: "F_C2", dead_band: "dv"),
+            "carried": One,
+            "load": I(inertance: "m_2"),
+            "damper": R(resistance: "R"),
+        },
+        bonds: [
+            ("push", "body"), ("body", "mass"), ("body", "nozzle"), ("body", "rubbing"),
+            ("rubbing", "contact"), ("rubbing", "carried"), ("carried", "load"),
+            ("carried", "damper"),
+        ],
+    )"#;
+    let model = model::load_str("two_contacts.ron", text).unwrap();
+    let outputs = ["flow:mass", "flow:load"]
+        .iter()
+        .map(|name| Output {
+            name: name.to_string(),
+            spec: OutputSpec::parse(&model, name).unwrap(),
+            integral: false,
+        })
+        .collect();
+    let mut simulator = Simulator::new(&model, outputs);
+    let n = simulator.storage().len();
+    let steady = steady_state(
+        &mut simulator,
+        &[],
+        Mode::initial(&model),
+        vec![0.0; n],
+        &SteadySettings::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(steady.mode, "nozzle=slip+,contact=slip+");
+    assert!(
+        (steady.outputs[0] - 3.75e-3).abs() < 1e-12,
+        "{:?}",
+        steady.outputs
+    );
+    assert!(
+        (steady.outputs[1] - 1.1e-4).abs() < 1e-12,
+        "{:?}",
+        steady.outputs
+    );
+    // Found at once, at t = 0, not after a detour through a wrong mode.
+    let last = steady.events.last().unwrap();
+    assert_eq!(
+        (last.t, last.to.as_str()),
+        (0.0, "nozzle=slip+,contact=slip+"),
+        "{:#?}",
+        steady.events
+    );
 }
