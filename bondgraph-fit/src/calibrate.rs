@@ -114,12 +114,10 @@ pub fn least_squares(
         r = next_r;
         // Parameters the residuals do not move: scan them.
         let jacobian = problem.jacobian(&u, &r, settings.step);
+        let moves = moving_columns(&jacobian, r.len(), u.len());
         let mut moved = false;
         for j in 0..u.len() {
-            let column_norm: f64 = (0..r.len())
-                .map(|i| jacobian[i * u.len() + j].powi(2))
-                .sum();
-            if column_norm > 0.0 {
+            if moves[j] {
                 intervals[j] = None;
                 continue;
             }
@@ -179,6 +177,20 @@ pub fn least_squares(
     })
 }
 
+/// Which parameters move the residuals: a Jacobian column that is not negligible beside
+/// the largest (rounding in a steady state gives columns of 1e-11 where a parameter has no
+/// effect at all).
+fn moving_columns(jacobian: &[f64], n: usize, p: usize) -> Vec<bool> {
+    let norms: Vec<f64> = (0..p)
+        .map(|j| (0..n).map(|i| jacobian[i * p + j].powi(2)).sum())
+        .collect();
+    let largest = norms.iter().copied().fold(0.0, f64::max);
+    norms
+        .iter()
+        .map(|&c| c > 1e-16 * largest && c > 0.0)
+        .collect()
+}
+
 fn sse(r: &[f64]) -> f64 {
     r.iter().map(|v| v * v).sum()
 }
@@ -234,10 +246,10 @@ impl Problem<'_> {
                 .map(|j| (0..n).map(|i| jacobian[i * p + j] * r[i]).sum())
                 .collect();
             // Held at a bound by the gradient, or not moved by anything: out of this step.
+            let moves = moving_columns(&jacobian, n, p);
             let free: Vec<usize> = (0..p)
                 .filter(|&j| {
-                    let column: f64 = (0..n).map(|i| jacobian[i * p + j].powi(2)).sum();
-                    column > 0.0
+                    moves[j]
                         && !(u[j] <= 0.0 && gradient[j] > 0.0)
                         && !(u[j] >= 1.0 && gradient[j] < 0.0)
                 })
@@ -255,11 +267,14 @@ impl Problem<'_> {
                 }
             }
             let rhs: Vec<f64> = free.iter().map(|&j| -gradient[j]).collect();
+            // Marquardt's scaling, with a floor so that a weakly determined parameter is not
+            // thrown across its whole range by a tiny curvature.
+            let largest = (0..m).map(|a| jtj[a * m + a]).fold(0.0, f64::max);
             let mut improved = false;
             for _ in 0..12 {
                 let mut damped = jtj.clone();
                 for a in 0..m {
-                    damped[a * m + a] += lambda * (jtj[a * m + a] + 1e-12);
+                    damped[a * m + a] += lambda * jtj[a * m + a].max(1e-6 * largest);
                 }
                 let Some(delta) = cholesky_solve(&damped, &rhs) else {
                     lambda *= 10.0;
@@ -447,6 +462,30 @@ mod tests {
             "{lo} {hi}"
         );
         assert!(result.values[0] >= 5.0 && result.values[0] < 6.0);
+    }
+
+    #[test]
+    fn a_parameter_that_only_rounding_moves_does_not_stall_the_others() {
+        // The line of the first test, plus a parameter c whose whole effect is rounding
+        // (1e-11 per unit) and which cannot be evaluated above 0.6 (as a friction model
+        // cannot with its Coulomb force above its breakaway force). Its tiny curvature must
+        // not throw c to its bound at every trial: the line is still fitted exactly.
+        let x = [0.0, 1.0, 2.0, 3.0];
+        let y = [2.0, 2.0, 4.0, 8.0];
+        let result = fit(
+            |p| {
+                (p[2] <= 0.6).then(|| {
+                    x.iter()
+                        .zip(&y)
+                        .map(|(x, y)| p[0] + p[1] * x - y + 1e-11 * p[2] * x)
+                        .collect()
+                })
+            },
+            &[0.0, 0.0, 0.5],
+            &[(-10.0, 10.0), (-10.0, 10.0), (0.0, 1.0)],
+        );
+        assert!((result.values[0] - 1.0).abs() < 1e-6, "{:?}", result.values);
+        assert!((result.values[1] - 2.0).abs() < 1e-6, "{:?}", result.values);
     }
 
     #[test]
