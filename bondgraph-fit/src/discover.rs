@@ -453,9 +453,26 @@ fn assess(
     }
     let k = settings.folds.min(rows.len());
     if k >= 2 {
+        // Every k-th row in order of pressure, then channel speed, then catheter speed: the
+        // rows at one pressure fall in different folds, so no fold holds out a whole
+        // condition (as taking every k-th row of the file does when k divides a column).
+        let mut order: Vec<usize> = (0..rows.len()).collect();
+        order.sort_by(|&a, &b| {
+            let key = |r: &Measurement| {
+                (
+                    r.pressure_kpa,
+                    r.channel_velocity_mm_s,
+                    r.catheter_velocity_mm_s.unwrap_or(f64::NEG_INFINITY),
+                )
+            };
+            let (ka, kb) = (key(&rows[a]), key(&rows[b]));
+            ka.0.total_cmp(&kb.0)
+                .then(ka.1.total_cmp(&kb.1))
+                .then(ka.2.total_cmp(&kb.2))
+        });
         schemes.push(
             (0..k)
-                .map(|f| (0..rows.len()).filter(|i| i % k == f).collect())
+                .map(|f| (f..rows.len()).step_by(k).map(|r| order[r]).collect())
                 .collect(),
         );
     }
@@ -469,6 +486,19 @@ fn assess(
                 .map(|i| rows[i].clone())
                 .collect();
             let test: Vec<Measurement> = held.iter().map(|&i| rows[i].clone()).collect();
+            // A fold that holds out every row with a catheter (or every row without one)
+            // leaves nothing to fit that part of the model on: it tests the start values,
+            // not the model, and is left out.
+            let has = |rows: &[Measurement], with: bool| {
+                rows.iter()
+                    .any(|r| r.catheter_velocity_mm_s.is_some() == with)
+            };
+            if [true, false]
+                .iter()
+                .any(|&with| has(&test, with) && !has(&train, with))
+            {
+                continue;
+            }
             folds.push((train, test));
         }
     }
