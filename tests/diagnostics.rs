@@ -875,3 +875,18 @@ fn value_outside_bounds() {
         },
     );
 }
+
+#[test]
+fn stribeck_drop_depends_on_input() {
+    check(
+        "stribeck_drop_depends_on_input",
+        Expect {
+            kind: DiagnosticKind::InvalidValue,
+            line: 12,
+            column: 41,
+            element: Some("contact"),
+            underlined: "F_S + F",
+            message: "friction contact 'contact': with a Stribeck velocity, breakaway \"F_S + F\" and Coulomb \"F_C\" must differ by an amount that does not depend on inputs",
+        },
+    );
+}

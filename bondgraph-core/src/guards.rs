@@ -8,6 +8,16 @@
 //! | friction `stuck` | the force it must hold (the effort on its bond) | `≥ F_S` / `≤ -F_S` | `slip+` / `slip-` |
 //! | friction `slip+` | its relative velocity | `≤ Δv` (if static friction can then hold) / `≤ 0` | `stuck` / `slip-` |
 //! | friction `slip-` | its relative velocity | `≥ -Δv` (if static friction can then hold) / `≥ 0` | `stuck` / `slip+` |
+//!
+//! A contact with a Stribeck velocity `v_s` breaks away into `creep±` instead, and:
+//!
+//! | element mode | watches | leaves when | for |
+//! |---|---|---|---|
+//! | friction `creep+` | its relative velocity | `≤ Δv` (if static friction can then hold) / `≤ 0` / `≥ v_s` | `stuck` / `creep-` / `slip+` |
+//! | friction `creep-` | its relative velocity | `≥ -Δv` (if static friction can then hold) / `≥ 0` / `≤ -v_s` | `stuck` / `creep+` / `slip-` |
+//! | friction `slip+` | its relative velocity | `≤ v_s` | `creep+` |
+//! | friction `slip-` | its relative velocity | `≥ -v_s` | `creep-` |
+//!
 //! | tension-only `taut` | its tension | `≤ 0` | `slack` |
 //! | tension-only `slack` | its slack length (a state) | `≥ 0` | `taut` |
 //!
@@ -29,8 +39,10 @@ use crate::symbolic::RatFunc;
 pub enum Watched {
     /// The force a stuck contact must transmit.
     HoldingForce,
-    /// The relative velocity of a slipping contact.
+    /// The relative velocity of a slipping contact, against zero or the dead band.
     RelativeVelocity,
+    /// The relative velocity of a slipping contact, against its Stribeck velocity.
+    StribeckVelocity,
     /// The tension of a taut tension-only element.
     Tension,
     /// The slack length (negative extension) of a slack tension-only element.
@@ -42,7 +54,7 @@ impl Watched {
     pub fn description(self) -> &'static str {
         match self {
             Watched::HoldingForce => "holding force",
-            Watched::RelativeVelocity => "relative velocity",
+            Watched::RelativeVelocity | Watched::StribeckVelocity => "relative velocity",
             Watched::Tension => "tension",
             Watched::SlackLength => "extension",
         }
@@ -130,12 +142,17 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Vec<Gua
                 let hold = effort();
                 let breakaway = friction.breakaway.value.clone();
                 let negative_breakaway = breakaway.scaled(&RatFunc::integer(-1));
+                let (forward, backward) = if friction.stribeck.is_some() {
+                    (ElementMode::CreepPositive, ElementMode::CreepNegative)
+                } else {
+                    (ElementMode::SlipPositive, ElementMode::SlipNegative)
+                };
                 guards.push(guard(
                     Watched::HoldingForce,
                     hold.clone(),
                     Crossing::Rises,
                     breakaway,
-                    ElementMode::SlipPositive,
+                    forward,
                     false,
                 ));
                 guards.push(guard(
@@ -143,17 +160,46 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Vec<Gua
                     hold,
                     Crossing::Falls,
                     negative_breakaway,
-                    ElementMode::SlipNegative,
+                    backward,
                     false,
                 ));
             }
             (ElementKind::Friction(friction), slip) => {
                 let velocity = flow();
+                let forward =
+                    matches!(slip, ElementMode::SlipPositive | ElementMode::CreepPositive);
+                let creeping = matches!(
+                    slip,
+                    ElementMode::CreepPositive | ElementMode::CreepNegative
+                );
+                if let Some(stribeck) = &friction.stribeck {
+                    let v_s = LinearForm::constant(stribeck.value.clone());
+                    let minus_v_s = v_s.scaled(&RatFunc::integer(-1));
+                    let (crossing, threshold, to) = match (forward, creeping) {
+                        (true, true) => (Crossing::Rises, v_s, ElementMode::SlipPositive),
+                        (false, true) => (Crossing::Falls, minus_v_s, ElementMode::SlipNegative),
+                        (true, false) => (Crossing::Falls, v_s, ElementMode::CreepPositive),
+                        (false, false) => (Crossing::Rises, minus_v_s, ElementMode::CreepNegative),
+                    };
+                    guards.push(guard(
+                        Watched::StribeckVelocity,
+                        velocity.clone(),
+                        crossing,
+                        threshold,
+                        to,
+                        false,
+                    ));
+                    if !creeping {
+                        // Sliding faster than v_s, it must creep before it can stop.
+                        continue;
+                    }
+                }
                 let dead_band = friction.dead_band.value.clone();
-                let (crossing, band, reverse) = if slip == ElementMode::SlipPositive {
-                    (Crossing::Falls, dead_band, ElementMode::SlipNegative)
-                } else {
-                    (Crossing::Rises, -dead_band, ElementMode::SlipPositive)
+                let (crossing, band, reverse) = match (forward, creeping) {
+                    (true, false) => (Crossing::Falls, dead_band, ElementMode::SlipNegative),
+                    (false, false) => (Crossing::Rises, -dead_band, ElementMode::SlipPositive),
+                    (true, true) => (Crossing::Falls, dead_band, ElementMode::CreepNegative),
+                    (false, true) => (Crossing::Rises, -dead_band, ElementMode::CreepPositive),
                 };
                 guards.push(guard(
                     Watched::RelativeVelocity,

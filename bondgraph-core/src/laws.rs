@@ -74,7 +74,8 @@ pub fn plain_laws(model: &Model) -> Vec<Law> {
 ///
 /// A stuck friction contact holds its velocity at zero (a zero flow source); a slipping one
 /// resists with `viscous·v ± coulomb` (a resistor with an offset, or an effort source when it
-/// has no viscous part); a taut tension-only element is a compliance, a slack one imposes
+/// has no viscous part), a creeping one with `(viscous - (breakaway - coulomb)/v_s)·v ±
+/// breakaway`; a taut tension-only element is a compliance, a slack one imposes
 /// zero effort while tracking its slack length.
 pub fn for_mode(model: &Model, mode: &Mode) -> Vec<Law> {
     model
@@ -106,9 +107,18 @@ pub fn for_mode(model: &Model, mode: &Mode) -> Vec<Law> {
                             }
                         }
                     };
+                    // Slower than the Stribeck velocity: the breakaway force, weakening with speed.
+                    let creep = |sign: i64| Law::Resistor {
+                        resistance: friction
+                            .creep_resistance()
+                            .expect("validated: a creeping contact has a constant slope"),
+                        offset: friction.breakaway.value.scaled(&RatFunc::integer(sign)),
+                    };
                     match mode.of(id).unwrap_or(friction.initial) {
                         ElementMode::SlipPositive => slip(1),
                         ElementMode::SlipNegative => slip(-1),
+                        ElementMode::CreepPositive => creep(1),
+                        ElementMode::CreepNegative => creep(-1),
                         _ => Law::FlowSource(LinearForm::zero()),
                     }
                 }

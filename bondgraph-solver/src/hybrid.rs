@@ -513,18 +513,10 @@ impl<'m> Simulator<'m> {
             let Some(id) = self.model.element_named(name) else {
                 continue;
             };
-            let options: &[ElementMode] = match candidate.of(id) {
-                Some(ElementMode::Taut | ElementMode::Slack) => {
-                    &[ElementMode::Taut, ElementMode::Slack]
-                }
-                Some(_) => &[
-                    ElementMode::Stuck,
-                    ElementMode::SlipPositive,
-                    ElementMode::SlipNegative,
-                ],
-                None => continue,
-            };
-            choices.push((id, options));
+            let options = self.model.element(id).kind.modes();
+            if !options.is_empty() {
+                choices.push((id, options));
+            }
         }
         let combinations: usize = choices.iter().map(|(_, o)| o.len()).product();
         let mut best: Option<((usize, usize), Arc<NumericMode>)> = None;
@@ -1098,6 +1090,10 @@ fn reason(guard: &NumericGuard, crossed: bool) -> String {
             "relative velocity entered the dead band and static friction holds"
         }
         (Watched::RelativeVelocity, _) => "relative velocity passed through zero",
+        (Watched::StribeckVelocity, ElementMode::SlipPositive | ElementMode::SlipNegative) => {
+            "relative velocity passed the Stribeck velocity"
+        }
+        (Watched::StribeckVelocity, _) => "relative velocity fell below the Stribeck velocity",
         (Watched::Tension, _) => "tension fell to zero",
         (Watched::SlackLength, _) => "slack taken up",
     };

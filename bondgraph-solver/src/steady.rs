@@ -7,7 +7,8 @@
 //! `e^-36 ≈ 2e-16`), then takes the asymptote `x∞ + ẋ∞ τ` exactly from the modal form
 //! ([`Propagator::asymptote`](crate::propagate::Propagator::asymptote)): no component may grow
 //! or oscillate undamped, and no guard may cross zero along it in the future (a slack string
-//! being taken up will tauten). Otherwise it simulates on to the predicted crossing and looks
+//! being taken up will tauten). A mode that grows or oscillates undamped is simulated until
+//! a guard ends it (velocity weakening runs away until the contact slides), if one does. Otherwise it simulates on to the predicted crossing and looks
 //! again. The outputs are read off the asymptote, not the last state, so a stiff mode's
 //! rounding noise does not reach them.
 
@@ -149,6 +150,18 @@ pub fn steady_state(
             v.re > settings.zero_eigenvalue
                 || (v.re.abs() <= settings.zero_eigenvalue && v.im.abs() > settings.zero_eigenvalue)
         }) {
+            // A mode that grows (a contact whose friction weakens faster than viscosity
+            // grows) or oscillates undamped is no steady state, but a guard may end it: give
+            // it 36 e-foldings of its growth (or four periods) to do so.
+            let horizon = if v.re > settings.zero_eigenvalue {
+                36.0 / v.re
+            } else {
+                4.0 * std::f64::consts::TAU / v.im.abs()
+            };
+            let target = stepper.time() + horizon;
+            if target <= settings.max_time && stepper.advance(target)? {
+                continue;
+            }
             return Err(not_steady(
                 &stepper,
                 format!("its motion has an eigenvalue {v} that does not decay"),

@@ -4,5 +4,6 @@ mod energy;
 mod fig6;
 mod flagship;
 mod stick_slip;
+mod stribeck;
 mod support;
 mod trouble;

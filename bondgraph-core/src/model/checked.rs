@@ -7,7 +7,7 @@
 
 use std::sync::Arc;
 
-use crate::linear::LinearForm;
+use crate::linear::{LinearForm, Var};
 use crate::source::{Location, SourceFile, Span};
 use crate::symbolic::{RatFunc, Symbol, SymbolTable};
 
@@ -169,6 +169,12 @@ pub enum ElementKind {
 /// Stuck, it holds that velocity at zero with whatever force that takes, as long as the force
 /// stays below `breakaway`; slipping, it resists with `viscous·v + coulomb·sgn(v)`. Slipping
 /// slower than `dead_band` sticks, if the contact can then hold.
+///
+/// With a Stribeck velocity `v_s` the kinetic force weakens with speed: slipping slower than
+/// `v_s` (`creep±`) it is `breakaway·sgn(v) + (viscous - (breakaway - coulomb)/v_s)·v`,
+/// falling linearly from the breakaway force at rest to the Coulomb force at `v_s`; faster
+/// (`slip±`) it is the Coulomb law above. The piecewise-linear curve keeps every mode linear,
+/// so each still has its own A and B.
 #[derive(Clone, Debug)]
 pub struct Friction {
     /// The breakaway (static) force `F_S`; affine in the inputs.
@@ -179,8 +185,29 @@ pub struct Friction {
     pub viscous: Coefficient,
     /// Karnopp's dead band `Δv` (zero when not given).
     pub dead_band: Coefficient,
+    /// The Stribeck velocity `v_s`, below which the kinetic force weakens with speed.
+    pub stribeck: Option<Coefficient>,
     /// The mode at the start.
     pub initial: ElementMode,
+}
+
+impl Friction {
+    /// The viscous coefficient while creeping (slower than the Stribeck velocity):
+    /// `viscous - (breakaway - coulomb)/v_s`, negative where friction weakens faster than
+    /// viscosity grows. `None` without a Stribeck velocity, or where breakaway and Coulomb
+    /// forces differ by an amount that depends on inputs (the validator rejects that).
+    pub fn creep_resistance(&self) -> Option<RatFunc> {
+        let stribeck = self.stribeck.as_ref()?;
+        let mut drop = self.breakaway.value.clone();
+        drop.add_scaled(&self.coulomb.value, &RatFunc::integer(-1));
+        if drop.mentions(|v| v != Var::Constant) {
+            return None;
+        }
+        let slope = drop
+            .coefficient(Var::Constant)
+            .checked_div(&stribeck.value)?;
+        Some(self.viscous.value.sub_ref(&slope))
+    }
 }
 
 /// A compliance that carries tension only, like a string.
@@ -204,6 +231,10 @@ pub enum ElementMode {
     SlipPositive,
     /// A friction contact slipping with negative relative velocity.
     SlipNegative,
+    /// A friction contact slipping forward slower than its Stribeck velocity.
+    CreepPositive,
+    /// A friction contact slipping backward slower than its Stribeck velocity.
+    CreepNegative,
     /// A tension-only element carrying tension.
     Taut,
     /// A tension-only element gone slack.
@@ -211,12 +242,15 @@ pub enum ElementMode {
 }
 
 impl ElementMode {
-    /// The name used in mode specifications (`stuck`, `slip+`, `slip-`, `taut`, `slack`).
+    /// The name used in mode specifications (`stuck`, `slip+`, `slip-`, `creep+`, `creep-`,
+    /// `taut`, `slack`).
     pub fn name(self) -> &'static str {
         match self {
             ElementMode::Stuck => "stuck",
             ElementMode::SlipPositive => "slip+",
             ElementMode::SlipNegative => "slip-",
+            ElementMode::CreepPositive => "creep+",
+            ElementMode::CreepNegative => "creep-",
             ElementMode::Taut => "taut",
             ElementMode::Slack => "slack",
         }
@@ -228,6 +262,8 @@ impl ElementMode {
             ElementMode::Stuck,
             ElementMode::SlipPositive,
             ElementMode::SlipNegative,
+            ElementMode::CreepPositive,
+            ElementMode::CreepNegative,
             ElementMode::Taut,
             ElementMode::Slack,
         ]
@@ -274,6 +310,13 @@ impl ElementKind {
     /// The modes a switching element can be in (empty for plain elements).
     pub fn modes(&self) -> &'static [ElementMode] {
         match self {
+            ElementKind::Friction(f) if f.stribeck.is_some() => &[
+                ElementMode::Stuck,
+                ElementMode::SlipPositive,
+                ElementMode::SlipNegative,
+                ElementMode::CreepPositive,
+                ElementMode::CreepNegative,
+            ],
             ElementKind::Friction(_) => &[
                 ElementMode::Stuck,
                 ElementMode::SlipPositive,

@@ -127,7 +127,8 @@ pub enum RawElement {
     },
     /// Karnopp friction contact on its bond's relative velocity: stuck, or slipping with
     /// `viscous·v + coulomb·sgn(v)`; it breaks away when the force it must hold reaches
-    /// `breakaway`. Modes `stuck`, `slip+`, `slip-`.
+    /// `breakaway`. Modes `stuck`, `slip+`, `slip-`; with a Stribeck velocity also `creep+`,
+    /// `creep-`.
     Friction {
         /// The breakaway (static) force; may depend on inputs.
         breakaway: String,
@@ -138,6 +139,10 @@ pub enum RawElement {
         /// Karnopp's dead band: slipping below this speed sticks, if the contact can hold
         /// (default 0).
         dead_band: Option<String>,
+        /// The Stribeck velocity `v_s` (default none): slipping slower than it (modes
+        /// `creep+`, `creep-`), the kinetic force falls linearly with speed from the
+        /// breakaway force at rest to the Coulomb force at `v_s` (velocity weakening).
+        stribeck: Option<String>,
         /// The mode at the start: `"stuck"` (default), `"slip+"` or `"slip-"`.
         initial: Option<String>,
     },

@@ -392,6 +392,7 @@ impl Validator<'_> {
                 coulomb,
                 viscous,
                 dead_band,
+                stribeck,
                 initial,
             } => {
                 let breakaway = self.source_value(name, index, "breakaway", breakaway, scope);
@@ -399,25 +400,48 @@ impl Validator<'_> {
                 let viscous = self.optional_coefficient(name, index, "viscous", viscous, scope);
                 let dead_band =
                     self.optional_coefficient(name, index, "dead_band", dead_band, scope);
-                let initial = self.initial_mode(
-                    name,
-                    index,
-                    initial.as_deref(),
-                    &[
-                        ElementMode::Stuck,
-                        ElementMode::SlipPositive,
-                        ElementMode::SlipNegative,
-                    ],
-                );
+                let stribeck = stribeck.as_ref().map(|text| {
+                    self.coefficient(name, index, "stribeck", text, scope, Sign::Positive)
+                });
+                let mut allowed = vec![
+                    ElementMode::Stuck,
+                    ElementMode::SlipPositive,
+                    ElementMode::SlipNegative,
+                ];
+                if stribeck.is_some() {
+                    allowed.extend([ElementMode::CreepPositive, ElementMode::CreepNegative]);
+                }
+                let initial = self.initial_mode(name, index, initial.as_deref(), &allowed);
                 let (breakaway, coulomb) = (breakaway?, coulomb?);
                 self.check_friction_levels(name, &breakaway, &coulomb, scope)?;
-                ElementKind::Friction(Box::new(Friction {
+                let friction = Friction {
                     breakaway,
                     coulomb,
                     viscous: viscous?,
                     dead_band: dead_band?,
+                    stribeck: match stribeck {
+                        Some(coefficient) => Some(coefficient?),
+                        None => None,
+                    },
                     initial: initial?,
-                }))
+                };
+                if friction.stribeck.is_some() && friction.creep_resistance().is_none() {
+                    let span = friction.breakaway.span;
+                    self.problems.push(
+                        Diagnostic::new(
+                            DiagnosticKind::InvalidValue,
+                            format!(
+                                "friction contact '{name}': with a Stribeck velocity, breakaway \"{}\" and Coulomb \"{}\" must differ by an amount that does not depend on inputs",
+                                friction.breakaway.text, friction.coulomb.text
+                            ),
+                        )
+                        .at(&self.file, span)
+                        .element(name)
+                        .note("the weakening slope (breakaway - coulomb)/stribeck is a coefficient of the creeping modes' equations"),
+                    );
+                    return None;
+                }
+                ElementKind::Friction(Box::new(friction))
             }
             RawElement::TensionOnly {
                 compliance,

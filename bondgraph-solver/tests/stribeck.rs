@@ -1,0 +1,88 @@
+//! Velocity-weakening (Stribeck) friction: a block pushed by a constant force, against
+//! closed forms derived by hand.
+//!
+//! The block (m = 1 kg) rests on a contact with F_S = 2 N, F_C = 1 N and a Stribeck velocity
+//! v_s = 0.1 m/s: creeping (0 < v < v_s) the contact resists with F_S + (b - (F_S - F_C)/v_s) v
+//! = 2 + (b - 10) v, sliding faster with F_C + b v.
+
+use bondgraph_core::equations::OutputSpec;
+use bondgraph_core::model::{self, Model};
+use bondgraph_core::modes::Mode;
+use bondgraph_solver::steady::{SteadySettings, steady_state};
+use bondgraph_solver::{Output, Simulator};
+
+fn block(push: f64, viscous: f64) -> Model {
+    let text = format!(
+        r#"Model(
+        name: "stribeck_block",
+        parameters: {{
+            "m": (value: 1.0), "F": (value: {push:?}), "F_S": (value: 2.0), "F_C": (value: 1.0),
+            "b": (value: {viscous:?}), "v_s": (value: 0.1), "dv": (value: 1.0e-9),
+        }},
+        elements: {{
+            "push": Se(effort: "F"),
+            "v": One,
+            "block": I(inertance: "m"),
+            "contact": Friction(breakaway: "F_S", coulomb: "F_C", viscous: "b", dead_band: "dv", stribeck: "v_s"),
+        }},
+        bonds: [("push", "v"), ("v", "block"), ("v", "contact")],
+    )"#
+    );
+    model::load_str("stribeck_block.ron", &text).unwrap()
+}
+
+fn settle(model: &Model) -> bondgraph_solver::steady::Steady {
+    let outputs = vec![Output {
+        name: "flow:block".into(),
+        spec: OutputSpec::parse(model, "flow:block").unwrap(),
+        integral: false,
+    }];
+    let mut simulator = Simulator::new(model, outputs);
+    steady_state(
+        &mut simulator,
+        &[],
+        Mode::initial(model),
+        vec![0.0],
+        &SteadySettings::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn weakening_faster_than_viscosity_grows_runs_away_to_sliding() {
+    // F = 3 N > F_S breaks away into creep+ with b = 0.5: m v' = 1 + 9.5 v, unstable, so
+    // v(t) = (e^{9.5 t} - 1)/9.5 reaches v_s = 0.1 at t₁ = ln(1.95)/9.5 = 0.0702990... s;
+    // sliding, 3 - 1 - 0.5 v = 0 gives v = 4 m/s.
+    let steady = settle(&block(3.0, 0.5));
+    assert_eq!(steady.mode, "contact=slip+");
+    assert!(
+        (steady.outputs[0] - 4.0).abs() < 1e-9,
+        "{:?}",
+        steady.outputs
+    );
+    let events: Vec<(f64, &str)> = steady.events.iter().map(|e| (e.t, e.to.as_str())).collect();
+    assert_eq!(events[0], (0.0, "contact=creep+"), "{events:?}");
+    let t1 = 1.95f64.ln() / 9.5;
+    assert_eq!(events[1].1, "contact=slip+", "{events:?}");
+    assert!((events[1].0 - t1).abs() < 1e-9, "{events:?} vs {t1}");
+}
+
+#[test]
+fn weakening_slower_than_viscosity_grows_creeps_below_the_coulomb_prediction() {
+    // F = 2.5 N with b = 20: creeping, 2.5 - 2 - 10 v = 0 gives v = 0.05 m/s < v_s, so it
+    // stays in creep+. The Coulomb law alone would give (2.5 - 1)/20 = 0.075 m/s.
+    let steady = settle(&block(2.5, 20.0));
+    assert_eq!(steady.mode, "contact=creep+");
+    assert!(
+        (steady.outputs[0] - 0.05).abs() < 1e-9,
+        "{:?}",
+        steady.outputs
+    );
+}
+
+#[test]
+fn below_breakaway_it_holds() {
+    let steady = settle(&block(1.5, 0.5));
+    assert_eq!(steady.mode, "contact=stuck");
+    assert_eq!(steady.outputs[0], 0.0);
+}
