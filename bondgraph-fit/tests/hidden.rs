@@ -252,6 +252,36 @@ fn hidden_pressure_dependent_friction_is_reported_as_aliased() {
     }
 }
 
+/// Velocity-weakening nozzle friction is found on the Table III design: slower than the
+/// Stribeck velocity the tip creeps at `(A P_s - F_S)/(b - (F_S - F_C)/v_st)`, rising from
+/// zero at breakaway, where the Coulomb model jumps to `(F_S - F_C)/b` and rises with slope
+/// `A/b`; no refit of `F_S`, `F_C` and `b` draws both the creeping rows and the sliding ones.
+#[test]
+fn hidden_velocity_weakening_is_found() {
+    for seed in [20, 21] {
+        let (id, parameter, lo, hi) = VELOCITY_WEAKENING;
+        let v_st = draw(seed, lo, hi);
+        let d = discover_hidden(Some((id, parameter, v_st)), seed);
+        let report = explained(&d);
+        assert_eq!(d.selected.as_deref(), Some(id), "{report}");
+        let estimate = param(&d, id, parameter);
+        assert!(
+            recovered(estimate, v_st),
+            "{estimate:?} vs {v_st}\n{report}"
+        );
+        assert!(
+            d.gain.rmse_heldout_after_mm_s < d.gain.rmse_heldout_before_mm_s,
+            "{report}"
+        );
+    }
+}
+
+/// The Stribeck velocity hidden on the Table III design (m/s): above
+/// `(F_S - F_C)/b` = 2.06 mm/s, so that the weakening is slower than the viscous growth and
+/// the tip creeps steadily below it.
+const VELOCITY_WEAKENING: (&str, &str, f64, f64) =
+    ("velocity-weakening-friction", "v_st", 2.5e-3, 4.0e-3);
+
 /// Nothing hidden: nothing selected.
 #[test]
 fn nothing_hidden_nothing_selected() {
@@ -333,7 +363,8 @@ fn nothing_hidden_in_the_catheter_sweep_nothing_selected() {
 /// `DETECTION_SEEDS=a..b` and `DETECTION_CASES=id,id` narrow it down).
 /// "Found" is the test's own criterion for each id: selected or indistinguishable from the
 /// selection for the two channel effects, reported as aliased with the base model for the
-/// nozzle's two, selected for the catheter's two (on the catheter sweep), and
+/// nozzle's two, selected for velocity weakening and for the catheter's two (on the
+/// catheter sweep), and
 /// `selected: null` for data with nothing hidden.
 #[test]
 #[ignore = "slow: a statistic for the README, not a check"]
@@ -350,7 +381,7 @@ fn detection_rate() {
     type Hidden = Option<(&'static str, &'static str, f64, f64)>;
     let table3 = synthetic::table3_design();
     let sweep = synthetic::catheter_sweep_design();
-    let cases: [(&str, &[Measurement], Hidden); 8] = [
+    let cases: [(&str, &[Measurement], Hidden); 9] = [
         (
             "ac-fluid-displacement",
             &table3,
@@ -370,6 +401,11 @@ fn detection_rate() {
             "pressure-dependent-friction",
             &table3,
             Some(("pressure-dependent-friction", "mu_P", 0.05, 0.15)),
+        ),
+        (
+            "velocity-weakening-friction",
+            &table3,
+            Some(VELOCITY_WEAKENING),
         ),
         ("nothing hidden (Table III)", &table3, None),
         (
@@ -400,7 +436,9 @@ fn detection_rate() {
                 Some((id, ..)) if id.starts_with("ac-") => {
                     d.selected.as_deref() == Some(id) || d.indistinguishable.iter().any(|i| i == id)
                 }
-                Some((id, ..)) if id.starts_with("catheter-") => d.selected.as_deref() == Some(id),
+                Some((id, ..)) if id.starts_with("catheter-") || id.starts_with("velocity-") => {
+                    d.selected.as_deref() == Some(id)
+                }
                 Some((id, ..)) => {
                     d.selected.is_none() && d.indistinguishable.iter().any(|i| i == id)
                 }
