@@ -40,7 +40,7 @@ use serde::Serialize;
 
 use crate::calibrate::{self, Fit};
 use crate::data::Measurement;
-use crate::experiment::{Experiment, Predictor};
+use crate::experiment::{Evaluator, Experiment, Predictor};
 use crate::stats;
 
 /// How `discover` tests.
@@ -376,16 +376,17 @@ fn fitted_parameters(
     Ok((names, bounds, start))
 }
 
-/// Fits `model` on `rows` and cross-validates it.
+/// Fits `model` on `rows` and cross-validates it; a candidate's against the `baseline`.
 fn assess(
     model: &Model,
     source: &Arc<SourceFile>,
     experiment: &Experiment,
     rows: &[Measurement],
     own: &[String],
-    warm: Option<(&[String], &[f64])>,
+    baseline: Option<&Assessment>,
     settings: &Settings,
 ) -> Result<Assessment, DiscoverError> {
+    let warm = baseline.map(|b| (b.names.as_slice(), b.fit.values.as_slice()));
     let (names, bounds, file_start) = fitted_parameters(model, experiment, rows, own)?;
     // Steady states are piecewise linear in the parameters, with basins that differ in which
     // rows slide (a low Coulomb force with a high viscous coefficient, or the reverse), so
@@ -407,32 +408,39 @@ fn assess(
     let predictor = Predictor::new(model.clone(), source, experiment).map_err(error)?;
     let mut evaluator = predictor.evaluator(&names).map_err(error)?;
     evaluator.set_max_time(SETTLE_WITHIN_S);
-    let mut fit_on = |train: &[Measurement], starts: &[&[f64]]| -> Result<Fit, DiscoverError> {
-        let measured: Vec<f64> = train.iter().map(|r| r.tip_velocity_mm_s).collect();
-        let mut residuals = |x: &[f64]| -> Option<Vec<f64>> {
-            evaluator.set(x);
-            let predictions = evaluator.predict(train).ok()?;
-            Some(
-                predictions
-                    .iter()
-                    .zip(&measured)
-                    .map(|(p, m)| p.tip_velocity_mm_s - m)
-                    .collect(),
-            )
-        };
-        let mut best: Option<Fit> = None;
-        let mut failure = None;
-        for from in starts {
-            match calibrate::least_squares(&mut residuals, from, &bounds, &settings.calibration) {
-                Ok(fit) if best.as_ref().is_none_or(|b| fit.sse < b.sse) => best = Some(fit),
-                Ok(_) => {}
-                Err(e) => failure = Some(e),
-            }
-        }
-        best.ok_or_else(|| error(failure.expect("at least one start")))
-    };
     let start_refs: Vec<&[f64]> = starts.iter().map(Vec::as_slice).collect();
-    let fit = fit_on(rows, &start_refs)?;
+    let fit = fit_best(&mut evaluator, rows, &start_refs, &bounds, settings)?;
+    evaluator.set(&fit.values);
+    let predictions: Vec<(f64, String)> = evaluator
+        .predict_each(rows)
+        .into_iter()
+        .map(|p| match p {
+            Ok(p) => (p.tip_velocity_mm_s, p.mode),
+            Err(_) => (f64::NAN, "does not settle".to_string()),
+        })
+        .collect();
+    let mut assessment = Assessment {
+        names,
+        predictions: predictions.iter().map(|p| p.0).collect(),
+        modes: predictions.into_iter().map(|p| p.1).collect(),
+        unsettled: 0,
+        fit,
+        heldout_sse: 0.0,
+        heldout_count: 0,
+    };
+    assessment.unsettled = assessment.predictions.iter().filter(|p| p.is_nan()).count();
+    // Parameters of its own that change no prediction anywhere in their bounds (catheter
+    // friction on data without a catheter): the candidate is the base model on this data,
+    // and so are its held-out predictions.
+    if let Some(baseline) = baseline
+        && !own.is_empty()
+        && (baseline.names.len()..assessment.names.len())
+            .all(|j| spans_bounds(&assessment.fit, j, bounds[j]))
+    {
+        assessment.heldout_sse = baseline.heldout_sse;
+        assessment.heldout_count = baseline.heldout_count;
+        return Ok(assessment);
+    }
 
     // Held-out errors: leave one active-channel column out, then k-fold.
     let mut schemes: Vec<Vec<Vec<usize>>> = Vec::new();
@@ -476,8 +484,6 @@ fn assess(
                 .collect(),
         );
     }
-    let mut heldout_sse = 0.0;
-    let mut heldout_count = 0;
     let mut folds: Vec<(Vec<Measurement>, Vec<Measurement>)> = Vec::new();
     for scheme in &schemes {
         for held in scheme {
@@ -504,42 +510,55 @@ fn assess(
     }
     let mut fold_fits = Vec::new();
     for (train, _) in &folds {
-        fold_fits.push(fit_on(train, &[&fit.values, &file_start])?);
+        let starts: [&[f64]; 2] = [&assessment.fit.values, &file_start];
+        fold_fits.push(fit_best(&mut evaluator, train, &starts, &bounds, settings)?);
     }
-    let mut unsettled = 0;
     for ((_, test), fold_fit) in folds.iter().zip(&fold_fits) {
         evaluator.set(&fold_fit.values);
         for (p, row) in evaluator.predict_each(test).iter().zip(test) {
             match p {
                 Ok(p) => {
-                    heldout_sse += (p.tip_velocity_mm_s - row.tip_velocity_mm_s).powi(2);
-                    heldout_count += 1;
+                    assessment.heldout_sse += (p.tip_velocity_mm_s - row.tip_velocity_mm_s).powi(2);
+                    assessment.heldout_count += 1;
                 }
-                Err(_) => unsettled += 1,
+                Err(_) => assessment.unsettled += 1,
             }
         }
     }
-    evaluator.set(&fit.values);
-    let predictions: Vec<(f64, String)> = evaluator
-        .predict_each(rows)
-        .into_iter()
-        .map(|p| match p {
-            Ok(p) => (p.tip_velocity_mm_s, p.mode),
-            Err(_) => {
-                unsettled += 1;
-                (f64::NAN, "does not settle".to_string())
-            }
-        })
-        .collect();
-    Ok(Assessment {
-        names,
-        predictions: predictions.iter().map(|p| p.0).collect(),
-        modes: predictions.into_iter().map(|p| p.1).collect(),
-        unsettled,
-        fit,
-        heldout_sse,
-        heldout_count,
-    })
+    Ok(assessment)
+}
+
+/// The best least-squares fit on `train` of the parameters `evaluator` sets, from each of
+/// `starts` in turn.
+fn fit_best(
+    evaluator: &mut Evaluator<'_>,
+    train: &[Measurement],
+    starts: &[&[f64]],
+    bounds: &[(f64, f64)],
+    settings: &Settings,
+) -> Result<Fit, DiscoverError> {
+    let measured: Vec<f64> = train.iter().map(|r| r.tip_velocity_mm_s).collect();
+    let mut residuals = |x: &[f64]| -> Option<Vec<f64>> {
+        evaluator.set(x);
+        let predictions = evaluator.predict(train).ok()?;
+        Some(
+            predictions
+                .iter()
+                .zip(&measured)
+                .map(|(p, m)| p.tip_velocity_mm_s - m)
+                .collect(),
+        )
+    };
+    let mut best: Option<Fit> = None;
+    let mut failure = None;
+    for from in starts {
+        match calibrate::least_squares(&mut residuals, from, bounds, &settings.calibration) {
+            Ok(fit) if best.as_ref().is_none_or(|b| fit.sse < b.sse) => best = Some(fit),
+            Ok(_) => {}
+            Err(e) => failure = Some(e),
+        }
+    }
+    best.ok_or_else(|| error(failure.expect("at least one start")))
 }
 
 /// Whether the candidate's own parameters' Jacobian columns lie in the span of the base
@@ -592,18 +611,21 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 fn no_effect(candidate: &Candidate, assessment: &Assessment) -> bool {
     let base = assessment.names.len() - candidate.parameters.len();
     (base..assessment.names.len()).all(|j| {
-        let whole = candidate
+        candidate
             .model
             .parameters
             .iter()
             .find(|p| p.name == assessment.names[j])
-            .and_then(|p| p.bounds);
-        match (assessment.fit.intervals[j], whole) {
-            (Some((lo, hi)), Some((a, b))) => {
-                (lo - a).abs() <= 1e-6 * (b - a) && (hi - b).abs() <= 1e-6 * (b - a)
-            }
-            _ => false,
-        }
+            .and_then(|p| p.bounds)
+            .is_some_and(|bounds| spans_bounds(&assessment.fit, j, bounds))
+    })
+}
+
+/// Whether parameter `j` fits equally well anywhere within its `bounds` (its interval is all
+/// of them): it changes no prediction.
+fn spans_bounds(fit: &Fit, j: usize, (a, b): (f64, f64)) -> bool {
+    fit.intervals[j].is_some_and(|(lo, hi)| {
+        (lo - a).abs() <= 1e-6 * (b - a) && (hi - b).abs() <= 1e-6 * (b - a)
     })
 }
 
@@ -818,7 +840,6 @@ pub fn discover_with_progress(
     let n = rows.len() as f64;
     let baseline = assess(&base_model, base, experiment, rows, &[], None, settings)?;
     done();
-    let warm = Some((baseline.names.as_slice(), baseline.fit.values.as_slice()));
     let assessed: Vec<Result<Assessment, DiscoverError>> = candidates
         .par_iter()
         .map(|c| {
@@ -828,7 +849,7 @@ pub fn discover_with_progress(
                 experiment,
                 rows,
                 &c.parameters,
-                warm,
+                Some(&baseline),
                 settings,
             )
         })
