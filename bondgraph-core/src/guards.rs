@@ -13,10 +13,12 @@
 //!
 //! | element mode | watches | leaves when | for |
 //! |---|---|---|---|
-//! | friction `creep+` | its relative velocity | `≤ Δv` (if static friction can then hold) / `≤ 0` / `≥ v_s` | `stuck` / `creep-` / `slip+` |
-//! | friction `creep-` | its relative velocity | `≥ -Δv` (if static friction can then hold) / `≥ 0` / `≤ -v_s` | `stuck` / `creep+` / `slip-` |
-//! | friction `slip+` | its relative velocity | `≤ v_s` | `creep+` |
-//! | friction `slip-` | its relative velocity | `≥ -v_s` | `creep-` |
+//! | friction `creep+` | its relative velocity | `≤ Δv` (if static friction can then hold) / `≤ 0` / `≥ v_s + Δv` | `stuck` / `creep-` / `slip+` |
+//! | friction `creep-` | its relative velocity | `≥ -Δv` (if static friction can then hold) / `≥ 0` / `≤ -(v_s + Δv)` | `stuck` / `creep+` / `slip-` |
+//! | friction `slip+` | its relative velocity | `≤ v_s - Δv` | `creep+` |
+//! | friction `slip-` | its relative velocity | `≥ -(v_s - Δv)` | `creep-` |
+//!
+//! (The dead band `Δv` doubles as a hysteresis around `v_s`, where the two laws meet.)
 //!
 //! | tension-only `taut` | its tension | `≤ 0` | `slack` |
 //! | tension-only `slack` | its slack length (a state) | `≥ 0` | `taut` |
@@ -173,13 +175,23 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Vec<Gua
                     ElementMode::CreepPositive | ElementMode::CreepNegative
                 );
                 if let Some(stribeck) = &friction.stribeck {
-                    let v_s = LinearForm::constant(stribeck.value.clone());
-                    let minus_v_s = v_s.scaled(&RatFunc::integer(-1));
+                    // The two laws agree at v_s, so where the motion settles right at v_s
+                    // (a taut string holding the contact there) switching on either side of
+                    // one threshold would chatter on rounding. A hysteresis of the dead band
+                    // prevents it, at a force error of at most (F_S - F_C) Δv/v_s.
+                    let band = &friction.dead_band.value;
+                    let above = LinearForm::constant(stribeck.value.add_ref(band));
+                    let below = LinearForm::constant(stribeck.value.sub_ref(band));
+                    let minus = |form: &LinearForm| form.scaled(&RatFunc::integer(-1));
                     let (crossing, threshold, to) = match (forward, creeping) {
-                        (true, true) => (Crossing::Rises, v_s, ElementMode::SlipPositive),
-                        (false, true) => (Crossing::Falls, minus_v_s, ElementMode::SlipNegative),
-                        (true, false) => (Crossing::Falls, v_s, ElementMode::CreepPositive),
-                        (false, false) => (Crossing::Rises, minus_v_s, ElementMode::CreepNegative),
+                        (true, true) => (Crossing::Rises, above, ElementMode::SlipPositive),
+                        (false, true) => {
+                            (Crossing::Falls, minus(&above), ElementMode::SlipNegative)
+                        }
+                        (true, false) => (Crossing::Falls, below, ElementMode::CreepPositive),
+                        (false, false) => {
+                            (Crossing::Rises, minus(&below), ElementMode::CreepNegative)
+                        }
                     };
                     guards.push(guard(
                         Watched::StribeckVelocity,

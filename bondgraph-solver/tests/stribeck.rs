@@ -51,8 +51,9 @@ fn settle(model: &Model) -> bondgraph_solver::steady::Steady {
 #[test]
 fn weakening_faster_than_viscosity_grows_runs_away_to_sliding() {
     // F = 3 N > F_S breaks away into creep+ with b = 0.5: m v' = 1 + 9.5 v, unstable, so
-    // v(t) = (e^{9.5 t} - 1)/9.5 reaches v_s = 0.1 at t₁ = ln(1.95)/9.5 = 0.0702990... s;
-    // sliding, 3 - 1 - 0.5 v = 0 gives v = 4 m/s.
+    // v(t) = (e^{9.5 t} - 1)/9.5 reaches v_s = 0.1 (plus the dead band's hysteresis, 1e-9)
+    // at t₁ = ln(1 + 9.5 (v_s + Δv))/9.5 = 0.0702990... s; sliding, 3 - 1 - 0.5 v = 0 gives
+    // v = 4 m/s.
     let steady = settle(&block(3.0, 0.5));
     assert_eq!(steady.mode, "contact=slip+");
     assert!(
@@ -62,7 +63,7 @@ fn weakening_faster_than_viscosity_grows_runs_away_to_sliding() {
     );
     let events: Vec<(f64, &str)> = steady.events.iter().map(|e| (e.t, e.to.as_str())).collect();
     assert_eq!(events[0], (0.0, "contact=creep+"), "{events:?}");
-    let t1 = 1.95f64.ln() / 9.5;
+    let t1 = (1.0 + 9.5 * (0.1 + 1e-9f64)).ln() / 9.5;
     assert_eq!(events[1].1, "contact=slip+", "{events:?}");
     assert!((events[1].0 - t1).abs() < 1e-9, "{events:?} vs {t1}");
 }
