@@ -146,14 +146,7 @@ pub fn least_squares(
     if n > free.len() && !free.is_empty() {
         let sigma2 = total / (n - free.len()) as f64;
         let m = free.len();
-        let mut jtj = vec![0.0; m * m];
-        for (a, &ja) in free.iter().enumerate() {
-            for (b, &jb) in free.iter().enumerate() {
-                jtj[a * m + b] = (0..n)
-                    .map(|i| jacobian[i * p + ja] * jacobian[i * p + jb])
-                    .sum();
-            }
-        }
+        let jtj = normal_matrix(&jacobian, n, p, &free);
         if let Some(inverse) = spd_inverse(&jtj, m) {
             for (a, &j) in free.iter().enumerate() {
                 std_errors[j] = Some((sigma2 * inverse[a * m + a]).sqrt());
@@ -175,6 +168,20 @@ pub fn least_squares(
         jacobian,
         evaluations: problem.evaluations,
     })
+}
+
+/// `JᵀJ` over the columns `columns` of the row-major `n × p` Jacobian.
+fn normal_matrix(jacobian: &[f64], n: usize, p: usize, columns: &[usize]) -> Vec<f64> {
+    let m = columns.len();
+    let mut jtj = vec![0.0; m * m];
+    for (a, &ja) in columns.iter().enumerate() {
+        for (b, &jb) in columns.iter().enumerate() {
+            jtj[a * m + b] = (0..n)
+                .map(|i| jacobian[i * p + ja] * jacobian[i * p + jb])
+                .sum();
+        }
+    }
+    jtj
 }
 
 /// Which parameters move the residuals: a Jacobian column that is not negligible beside
@@ -258,14 +265,7 @@ impl Problem<'_> {
                 break;
             }
             let m = free.len();
-            let mut jtj = vec![0.0; m * m];
-            for (a, &ja) in free.iter().enumerate() {
-                for (b, &jb) in free.iter().enumerate() {
-                    jtj[a * m + b] = (0..n)
-                        .map(|i| jacobian[i * p + ja] * jacobian[i * p + jb])
-                        .sum();
-                }
-            }
+            let jtj = normal_matrix(&jacobian, n, p, &free);
             let rhs: Vec<f64> = free.iter().map(|&j| -gradient[j]).collect();
             // Marquardt's scaling, with a floor so that a weakly determined parameter is not
             // thrown across its whole range by a tiny curvature.
