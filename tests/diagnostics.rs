@@ -196,7 +196,7 @@ fn unknown_element_kind() {
             element: Some("mass"),
             underlined: "Mass",
             message: "element 'mass': unknown element kind 'Mass'; expected one of Se, Sf, I, C, \
-                      R, TF, GY, Friction, TensionOnly, Zero, One",
+                      R, TF, GY, Friction, TensionOnly, FlowLimit, Zero, One",
         },
     );
 }
@@ -887,6 +887,21 @@ fn stribeck_drop_depends_on_input() {
             element: Some("contact"),
             underlined: "F_S + F",
             message: "friction contact 'contact': with a Stribeck velocity, breakaway \"F_S + F\" and Coulomb \"F_C\" must differ by an amount that does not depend on inputs",
+        },
+    );
+}
+
+#[test]
+fn flow_limit_unknown_mode() {
+    check(
+        "flow_limit_unknown_mode",
+        Expect {
+            kind: DiagnosticKind::BadMode,
+            line: 11,
+            column: 57,
+            element: Some("limit"),
+            underlined: "closed",
+            message: "element 'limit': initial mode \"closed\" is not one of \"open\", \"limiting\"",
         },
     );
 }

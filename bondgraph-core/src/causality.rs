@@ -515,6 +515,8 @@ fn law_description(law: &Law, kind: &ElementKind) -> &'static str {
         (ElementKind::Friction(_), Law::FlowSource(_)) => "stuck friction contact",
         (ElementKind::Friction(_), _) => "slipping friction contact",
         (ElementKind::TensionOnly(_), Law::SlackStorage) => "slack tension-only element",
+        (ElementKind::FlowLimit(_), Law::FlowSource(_)) => "limiting flow limit",
+        (ElementKind::FlowLimit(_), _) => "open flow limit",
         (_, Law::EffortSource(_)) => "effort source",
         (_, Law::FlowSource(_)) => "flow source",
         _ => kind.description(),

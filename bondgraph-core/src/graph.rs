@@ -57,6 +57,7 @@ pub fn element_label(model: &Model, element: ElementId) -> String {
         ElementKind::TensionOnly(t) => {
             format!("TensionOnly({})", t.compliance.value.text(&model.symbols))
         }
+        ElementKind::FlowLimit(l) => format!("FlowLimit(<= {})", l.max_flow.text),
         ElementKind::ZeroJunction => "0".to_string(),
         ElementKind::OneJunction => "1".to_string(),
     }

@@ -22,13 +22,16 @@
 //!
 //! | tension-only `taut` | its tension | `≤ 0` | `slack` |
 //! | tension-only `slack` | its slack length (a state) | `≥ 0` | `taut` |
+//! | flow limit `open` | the flow into it | `≥ max_flow` (if the limit then holds back a positive effort) | `limiting` |
+//! | flow limit `limiting` | the effort it holds back (power it absorbs per unit flow) | `≤ 0` | `open` |
 //!
 //! The holding force of a stuck contact is an output equation of the stuck mode: for a
 //! catheter stuck to a robot tip it is the force that makes the catheter accelerate with the
 //! tip, which is how papers derive their stick conditions by hand. A guard marked
 //! [`Guard::requires_hold`] leads to `stuck` only if the target mode's holding force is then
 //! within `±F_S`; otherwise the contact slips through zero velocity and the next guard
-//! (velocity through zero, to the opposite slip) applies.
+//! (velocity through zero, to the opposite slip) applies. A flow limit's guard into
+//! `limiting` is marked the same way: it limits only if it then holds back a positive effort.
 
 use crate::equations::StateEquations;
 use crate::linear::{LinearForm, Var};
@@ -49,6 +52,10 @@ pub enum Watched {
     Tension,
     /// The slack length (negative extension) of a slack tension-only element.
     SlackLength,
+    /// The flow into an open flow limit.
+    LimitedFlow,
+    /// The effort a limiting flow limit holds back.
+    RestrainingEffort,
 }
 
 impl Watched {
@@ -59,6 +66,8 @@ impl Watched {
             Watched::RelativeVelocity | Watched::StribeckVelocity => "relative velocity",
             Watched::Tension => "tension",
             Watched::SlackLength => "extension",
+            Watched::LimitedFlow => "flow",
+            Watched::RestrainingEffort => "restraining effort",
         }
     }
 }
@@ -87,7 +96,9 @@ pub struct Guard {
     pub threshold: LinearForm,
     /// The element's mode after the guard fires.
     pub leaves_to: ElementMode,
-    /// Whether the switch (to `stuck`) happens only if static friction can then hold.
+    /// Whether the switch happens only if the element can then hold: a contact going
+    /// `stuck` within its breakaway force, a flow limit going `limiting` with a positive
+    /// restraining effort.
     pub requires_hold: bool,
 }
 
@@ -115,7 +126,10 @@ impl Guard {
             equations.form_text(&self.threshold)
         );
         if self.requires_hold {
-            text.push_str(", if static friction can then hold");
+            text.push_str(match self.watched {
+                Watched::LimitedFlow => ", if the limit then holds back a positive effort",
+                _ => ", if static friction can then hold",
+            });
         }
         text
     }
@@ -254,6 +268,32 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Vec<Gua
                     LinearForm::zero(),
                     ElementMode::Taut,
                     false,
+                ));
+            }
+            (ElementKind::FlowLimit(_), ElementMode::Limiting) => {
+                // Power into the element is effort times the flow into it, so holding a
+                // positive flow back takes a positive effort.
+                guards.push(guard(
+                    Watched::RestrainingEffort,
+                    effort(),
+                    Crossing::Falls,
+                    LinearForm::zero(),
+                    ElementMode::Open,
+                    false,
+                ));
+            }
+            (ElementKind::FlowLimit(limit), _) => {
+                // Where the flow only touches the limit (the effort that would be held back
+                // is zero and falling), rounding decides the flow's rate: limiting only if
+                // the limit then holds back a positive effort keeps the two guards from
+                // sending each other round.
+                guards.push(guard(
+                    Watched::LimitedFlow,
+                    flow(),
+                    Crossing::Rises,
+                    limit.max_flow.value.clone(),
+                    ElementMode::Limiting,
+                    true,
                 ));
             }
             _ => {}

@@ -76,7 +76,8 @@ pub fn plain_laws(model: &Model) -> Vec<Law> {
 /// resists with `viscous·v ± coulomb` (a resistor with an offset, or an effort source when it
 /// has no viscous part), a creeping one with `(viscous - (breakaway - coulomb)/v_s)·v ±
 /// breakaway`; a taut tension-only element is a compliance, a slack one imposes
-/// zero effort while tracking its slack length.
+/// zero effort while tracking its slack length; an open flow limit imposes zero effort, a
+/// limiting one its maximum flow.
 pub fn for_mode(model: &Model, mode: &Mode) -> Vec<Law> {
     model
         .element_ids()
@@ -125,6 +126,13 @@ pub fn for_mode(model: &Model, mode: &Mode) -> Vec<Law> {
                 ElementKind::TensionOnly(string) => match mode.of(id).unwrap_or(string.initial) {
                     ElementMode::Slack => Law::SlackStorage,
                     _ => Law::Compliance(string.compliance.value.clone()),
+                },
+                ElementKind::FlowLimit(limit) => match mode.of(id).unwrap_or(limit.initial) {
+                    // A flow source's value is its flow out of the element.
+                    ElementMode::Limiting => {
+                        Law::FlowSource(limit.max_flow.value.scaled(&RatFunc::integer(-1)))
+                    }
+                    _ => Law::EffortSource(LinearForm::zero()),
                 },
             }
         })

@@ -295,7 +295,8 @@ pub struct GuardJson {
     pub comparison: String,
     /// The threshold.
     pub threshold: String,
-    /// Whether the switch happens only if static friction can then hold.
+    /// Whether the switch happens only if the element can then hold (static friction
+    /// within its breakaway force, a flow limit with a positive restraining effort).
     pub requires_hold: bool,
 }
 

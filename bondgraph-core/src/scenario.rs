@@ -1098,6 +1098,7 @@ fn used_inputs(model: &Model) -> Vec<bool> {
                 mark(&friction.breakaway.value);
                 mark(&friction.coulomb.value);
             }
+            ElementKind::FlowLimit(limit) => mark(&limit.max_flow.value),
             _ => {}
         }
     }

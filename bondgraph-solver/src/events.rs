@@ -70,7 +70,9 @@ pub fn sample_times(values: &[Complex64], length: f64) -> Vec<f64> {
     times
 }
 
-/// The first crossing of an armed guard in `(0, length]`, arming guards seen negative.
+/// The first crossing of an armed guard in `(0, length]`, arming guards seen below their
+/// `arm_below` level (zero, or minus a rounding tolerance for a guard whose switch was just
+/// declined, so that rounding noise about zero cannot fire it again and again).
 ///
 /// The inputs are `u₀ + u₁ τ` over the segment.
 pub fn first_crossing(
@@ -80,6 +82,7 @@ pub fn first_crossing(
     u1: &[f64],
     length: f64,
     armed: &mut [bool],
+    arm_below: &[f64],
 ) -> Option<Crossing> {
     if mode.guards.is_empty() || length <= 0.0 {
         return None;
@@ -130,7 +133,7 @@ pub fn first_crossing(
         return Some(Crossing { guard: i, tau: 0.0 });
     }
     for (i, value) in previous.iter().enumerate() {
-        if *value < 0.0 {
+        if *value < arm_below[i] {
             armed[i] = true;
         }
     }
@@ -159,7 +162,7 @@ pub fn first_crossing(
             return best;
         }
         for i in 0..current.len() {
-            if current[i] < 0.0 {
+            if current[i] < arm_below[i] {
                 armed[i] = true;
             }
         }

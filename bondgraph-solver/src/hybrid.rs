@@ -594,8 +594,10 @@ impl<'m> Simulator<'m> {
         value >= -tolerance && mode.row_rate(&guard.row, x, u, rate) > 0.0
     }
 
-    /// Whether static friction can hold the element of a `requires_hold` guard: the stuck
-    /// mode's breakaway guards for it are not entered.
+    /// Whether the element of a `requires_hold` guard can hold in the mode the guard leads
+    /// to: a contact going stuck is within its breakaway force (the stuck mode's breakaway
+    /// guards for it are not entered), a flow limit going limiting holds back a positive
+    /// effort (its restraining-effort guard is not entered).
     fn can_hold(
         &mut self,
         mode: &NumericMode,
@@ -604,10 +606,11 @@ impl<'m> Simulator<'m> {
         u: &[f64],
         rate: &[f64],
     ) -> Result<bool, SimError> {
-        let stuck = mode.mode.with(guard.element, ElementMode::Stuck);
+        let holding = mode.mode.with(guard.element, guard.leaves_to);
         // A contact whose relative velocity is imposed (a velocity source drives it) cannot
-        // stick at all: it passes through zero velocity into the opposite slip.
-        let target = match self.mode(&stuck) {
+        // stick at all: it passes through zero velocity into the opposite slip. A limit on
+        // a flow that is already imposed cannot limit it.
+        let target = match self.mode(&holding) {
             Err(SimError::Derivation(d)) if d.has(DiagnosticKind::CausalConflict) => {
                 return Ok(false);
             }
@@ -616,7 +619,10 @@ impl<'m> Simulator<'m> {
         let x = target.project(full, u);
         Ok(!target.guards.iter().any(|g| {
             g.element == guard.element
-                && g.watched == Watched::HoldingForce
+                && matches!(
+                    g.watched,
+                    Watched::HoldingForce | Watched::RestrainingEffort
+                )
                 && self.entered(&target, g, &x, u, rate)
         }))
     }
@@ -646,6 +652,9 @@ pub struct Stepper<'s, 'm> {
     x: Vec<f64>,
     mode: Arc<NumericMode>,
     armed: Vec<bool>,
+    /// The level below which each guard is armed: zero, or minus the rounding tolerance
+    /// after its switch was declined.
+    arm_below: Vec<f64>,
     integrals: Vec<f64>,
     recent: VecDeque<f64>,
     sample: Option<f64>,
@@ -711,6 +720,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let outputs = simulator.outputs.len();
         Ok(Self {
             armed: vec![false; mode.guards.len()],
+            arm_below: vec![0.0; mode.guards.len()],
             simulator,
             inputs,
             breakpoints,
@@ -837,8 +847,15 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let current = self.mode.clone();
         let mut segment = current.propagator.start(&self.x, &u0, &u1);
         self.stats.segments += 1;
-        let crossing =
-            events::first_crossing(&current, &mut segment, &u0, &u1, length, &mut self.armed);
+        let crossing = events::first_crossing(
+            &current,
+            &mut segment,
+            &u0,
+            &u1,
+            length,
+            &mut self.armed,
+            &self.arm_below,
+        );
         let stop = crossing.map_or(length, |c| c.tau);
 
         let n = self.x.len();
@@ -950,9 +967,12 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let full = current.reconstruct(&self.x, &u);
         let guard = &current.guards[crossing.guard];
         if guard.requires_hold && !self.simulator.can_hold(&current, guard, &full, &u, &rate)? {
-            // Static friction cannot hold: no switch. The guard rests until it has been left
-            // again, and the contact slips on to its next guard (through zero velocity).
+            // Static friction cannot hold (or a flow limit would hold back nothing): no
+            // switch. The guard rests until it has been left again by more than rounding,
+            // and the contact slips on to its next guard (through zero velocity).
             self.armed[crossing.guard] = false;
+            self.arm_below[crossing.guard] =
+                -(1e-9 * guard.row.magnitude(&self.x, &u, &rate) + f64::MIN_POSITIVE);
             return Ok(false);
         }
         let element = self.simulator.model.element(guard.element).name.clone();
@@ -985,6 +1005,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
             energy.lost_at_events += before - after;
         }
         self.armed = vec![false; self.mode.guards.len()];
+        self.arm_below = vec![0.0; self.mode.guards.len()];
         self.recorder.enter(&self.mode.spec, t);
         if self.sample.is_some() {
             let values = self.outputs();
@@ -1096,6 +1117,8 @@ fn reason(guard: &NumericGuard, crossed: bool) -> String {
         (Watched::StribeckVelocity, _) => "relative velocity fell below the Stribeck velocity",
         (Watched::Tension, _) => "tension fell to zero",
         (Watched::SlackLength, _) => "slack taken up",
+        (Watched::LimitedFlow, _) => "flow reached its limit",
+        (Watched::RestrainingEffort, _) => "restraining effort fell to zero",
     };
     format!("{what}{how}")
 }

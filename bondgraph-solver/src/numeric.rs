@@ -267,7 +267,9 @@ impl NumericMode {
             .filter_map(|id| {
                 let source = match model.element(id).kind {
                     ElementKind::EffortSource(_) | ElementKind::FlowSource(_) => true,
-                    ElementKind::Resistor(_) | ElementKind::Friction(_) => false,
+                    ElementKind::Resistor(_)
+                    | ElementKind::Friction(_)
+                    | ElementKind::FlowLimit(_) => false,
                     _ => return None,
                 };
                 let bond = model.element(id).bonds[0];

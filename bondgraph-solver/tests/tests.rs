@@ -3,6 +3,7 @@
 mod energy;
 mod fig6;
 mod flagship;
+mod flow_limit;
 mod stick_slip;
 mod stribeck;
 mod support;

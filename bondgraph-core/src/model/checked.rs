@@ -158,6 +158,8 @@ pub enum ElementKind {
     Friction(Box<Friction>),
     /// A compliance that carries tension only: switches between taut and slack.
     TensionOnly(TensionOnly),
+    /// A limit on the flow through its bond: switches between open and limiting.
+    FlowLimit(FlowLimit),
     /// A 0-junction: common effort, flows sum to zero.
     ZeroJunction,
     /// A 1-junction: common flow, efforts sum to zero.
@@ -222,6 +224,23 @@ pub struct TensionOnly {
     pub initial: ElementMode,
 }
 
+/// A one-sided limit on the flow through its bond, like a supply that cannot deliver more
+/// than a maximum flow or a stop that a velocity cannot pass.
+///
+/// Open, it carries no effort and the flow is whatever the rest of the graph makes it; when
+/// the flow into it reaches `max_flow` it limits, holding the flow at `max_flow` with
+/// whatever effort that takes (absorbing the power a source would have pushed past the
+/// limit), until that effort falls to zero and it opens again. The ideal limit needs no
+/// stiff parameter: in each mode the element is a source (of zero effort, or of the flow
+/// `max_flow`).
+#[derive(Clone, Debug)]
+pub struct FlowLimit {
+    /// The largest flow into the element; affine in the inputs.
+    pub max_flow: SourceValue,
+    /// The mode at the start.
+    pub initial: ElementMode,
+}
+
 /// The mode of one switching element.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum ElementMode {
@@ -239,11 +258,15 @@ pub enum ElementMode {
     Taut,
     /// A tension-only element gone slack.
     Slack,
+    /// A flow limit below its limit, carrying no effort.
+    Open,
+    /// A flow limit holding the flow at its limit.
+    Limiting,
 }
 
 impl ElementMode {
     /// The name used in mode specifications (`stuck`, `slip+`, `slip-`, `creep+`, `creep-`,
-    /// `taut`, `slack`).
+    /// `taut`, `slack`, `open`, `limiting`).
     pub fn name(self) -> &'static str {
         match self {
             ElementMode::Stuck => "stuck",
@@ -253,6 +276,8 @@ impl ElementMode {
             ElementMode::CreepNegative => "creep-",
             ElementMode::Taut => "taut",
             ElementMode::Slack => "slack",
+            ElementMode::Open => "open",
+            ElementMode::Limiting => "limiting",
         }
     }
 
@@ -266,6 +291,8 @@ impl ElementMode {
             ElementMode::CreepNegative,
             ElementMode::Taut,
             ElementMode::Slack,
+            ElementMode::Open,
+            ElementMode::Limiting,
         ]
         .into_iter()
         .find(|m| m.name() == name)
@@ -285,6 +312,7 @@ impl ElementKind {
             ElementKind::Gyrator(_) => "GY",
             ElementKind::Friction(_) => "Friction",
             ElementKind::TensionOnly(_) => "TensionOnly",
+            ElementKind::FlowLimit(_) => "FlowLimit",
             ElementKind::ZeroJunction => "Zero",
             ElementKind::OneJunction => "One",
         }
@@ -302,6 +330,7 @@ impl ElementKind {
             ElementKind::Gyrator(_) => "gyrator",
             ElementKind::Friction(_) => "friction contact",
             ElementKind::TensionOnly(_) => "tension-only element",
+            ElementKind::FlowLimit(_) => "flow limit",
             ElementKind::ZeroJunction => "0-junction",
             ElementKind::OneJunction => "1-junction",
         }
@@ -323,6 +352,7 @@ impl ElementKind {
                 ElementMode::SlipNegative,
             ],
             ElementKind::TensionOnly(_) => &[ElementMode::Taut, ElementMode::Slack],
+            ElementKind::FlowLimit(_) => &[ElementMode::Open, ElementMode::Limiting],
             _ => &[],
         }
     }
@@ -332,6 +362,7 @@ impl ElementKind {
         match self {
             ElementKind::Friction(f) => Some(f.initial),
             ElementKind::TensionOnly(t) => Some(t.initial),
+            ElementKind::FlowLimit(l) => Some(l.initial),
             _ => None,
         }
     }

@@ -30,8 +30,8 @@ pub mod validate;
 use std::sync::Arc;
 
 pub use checked::{
-    Bond, BondId, Coefficient, Element, ElementId, ElementKind, ElementMode, Friction, Input,
-    InputId, Model, Parameter, SourceValue, TensionOnly,
+    Bond, BondId, Coefficient, Element, ElementId, ElementKind, ElementMode, FlowLimit, Friction,
+    Input, InputId, Model, Parameter, SourceValue, TensionOnly,
 };
 
 use crate::diagnostics::Result;

@@ -549,7 +549,7 @@ fn diagnose(file: &SourceFile, error: &SpannedError, file_kind: FileKind) -> Dia
             Place::Entry(Section::Elements, entry) if focus.start == entry.value_span.start => (
                 type_kind,
                 format!(
-                    "{prefix}expected an element kind (Se, Sf, I, C, R, TF, GY, Friction, TensionOnly, Zero or One), found {found_text}"
+                    "{prefix}expected an element kind (Se, Sf, I, C, R, TF, GY, Friction, TensionOnly, FlowLimit, Zero or One), found {found_text}"
                 ),
             ),
             _ => (
@@ -989,7 +989,7 @@ Model(
         assert_eq!(d.kind, DiagnosticKind::UnknownElementKind);
         assert_eq!(
             d.message,
-            "element 'push': unknown element kind 'Q'; expected one of Se, Sf, I, C, R, TF, GY, Friction, TensionOnly, Zero, One"
+            "element 'push': unknown element kind 'Q'; expected one of Se, Sf, I, C, R, TF, GY, Friction, TensionOnly, FlowLimit, Zero, One"
         );
         assert_eq!((line, column), (10, 17));
         assert_eq!(d.element.as_deref(), Some("push"));

@@ -157,6 +157,15 @@ pub enum RawElement {
         /// The mode at the start: `"taut"` (default) or `"slack"`.
         initial: Option<String>,
     },
+    /// A one-sided limit on the flow through its bond: `open` it carries no effort, and
+    /// when the flow into it reaches `max_flow` it is `limiting`, holding the flow there
+    /// with whatever effort that takes until that effort falls to zero.
+    FlowLimit {
+        /// The largest flow into the element; may depend on inputs.
+        max_flow: String,
+        /// The mode at the start: `"open"` (default) or `"limiting"`.
+        initial: Option<String>,
+    },
     /// Common-effort junction.
     Zero,
     /// Common-flow junction.

@@ -15,8 +15,8 @@ use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::expr::{self, Expr, ExprKind};
 use crate::linear::{LinearForm, Var};
 use crate::model::checked::{
-    Bond, BondId, Coefficient, Element, ElementId, ElementKind, ElementMode, Friction, Input,
-    Model, Parameter, SourceValue, TensionOnly,
+    Bond, BondId, Coefficient, Element, ElementId, ElementKind, ElementMode, FlowLimit, Friction,
+    Input, Model, Parameter, SourceValue, TensionOnly,
 };
 use crate::model::raw::{RawElement, RawModel};
 use crate::model::source_map::{EntrySpans, SourceMap};
@@ -464,6 +464,19 @@ impl Validator<'_> {
                 );
                 ElementKind::TensionOnly(TensionOnly {
                     compliance: compliance?,
+                    initial: initial?,
+                })
+            }
+            RawElement::FlowLimit { max_flow, initial } => {
+                let max_flow = self.source_value(name, index, "max_flow", max_flow, scope);
+                let initial = self.initial_mode(
+                    name,
+                    index,
+                    initial.as_deref(),
+                    &[ElementMode::Open, ElementMode::Limiting],
+                );
+                ElementKind::FlowLimit(FlowLimit {
+                    max_flow: max_flow?,
                     initial: initial?,
                 })
             }
