@@ -146,10 +146,13 @@ pub fn least_squares(
     if n > free.len() && !free.is_empty() {
         let sigma2 = total / (n - free.len()) as f64;
         let m = free.len();
-        let jtj = normal_matrix(&jacobian, n, p, &free);
+        // In the bounds-scaled coordinates the columns are comparable (a flow of 1e-7 m³/s
+        // beside a viscous coefficient of 1e3 N·s/m would make the normal matrix look
+        // singular in SI units); an error in u is one in x times the bounds' width.
+        let jtj = normal_matrix(&jacobian_u, n, p, &free);
         if let Some(inverse) = spd_inverse(&jtj, m) {
             for (a, &j) in free.iter().enumerate() {
-                std_errors[j] = Some((sigma2 * inverse[a * m + a]).sqrt());
+                std_errors[j] = Some((sigma2 * inverse[a * m + a]).sqrt() * scale[j]);
             }
         }
     }
@@ -407,6 +410,38 @@ mod tests {
         assert!((result.sse - 4.0).abs() < 1e-9);
         assert!((result.std_errors[1].unwrap() - (0.4f64).sqrt()).abs() < 1e-6);
         assert!((result.std_errors[0].unwrap() - (1.4f64).sqrt()).abs() < 1e-6);
+    }
+
+    #[test]
+    fn standard_errors_do_not_depend_on_the_units_of_the_parameters() {
+        // The same line as above with the intercept in units of 1e-7 and the slope in units
+        // of 1e3 (a flow in m³/s beside a viscous coefficient in N·s/m): the errors are the
+        // textbook ones in those units, sqrt(1.4)·1e-7 and sqrt(0.4)·1e3. In SI units the
+        // normal matrix's diagonal spans 1e20 and looked singular.
+        let x = [0.0, 1.0, 2.0, 3.0];
+        let y = [2.0, 2.0, 4.0, 8.0];
+        let result = fit(
+            |p| {
+                Some(
+                    x.iter()
+                        .zip(&y)
+                        .map(|(x, y)| p[0] * 1e7 + p[1] * 1e-3 * x - y)
+                        .collect(),
+                )
+            },
+            &[0.0, 0.0],
+            &[(-1e-6, 1e-6), (-1e4, 1e4)],
+        );
+        assert!(
+            (result.values[0] - 1e-7).abs() < 1e-13,
+            "{:?}",
+            result.values
+        );
+        assert!((result.values[1] - 2e3).abs() < 1e-3);
+        let (se_intercept, se_slope) =
+            (result.std_errors[0].unwrap(), result.std_errors[1].unwrap());
+        assert!((se_intercept / (1.4f64.sqrt() * 1e-7) - 1.0).abs() < 1e-6);
+        assert!((se_slope / (0.4f64.sqrt() * 1e3) - 1.0).abs() < 1e-6);
     }
 
     #[test]

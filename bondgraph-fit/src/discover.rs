@@ -1177,17 +1177,31 @@ impl Discovery {
 }
 
 fn estimate(e: &Estimate) -> String {
-    let mut s = format!("{:.6}", e.value);
+    let mut s = number(e.value, 6);
     if let Some(se) = e.std_error {
         s.push_str(&format!(" ± {se:.3e}"));
     }
     if let Some((lo, hi)) = e.interval {
-        s.push_str(&format!(" (any value in [{lo:.4}, {hi:.4}] fits as well)"));
+        s.push_str(&format!(
+            " (any value in [{}, {}] fits as well)",
+            number(lo, 4),
+            number(hi, 4)
+        ));
     }
     if e.at_bound {
         s.push_str(" (at its bound)");
     }
     s
+}
+
+/// `value` with `decimals` decimals, or in scientific notation with as many where fixed
+/// decimals would hide it (a flow of 4e-7 m³/s) or bury it in digits.
+fn number(value: f64, decimals: usize) -> String {
+    if value == 0.0 || (1e-3..1e6).contains(&value.abs()) {
+        format!("{value:.decimals$}")
+    } else {
+        format!("{value:.decimals$e}")
+    }
 }
 
 fn write_residuals(s: &mut String, residuals: &Residuals) {
@@ -1213,5 +1227,18 @@ fn write_residuals(s: &mut String, residuals: &Residuals) {
             "  trend along {} ({}): {:+.4} ± {:.4} mm/s per unit  <- beyond the noise",
             t.factor, t.regime, t.slope, t.std_error
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::number;
+
+    #[test]
+    fn numbers_keep_their_digits_at_any_scale() {
+        assert_eq!(number(1234.5678, 2), "1234.57");
+        assert_eq!(number(0.0, 6), "0.000000");
+        assert_eq!(number(3.767e-7, 6), "3.767000e-7");
+        assert_eq!(number(-2.5e8, 4), "-2.5000e8");
     }
 }
