@@ -37,13 +37,14 @@ pub const BUNDLE: Bundle<'static> = Bundle {
 };
 
 /// The candidate extensions of the flagship, as they are in the repository.
-const EXTENSIONS: [Named<'static>; 7] = [
+const EXTENSIONS: [Named<'static>; 8] = [
     bundled!("models/eversion/extensions/ac-fluid-displacement.ron"),
     bundled!("models/eversion/extensions/ac-sheath-drag.ron"),
     bundled!("models/eversion/extensions/catheter-pressure-friction.ron"),
     bundled!("models/eversion/extensions/catheter-viscous-slip.ron"),
     bundled!("models/eversion/extensions/pressure-dependent-friction.ron"),
     bundled!("models/eversion/extensions/supply-flow-resistance.ron"),
+    bundled!("models/eversion/extensions/supply-flow-saturation.ron"),
     bundled!("models/eversion/extensions/velocity-weakening-friction.ron"),
 ];
 

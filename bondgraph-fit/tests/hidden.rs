@@ -282,6 +282,36 @@ fn hidden_velocity_weakening_is_found() {
 const VELOCITY_WEAKENING: (&str, &str, f64, f64) =
     ("velocity-weakening-friction", "v_st", 2.5e-3, 4.0e-3);
 
+/// A supply that saturates is found on the Table III design: the base model puts the tip at
+/// 140-150 kPa above the ceiling in two channel columns (pressure-driven at
+/// `(A P_s - F_C)/b` = 3.9-4.7 mm/s, channel-limited at 4.35 mm/s), and saturation reads one
+/// speed, `Q_max/A`, in all of them, where no refit of the friction flattens a column's top
+/// without bending the rows below it.
+#[test]
+fn hidden_supply_saturation_is_found() {
+    for seed in [22, 23] {
+        let (id, parameter, lo, hi) = SUPPLY_SATURATION;
+        let q_max = draw(seed, lo, hi);
+        let d = discover_hidden(Some((id, parameter, q_max)), seed);
+        let report = explained(&d);
+        assert_eq!(d.selected.as_deref(), Some(id), "{report}");
+        let estimate = param(&d, id, parameter);
+        assert!(
+            recovered(estimate, q_max),
+            "{estimate:?} vs {q_max}\n{report}"
+        );
+        assert!(
+            d.gain.rmse_heldout_after_mm_s < d.gain.rmse_heldout_before_mm_s,
+            "{report}"
+        );
+    }
+}
+
+/// The supply's maximum flow hidden on the Table III design (m³/s): a ceiling `Q_max/A` of
+/// 3.5-4.2 mm/s, below the fastest rows of the 8.7 and 11.6 mm/s columns.
+const SUPPLY_SATURATION: (&str, &str, f64, f64) =
+    ("supply-flow-saturation", "Q_max", 3.5e-7, 4.2e-7);
+
 /// Nothing hidden: nothing selected.
 #[test]
 fn nothing_hidden_nothing_selected() {
@@ -381,7 +411,7 @@ fn detection_rate() {
     type Hidden = Option<(&'static str, &'static str, f64, f64)>;
     let table3 = synthetic::table3_design();
     let sweep = synthetic::catheter_sweep_design();
-    let cases: [(&str, &[Measurement], Hidden); 9] = [
+    let cases: [(&str, &[Measurement], Hidden); 10] = [
         (
             "ac-fluid-displacement",
             &table3,
@@ -407,6 +437,7 @@ fn detection_rate() {
             &table3,
             Some(VELOCITY_WEAKENING),
         ),
+        ("supply-flow-saturation", &table3, Some(SUPPLY_SATURATION)),
         ("nothing hidden (Table III)", &table3, None),
         (
             "catheter-pressure-friction",
