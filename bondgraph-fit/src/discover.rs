@@ -376,17 +376,29 @@ fn fitted_parameters(
     Ok((names, bounds, start))
 }
 
-/// Fits `model` on `rows` and cross-validates it; a candidate's against the `baseline`.
-fn assess(
+/// The base model's fitted parameters and values: where a candidate's fit also starts.
+type Warm<'a> = Option<(&'a [String], &'a [f64])>;
+
+/// A model fitted on every row, with what its cross-validation needs: the bounds and the
+/// model file's values (a fold's fit starts from those and from the full fit).
+struct FittedOnAll {
+    assessment: Assessment,
+    bounds: Vec<(f64, f64)>,
+    file_start: Vec<f64>,
+}
+
+/// Fits `model` on all `rows`: its own parameters `own` with the experiment's, from the
+/// model file's values, from the base model's fit (`warm`), and from the middle of the
+/// bounds. Held-out errors are left to [`cross_validate`].
+fn fit_on_all(
     model: &Model,
     source: &Arc<SourceFile>,
     experiment: &Experiment,
     rows: &[Measurement],
     own: &[String],
-    baseline: Option<&Assessment>,
+    warm: Warm<'_>,
     settings: &Settings,
-) -> Result<Assessment, DiscoverError> {
-    let warm = baseline.map(|b| (b.names.as_slice(), b.fit.values.as_slice()));
+) -> Result<FittedOnAll, DiscoverError> {
     let (names, bounds, file_start) = fitted_parameters(model, experiment, rows, own)?;
     // Steady states are piecewise linear in the parameters, with basins that differ in which
     // rows slide (a low Coulomb force with a high viscous coefficient, or the reverse), so
@@ -429,19 +441,78 @@ fn assess(
         heldout_count: 0,
     };
     assessment.unsettled = assessment.predictions.iter().filter(|p| p.is_nan()).count();
-    // Parameters of its own that change no prediction anywhere in their bounds (catheter
-    // friction on data without a catheter): the candidate is the base model on this data,
-    // and so are its held-out predictions.
-    if let Some(baseline) = baseline
-        && !own.is_empty()
-        && (baseline.names.len()..assessment.names.len())
-            .all(|j| spans_bounds(&assessment.fit, j, bounds[j]))
-    {
-        assessment.heldout_sse = baseline.heldout_sse;
-        assessment.heldout_count = baseline.heldout_count;
-        return Ok(assessment);
-    }
+    Ok(FittedOnAll {
+        assessment,
+        bounds,
+        file_start,
+    })
+}
 
+/// Two models whose fits predict every row within this of each other are one model on the
+/// data: a fiftieth of the smallest measurement noise the project works with.
+const SAME_PREDICTION_MM_S: f64 = 1e-3;
+
+/// A candidate fitted and cross-validated; `true` with it when it is not cross-validated and
+/// takes the base model's held-out errors instead: when its fit predicts every row as the
+/// base model's fit does (`base_predictions`, within [`SAME_PREDICTION_MM_S`]). At its best
+/// it is then the base model on this data: its own parameters change no prediction
+/// (catheter friction without a catheter, a supply ceiling above every row), or only as a
+/// refit of the base's parameters would (an alias), so its folds would refit the base model.
+fn assess_candidate(
+    candidate: &Candidate,
+    experiment: &Experiment,
+    rows: &[Measurement],
+    warm: (&[String], &[f64]),
+    base_predictions: &[f64],
+    settings: &Settings,
+) -> Result<(Assessment, bool), DiscoverError> {
+    let mut fitted = fit_on_all(
+        &candidate.model,
+        &candidate.source,
+        experiment,
+        rows,
+        &candidate.parameters,
+        Some(warm),
+        settings,
+    )?;
+    let same_as_base = fitted
+        .assessment
+        .predictions
+        .iter()
+        .zip(base_predictions)
+        .all(|(a, b)| (a - b).abs() <= SAME_PREDICTION_MM_S);
+    if same_as_base {
+        return Ok((fitted.assessment, true));
+    }
+    cross_validate(
+        &candidate.model,
+        &candidate.source,
+        experiment,
+        rows,
+        &mut fitted,
+        settings,
+    )?;
+    Ok((fitted.assessment, false))
+}
+
+/// The held-out errors of a model fitted on all rows: leave one active-channel column out,
+/// then k-fold, each fold refitted.
+fn cross_validate(
+    model: &Model,
+    source: &Arc<SourceFile>,
+    experiment: &Experiment,
+    rows: &[Measurement],
+    fitted: &mut FittedOnAll,
+    settings: &Settings,
+) -> Result<(), DiscoverError> {
+    let FittedOnAll {
+        assessment,
+        bounds,
+        file_start,
+    } = fitted;
+    let predictor = Predictor::new(model.clone(), source, experiment).map_err(error)?;
+    let mut evaluator = predictor.evaluator(&assessment.names).map_err(error)?;
+    evaluator.set_max_time(SETTLE_WITHIN_S);
     // Held-out errors: leave one active-channel column out, then k-fold.
     let mut schemes: Vec<Vec<Vec<usize>>> = Vec::new();
     let mut speeds: Vec<f64> = rows.iter().map(|r| r.channel_velocity_mm_s).collect();
@@ -510,8 +581,8 @@ fn assess(
     }
     let mut fold_fits = Vec::new();
     for (train, _) in &folds {
-        let starts: [&[f64]; 2] = [&assessment.fit.values, &file_start];
-        fold_fits.push(fit_best(&mut evaluator, train, &starts, &bounds, settings)?);
+        let starts: [&[f64]; 2] = [&assessment.fit.values, file_start];
+        fold_fits.push(fit_best(&mut evaluator, train, &starts, bounds, settings)?);
     }
     for ((_, test), fold_fit) in folds.iter().zip(&fold_fits) {
         evaluator.set(&fold_fit.values);
@@ -525,7 +596,7 @@ fn assess(
             }
         }
     }
-    Ok(assessment)
+    Ok(())
 }
 
 /// The best least-squares fit on `train` of the parameters `evaluator` sets, from each of
@@ -838,23 +909,52 @@ pub fn discover_with_progress(
     }
     let base_model = model::load_source(base).map_err(error)?;
     let n = rows.len() as f64;
-    let baseline = assess(&base_model, base, experiment, rows, &[], None, settings)?;
-    done();
-    let assessed: Vec<Result<Assessment, DiscoverError>> = candidates
-        .par_iter()
-        .map(|c| {
-            assess(
-                &c.model,
-                &c.source,
+    let mut base_fitted = fit_on_all(&base_model, base, experiment, rows, &[], None, settings)?;
+    // The base model's cross-validation runs beside the candidates' fits, which only need
+    // its fit to start from.
+    let warm_names = base_fitted.assessment.names.clone();
+    let warm_values = base_fitted.assessment.fit.values.clone();
+    let warm = (warm_names.as_slice(), warm_values.as_slice());
+    let base_predictions = base_fitted.assessment.predictions.clone();
+    let (base_validated, assessed) = rayon::join(
+        || {
+            let result = cross_validate(
+                &base_model,
+                base,
                 experiment,
                 rows,
-                &c.parameters,
-                Some(&baseline),
+                &mut base_fitted,
                 settings,
-            )
+            );
+            done();
+            result
+        },
+        || {
+            candidates
+                .par_iter()
+                .map(|c| {
+                    let result =
+                        assess_candidate(c, experiment, rows, warm, &base_predictions, settings);
+                    done();
+                    result
+                })
+                .collect::<Vec<_>>()
+        },
+    );
+    base_validated?;
+    let baseline = base_fitted.assessment;
+    let assessed: Vec<Assessment> = assessed
+        .into_iter()
+        .map(|result| {
+            result.map(|(mut assessment, same_as_base)| {
+                if same_as_base {
+                    assessment.heldout_sse = baseline.heldout_sse;
+                    assessment.heldout_count = baseline.heldout_count;
+                }
+                assessment
+            })
         })
-        .collect();
-    let assessed: Vec<Assessment> = assessed.into_iter().collect::<Result<_, _>>()?;
+        .collect::<Result<_, _>>()?;
     let p0 = baseline.names.len();
 
     // Verdicts.
