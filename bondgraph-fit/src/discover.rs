@@ -887,8 +887,8 @@ pub fn discover(
     )
 }
 
-/// [`discover`], calling `done` each time a model (the base, then each candidate, in any
-/// order) has been fitted and cross-validated: for a progress bar.
+/// [`discover`], calling `done` each time a model (the base or a candidate, in any order)
+/// has been fitted and cross-validated: for a progress bar.
 ///
 /// # Errors
 /// As [`discover`].

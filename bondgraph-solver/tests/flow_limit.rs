@@ -11,6 +11,8 @@ use bondgraph_core::modes::Mode;
 use bondgraph_solver::steady::{SteadySettings, steady_state};
 use bondgraph_solver::{Output, Run, Signal, Simulator};
 
+use crate::support::Constant;
+
 const CART: &str = r#"Model(
     name: "limited_cart",
     parameters: {"m": (value: 2.0), "b": (value: 4.0), "v_max": (value: 1.5)},
@@ -171,10 +173,7 @@ fn a_nearly_massless_body_leaves_the_limit_once_without_chattering() {
     )
     .unwrap();
     let mut simulator = Simulator::new(&model, Vec::new());
-    let push = Step {
-        before: 10.0,
-        after: 10.0,
-    };
+    let push = Constant(10.0);
     let inputs: [&dyn Signal; 1] = [&push];
     let run = Run {
         inputs: &inputs,
