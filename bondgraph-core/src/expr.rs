@@ -1,4 +1,5 @@
-//! Parameter expressions, as users write them in model files: `1/k_ge`, `A*P_s`, `m_ct + m_ge`.
+//! Expressions, as users write them in model files: `1/k_ge`, `A*P_s`, `m_ct + m_ge`,
+//! `m*g*l*sin(q_pendulum)`, `c_d*sign(effort)*sqrt(abs(effort))`.
 //!
 //! An expression is parsed once into an [`Expr`] tree that keeps, for every node, the byte
 //! span inside the expression text, so that an unknown symbol is reported at its own column
@@ -9,15 +10,21 @@
 //! expr    := term (('+' | '-') term)*
 //! term    := unary (('*' | '/') unary)*
 //! unary   := '-' unary | '+' unary | power
-//! power   := atom ('^' exponent)?          exponent := '-'? integer | '(' '-'? integer ')'
-//! atom    := number | identifier | '(' expr ')'
+//! power   := atom ('^' exponent)?
+//! exponent := '-'? integer | '(' '-'? integer ')'           (an integer power)
+//!           | ('-' | '+')* atom                             (a real power: x^1.5, x^(1/3), x^n)
+//! atom    := number | identifier | function '(' expr (',' expr)* ')' | '(' expr ')'
+//! function := sin | cos | tan | exp | ln | sqrt | abs | sign | tanh | atan | min | max
 //! number  := digits ('.' digits?)? (('e' | 'E') ('+' | '-')? digits)?  |  '.' digits ...
 //! identifier := [A-Za-z_][A-Za-z0-9_]*
 //! ```
 //!
-//! `^` binds tighter than unary minus (`-a^2` is `-(a^2)`), exponents are integers, and
-//! numbers are kept as their literal text so they can be turned into exact fractions
-//! (`0.5` is exactly 1/2).
+//! `^` binds tighter than unary minus (`-a^2` is `-(a^2)`); an exponent that is an integer
+//! literal stays an integer power ([`ExprKind::Pow`], exact rational algebra), any other
+//! exponent is a real power ([`ExprKind::RealPow`]). Numbers are kept as their literal text
+//! so they can be turned into exact fractions (`0.5` is exactly 1/2). A function name that
+//! is not one of the [`Function`]s, or a call with the wrong number of arguments, is an error
+//! at its own place, with a suggestion for a near miss (`sn` for `sin`, `log` for `ln`).
 
 use crate::source::Span;
 
@@ -49,7 +56,127 @@ pub enum ExprKind {
     Div(Box<Expr>, Box<Expr>),
     /// `a ^ n` with an integer exponent.
     Pow(Box<Expr>, i32),
+    /// `a ^ b` with any other exponent (`x^1.5`, `x^(1/3)`, `x^n`): a real power.
+    RealPow(Box<Expr>, Box<Expr>),
+    /// A function applied to its arguments: `sin(q)`, `max(a, b)`.
+    Call(Function, Vec<Expr>),
 }
+
+/// The functions expressions may call.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Function {
+    /// Sine (radians).
+    Sin,
+    /// Cosine (radians).
+    Cos,
+    /// Tangent (radians).
+    Tan,
+    /// The exponential.
+    Exp,
+    /// The natural logarithm.
+    Ln,
+    /// The square root.
+    Sqrt,
+    /// The absolute value.
+    Abs,
+    /// The sign: -1, 0 or 1.
+    Sign,
+    /// The hyperbolic tangent.
+    Tanh,
+    /// The arctangent (radians).
+    Atan,
+    /// The smallest of its arguments.
+    Min,
+    /// The largest of its arguments.
+    Max,
+}
+
+impl Function {
+    /// Every function, in the order the documentation lists them.
+    pub const ALL: [Function; 12] = [
+        Function::Sin,
+        Function::Cos,
+        Function::Tan,
+        Function::Exp,
+        Function::Ln,
+        Function::Sqrt,
+        Function::Abs,
+        Function::Sign,
+        Function::Tanh,
+        Function::Atan,
+        Function::Min,
+        Function::Max,
+    ];
+
+    /// The name as written in expressions.
+    pub fn name(self) -> &'static str {
+        match self {
+            Function::Sin => "sin",
+            Function::Cos => "cos",
+            Function::Tan => "tan",
+            Function::Exp => "exp",
+            Function::Ln => "ln",
+            Function::Sqrt => "sqrt",
+            Function::Abs => "abs",
+            Function::Sign => "sign",
+            Function::Tanh => "tanh",
+            Function::Atan => "atan",
+            Function::Min => "min",
+            Function::Max => "max",
+        }
+    }
+
+    /// The function called `name`, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|f| f.name() == name)
+    }
+
+    /// Whether it takes two or more arguments (`min`, `max`) rather than exactly one.
+    pub fn is_variadic(self) -> bool {
+        matches!(self, Function::Min | Function::Max)
+    }
+
+    /// The function applied to `args` in floating point.
+    pub fn apply(self, args: &[f64]) -> f64 {
+        let x = args.first().copied().unwrap_or(f64::NAN);
+        match self {
+            Function::Sin => x.sin(),
+            Function::Cos => x.cos(),
+            Function::Tan => x.tan(),
+            Function::Exp => x.exp(),
+            Function::Ln => x.ln(),
+            Function::Sqrt => x.sqrt(),
+            Function::Abs => x.abs(),
+            Function::Sign => sign(x),
+            Function::Tanh => x.tanh(),
+            Function::Atan => x.atan(),
+            Function::Min => args.iter().copied().fold(f64::INFINITY, f64::min),
+            Function::Max => args.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        }
+    }
+}
+
+/// The sign of `x`: -1, 0 or 1 (NaN for NaN), unlike `f64::signum`, which is 1 at zero.
+pub fn sign(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        x
+    }
+}
+
+/// Names people write for a function under another name.
+const FUNCTION_ALIASES: [(&str, &str); 7] = [
+    ("log", "ln"),
+    ("sgn", "sign"),
+    ("signum", "sign"),
+    ("arctan", "atan"),
+    ("fabs", "abs"),
+    ("minimum", "min"),
+    ("maximum", "max"),
+];
 
 /// Why an expression could not be parsed, and where (relative to the expression's start).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -106,7 +233,10 @@ pub fn parse(text: &str) -> Result<Expr, ExprError> {
         Some(token) if token.kind == Tok::RParen => {
             Err(ExprError::new("unexpected ')'", token.span))
         }
-        Some(token) if token.kind == Tok::Caret && matches!(expr.kind, ExprKind::Pow(..)) => {
+        Some(token)
+            if token.kind == Tok::Caret
+                && matches!(expr.kind, ExprKind::Pow(..) | ExprKind::RealPow(..)) =>
+        {
             Err(ExprError::new(
                 "a power cannot be raised to another power directly; use parentheses, as in (a^2)^3",
                 token.span,
@@ -139,10 +269,30 @@ impl Expr {
             ExprKind::Add(a, b)
             | ExprKind::Sub(a, b)
             | ExprKind::Mul(a, b)
-            | ExprKind::Div(a, b) => {
+            | ExprKind::Div(a, b)
+            | ExprKind::RealPow(a, b) => {
                 a.collect_symbols(out);
                 b.collect_symbols(out);
             }
+            ExprKind::Call(_, args) => {
+                for arg in args {
+                    arg.collect_symbols(out);
+                }
+            }
+        }
+    }
+
+    /// Whether the expression calls a function or raises to a real power anywhere: such an
+    /// expression is never a rational function of its symbols.
+    pub fn is_transcendental(&self) -> bool {
+        match &self.kind {
+            ExprKind::Number(_) | ExprKind::Symbol(_) => false,
+            ExprKind::Call(..) | ExprKind::RealPow(..) => true,
+            ExprKind::Neg(a) | ExprKind::Pow(a, _) => a.is_transcendental(),
+            ExprKind::Add(a, b)
+            | ExprKind::Sub(a, b)
+            | ExprKind::Mul(a, b)
+            | ExprKind::Div(a, b) => a.is_transcendental() || b.is_transcendental(),
         }
     }
 
@@ -160,7 +310,35 @@ impl Expr {
             ExprKind::Mul(a, b) => a.eval(lookup)? * b.eval(lookup)?,
             ExprKind::Div(a, b) => a.eval(lookup)? / b.eval(lookup)?,
             ExprKind::Pow(a, n) => a.eval(lookup)?.powi(*n),
+            ExprKind::RealPow(a, b) => a.eval(lookup)?.powf(b.eval(lookup)?),
+            ExprKind::Call(function, args) => {
+                let values = args
+                    .iter()
+                    .map(|a| a.eval(lookup))
+                    .collect::<Result<Vec<_>, _>>()?;
+                function.apply(&values)
+            }
         })
+    }
+}
+
+/// The message for a call of an unknown function, with the function meant where it is
+/// close to one (by spelling, or by another common name).
+fn unknown_function(name: &str) -> String {
+    let alias = FUNCTION_ALIASES
+        .iter()
+        .find(|(alias, _)| alias.eq_ignore_ascii_case(name))
+        .map(|(_, meant)| *meant);
+    let meant = alias.or_else(|| {
+        crate::model::validate::suggest(name, Function::ALL.iter().map(|f| f.name()))
+    });
+    let known: Vec<&str> = Function::ALL.iter().map(|f| f.name()).collect();
+    match meant {
+        Some(meant) => format!("unknown function '{name}'; did you mean '{meant}'?"),
+        None => format!(
+            "unknown function '{name}'; the functions are {} (for a product write {name}*(...))",
+            known.join(", ")
+        ),
     }
 }
 
@@ -183,6 +361,7 @@ enum Tok {
     Caret,
     LParen,
     RParen,
+    Comma,
 }
 
 #[derive(Clone, Debug)]
@@ -202,6 +381,7 @@ impl Token {
             Tok::Caret => "'^'".into(),
             Tok::LParen => "'('".into(),
             Tok::RParen => "')'".into(),
+            Tok::Comma => "','".into(),
         }
     }
 }
@@ -229,6 +409,7 @@ fn lex(text: &str) -> Result<Vec<Token>, ExprError> {
             b'^' => Tok::Caret,
             b'(' => Tok::LParen,
             b')' => Tok::RParen,
+            b',' => Tok::Comma,
             b'0'..=b'9' => {
                 i = lex_number(text, start)?;
                 tokens.push(Token {
@@ -421,11 +602,149 @@ impl Parser {
         let Some(caret) = self.bump() else {
             return Ok((base, base_outer));
         };
+        if !self.integer_exponent_ahead()
+            && matches!(
+                self.peek_kind(),
+                Some(Tok::Number(_) | Tok::Ident(_) | Tok::LParen | Tok::Minus | Tok::Plus)
+            )
+        {
+            let (exponent, exponent_outer) = self.exponent_operand(depth + 1, &caret)?;
+            let span = Span::new(base_outer.start, exponent_outer.end);
+            return Ok((
+                Expr {
+                    kind: ExprKind::RealPow(Box::new(base), Box::new(exponent)),
+                    span,
+                },
+                span,
+            ));
+        }
         let (exponent, exponent_end) = self.exponent(&caret)?;
         let span = Span::new(base_outer.start, exponent_end);
         Ok((
             Expr {
                 kind: ExprKind::Pow(Box::new(base), exponent),
+                span,
+            },
+            span,
+        ))
+    }
+
+    /// Whether the tokens after a `^` are an integer exponent: `n`, `-n`, `(n)` or `(-n)`.
+    fn integer_exponent_ahead(&self) -> bool {
+        let kinds: Vec<&Tok> = self.tokens[self.pos..]
+            .iter()
+            .take(4)
+            .map(|t| &t.kind)
+            .collect();
+        let integer = |t: Option<&&Tok>| {
+            matches!(t, Some(Tok::Number(text)) if text.bytes().all(|b| b.is_ascii_digit()))
+        };
+        match kinds.first() {
+            Some(Tok::Minus) => integer(kinds.get(1)),
+            Some(Tok::LParen) => match kinds.get(1) {
+                Some(Tok::Minus) => integer(kinds.get(2)) && kinds.get(3) == Some(&&Tok::RParen),
+                _ => integer(kinds.get(1)) && kinds.get(2) == Some(&&Tok::RParen),
+            },
+            _ => integer(kinds.first()),
+        }
+    }
+
+    /// The exponent of a real power: signs, then an atom (`x^-a`, `x^(1/3)`, `x^1.5`).
+    fn exponent_operand(&mut self, depth: usize, after: &Token) -> Result<Parsed, ExprError> {
+        if depth > MAX_DEPTH {
+            return Err(ExprError::new(
+                "the expression is nested too deeply",
+                self.here(),
+            ));
+        }
+        match self.peek_kind() {
+            Some(Tok::Minus | Tok::Plus) => {
+                let Some(op) = self.bump() else {
+                    return Err(self.expected_operand(Some(after)));
+                };
+                let (operand, operand_outer) = self.exponent_operand(depth + 1, &op)?;
+                let span = Span::new(op.span.start, operand_outer.end);
+                if op.kind == Tok::Plus {
+                    return Ok((operand, span));
+                }
+                Ok((
+                    Expr {
+                        kind: ExprKind::Neg(Box::new(operand)),
+                        span,
+                    },
+                    span,
+                ))
+            }
+            _ => self.atom(depth, Some(after)),
+        }
+    }
+
+    /// `name(args)` after the name; `name` is the identifier token.
+    fn call(&mut self, depth: usize, name: &Token, text: &str) -> Result<Parsed, ExprError> {
+        let Some(function) = Function::from_name(text) else {
+            return Err(ExprError::new(unknown_function(text), name.span));
+        };
+        if depth >= MAX_DEPTH {
+            return Err(ExprError::new(
+                "the expression is nested too deeply",
+                name.span,
+            ));
+        }
+        let Some(open) = self.bump() else {
+            return Err(self.expected_operand(Some(name)));
+        };
+        let mut args = Vec::new();
+        loop {
+            if matches!(self.peek_kind(), Some(Tok::RParen | Tok::Comma) | None) {
+                let after = if args.is_empty() {
+                    open.clone()
+                } else {
+                    self.tokens[self.pos - 1].clone()
+                };
+                return Err(self.expected_operand(Some(&after)));
+            }
+            let (arg, _) = self.expr(depth + 1)?;
+            args.push(arg);
+            match self.peek() {
+                Some(t) if t.kind == Tok::Comma => self.pos += 1,
+                Some(t) if t.kind == Tok::RParen => break,
+                other => {
+                    return Err(ExprError::new(
+                        format!(
+                            "expected ',' or ')' in the arguments of {}, found {}",
+                            function.name(),
+                            describe(other)
+                        ),
+                        self.here(),
+                    ));
+                }
+            }
+        }
+        let close = self.bump().expect("peeked ')'");
+        let span = Span::new(name.span.start, close.span.end);
+        let arity_ok = if function.is_variadic() {
+            args.len() >= 2
+        } else {
+            args.len() == 1
+        };
+        if !arity_ok {
+            let wanted = if function.is_variadic() {
+                "two or more arguments"
+            } else {
+                "one argument"
+            };
+            return Err(ExprError::new(
+                format!(
+                    "{}() takes {wanted}, found {}",
+                    function.name(),
+                    args.len()
+                ),
+                span,
+            ));
+        }
+        Ok((
+            Expr {
+                kind: ExprKind::Call(function, args),
                 span,
             },
             span,
@@ -449,7 +768,7 @@ impl Parser {
             let after = minus.as_ref().or(open.as_ref()).unwrap_or(caret);
             return Err(ExprError::new(
                 format!(
-                    "expected an integer exponent after {}, found end of expression",
+                    "expected an exponent after {}, found end of expression",
                     after.describe()
                 ),
                 Span::new(self.end, self.end),
@@ -465,7 +784,7 @@ impl Parser {
                 let after = minus.as_ref().or(open.as_ref()).unwrap_or(caret);
                 return Err(ExprError::new(
                     format!(
-                        "expected an integer exponent after {}, found {}",
+                        "expected an exponent after {}, found {}",
                         after.describe(),
                         token.describe()
                     ),
@@ -565,6 +884,13 @@ impl Parser {
                 };
                 Ok((expr, token.span))
             }
+            Tok::Ident(ref text)
+                if self.tokens.get(self.pos + 1).map(|t| &t.kind) == Some(&Tok::LParen) =>
+            {
+                self.pos += 1;
+                let text = text.clone();
+                self.call(depth, &token, &text)
+            }
             Tok::Ident(name) => {
                 self.pos += 1;
                 let expr = Expr {
@@ -618,6 +944,12 @@ mod tests {
             ExprKind::Mul(a, b) => format!("(* {} {})", tree(a), tree(b)),
             ExprKind::Div(a, b) => format!("(/ {} {})", tree(a), tree(b)),
             ExprKind::Pow(a, n) => format!("(^ {} {n})", tree(a)),
+            ExprKind::RealPow(a, b) => format!("(^r {} {})", tree(a), tree(b)),
+            ExprKind::Call(f, args) => format!(
+                "({} {})",
+                f.name(),
+                args.iter().map(tree).collect::<Vec<_>>().join(" ")
+            ),
         }
     }
 
@@ -794,50 +1126,52 @@ mod tests {
             )
         );
         assert_eq!(
-            error("a (b)"),
+            error("(a) (b)"),
             (
                 "expected an operator or the end of the expression, found '('".into(),
-                (2, 3)
+                (4, 5)
             )
+        );
+        assert_eq!(
+            error("a (b)").0,
+            "unknown function 'a'; the functions are sin, cos, tan, exp, ln, sqrt, abs, sign, tanh, atan, min, max (for a product write a*(...))"
         );
     }
 
     #[test]
-    fn exponents_must_be_integers() {
-        let message = "exponent must be an integer".to_string();
-        assert_eq!(error("a^b"), (message.clone(), (2, 3)));
-        assert_eq!(error("a^2.5"), (message.clone(), (2, 5)));
-        assert_eq!(error("a^-x"), (message.clone(), (3, 4)));
-        assert_eq!(error("a^(x + 1)"), (message.clone(), (3, 8)));
-        assert_eq!(error("a^(-x)"), (message.clone(), (4, 5)));
-        assert_eq!(error("a^(2*(3))"), (message.clone(), (3, 8)));
-        assert_eq!(error("a^-(2)"), (message.clone(), (3, 6)));
-        assert_eq!(error("a^1e3"), (message, (2, 5)));
+    fn integer_literal_exponents_are_integer_powers_and_others_real_powers() {
+        assert_eq!(shape("a^b"), "(^r a b)");
+        assert_eq!(shape("a^2.5"), "(^r a 2.5)");
+        assert_eq!(shape("a^-x"), "(^r a (neg x))");
+        assert_eq!(shape("a^(x + 1)"), "(^r a (+ x 1))");
+        assert_eq!(shape("a^(-x)"), "(^r a (neg x))");
+        assert_eq!(shape("a^(1/3)"), "(^r a (/ 1 3))");
+        assert_eq!(shape("a^-(2)"), "(^r a (neg 2))");
+        assert_eq!(shape("a^1e3"), "(^r a 1e3)");
+        assert_eq!(shape("-x^0.5*y"), "(* (neg (^r x 0.5)) y)");
+        assert_eq!(shape("a^(-2)"), "(^ a -2)");
         assert_eq!(
             error("a^"),
             (
-                "expected an integer exponent after '^', found end of expression".into(),
+                "expected an exponent after '^', found end of expression".into(),
                 (2, 2)
             )
         );
         assert_eq!(
             error("a^ *"),
-            (
-                "expected an integer exponent after '^', found '*'".into(),
-                (3, 4)
-            )
+            ("expected an exponent after '^', found '*'".into(), (3, 4))
         );
         assert_eq!(
             error("a^(-"),
             (
-                "expected an integer exponent after '-', found end of expression".into(),
+                "expected an operand after '-', found end of expression".into(),
                 (4, 4)
             )
         );
         assert_eq!(
             error("a^(2"),
             (
-                "expected ')' to close the exponent's '(', found end of expression".into(),
+                "expected ')' to close '(', found end of expression".into(),
                 (4, 4)
             )
         );
@@ -853,6 +1187,88 @@ mod tests {
                 (3, 4)
             )
         );
+        assert_eq!(error("a^b^c").1, (3, 4));
+    }
+
+    #[test]
+    fn function_calls() {
+        assert_eq!(shape("m*g*l*sin(q)"), "(* (* (* m g) l) (sin q))");
+        assert_eq!(
+            shape("c*sign(effort)*sqrt(abs(effort))"),
+            "(* (* c (sign effort)) (sqrt (abs effort)))"
+        );
+        assert_eq!(shape("max(0, v - 2*w)"), "(max 0 (- v (* 2 w)))");
+        assert_eq!(shape("min(a, b, c)"), "(min a b c)");
+        assert_eq!(shape("-exp(x)^2"), "(neg (^ (exp x) 2))");
+        assert_eq!(shape("exp(-e/V_T)"), "(exp (/ (neg e) V_T))");
+        let call = parse(" tanh( x ) ").unwrap();
+        assert_eq!(call.span, Span::new(1, 10));
+        assert_eq!(
+            parse("2*atan(k_1*x)").unwrap().symbols(),
+            vec![("k_1", Span::new(7, 10)), ("x", Span::new(11, 12))]
+        );
+    }
+
+    #[test]
+    fn bad_calls_are_located() {
+        assert_eq!(
+            error("2*sqr(x)"),
+            ("unknown function 'sqr'; did you mean 'sqrt'?".into(), (2, 5))
+        );
+        assert_eq!(
+            error("log(x)"),
+            ("unknown function 'log'; did you mean 'ln'?".into(), (0, 3))
+        );
+        assert_eq!(
+            error("frobnicate(x)").0,
+            "unknown function 'frobnicate'; the functions are sin, cos, tan, exp, ln, sqrt, abs, sign, tanh, atan, min, max (for a product write frobnicate*(...))"
+        );
+        assert_eq!(
+            error("a + sin(x, y)"),
+            ("sin() takes one argument, found 2".into(), (4, 13))
+        );
+        assert_eq!(
+            error("max(x)"),
+            ("max() takes two or more arguments, found 1".into(), (0, 6))
+        );
+        assert_eq!(
+            error("sin()"),
+            ("expected an operand after '(', found ')'".into(), (4, 5))
+        );
+        assert_eq!(
+            error("min(a,)"),
+            ("expected an operand after ',', found ')'".into(), (6, 7))
+        );
+        assert_eq!(
+            error("cos(a b)"),
+            (
+                "expected ',' or ')' in the arguments of cos, found 'b'".into(),
+                (6, 7)
+            )
+        );
+        assert_eq!(
+            error("exp(x"),
+            (
+                "expected ',' or ')' in the arguments of exp, found end of expression".into(),
+                (5, 5)
+            )
+        );
+    }
+
+    #[test]
+    fn functions_evaluate_in_floating_point() {
+        let lookup = |name: &str| match name {
+            "x" => Some(-4.0),
+            _ => None,
+        };
+        let eval = |text: &str| parse(text).unwrap().eval(&lookup).unwrap();
+        assert_eq!(eval("sqrt(abs(x))"), 2.0);
+        assert_eq!(eval("sign(x)*abs(x)^0.5"), -2.0);
+        assert_eq!(eval("max(x, 1, -7)"), 1.0);
+        assert_eq!(eval("min(x, 1, -7)"), -7.0);
+        assert_eq!(eval("sign(0)"), 0.0);
+        assert_eq!(eval("ln(exp(2))"), 2.0);
+        assert_eq!(eval("2^(1/2)"), 2f64.sqrt());
     }
 
     #[test]

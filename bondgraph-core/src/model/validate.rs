@@ -1022,6 +1022,23 @@ fn to_affine(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<LinearForm, 
             };
             left.scaled(&inverse)
         }
+        ExprKind::Call(function, _) => {
+            return Err((
+                DiagnosticKind::NotLinear,
+                format!(
+                    "calls {}(); this value must be a linear expression of parameters and inputs",
+                    function.name()
+                ),
+                expr.span,
+            ));
+        }
+        ExprKind::RealPow(..) => {
+            return Err((
+                DiagnosticKind::NotLinear,
+                "raises to a power that is not an integer literal; this value must be a linear expression of parameters and inputs".into(),
+                expr.span,
+            ));
+        }
         ExprKind::Pow(base, exponent) => {
             let form = to_affine(base, scope)?;
             if *exponent == 1 {
