@@ -329,9 +329,8 @@ fn unknown_function(name: &str) -> String {
         .iter()
         .find(|(alias, _)| alias.eq_ignore_ascii_case(name))
         .map(|(_, meant)| *meant);
-    let meant = alias.or_else(|| {
-        crate::model::validate::suggest(name, Function::ALL.iter().map(|f| f.name()))
-    });
+    let meant = alias
+        .or_else(|| crate::model::validate::suggest(name, Function::ALL.iter().map(|f| f.name())));
     let known: Vec<&str> = Function::ALL.iter().map(|f| f.name()).collect();
     match meant {
         Some(meant) => format!("unknown function '{name}'; did you mean '{meant}'?"),
@@ -636,9 +635,7 @@ impl Parser {
             .take(4)
             .map(|t| &t.kind)
             .collect();
-        let integer = |t: Option<&&Tok>| {
-            matches!(t, Some(Tok::Number(text)) if text.bytes().all(|b| b.is_ascii_digit()))
-        };
+        let integer = |t: Option<&&Tok>| matches!(t, Some(Tok::Number(text)) if text.bytes().all(|b| b.is_ascii_digit()));
         match kinds.first() {
             Some(Tok::Minus) => integer(kinds.get(1)),
             Some(Tok::LParen) => match kinds.get(1) {
@@ -734,11 +731,7 @@ impl Parser {
                 "one argument"
             };
             return Err(ExprError::new(
-                format!(
-                    "{}() takes {wanted}, found {}",
-                    function.name(),
-                    args.len()
-                ),
+                format!("{}() takes {wanted}, found {}", function.name(), args.len()),
                 span,
             ));
         }
@@ -1213,7 +1206,10 @@ mod tests {
     fn bad_calls_are_located() {
         assert_eq!(
             error("2*sqr(x)"),
-            ("unknown function 'sqr'; did you mean 'sqrt'?".into(), (2, 5))
+            (
+                "unknown function 'sqr'; did you mean 'sqrt'?".into(),
+                (2, 5)
+            )
         );
         assert_eq!(
             error("log(x)"),

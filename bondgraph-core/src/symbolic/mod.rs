@@ -27,9 +27,11 @@
 //!   modular gcd);
 //! - `decimal`: exact values of number literals;
 //! - `ratfunc`: rational functions in canonical form ([`RatFunc`]);
-//! - `print`: plain-text and LaTeX rendering.
+//! - `print`: plain-text and LaTeX rendering;
+//! - [`expr`]: symbolic expressions for nonlinear laws, with exact coefficients.
 
 mod decimal;
+pub mod expr;
 mod gcd;
 mod modgcd;
 mod modp;
