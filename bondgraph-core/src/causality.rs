@@ -37,7 +37,7 @@
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::laws::Law;
-use crate::model::{BondId, ElementId, ElementKind, Model};
+use crate::model::{BondId, ElementId, ElementKind, Model, NonlinearLaw};
 
 /// Which end of a bond receives the effort: the end where the causal stroke is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -112,12 +112,29 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
         let law = &laws[element.index()];
         if law.is_source() {
             let bond = single_bond(model, element);
-            let receiver = match law {
-                // Effort sources (and slack storage, which imposes zero effort) give effort.
-                Law::EffortSource(_) | Law::SlackStorage => model.bond(bond).other(element),
-                _ => element,
+            // Effort sources (and slack storage, which imposes zero effort) give effort.
+            let receiver = if law.gives_effort() {
+                model.bond(bond).other(element)
+            } else {
+                element
             };
             scap.impose(bond, receiver, element)?;
+        }
+    }
+
+    // A resistor whose law is known one way only (`flow: g(effort)` that cannot be solved
+    // for the effort) has its causality fixed by that law, like a source.
+    for element in model.element_ids() {
+        let Some(fixed) = fixed_resistor_causality(&laws[element.index()]) else {
+            continue;
+        };
+        let bond = single_bond(model, element);
+        let receiver = match fixed {
+            Fixed::Resistance => model.bond(bond).other(element),
+            Fixed::Conductance => element,
+        };
+        if let Err(error) = scap.impose(bond, receiver, element) {
+            return Err(explain_fixed(model, laws, error));
         }
     }
 
@@ -128,12 +145,15 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
             continue;
         }
         let bond = single_bond(model, element);
-        let integral_receiver = match law {
-            Law::Inertia(_) => element,
-            _ => model.bond(bond).other(element),
+        let integral_receiver = if law.gives_effort() {
+            model.bond(bond).other(element)
+        } else {
+            element
         };
         match scap.strokes[bond.index()] {
-            None => scap.impose(bond, integral_receiver, element)?,
+            None => scap
+                .impose(bond, integral_receiver, element)
+                .map_err(|e| explain_fixed(model, laws, e))?,
             Some(_) if scap.receiver(bond) == integral_receiver => {}
             Some(_) => dependent.push(element),
         }
@@ -144,7 +164,8 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
     // searched depth-first and undone when they lead to a conflict.
     let mut arbitrary = Vec::new();
     let mut budget = SEARCH_BUDGET;
-    scap.complete(&mut arbitrary, &mut budget)?;
+    scap.complete(&mut arbitrary, &mut budget)
+        .map_err(|e| explain_fixed(model, laws, e))?;
 
     Ok(Causality {
         strokes: scap
@@ -155,6 +176,49 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
         dependent,
         arbitrary,
     })
+}
+
+/// The causality a one-way resistor law forces.
+enum Fixed {
+    /// Only `effort: f(flow)` is known: the resistor must receive its flow.
+    Resistance,
+    /// Only `flow: g(effort)` is known: the resistor must receive its effort.
+    Conductance,
+}
+
+fn fixed_resistor_causality(law: &Law) -> Option<Fixed> {
+    match law.nonlinear()? {
+        NonlinearLaw::Resistor(r) => match (&r.effort, &r.flow) {
+            (Some(_), None) => Some(Fixed::Resistance),
+            (None, Some(_)) => Some(Fixed::Conductance),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+/// A conflict that involves a resistor with a one-way law says why its causality is fixed.
+fn explain_fixed(model: &Model, laws: &[Law], mut error: Diagnostics) -> Diagnostics {
+    for element in model.element_ids() {
+        let Some(fixed) = fixed_resistor_causality(&laws[element.index()]) else {
+            continue;
+        };
+        let name = &model.element(element).name;
+        let quoted = format!("'{name}'");
+        for diagnostic in &mut error.0 {
+            if diagnostic.message.contains(&quoted) {
+                diagnostic.notes.push(match fixed {
+                    Fixed::Conductance => format!(
+                        "'{name}' has its law as flow: f(effort), which could not be solved for the effort, so it needs its effort given (conductance causality); write it as effort: f(flow) too, or let the graph give it an effort"
+                    ),
+                    Fixed::Resistance => format!(
+                        "'{name}' has its law as effort: f(flow), which could not be solved for the flow, so it needs its flow given (resistance causality); write it as flow: f(effort) too, or let the graph give it a flow"
+                    ),
+                });
+            }
+        }
+    }
+    error
 }
 
 /// How many arbitrary choices the search may try before it reports the first conflict it
@@ -207,7 +271,9 @@ impl<'a> Scap<'a> {
         let model = self.model;
         let resistor = model.element_ids().find_map(|element| {
             let law = &self.laws[element.index()];
-            if !matches!(law, Law::Resistor { .. }) {
+            if !matches!(law, Law::Resistor { .. })
+                && !matches!(law.nonlinear(), Some(NonlinearLaw::Resistor(_)))
+            {
                 return None;
             }
             let bond = single_bond(model, element);
@@ -304,6 +370,15 @@ impl<'a> Scap<'a> {
     fn examine(&mut self, element: ElementId) -> Result<()> {
         let model = self.model;
         let bonds = &model.element(element).bonds;
+        let law = &self.laws[element.index()];
+        let two_port = matches!(law, Law::Transformer(_) | Law::Gyrator(_))
+            || matches!(
+                law.nonlinear(),
+                Some(NonlinearLaw::Transformer(_) | NonlinearLaw::Gyrator(_))
+            );
+        if two_port {
+            return self.examine_two_port(element);
+        }
         match self.laws[element.index()] {
             Law::ZeroJunction | Law::OneJunction => {
                 // A 0-junction has exactly one bond bringing the effort in; a 1-junction
@@ -349,34 +424,41 @@ impl<'a> Scap<'a> {
                     self.set(bond, receiver, origin)?;
                 }
             }
-            Law::Transformer(_) | Law::Gyrator(_) => {
-                let transformer = matches!(self.laws[element.index()], Law::Transformer(_));
-                let (a, b) = (bonds[0], bonds[1]);
-                for (known, open) in [(a, b), (b, a)] {
-                    if self.strokes[known.index()].is_some() && self.strokes[open.index()].is_none()
-                    {
-                        let known_in = self.receiver(known) == element;
-                        // A transformer passes effort through (one side in, the other out);
-                        // a gyrator turns effort into flow (both sides alike).
-                        let open_in = if transformer { !known_in } else { known_in };
-                        let receiver = if open_in {
-                            element
-                        } else {
-                            model.bond(open).other(element)
-                        };
-                        let origin = self.origin[known.index()].unwrap_or(element);
-                        self.set(open, receiver, origin)?;
-                    }
-                }
-                if let (Some(_), Some(_)) = (self.strokes[a.index()], self.strokes[b.index()]) {
-                    let a_in = self.receiver(a) == element;
-                    let b_in = self.receiver(b) == element;
-                    if (a_in != b_in) != transformer {
-                        return Err(self.two_port_conflict(element, a, b));
-                    }
-                }
-            }
             _ => {}
+        }
+        Ok(())
+    }
+
+    /// The causal rule of a transformer (effort passes through) or gyrator (effort turns
+    /// into flow).
+    fn examine_two_port(&mut self, element: ElementId) -> Result<()> {
+        let model = self.model;
+        let bonds = &model.element(element).bonds;
+        let law = &self.laws[element.index()];
+        let transformer = matches!(law, Law::Transformer(_))
+            || matches!(law.nonlinear(), Some(NonlinearLaw::Transformer(_)));
+        let (a, b) = (bonds[0], bonds[1]);
+        for (known, open) in [(a, b), (b, a)] {
+            if self.strokes[known.index()].is_some() && self.strokes[open.index()].is_none() {
+                let known_in = self.receiver(known) == element;
+                // A transformer passes effort through (one side in, the other out);
+                // a gyrator turns effort into flow (both sides alike).
+                let open_in = if transformer { !known_in } else { known_in };
+                let receiver = if open_in {
+                    element
+                } else {
+                    model.bond(open).other(element)
+                };
+                let origin = self.origin[known.index()].unwrap_or(element);
+                self.set(open, receiver, origin)?;
+            }
+        }
+        if let (Some(_), Some(_)) = (self.strokes[a.index()], self.strokes[b.index()]) {
+            let a_in = self.receiver(a) == element;
+            let b_in = self.receiver(b) == element;
+            if (a_in != b_in) != transformer {
+                return Err(self.two_port_conflict(element, a, b));
+            }
         }
         Ok(())
     }

@@ -58,6 +58,7 @@ pub fn element_label(model: &Model, element: ElementId) -> String {
             format!("TensionOnly({})", t.compliance.value.text(&model.symbols))
         }
         ElementKind::FlowLimit(l) => format!("FlowLimit(<= {})", l.max_flow.text),
+        ElementKind::Nonlinear(n) => format!("{}({}: {})", kind.keyword(), n.field, n.text),
         ElementKind::ZeroJunction => "0".to_string(),
         ElementKind::OneJunction => "1".to_string(),
     }

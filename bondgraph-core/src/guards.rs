@@ -33,11 +33,13 @@
 //! (velocity through zero, to the opposite slip) applies. A flow limit's guard into
 //! `limiting` is marked the same way: it limits only if it then holds back a positive effort.
 
-use crate::equations::StateEquations;
+use crate::equations::nonlinear::NonlinearEquations;
+use crate::equations::{StateEquations, StateVariable};
 use crate::linear::{LinearForm, Var};
-use crate::model::{ElementId, ElementKind, ElementMode, Model};
+use crate::model::{BondId, ElementId, ElementKind, ElementMode, Model};
 use crate::modes::Mode;
 use crate::symbolic::RatFunc;
+use crate::symbolic::expr::{Atom, Sym};
 
 /// What a guard watches.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -81,25 +83,65 @@ pub enum Crossing {
     Falls,
 }
 
-/// One condition that ends a mode.
+/// One condition that ends a mode; its quantities are affine forms ([`LinearForm`]) in a
+/// linear mode, expressions ([`Sym`]) in a nonlinear one.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Guard {
+pub struct Guard<Q = LinearForm> {
     /// The switching element whose mode changes.
     pub element: ElementId,
     /// What is watched.
     pub watched: Watched,
-    /// The watched quantity, affine in the mode's states and the inputs.
-    pub quantity: LinearForm,
+    /// The watched quantity, in the mode's states and the inputs.
+    pub quantity: Q,
     /// Which way it must cross.
     pub crossing: Crossing,
-    /// The threshold, affine in the inputs.
-    pub threshold: LinearForm,
+    /// The threshold, in the inputs.
+    pub threshold: Q,
     /// The element's mode after the guard fires.
     pub leaves_to: ElementMode,
     /// Whether the switch happens only if the element can then hold: a contact going
     /// `stuck` within its breakaway force, a flow limit going `limiting` with a positive
     /// restraining effort.
     pub requires_hold: bool,
+}
+
+impl Guard<Sym> {
+    /// The guard function `g(x, u)`: the guard fires when `g` reaches zero from below.
+    pub fn function(&self) -> Sym {
+        let g = Sym::sub(&self.quantity, &self.threshold);
+        match self.crossing {
+            Crossing::Rises => g,
+            Crossing::Falls => Sym::neg(&g),
+        }
+    }
+
+    /// The condition as text: `holding force <expr> >= F_S`.
+    pub fn condition_text(&self, equations: &NonlinearEquations) -> String {
+        condition(
+            self,
+            &equations.sym_text(&self.quantity),
+            &equations.sym_text(&self.threshold),
+        )
+    }
+}
+
+/// A guard's condition as text, from its quantity's and threshold's text.
+fn condition<Q>(guard: &Guard<Q>, quantity: &str, threshold: &str) -> String {
+    let comparison = match guard.crossing {
+        Crossing::Rises => ">=",
+        Crossing::Falls => "<=",
+    };
+    let mut text = format!(
+        "{} {quantity} {comparison} {threshold}",
+        guard.watched.description()
+    );
+    if guard.requires_hold {
+        text.push_str(match guard.watched {
+            Watched::LimitedFlow => ", if the limit then holds back a positive effort",
+            _ => ", if static friction can then hold",
+        });
+    }
+    text
 }
 
 impl Guard {
@@ -115,36 +157,93 @@ impl Guard {
 
     /// The condition as text: `holding force <expr> >= F_S`.
     pub fn condition_text(&self, equations: &StateEquations) -> String {
-        let comparison = match self.crossing {
-            Crossing::Rises => ">=",
-            Crossing::Falls => "<=",
-        };
-        let mut text = format!(
-            "{} {} {comparison} {}",
-            self.watched.description(),
-            equations.form_text(&self.quantity),
-            equations.form_text(&self.threshold)
-        );
-        if self.requires_hold {
-            text.push_str(match self.watched {
-                Watched::LimitedFlow => ", if the limit then holds back a positive effort",
-                _ => ", if static friction can then hold",
-            });
-        }
-        text
+        condition(
+            self,
+            &equations.form_text(&self.quantity),
+            &equations.form_text(&self.threshold),
+        )
+    }
+}
+
+/// What the guards of a mode are written in: the bond variables and states of its
+/// equations, linear or nonlinear.
+trait GuardForms {
+    /// An affine form or an expression.
+    type Form: Clone;
+    /// The effort of `bond`.
+    fn effort(&self, bond: BondId) -> Self::Form;
+    /// The flow of `bond` times `sign`.
+    fn flow(&self, bond: BondId, sign: i64) -> Self::Form;
+    /// An affine form of the inputs (a threshold).
+    fn lift(&self, form: &LinearForm) -> Self::Form;
+    /// State `k`.
+    fn state(&self, k: usize) -> Self::Form;
+    /// The states.
+    fn states(&self) -> &[StateVariable];
+}
+
+impl GuardForms for StateEquations {
+    type Form = LinearForm;
+    fn effort(&self, bond: BondId) -> LinearForm {
+        self.bond_effort(bond).clone()
+    }
+    fn flow(&self, bond: BondId, sign: i64) -> LinearForm {
+        self.bond_flow(bond).scaled(&RatFunc::integer(sign))
+    }
+    fn lift(&self, form: &LinearForm) -> LinearForm {
+        form.clone()
+    }
+    fn state(&self, k: usize) -> LinearForm {
+        LinearForm::var(Var::State(k as u32))
+    }
+    fn states(&self) -> &[StateVariable] {
+        &self.states
+    }
+}
+
+impl GuardForms for NonlinearEquations {
+    type Form = Sym;
+    fn effort(&self, bond: BondId) -> Sym {
+        self.bond_effort(bond).clone()
+    }
+    fn flow(&self, bond: BondId, sign: i64) -> Sym {
+        self.bond_flow(bond).scaled(&RatFunc::integer(sign))
+    }
+    fn lift(&self, form: &LinearForm) -> Sym {
+        crate::equations::nonlinear::form_to_sym(form)
+    }
+    fn state(&self, k: usize) -> Sym {
+        Sym::atom(Atom::State(k as u32))
+    }
+    fn states(&self) -> &[StateVariable] {
+        &self.states
     }
 }
 
 /// The guards of `mode`, written in the states of its `equations`.
 pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Vec<Guard> {
+    derive_in(model, mode, equations)
+}
+
+/// The guards of a nonlinear `mode`: expressions of its states.
+pub fn derive_nonlinear(
+    model: &Model,
+    mode: &Mode,
+    equations: &NonlinearEquations,
+) -> Vec<Guard<Sym>> {
+    derive_in(model, mode, equations)
+}
+
+fn derive_in<E: GuardForms>(model: &Model, mode: &Mode, equations: &E) -> Vec<Guard<E::Form>> {
     let mut guards = Vec::new();
     for &(element, element_mode) in mode.assignments() {
         let bond = model.element(element).bonds[0];
-        let sign = RatFunc::integer(model.bond(bond).sign_into(element));
-        let effort = || equations.bond_effort(bond).clone();
-        let flow = || equations.bond_flow(bond).scaled(&sign);
+        let sign = model.bond(bond).sign_into(element);
+        let effort = || equations.effort(bond);
+        let flow = || equations.flow(bond, sign);
+        let lift = |form: &LinearForm| equations.lift(form);
         let guard =
-            |watched, quantity: LinearForm, crossing, threshold, leaves_to, requires_hold| Guard {
+            |watched, quantity: E::Form, crossing, threshold, leaves_to, requires_hold| Guard {
                 element,
                 watched,
                 quantity,
@@ -156,8 +255,9 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Vec<Gua
         match (&model.element(element).kind, element_mode) {
             (ElementKind::Friction(friction), ElementMode::Stuck) => {
                 let hold = effort();
-                let breakaway = friction.breakaway.value.clone();
-                let negative_breakaway = breakaway.scaled(&RatFunc::integer(-1));
+                let breakaway = lift(&friction.breakaway.value);
+                let negative_breakaway =
+                    lift(&friction.breakaway.value.scaled(&RatFunc::integer(-1)));
                 let (forward, backward) = if friction.stribeck.is_some() {
                     (ElementMode::CreepPositive, ElementMode::CreepNegative)
                 } else {
@@ -196,13 +296,15 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Vec<Gua
                     let band = &friction.dead_band.value;
                     let above = LinearForm::constant(stribeck.value.add_ref(band));
                     let below = LinearForm::constant(stribeck.value.sub_ref(band));
-                    let minus = |form: &LinearForm| form.scaled(&RatFunc::integer(-1));
+                    let minus = |form: &LinearForm| lift(&form.scaled(&RatFunc::integer(-1)));
                     let (crossing, threshold, to) = match (forward, creeping) {
-                        (true, true) => (Crossing::Rises, above, ElementMode::SlipPositive),
+                        (true, true) => (Crossing::Rises, lift(&above), ElementMode::SlipPositive),
                         (false, true) => {
                             (Crossing::Falls, minus(&above), ElementMode::SlipNegative)
                         }
-                        (true, false) => (Crossing::Falls, below, ElementMode::CreepPositive),
+                        (true, false) => {
+                            (Crossing::Falls, lift(&below), ElementMode::CreepPositive)
+                        }
                         (false, false) => {
                             (Crossing::Rises, minus(&below), ElementMode::CreepNegative)
                         }
@@ -231,7 +333,7 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Vec<Gua
                     Watched::RelativeVelocity,
                     velocity.clone(),
                     crossing,
-                    LinearForm::constant(band),
+                    lift(&LinearForm::constant(band)),
                     ElementMode::Stuck,
                     true,
                 ));
@@ -239,7 +341,7 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Vec<Gua
                     Watched::RelativeVelocity,
                     velocity,
                     crossing,
-                    LinearForm::zero(),
+                    lift(&LinearForm::zero()),
                     reverse,
                     false,
                 ));
@@ -249,7 +351,7 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Vec<Gua
                     Watched::Tension,
                     effort(),
                     Crossing::Falls,
-                    LinearForm::zero(),
+                    lift(&LinearForm::zero()),
                     ElementMode::Slack,
                     false,
                 ));
@@ -257,15 +359,15 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Vec<Gua
             (ElementKind::TensionOnly(_), _) => {
                 let name = &model.element(element).name;
                 let state = equations
-                    .states
+                    .states()
                     .iter()
                     .position(|s| &s.element == name)
                     .expect("a slack element keeps its extension as a state");
                 guards.push(guard(
                     Watched::SlackLength,
-                    LinearForm::var(Var::State(state as u32)),
+                    equations.state(state),
                     Crossing::Rises,
-                    LinearForm::zero(),
+                    lift(&LinearForm::zero()),
                     ElementMode::Taut,
                     false,
                 ));
@@ -277,7 +379,7 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Vec<Gua
                     Watched::RestrainingEffort,
                     effort(),
                     Crossing::Falls,
-                    LinearForm::zero(),
+                    lift(&LinearForm::zero()),
                     ElementMode::Open,
                     false,
                 ));
@@ -291,7 +393,7 @@ pub fn derive(model: &Model, mode: &Mode, equations: &StateEquations) -> Vec<Gua
                     Watched::LimitedFlow,
                     flow(),
                     Crossing::Rises,
-                    limit.max_flow.value.clone(),
+                    lift(&limit.max_flow.value),
                     ElementMode::Limiting,
                     true,
                 ));

@@ -6,7 +6,7 @@
 //! of a switching model be derived by the same code as a plain model.
 
 use crate::linear::LinearForm;
-use crate::model::{ElementKind, ElementMode, Model};
+use crate::model::{ElementKind, ElementMode, Model, NonlinearLaw};
 use crate::modes::Mode;
 use crate::symbolic::RatFunc;
 
@@ -39,6 +39,9 @@ pub enum Law {
     /// Imposes zero effort but still integrates its flow into a displacement state: a
     /// tension-only compliance gone slack, tracking its slack length.
     SlackStorage,
+    /// A nonlinear or modulated law: the mode is derived as `dx/dt = f(x, u)`
+    /// ([`crate::equations::nonlinear`]).
+    Nonlinear(Box<NonlinearLaw>),
 }
 
 impl Law {
@@ -47,19 +50,43 @@ impl Law {
         matches!(
             self,
             Law::EffortSource(_) | Law::FlowSource(_) | Law::SlackStorage
+        ) || matches!(
+            self.nonlinear(),
+            Some(NonlinearLaw::EffortSource(_) | NonlinearLaw::FlowSource(_))
         )
     }
 
     /// Whether the element stores energy with a preferred (integral) causality.
     pub fn is_storage(&self) -> bool {
         matches!(self, Law::Inertia(_) | Law::Compliance(_))
+            || matches!(
+                self.nonlinear(),
+                Some(NonlinearLaw::Inertia(_) | NonlinearLaw::Compliance(_))
+            )
     }
 
     /// Whether the law carries a state of its own (storage, or slack storage).
     pub fn has_state(&self) -> bool {
+        self.is_storage() || matches!(self, Law::SlackStorage)
+    }
+
+    /// The nonlinear law, if it is one.
+    pub fn nonlinear(&self) -> Option<&NonlinearLaw> {
+        match self {
+            Law::Nonlinear(law) => Some(law),
+            _ => None,
+        }
+    }
+
+    /// Whether it imposes an effort (rather than a flow) on its bond when it is a source or
+    /// storage in integral causality: effort sources and compliances (and slack storage).
+    pub fn gives_effort(&self) -> bool {
         matches!(
             self,
-            Law::Inertia(_) | Law::Compliance(_) | Law::SlackStorage
+            Law::EffortSource(_) | Law::Compliance(_) | Law::SlackStorage
+        ) || matches!(
+            self.nonlinear(),
+            Some(NonlinearLaw::EffortSource(_) | NonlinearLaw::Compliance(_))
         )
     }
 }
@@ -94,6 +121,7 @@ pub fn for_mode(model: &Model, mode: &Mode) -> Vec<Law> {
                 },
                 ElementKind::Transformer(c) => Law::Transformer(c.value.clone()),
                 ElementKind::Gyrator(c) => Law::Gyrator(c.value.clone()),
+                ElementKind::Nonlinear(n) => Law::Nonlinear(Box::new(n.law.clone())),
                 ElementKind::ZeroJunction => Law::ZeroJunction,
                 ElementKind::OneJunction => Law::OneJunction,
                 ElementKind::Friction(friction) => {

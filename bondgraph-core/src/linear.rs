@@ -25,6 +25,9 @@ pub enum Var {
     /// The effort (for an inertia) or flow (for a compliance) of the `i`-th dependent
     /// storage element, unknown until merging resolves it.
     Dependent(u32),
+    /// The output of the `i`-th nonlinear law of a nonlinear mode, kept as an unknown while
+    /// the linear junction structure is solved ([`crate::equations::nonlinear`]).
+    Auxiliary(u32),
     /// A bond variable not yet eliminated: effort of bond `b` is `2b`, flow is `2b + 1`.
     Bond(u32),
     /// The constant 1 (its coefficient is the affine offset).
@@ -184,6 +187,7 @@ impl fmt::Display for Var {
             Var::Input(i) => write!(f, "u{i}"),
             Var::InputRate(i) => write!(f, "der(u{i})"),
             Var::Dependent(i) => write!(f, "d{i}"),
+            Var::Auxiliary(i) => write!(f, "w{i}"),
             Var::Bond(i) => write!(f, "{}{}", if i % 2 == 0 { "e" } else { "f" }, i / 2),
             Var::Constant => write!(f, "1"),
         }

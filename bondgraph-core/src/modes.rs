@@ -32,9 +32,11 @@ use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::equations::{self, Options, StateEquations};
 use serde::Serialize;
 
+use crate::equations::nonlinear::{self, NonlinearEquations};
 use crate::guards::{self, Crossing, Guard};
 use crate::laws;
 use crate::model::{ElementId, ElementMode, Model};
+use crate::symbolic::expr::Sym;
 
 /// The mode of every switching element of a model, in element order.
 #[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -165,12 +167,43 @@ pub fn derive(model: &Model, mode: &Mode, options: &Options) -> Result<ModeEquat
     })
 }
 
+/// The equations and guards of one mode of a nonlinear model.
+#[derive(Clone, Debug)]
+pub struct NonlinearModeEquations {
+    /// The mode.
+    pub mode: Mode,
+    /// Its state equations `dx/dt = f(x, u)`.
+    pub equations: NonlinearEquations,
+    /// When it is left, and for which mode: expressions of its states.
+    pub guards: Vec<Guard<Sym>>,
+}
+
+/// Derives the equations and guards of `mode` of a nonlinear model.
+///
+/// # Errors
+/// As [`nonlinear::derive`].
+pub fn derive_nonlinear(
+    model: &Model,
+    mode: &Mode,
+    options: &Options,
+) -> Result<NonlinearModeEquations> {
+    let laws = laws::for_mode(model, mode);
+    let equations = nonlinear::derive(model, &laws, options)?;
+    let guards = guards::derive_nonlinear(model, mode, &equations);
+    Ok(NonlinearModeEquations {
+        mode: mode.clone(),
+        equations,
+        guards,
+    })
+}
+
 /// Modes derived on demand and kept: switching models visit a few modes many times.
 #[derive(Debug)]
 pub struct ModeCache<'m> {
     model: &'m Model,
     options: Options,
     derived: HashMap<Mode, std::result::Result<Arc<ModeEquations>, Diagnostics>>,
+    nonlinear: HashMap<Mode, std::result::Result<Arc<NonlinearModeEquations>, Diagnostics>>,
 }
 
 impl<'m> ModeCache<'m> {
@@ -180,7 +213,19 @@ impl<'m> ModeCache<'m> {
             model,
             options,
             derived: HashMap::new(),
+            nonlinear: HashMap::new(),
         }
+    }
+
+    /// The equations of `mode` of a nonlinear model, derived on first use.
+    ///
+    /// # Errors
+    /// As [`derive_nonlinear`], remembered for later calls.
+    pub fn get_nonlinear(&mut self, mode: &Mode) -> Result<Arc<NonlinearModeEquations>> {
+        self.nonlinear
+            .entry(mode.clone())
+            .or_insert_with(|| derive_nonlinear(self.model, mode, &self.options).map(Arc::new))
+            .clone()
     }
 
     /// The equations of `mode`, derived on first use.
@@ -196,43 +241,171 @@ impl<'m> ModeCache<'m> {
 
     /// How many modes have been derived (successfully or not).
     pub fn len(&self) -> usize {
-        self.derived.len()
+        self.derived.len() + self.nonlinear.len()
     }
 
     /// Whether nothing has been derived yet.
     pub fn is_empty(&self) -> bool {
-        self.derived.is_empty()
+        self.derived.is_empty() && self.nonlinear.is_empty()
     }
 }
 
-/// The modes reachable from the initial mode through guards.
+/// The modes reachable from the initial mode through guards (of a nonlinear model with
+/// `M` = [`NonlinearModeEquations`]).
 #[derive(Clone, Debug)]
-pub struct Reachable {
+pub struct Reachable<M = ModeEquations> {
     /// The initial mode.
     pub initial: Mode,
     /// Every mode that can be entered, in breadth-first order from the initial mode.
-    pub modes: Vec<Arc<ModeEquations>>,
+    pub modes: Vec<Arc<M>>,
     /// Modes some guard leads to that cannot be entered, with why.
     pub impossible: Vec<(Mode, Diagnostics)>,
+}
+
+/// A derived mode as the mode listing shows it.
+pub trait ListedMode {
+    /// The mode.
+    fn mode(&self) -> &Mode;
+    /// Its states' names.
+    fn state_names(&self) -> Vec<String>;
+    /// Its guards, as the listing shows them.
+    fn guard_rows(&self, model: &Model) -> Vec<GuardRow>;
+}
+
+/// One guard of a listed mode.
+#[derive(Clone, Debug)]
+pub struct GuardRow {
+    /// The switching element.
+    pub element: ElementId,
+    /// Its mode after the guard fires.
+    pub leaves_to: ElementMode,
+    /// The condition as text.
+    pub condition: String,
+    /// What is watched, in words.
+    pub watched: String,
+    /// The watched quantity as text.
+    pub quantity: String,
+    /// `>=` or `<=`.
+    pub comparison: String,
+    /// The threshold as text.
+    pub threshold: String,
+    /// Whether it switches only if the element can then hold.
+    pub requires_hold: bool,
+}
+
+fn comparison(crossing: Crossing) -> String {
+    match crossing {
+        Crossing::Rises => ">=",
+        Crossing::Falls => "<=",
+    }
+    .to_string()
+}
+
+impl ListedMode for ModeEquations {
+    fn mode(&self) -> &Mode {
+        &self.mode
+    }
+    fn state_names(&self) -> Vec<String> {
+        self.equations
+            .states
+            .iter()
+            .map(|s| s.name.clone())
+            .collect()
+    }
+    fn guard_rows(&self, _: &Model) -> Vec<GuardRow> {
+        let eq = &self.equations;
+        self.guards
+            .iter()
+            .map(|g| GuardRow {
+                element: g.element,
+                leaves_to: g.leaves_to,
+                condition: g.condition_text(eq),
+                watched: g.watched.description().to_string(),
+                quantity: eq.form_text(&g.quantity),
+                comparison: comparison(g.crossing),
+                threshold: eq.form_text(&g.threshold),
+                requires_hold: g.requires_hold,
+            })
+            .collect()
+    }
+}
+
+impl ListedMode for NonlinearModeEquations {
+    fn mode(&self) -> &Mode {
+        &self.mode
+    }
+    fn state_names(&self) -> Vec<String> {
+        self.equations
+            .states
+            .iter()
+            .map(|s| s.name.clone())
+            .collect()
+    }
+    fn guard_rows(&self, _: &Model) -> Vec<GuardRow> {
+        let eq = &self.equations;
+        self.guards
+            .iter()
+            .map(|g| GuardRow {
+                element: g.element,
+                leaves_to: g.leaves_to,
+                condition: g.condition_text(eq),
+                watched: g.watched.description().to_string(),
+                quantity: eq.sym_text(&g.quantity),
+                comparison: comparison(g.crossing),
+                threshold: eq.sym_text(&g.threshold),
+                requires_hold: g.requires_hold,
+            })
+            .collect()
+    }
 }
 
 /// Every mode reachable from the initial mode by following guards.
 ///
 /// # Errors
-/// When the initial mode itself cannot be derived.
+/// When the initial mode itself cannot be derived; for a nonlinear model
+/// ([`Model::is_nonlinear`]) use [`reachable_nonlinear`].
 pub fn reachable(model: &Model, options: &Options) -> Result<Reachable> {
-    let initial = Mode::initial(model);
     let mut cache = ModeCache::new(model, *options);
-    cache.get(&initial)?;
+    explore(
+        model,
+        |mode| cache.get(mode),
+        |m| m.guards.iter().map(|g| (g.element, g.leaves_to)).collect(),
+    )
+}
+
+/// Every mode of a nonlinear model reachable from its initial mode.
+///
+/// # Errors
+/// When the initial mode itself cannot be derived.
+pub fn reachable_nonlinear(
+    model: &Model,
+    options: &Options,
+) -> Result<Reachable<NonlinearModeEquations>> {
+    let mut cache = ModeCache::new(model, *options);
+    explore(
+        model,
+        |mode| cache.get_nonlinear(mode),
+        |m| m.guards.iter().map(|g| (g.element, g.leaves_to)).collect(),
+    )
+}
+
+/// Breadth-first search over the modes that guards lead to.
+fn explore<M>(
+    model: &Model,
+    mut derive: impl FnMut(&Mode) -> Result<Arc<M>>,
+    targets: impl Fn(&M) -> Vec<(ElementId, ElementMode)>,
+) -> Result<Reachable<M>> {
+    let initial = Mode::initial(model);
+    derive(&initial)?;
     let mut seen = vec![initial.clone()];
     let mut queue = VecDeque::from([initial.clone()]);
     let mut modes = Vec::new();
     let mut impossible = Vec::new();
     while let Some(mode) = queue.pop_front() {
-        match cache.get(&mode) {
+        match derive(&mode) {
             Ok(derived) => {
-                for guard in &derived.guards {
-                    let next = mode.with(guard.element, guard.leaves_to);
+                for (element, leaves_to) in targets(&derived) {
+                    let next = mode.with(element, leaves_to);
                     if !seen.contains(&next) {
                         seen.push(next.clone());
                         queue.push_back(next);
@@ -309,7 +482,7 @@ pub struct ImpossibleJson {
     pub reason: String,
 }
 
-impl Reachable {
+impl<M: ListedMode> Reachable<M> {
     /// The reachable modes and their guards as text.
     pub fn to_text(&self, model: &Model) -> String {
         let switching = self.initial.assignments().len();
@@ -323,20 +496,19 @@ impl Reachable {
             describe_spec(&self.initial.spec(model))
         );
         for mode in &self.modes {
-            let eq = &mode.equations;
-            let names: Vec<&str> = eq.states.iter().map(|s| s.name.as_str()).collect();
+            let names = mode.state_names();
             out.push_str(&format!(
                 "\nmode {}: {} state{} ({})\n",
-                describe_spec(&mode.mode.spec(model)),
+                describe_spec(&mode.mode().spec(model)),
                 names.len(),
                 if names.len() == 1 { "" } else { "s" },
                 names.join(", ")
             ));
-            for guard in &mode.guards {
+            for guard in mode.guard_rows(model) {
                 out.push_str(&format!(
                     "  {}: {} -> {}={}\n",
                     model.element(guard.element).name,
-                    guard.condition_text(eq),
+                    guard.condition,
                     model.element(guard.element).name,
                     guard.leaves_to.name()
                 ));
@@ -361,27 +533,23 @@ impl Reachable {
                 .modes
                 .iter()
                 .map(|mode| {
-                    let eq = &mode.equations;
+                    let states = mode.state_names();
                     ModeJson {
-                        spec: mode.mode.spec(model),
-                        states: eq.states.iter().map(|s| s.name.clone()).collect(),
-                        state_count: eq.states.len(),
+                        spec: mode.mode().spec(model),
+                        state_count: states.len(),
+                        states,
                         guards: mode
-                            .guards
-                            .iter()
+                            .guard_rows(model)
+                            .into_iter()
                             .map(|g| GuardJson {
                                 element: model.element(g.element).name.clone(),
-                                expression: g.condition_text(eq),
-                                leaves_to: mode.mode.with(g.element, g.leaves_to).spec(model),
+                                expression: g.condition,
+                                leaves_to: mode.mode().with(g.element, g.leaves_to).spec(model),
                                 element_mode: g.leaves_to.name().to_string(),
-                                watched: g.watched.description().to_string(),
-                                quantity: eq.form_text(&g.quantity),
-                                comparison: match g.crossing {
-                                    Crossing::Rises => ">=",
-                                    Crossing::Falls => "<=",
-                                }
-                                .to_string(),
-                                threshold: eq.form_text(&g.threshold),
+                                watched: g.watched,
+                                quantity: g.quantity,
+                                comparison: g.comparison,
+                                threshold: g.threshold,
                                 requires_hold: g.requires_hold,
                             })
                             .collect(),

@@ -29,7 +29,7 @@ use crate::causality::Causality;
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Result};
 use crate::laws::Law;
 use crate::linear::{LinearForm, Var};
-use crate::model::{BondId, ElementId, Model};
+use crate::model::{BondId, ElementId, Model, NonlinearLaw};
 use crate::symbolic::RatFunc;
 
 /// The effort variable of `bond`.
@@ -51,6 +51,9 @@ pub(crate) struct Numbering {
     pub state: Vec<Option<u32>>,
     /// `Some(i)` if the element is the `i`-th dependent storage element.
     pub dependent: Vec<Option<u32>>,
+    /// `Some(i)` if the element has a nonlinear law whose outputs are the auxiliary
+    /// variables from `i` on ([`crate::equations::nonlinear`]).
+    pub auxiliary: Vec<Option<u32>>,
 }
 
 /// An algebraic loop that was solved, by the elements whose equations formed it.
@@ -369,6 +372,43 @@ fn define(
                         element,
                         LinearForm::term(flow(input), r.clone()),
                     );
+                }
+            }
+            Law::Nonlinear(law) => {
+                // The law's outputs are auxiliary variables, defined by the nonlinear
+                // derivation in terms of what the law receives.
+                let first = numbering.auxiliary[element.index()]
+                    .expect("every nonlinear law has its auxiliary variables");
+                let aux = |k: u32| LinearForm::var(Var::Auxiliary(first + k));
+                match &**law {
+                    NonlinearLaw::EffortSource(_) | NonlinearLaw::Compliance(_) => {
+                        define(effort(bonds[0]), element, aux(0));
+                    }
+                    NonlinearLaw::FlowSource(_) => {
+                        define(flow(bonds[0]), element, aux(0).scaled(&-sign(bonds[0])));
+                    }
+                    NonlinearLaw::Inertia(_) => {
+                        define(flow(bonds[0]), element, aux(0).scaled(&sign(bonds[0])));
+                    }
+                    NonlinearLaw::Resistor(_) => {
+                        if receives(bonds[0]) {
+                            define(flow(bonds[0]), element, aux(0).scaled(&sign(bonds[0])));
+                        } else {
+                            define(effort(bonds[0]), element, aux(0));
+                        }
+                    }
+                    NonlinearLaw::Transformer(_) | NonlinearLaw::Gyrator(_) => {
+                        let transformer = matches!(&**law, NonlinearLaw::Transformer(_));
+                        let (input, output) = two_port_bonds(model, element);
+                        let (first, second) = match (transformer, receives(input)) {
+                            (true, true) => (effort(output), flow(input)),
+                            (true, false) => (effort(input), flow(output)),
+                            (false, true) => (flow(output), flow(input)),
+                            (false, false) => (effort(input), effort(output)),
+                        };
+                        define(first, element, aux(0));
+                        define(second, element, aux(1));
+                    }
                 }
             }
             Law::ZeroJunction | Law::OneJunction => {

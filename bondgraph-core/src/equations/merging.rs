@@ -114,8 +114,8 @@ pub(crate) fn merge(
         .iter()
         .map(|&e| {
             let bond = model.element(e).bonds[0];
-            match laws[e.index()] {
-                Law::Inertia(_) => bond_vars[effort(bond).bond_index()].clone(),
+            match domain(&laws[e.index()]) {
+                Domain::Kinetic => bond_vars[effort(bond).bond_index()].clone(),
                 _ => bond_vars[flow(bond).bond_index()]
                     .scaled(&RatFunc::integer(model.bond(bond).sign_into(e))),
             }
@@ -130,11 +130,16 @@ pub(crate) fn merge(
         debug_assert_eq!(index as usize, dependents.len());
         let law = &laws[element.index()];
         let bond = model.element(element).bonds[0];
-        let driven = match law {
-            Law::Inertia(_) => bond_vars[flow(bond).bond_index()]
+        let driven = match domain(law) {
+            Domain::Kinetic => bond_vars[flow(bond).bond_index()]
                 .scaled(&RatFunc::integer(model.bond(bond).sign_into(element))),
             _ => bond_vars[effort(bond).bond_index()].clone(),
         };
+        if driven.mentions(|v| matches!(v, Var::Auxiliary(_))) {
+            return Err(crate::equations::nonlinear::dependent_through_law(
+                model, laws, element,
+            ));
+        }
         let own = domain(law);
         for (var, _) in driven.terms() {
             let offending = match var {
@@ -442,12 +447,18 @@ pub(crate) fn domain(law: &Law) -> Domain {
     match law {
         Law::Inertia(_) => Domain::Kinetic,
         Law::Compliance(_) => Domain::Potential,
+        Law::Nonlinear(nonlinear) => match **nonlinear {
+            crate::model::NonlinearLaw::Inertia(_) => Domain::Kinetic,
+            crate::model::NonlinearLaw::Compliance(_) => Domain::Potential,
+            _ => Domain::Slack,
+        },
         _ => Domain::Slack,
     }
 }
 
 /// The inertance or compliance of a storage law; 1 for slack storage (its state is its own
-/// co-energy variable).
+/// co-energy variable) and for nonlinear storage (never merged, and never converted to
+/// co-energy variables).
 pub(crate) fn storage_coefficient(law: &Law) -> RatFunc {
     match law {
         Law::Inertia(m) | Law::Compliance(m) => m.clone(),

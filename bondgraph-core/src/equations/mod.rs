@@ -15,6 +15,7 @@ mod coenergy;
 pub(crate) mod elimination;
 pub(crate) mod matrix;
 pub(crate) mod merging;
+pub mod nonlinear;
 mod outputs;
 mod print;
 
@@ -119,6 +120,11 @@ pub enum Note {
         /// The element.
         element: String,
     },
+    /// The equations are a nonlinear mode's linearisation at an operating point.
+    Linearised {
+        /// The point, as text (`q = 0.5, p = 0`).
+        point: String,
+    },
     /// An algebraic loop solved symbolically.
     AlgebraicLoop {
         /// The elements (other than junctions) whose equations formed it.
@@ -145,6 +151,9 @@ impl Note {
             Note::Held { element } => format!(
                 "'{element}' has its motion imposed by sources and constraints: no state of its own in this mode"
             ),
+            Note::Linearised { point } => {
+                format!("linearisation of the nonlinear equations at {point}")
+            }
             Note::AlgebraicLoop {
                 elements,
                 junctions,
@@ -206,20 +215,57 @@ pub struct StateEquations {
 /// Causal conflicts, unresolvable dependent storage, singular algebraic loops, and zero
 /// resistances that must set a flow; each names the elements concerned.
 pub fn derive(model: &Model, laws: &[Law], options: &Options) -> Result<StateEquations> {
+    if let Some(element) = model
+        .element_ids()
+        .find(|e| laws[e.index()].nonlinear().is_some())
+    {
+        return Err(nonlinear::not_linear(model, element));
+    }
     let causal = causality::assign(model, laws)?;
     derive_with(model, laws, causal, options)
 }
 
 /// Derives the state equations from an already assigned causality.
+///
+/// # Errors
+/// As [`derive`]; a mode with a nonlinear law is [`DiagnosticKind::NotLinear`]: derive it
+/// with [`nonlinear::derive`].
+///
+/// [`DiagnosticKind::NotLinear`]: crate::diagnostics::DiagnosticKind::NotLinear
 pub fn derive_with(
     model: &Model,
     laws: &[Law],
     causal: Causality,
     options: &Options,
 ) -> Result<StateEquations> {
+    if let Some(element) = model
+        .element_ids()
+        .find(|e| laws[e.index()].nonlinear().is_some())
+    {
+        return Err(nonlinear::not_linear(model, element));
+    }
+    derive_parts(
+        model,
+        laws,
+        causal,
+        options,
+        vec![None; model.elements.len()],
+    )
+}
+
+/// The derivation with the outputs of nonlinear laws kept as auxiliary variables
+/// (`auxiliary`: the first auxiliary index of each nonlinear element).
+pub(crate) fn derive_parts(
+    model: &Model,
+    laws: &[Law],
+    causal: Causality,
+    options: &Options,
+    auxiliary: Vec<Option<u32>>,
+) -> Result<StateEquations> {
     let mut numbering = Numbering {
         state: vec![None; model.elements.len()],
         dependent: vec![None; model.elements.len()],
+        auxiliary,
     };
     let mut state_elements = Vec::new();
     for element in model.element_ids() {

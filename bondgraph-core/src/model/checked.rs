@@ -9,6 +9,7 @@ use std::sync::Arc;
 
 use crate::linear::{LinearForm, Var};
 use crate::source::{Location, SourceFile, Span};
+use crate::symbolic::expr::Sym;
 use crate::symbolic::{RatFunc, Symbol, SymbolTable};
 
 /// Index of an element in [`Model::elements`] (and of its node in the bond graph).
@@ -160,10 +161,87 @@ pub enum ElementKind {
     TensionOnly(TensionOnly),
     /// A limit on the flow through its bond: switches between open and limiting.
     FlowLimit(FlowLimit),
+    /// An element with a nonlinear or modulated law: a source nonlinear in its inputs or
+    /// driven by states, storage with a nonlinear law, a resistor with a nonlinear or
+    /// modulated law, a transformer or gyrator whose ratio depends on inputs and states.
+    Nonlinear(Box<NonlinearElement>),
     /// A 0-junction: common effort, flows sum to zero.
     ZeroJunction,
     /// A 1-junction: common flow, efforts sum to zero.
     OneJunction,
+}
+
+/// An element whose law is nonlinear or modulated, as written.
+#[derive(Clone, Debug)]
+pub struct NonlinearElement {
+    /// The law.
+    pub law: NonlinearLaw,
+    /// The field it was written in (`effort`, `flow`, `resistance`, `ratio`, ...).
+    pub field: String,
+    /// The expression as written.
+    pub text: String,
+    /// The span of the expression text in the file.
+    pub span: Span,
+}
+
+/// A nonlinear or modulated law. Its expressions name the model's inputs
+/// ([`Atom::Input`](crate::symbolic::expr::Atom::Input)), the energy variables of storage
+/// elements ([`Atom::Storage`](crate::symbolic::expr::Atom::Storage), by element index) and,
+/// in a resistor's law, its port variable ([`Atom::Port`](crate::symbolic::expr::Atom::Port)).
+#[derive(Clone, Debug, PartialEq)]
+pub enum NonlinearLaw {
+    /// `Se`: the effort imposed.
+    EffortSource(Sym),
+    /// `Sf`: the flow imposed (out of the element).
+    FlowSource(Sym),
+    /// `I`: the flow as a function of the element's momentum.
+    Inertia(Sym),
+    /// `C`: the effort as a function of the element's displacement.
+    Compliance(Sym),
+    /// `R`: the effort as a function of the flow into it, the flow as a function of the
+    /// effort, or both where one was inverted symbolically.
+    Resistor(ResistorLaw),
+    /// `TF` with a modulated ratio: `e_in = ratio · e_out`, `f_out = ratio · f_in`.
+    Transformer(Sym),
+    /// `GY` with a modulated ratio: `e_in = ratio · f_out`, `e_out = ratio · f_in`.
+    Gyrator(Sym),
+}
+
+/// A resistor's law in the causal forms known: each in terms of [`Atom::Port`](crate::symbolic::expr::Atom::Port).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ResistorLaw {
+    /// `effort = f(flow)`, for resistance causality.
+    pub effort: Option<Sym>,
+    /// `flow = g(effort)`, for conductance causality.
+    pub flow: Option<Sym>,
+}
+
+impl NonlinearLaw {
+    /// The element kind it belongs to, as written in model files.
+    pub fn keyword(&self) -> &'static str {
+        match self {
+            NonlinearLaw::EffortSource(_) => "Se",
+            NonlinearLaw::FlowSource(_) => "Sf",
+            NonlinearLaw::Inertia(_) => "I",
+            NonlinearLaw::Compliance(_) => "C",
+            NonlinearLaw::Resistor(_) => "R",
+            NonlinearLaw::Transformer(_) => "TF",
+            NonlinearLaw::Gyrator(_) => "GY",
+        }
+    }
+
+    /// A readable description of the element.
+    pub fn description(&self) -> &'static str {
+        match self {
+            NonlinearLaw::EffortSource(_) => "effort source",
+            NonlinearLaw::FlowSource(_) => "flow source",
+            NonlinearLaw::Inertia(_) => "nonlinear inertia",
+            NonlinearLaw::Compliance(_) => "nonlinear compliance",
+            NonlinearLaw::Resistor(_) => "nonlinear resistor",
+            NonlinearLaw::Transformer(_) => "modulated transformer",
+            NonlinearLaw::Gyrator(_) => "modulated gyrator",
+        }
+    }
 }
 
 /// A Karnopp friction contact on the relative velocity carried by its bond.
@@ -313,6 +391,7 @@ impl ElementKind {
             ElementKind::Friction(_) => "Friction",
             ElementKind::TensionOnly(_) => "TensionOnly",
             ElementKind::FlowLimit(_) => "FlowLimit",
+            ElementKind::Nonlinear(n) => n.law.keyword(),
             ElementKind::ZeroJunction => "Zero",
             ElementKind::OneJunction => "One",
         }
@@ -331,6 +410,7 @@ impl ElementKind {
             ElementKind::Friction(_) => "friction contact",
             ElementKind::TensionOnly(_) => "tension-only element",
             ElementKind::FlowLimit(_) => "flow limit",
+            ElementKind::Nonlinear(n) => n.law.description(),
             ElementKind::ZeroJunction => "0-junction",
             ElementKind::OneJunction => "1-junction",
         }
@@ -372,6 +452,14 @@ impl ElementKind {
     pub fn port_count(&self) -> Option<usize> {
         match self {
             ElementKind::Transformer(_) | ElementKind::Gyrator(_) => Some(2),
+            ElementKind::Nonlinear(n)
+                if matches!(
+                    n.law,
+                    NonlinearLaw::Transformer(_) | NonlinearLaw::Gyrator(_)
+                ) =>
+            {
+                Some(2)
+            }
             ElementKind::ZeroJunction | ElementKind::OneJunction => None,
             _ => Some(1),
         }
@@ -450,6 +538,31 @@ impl Model {
             self.element(bond.from).name,
             self.element(bond.to).name
         )
+    }
+
+    /// Whether any element has a nonlinear or modulated law: then every mode is derived as
+    /// `dx/dt = f(x, u)` ([`crate::equations::nonlinear`]).
+    pub fn is_nonlinear(&self) -> bool {
+        self.elements
+            .iter()
+            .any(|e| matches!(e.kind, ElementKind::Nonlinear(_)))
+    }
+
+    /// The name of the state of storage element `id` in energy variables (`p_mass`,
+    /// `q_spring`), if it is storage.
+    pub fn storage_name(&self, id: ElementId) -> Option<String> {
+        let element = self.element(id);
+        let letter = match &element.kind {
+            ElementKind::Inertia(_) => "p",
+            ElementKind::Compliance(_) | ElementKind::TensionOnly(_) => "q",
+            ElementKind::Nonlinear(n) => match n.law {
+                NonlinearLaw::Inertia(_) => "p",
+                NonlinearLaw::Compliance(_) => "q",
+                _ => return None,
+            },
+            _ => return None,
+        };
+        Some(format!("{letter}_{}", element.name))
     }
 
     /// Evaluates a symbolic coefficient with the model's parameter values.

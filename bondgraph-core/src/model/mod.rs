@@ -31,7 +31,8 @@ use std::sync::Arc;
 
 pub use checked::{
     Bond, BondId, Coefficient, Element, ElementId, ElementKind, ElementMode, FlowLimit, Friction,
-    Input, InputId, Model, Parameter, SourceValue, TensionOnly,
+    Input, InputId, Model, NonlinearElement, NonlinearLaw, Parameter, ResistorLaw, SourceValue,
+    TensionOnly,
 };
 
 use crate::diagnostics::Result;

@@ -97,23 +97,32 @@ pub enum RawElement {
         /// The flow it imposes.
         flow: String,
     },
-    /// Inertia (mass, inductance).
+    /// Inertia (mass, inductance), given by exactly one of inertance or a nonlinear law.
     I {
         /// The inertance.
-        inertance: String,
+        inertance: Option<String>,
+        /// A nonlinear law: the flow as an expression of the momentum `p_NAME`.
+        flow: Option<String>,
     },
-    /// Capacitance (spring, capacitor), given by exactly one of compliance or stiffness;
-    /// the validator checks that exactly one is given.
+    /// Capacitance (spring, capacitor), given by exactly one of compliance, stiffness or a
+    /// nonlinear law; the validator checks that exactly one is given.
     C {
         /// The compliance (1/stiffness).
         compliance: Option<String>,
         /// The stiffness (1/compliance).
         stiffness: Option<String>,
+        /// A nonlinear law: the effort as an expression of the displacement `q_NAME`.
+        effort: Option<String>,
     },
-    /// Resistance (damper, resistor).
+    /// Resistance (damper, resistor), given by exactly one of resistance, an effort law or
+    /// a flow law.
     R {
-        /// The resistance.
-        resistance: String,
+        /// The resistance; may depend on inputs and states (modulated).
+        resistance: Option<String>,
+        /// A nonlinear law: the effort as an expression of the port's `flow`.
+        effort: Option<String>,
+        /// A nonlinear law: the flow as an expression of the port's `effort`.
+        flow: Option<String>,
     },
     /// Transformer (lever, gear pair): relates the efforts and the flows of its two bonds.
     TF {
@@ -279,20 +288,24 @@ mod tests {
                 (
                     "mass",
                     &RawElement::I {
-                        inertance: "m".into()
+                        inertance: Some("m".into()),
+                        flow: None,
                     }
                 ),
                 (
                     "spring",
                     &RawElement::C {
                         compliance: None,
-                        stiffness: Some("k".into())
+                        stiffness: Some("k".into()),
+                        effort: None,
                     }
                 ),
                 (
                     "damper",
                     &RawElement::R {
-                        resistance: "b".into()
+                        resistance: Some("b".into()),
+                        effort: None,
+                        flow: None,
                     }
                 ),
             ]
@@ -342,7 +355,8 @@ mod tests {
             model.elements[3].1,
             RawElement::C {
                 compliance: Some("1/k".into()),
-                stiffness: None
+                stiffness: None,
+                effort: None,
             }
         );
         // Neither or both of compliance and stiffness is the validator's business.
@@ -350,7 +364,8 @@ mod tests {
             model.elements[9].1,
             RawElement::C {
                 compliance: None,
-                stiffness: None
+                stiffness: None,
+                effort: None,
             }
         );
     }

@@ -23,6 +23,8 @@ use crate::model::source_map::{EntrySpans, SourceMap};
 use crate::source::{SourceFile, Span};
 use crate::symbolic::{RatFunc, SymbolTable};
 
+mod laws;
+
 /// Checks `raw` (parsed from `file`, with positions in `map`) and builds the [`Model`].
 ///
 /// # Errors
@@ -124,10 +126,25 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
         .enumerate()
         .map(|(i, input)| (input.name.as_str(), i as u32))
         .collect();
+    // Storage elements' energy variables, by their printed names, for nonlinear laws.
+    let states: HashMap<String, u32> = raw
+        .elements
+        .iter()
+        .enumerate()
+        .filter_map(|(index, (name, element))| {
+            let letter = match element {
+                RawElement::I { .. } => "p",
+                RawElement::C { .. } | RawElement::TensionOnly { .. } => "q",
+                _ => return None,
+            };
+            Some((format!("{letter}_{name}"), index as u32))
+        })
+        .collect();
     let scope = Scope {
         symbols: &symbols,
         inputs: &input_ids,
         values: &values,
+        states: &states,
     };
 
     // Elements.
@@ -243,6 +260,8 @@ struct Scope<'a> {
     symbols: &'a SymbolTable,
     inputs: &'a HashMap<&'a str, u32>,
     values: &'a [f64],
+    /// Storage states by printed name (`q_spring`), to their element's index.
+    states: &'a HashMap<String, u32>,
 }
 
 struct Validator<'a> {
@@ -362,23 +381,77 @@ impl Validator<'_> {
         scope: &Scope<'_>,
     ) -> Option<ElementKind> {
         Some(match raw {
+            RawElement::Se { effort } if self.needs_law(effort, scope, false) => {
+                self.nonlinear_source(name, index, "effort", effort, scope)?
+            }
+            RawElement::Sf { flow } if self.needs_law(flow, scope, false) => {
+                self.nonlinear_source(name, index, "flow", flow, scope)?
+            }
             RawElement::Se { effort } => {
                 ElementKind::EffortSource(self.source_value(name, index, "effort", effort, scope)?)
             }
             RawElement::Sf { flow } => {
                 ElementKind::FlowSource(self.source_value(name, index, "flow", flow, scope)?)
             }
-            RawElement::I { inertance } => ElementKind::Inertia(self.coefficient(
-                name,
-                index,
-                "inertance",
-                inertance,
-                scope,
-                Sign::Positive,
-            )?),
+            RawElement::I { inertance, flow } => match (inertance, flow) {
+                (Some(inertance), None) if self.needs_law(inertance, scope, true) => {
+                    self.nonlinear_storage(name, index, "inertance", inertance, scope)?
+                }
+                (Some(inertance), None) => ElementKind::Inertia(self.coefficient(
+                    name,
+                    index,
+                    "inertance",
+                    inertance,
+                    scope,
+                    Sign::Positive,
+                )?),
+                (None, Some(flow)) => self.nonlinear_storage(name, index, "flow", flow, scope)?,
+                (given, _) => {
+                    self.one_of(
+                        name,
+                        index,
+                        "inertia",
+                        given.is_some(),
+                        "inertance: \"m\" or flow: \"EXPR of p_NAME\"",
+                    );
+                    return None;
+                }
+            },
             RawElement::C {
                 compliance,
                 stiffness,
+                effort: Some(effort),
+            } => {
+                if compliance.is_some() || stiffness.is_some() {
+                    self.one_of(
+                        name,
+                        index,
+                        "compliance",
+                        true,
+                        "stiffness: \"k\", compliance: \"1/k\" or effort: \"EXPR of q_NAME\"",
+                    );
+                    return None;
+                }
+                self.nonlinear_storage(name, index, "effort", effort, scope)?
+            }
+            RawElement::C {
+                compliance: Some(text),
+                stiffness: None,
+                effort: None,
+            } if self.needs_law(text, scope, true) => {
+                self.nonlinear_storage(name, index, "compliance", text, scope)?
+            }
+            RawElement::C {
+                compliance: None,
+                stiffness: Some(text),
+                effort: None,
+            } if self.needs_law(text, scope, true) => {
+                self.nonlinear_storage(name, index, "stiffness", text, scope)?
+            }
+            RawElement::C {
+                compliance,
+                stiffness,
+                effort: None,
             } => ElementKind::Compliance(self.compliance(
                 "compliance",
                 name,
@@ -480,14 +553,42 @@ impl Validator<'_> {
                     initial: initial?,
                 })
             }
-            RawElement::R { resistance } => ElementKind::Resistor(self.coefficient(
-                name,
-                index,
-                "resistance",
+            RawElement::R {
                 resistance,
-                scope,
-                Sign::NonNegative,
-            )?),
+                effort,
+                flow,
+            } => {
+                match (resistance, effort, flow) {
+                    (Some(text), None, None) if self.needs_law(text, scope, true) => {
+                        self.nonlinear_resistor(name, index, "resistance", text, scope)?
+                    }
+                    (Some(resistance), None, None) => ElementKind::Resistor(self.coefficient(
+                        name,
+                        index,
+                        "resistance",
+                        resistance,
+                        scope,
+                        Sign::NonNegative,
+                    )?),
+                    (None, Some(text), None) => {
+                        self.nonlinear_resistor(name, index, "effort", text, scope)?
+                    }
+                    (None, None, Some(text)) => {
+                        self.nonlinear_resistor(name, index, "flow", text, scope)?
+                    }
+                    (r, e, f) => {
+                        let given = [r, e, f].iter().filter(|x| x.is_some()).count() > 1;
+                        self.one_of(name, index, "resistor", given, "resistance: \"b\", effort: \"EXPR of flow\" or flow: \"EXPR of effort\"");
+                        return None;
+                    }
+                }
+            }
+            RawElement::TF { ratio } if self.needs_law(ratio, scope, true) => {
+                self.modulated_two_port(name, index, false, ratio, scope)?
+            }
+            RawElement::GY { ratio } if self.needs_law(ratio, scope, true) => {
+                self.modulated_two_port(name, index, true, ratio, scope)?
+            }
             RawElement::TF { ratio } => ElementKind::Transformer(self.coefficient(
                 name,
                 index,
@@ -553,6 +654,28 @@ impl Validator<'_> {
                 None
             }
         }
+    }
+
+    /// Reports an element given none, or more than one, of its alternative fields.
+    fn one_of(&mut self, name: &str, index: usize, what: &str, several: bool, fields: &str) {
+        let span = self.entry_span(&self.map.elements, index);
+        let (kind, message) = if several {
+            (
+                DiagnosticKind::ConflictingFields,
+                format!("{what} '{name}' gives more than one law; give one"),
+            )
+        } else {
+            (
+                DiagnosticKind::MissingField,
+                format!("{what} '{name}' needs a law"),
+            )
+        };
+        self.problems.push(
+            Diagnostic::new(kind, message)
+                .at(&self.file, span)
+                .element(name)
+                .note(format!("write {fields}")),
+        );
     }
 
     /// A non-negative coefficient that defaults to zero when the field is absent.

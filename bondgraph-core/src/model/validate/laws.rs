@@ -1,0 +1,516 @@
+//! Nonlinear and modulated laws: expressions that use functions, real powers, the energy
+//! variables of storage elements (`q_spring`, `p_mass`), a resistor's port variable
+//! (`flow`, `effort`), or inputs where a linear model allows parameters only.
+//!
+//! Such a law is lowered to a symbolic expression ([`Sym`]) with every name resolved. Where
+//! what was written is linear after all (`R(effort: "b*flow")`), it becomes the plain
+//! linear element, so that a model is nonlinear only when a law really is. A resistor's law
+//! is inverted symbolically where possible; otherwise it fixes the resistor's causality.
+
+use crate::diagnostics::{Diagnostic, DiagnosticKind};
+use crate::expr::{self, Expr, ExprKind};
+use crate::model::checked::{
+    Coefficient, ElementKind, NonlinearElement, NonlinearLaw, ResistorLaw,
+};
+use crate::source::Span;
+use crate::symbolic::RatFunc;
+use crate::symbolic::expr::{Atom, Node, Sym};
+
+use super::{Scope, Validator, suggest, to_affine};
+
+/// Which storage states a law may name.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum States {
+    /// None.
+    None,
+    /// Only the element's own (its raw index).
+    Own(u32),
+    /// Any.
+    All,
+}
+
+/// What a law may name besides parameters, and how to say so.
+#[derive(Clone, Copy)]
+pub(super) struct Allowed {
+    inputs: bool,
+    states: States,
+    /// The port variable's name in a resistor's law.
+    port: Option<&'static str>,
+    /// What the law is, for messages: "a compliance's effort".
+    what: &'static str,
+}
+
+impl Validator<'_> {
+    /// Whether `text` needs a nonlinear law: it calls a function, raises to a real power,
+    /// names a state or a port variable, or (for a `coefficient`, which linear elements
+    /// keep parameter-only) names an input. Text that does not parse takes the linear path,
+    /// which reports it.
+    pub(super) fn needs_law(&self, text: &str, scope: &Scope<'_>, coefficient: bool) -> bool {
+        let Ok(expr) = expr::parse(text) else {
+            return false;
+        };
+        if expr.is_transcendental() {
+            return true;
+        }
+        let names_state = expr.symbols().iter().any(|(name, _)| {
+            scope.symbols.get(name).is_none()
+                && !scope.inputs.contains_key(name)
+                && (scope.states.contains_key(*name) || *name == "flow" || *name == "effort")
+        });
+        if names_state {
+            return true;
+        }
+        let names_input = expr
+            .symbols()
+            .iter()
+            .any(|(name, _)| scope.symbols.get(name).is_none() && scope.inputs.contains_key(name));
+        if coefficient {
+            return names_input;
+        }
+        // A source: nonlinear in its inputs (`u^2`, `u*v`, `1/u`) needs a law.
+        matches!(
+            to_affine(&expr, scope),
+            Err((DiagnosticKind::NotLinear, _, _))
+        )
+    }
+
+    /// An effort or flow source with a nonlinear law of inputs and states.
+    pub(super) fn nonlinear_source(
+        &mut self,
+        element: &str,
+        index: usize,
+        field: &'static str,
+        text: &str,
+        scope: &Scope<'_>,
+    ) -> Option<ElementKind> {
+        let allowed = Allowed {
+            inputs: true,
+            states: States::All,
+            port: None,
+            what: "a source",
+        };
+        let (law, span) = self.law(element, index, field, text, scope, allowed)?;
+        let law = if field == "effort" {
+            NonlinearLaw::EffortSource(law)
+        } else {
+            NonlinearLaw::FlowSource(law)
+        };
+        Some(nonlinear(law, field, text, span))
+    }
+
+    /// An inertia (`flow: f(p)`) or compliance (`effort: f(q)`) with a nonlinear law of its
+    /// own energy variable; `field` is the law's field, or `inertance`, `compliance` or
+    /// `stiffness` for a parameter-only coefficient that is not rational (`m*sin(a)^2`).
+    pub(super) fn nonlinear_storage(
+        &mut self,
+        element: &str,
+        index: usize,
+        field: &'static str,
+        text: &str,
+        scope: &Scope<'_>,
+    ) -> Option<ElementKind> {
+        let inertia = matches!(field, "flow" | "inertance");
+        let own = Sym::atom(Atom::Storage(index as u32));
+        let allowed = Allowed {
+            inputs: false,
+            states: if matches!(field, "flow" | "effort") {
+                States::Own(index as u32)
+            } else {
+                States::None
+            },
+            port: None,
+            what: if inertia {
+                "an inertia's law"
+            } else {
+                "a compliance's law"
+            },
+        };
+        let (value, span) = self.law(element, index, field, text, scope, allowed)?;
+        let law = match field {
+            "flow" | "effort" => value,
+            "stiffness" => Sym::mul(&value, &own),
+            _ => match Sym::div(&own, &value) {
+                Some(law) => law,
+                None => {
+                    self.problems.push(
+                        Diagnostic::new(
+                            DiagnosticKind::InvalidValue,
+                            format!("element '{element}': {field} \"{text}\" is zero"),
+                        )
+                        .at(&self.file, span)
+                        .element(element),
+                    );
+                    return None;
+                }
+            },
+        };
+        // Linear after all: `k*q_spring` is a compliance 1/k.
+        if let Some(slope) = linear_slope(&law, Atom::Storage(index as u32))
+            && slope.eval(scope.values) > 0.0
+            && let Some(coefficient) = slope.inv()
+        {
+            let coefficient = Coefficient {
+                value: coefficient,
+                text: text.to_string(),
+                span,
+            };
+            return Some(if inertia {
+                ElementKind::Inertia(coefficient)
+            } else {
+                ElementKind::Compliance(coefficient)
+            });
+        }
+        let law = if inertia {
+            NonlinearLaw::Inertia(law)
+        } else {
+            NonlinearLaw::Compliance(law)
+        };
+        Some(nonlinear(law, field, text, span))
+    }
+
+    /// A resistor with a law `effort: f(flow)`, `flow: g(effort)`, or a modulated (or
+    /// port-dependent) `resistance`.
+    pub(super) fn nonlinear_resistor(
+        &mut self,
+        element: &str,
+        index: usize,
+        field: &'static str,
+        text: &str,
+        scope: &Scope<'_>,
+    ) -> Option<ElementKind> {
+        let port = Sym::atom(Atom::Port);
+        let (effort, flow, span) = match field {
+            "effort" | "flow" => {
+                let allowed = Allowed {
+                    inputs: true,
+                    states: States::All,
+                    port: Some(if field == "effort" { "flow" } else { "effort" }),
+                    what: "a resistor's law",
+                };
+                let (law, span) = self.law(element, index, field, text, scope, allowed)?;
+                if field == "effort" {
+                    (Some(law), None, span)
+                } else {
+                    (None, Some(law), span)
+                }
+            }
+            _ => {
+                // resistance: e = R·f, where R may depend on the flow or on the effort
+                // (BondGraphTools writes a diode as `V_T/I_s*exp(-e/V_T)`), never both.
+                let names_effort = expr::parse(text).is_ok_and(|e| {
+                    e.symbols()
+                        .iter()
+                        .any(|(n, _)| *n == "effort" && scope.symbols.get(n).is_none())
+                });
+                let allowed = Allowed {
+                    inputs: true,
+                    states: States::All,
+                    port: Some(if names_effort { "effort" } else { "flow" }),
+                    what: "a resistance",
+                };
+                let (resistance, span) = self.law(element, index, field, text, scope, allowed)?;
+                if names_effort {
+                    match Sym::div(&port, &resistance) {
+                        Some(flow) => (None, Some(flow), span),
+                        None => {
+                            self.zero_law(element, field, text, span);
+                            return None;
+                        }
+                    }
+                } else {
+                    (Some(Sym::mul(&resistance, &port)), None, span)
+                }
+            }
+        };
+        // Linear after all: `b*flow` is a resistance b, `effort/b` a resistance b.
+        let linear = match (&effort, &flow) {
+            (Some(e), None) => linear_slope(e, Atom::Port),
+            (None, Some(f)) => linear_slope(f, Atom::Port).and_then(|c| c.inv()),
+            _ => None,
+        };
+        if let Some(resistance) = linear
+            && resistance.eval(scope.values) >= 0.0
+        {
+            return Some(ElementKind::Resistor(Coefficient {
+                value: resistance,
+                text: text.to_string(),
+                span,
+            }));
+        }
+        // The other causal form, where the law can be solved for its port variable.
+        let placeholder = Atom::Bond(u32::MAX);
+        let invert = |law: &Sym| {
+            law.solve_for(Atom::Port, &Sym::atom(placeholder))
+                .map(|inverse| {
+                    inverse.substitute(&|a| (a == placeholder).then(|| Sym::atom(Atom::Port)))
+                })
+        };
+        let law = match (effort, flow) {
+            (Some(e), None) => ResistorLaw {
+                flow: invert(&e),
+                effort: Some(e),
+            },
+            (None, Some(f)) => ResistorLaw {
+                effort: invert(&f),
+                flow: Some(f),
+            },
+            _ => unreachable!("one form is given"),
+        };
+        Some(nonlinear(NonlinearLaw::Resistor(law), field, text, span))
+    }
+
+    /// A transformer or gyrator whose ratio depends on inputs and states.
+    pub(super) fn modulated_two_port(
+        &mut self,
+        element: &str,
+        index: usize,
+        gyrator: bool,
+        text: &str,
+        scope: &Scope<'_>,
+    ) -> Option<ElementKind> {
+        let allowed = Allowed {
+            inputs: true,
+            states: States::All,
+            port: None,
+            what: "a ratio",
+        };
+        let (ratio, span) = self.law(element, index, "ratio", text, scope, allowed)?;
+        if ratio.is_zero() {
+            self.zero_law(element, "ratio", text, span);
+            return None;
+        }
+        let law = if gyrator {
+            NonlinearLaw::Gyrator(ratio)
+        } else {
+            NonlinearLaw::Transformer(ratio)
+        };
+        Some(nonlinear(law, "ratio", text, span))
+    }
+
+    fn zero_law(&mut self, element: &str, field: &str, text: &str, span: Span) {
+        self.problems.push(
+            Diagnostic::new(
+                DiagnosticKind::InvalidValue,
+                format!("element '{element}': {field} \"{text}\" is zero"),
+            )
+            .at(&self.file, span)
+            .element(element),
+        );
+    }
+
+    /// Parses a law and resolves its names as `allowed` says, reporting every problem at
+    /// its place in the file.
+    fn law(
+        &mut self,
+        element: &str,
+        index: usize,
+        field: &str,
+        text: &str,
+        scope: &Scope<'_>,
+        allowed: Allowed,
+    ) -> Option<(Sym, Span)> {
+        let base = self
+            .string_span(index, field)
+            .unwrap_or_else(|| self.entry_span(&self.map.elements, index));
+        let expr = match expr::parse(text) {
+            Ok(expr) => expr,
+            Err(error) => {
+                self.problems.push(
+                    Diagnostic::new(
+                        DiagnosticKind::BadExpression,
+                        format!(
+                            "element '{element}': cannot parse {field} \"{text}\": {}",
+                            error.message
+                        ),
+                    )
+                    .at(&self.file, error.span.shifted(base.start))
+                    .element(element),
+                );
+                return None;
+            }
+        };
+        let mut ok = true;
+        for (name, span) in expr.symbols() {
+            let problem = self.check_name_in_law(element, field, text, name, scope, allowed);
+            if let Some(diagnostic) = problem {
+                ok = false;
+                self.problems.push(
+                    diagnostic
+                        .at(&self.file, span.shifted(base.start))
+                        .element(element),
+                );
+            }
+        }
+        if !ok {
+            return None;
+        }
+        match lower(&expr, scope, allowed) {
+            Ok(sym) => Some((sym, base)),
+            Err((message, span)) => {
+                self.problems.push(
+                    Diagnostic::new(
+                        DiagnosticKind::InvalidValue,
+                        format!("element '{element}': {field} \"{text}\": {message}"),
+                    )
+                    .at(&self.file, span.shifted(base.start))
+                    .element(element),
+                );
+                None
+            }
+        }
+    }
+
+    /// Why `name` may not appear in this law, if it may not.
+    fn check_name_in_law(
+        &self,
+        element: &str,
+        field: &str,
+        text: &str,
+        name: &str,
+        scope: &Scope<'_>,
+        allowed: Allowed,
+    ) -> Option<Diagnostic> {
+        if scope.symbols.get(name).is_some() || allowed.port == Some(name) {
+            return None;
+        }
+        let what = allowed.what;
+        if scope.inputs.contains_key(name) {
+            return (!allowed.inputs).then(|| {
+                Diagnostic::new(
+                    DiagnosticKind::NotLinear,
+                    format!(
+                        "element '{element}': {field} \"{text}\" depends on input '{name}'; {what} may not depend on inputs"
+                    ),
+                )
+                .note("storage whose law varies in time does not conserve energy; drive it through a source or a modulated element instead")
+            });
+        }
+        if let Some(&owner) = scope.states.get(name) {
+            let ok = match allowed.states {
+                States::All => true,
+                States::Own(own) => owner == own,
+                States::None => false,
+            };
+            return (!ok).then(|| {
+                let only = match allowed.states {
+                    States::Own(own) => {
+                        let own_name = scope
+                            .states
+                            .iter()
+                            .find(|(_, e)| **e == own)
+                            .map_or("its own state", |(n, _)| n.as_str());
+                        format!(
+                            "{what} may depend on its own state '{own_name}' and parameters only"
+                        )
+                    }
+                    _ => format!("{what} may depend on parameters only"),
+                };
+                Diagnostic::new(
+                    DiagnosticKind::NotLinear,
+                    format!(
+                        "element '{element}': {field} \"{text}\" uses the state '{name}'; {only}"
+                    ),
+                )
+            });
+        }
+        let mut candidates: Vec<&str> = scope.symbols.iter().map(|(_, n)| n).collect();
+        if allowed.inputs {
+            candidates.extend(scope.inputs.keys().copied());
+        }
+        match allowed.states {
+            States::All => candidates.extend(scope.states.keys().map(String::as_str)),
+            States::Own(own) => candidates.extend(
+                scope
+                    .states
+                    .iter()
+                    .filter(|(_, e)| **e == own)
+                    .map(|(n, _)| n.as_str()),
+            ),
+            States::None => {}
+        }
+        candidates.extend(allowed.port);
+        let kinds = match (allowed.port, allowed.states != States::None) {
+            (Some(port), _) => format!("a parameter, an input, a state nor the port's {port}"),
+            (None, true) => "a parameter, an input nor a state".to_string(),
+            (None, false) => "a parameter".to_string(),
+        };
+        let mut diagnostic = Diagnostic::new(
+            DiagnosticKind::UnknownSymbol,
+            format!(
+                "element '{element}': {field} \"{text}\" uses '{name}', which is neither {kinds}"
+            ),
+        );
+        if let Some(suggestion) = suggest(name, candidates.into_iter()) {
+            diagnostic = diagnostic.note(format!("did you mean '{suggestion}'?"));
+        }
+        Some(diagnostic)
+    }
+}
+
+fn nonlinear(law: NonlinearLaw, field: &str, text: &str, span: Span) -> ElementKind {
+    ElementKind::Nonlinear(Box::new(NonlinearElement {
+        law,
+        field: field.to_string(),
+        text: text.to_string(),
+        span,
+    }))
+}
+
+/// `c` where `law = c·x` with `c` a parameter-only exact coefficient.
+fn linear_slope(law: &Sym, x: Atom) -> Option<RatFunc> {
+    if *law == Sym::atom(x) {
+        return Some(RatFunc::one());
+    }
+    match law.node() {
+        Node::Sum(constant, terms)
+            if constant.is_zero() && terms.len() == 1 && terms[0].0 == Sym::atom(x) =>
+        {
+            Some(terms[0].1.clone())
+        }
+        _ => None,
+    }
+}
+
+/// The expression with its names resolved (checked beforehand).
+fn lower(expr: &Expr, scope: &Scope<'_>, allowed: Allowed) -> Result<Sym, (String, Span)> {
+    let zero_power = || ("raises zero to a negative power".to_string(), expr.span);
+    Ok(match &expr.kind {
+        ExprKind::Number(text) => {
+            Sym::coefficient(RatFunc::from_decimal(text).ok_or_else(|| {
+                (
+                    format!("'{text}' is not a number this program can represent exactly"),
+                    expr.span,
+                )
+            })?)
+        }
+        ExprKind::Symbol(name) => {
+            if let Some(symbol) = scope.symbols.get(name) {
+                Sym::coefficient(RatFunc::symbol(symbol))
+            } else if let Some(input) = scope.inputs.get(name.as_str()) {
+                Sym::atom(Atom::Input(*input))
+            } else if allowed.port == Some(name.as_str()) {
+                Sym::atom(Atom::Port)
+            } else {
+                Sym::atom(Atom::Storage(scope.states[name.as_str()]))
+            }
+        }
+        ExprKind::Neg(a) => Sym::neg(&lower(a, scope, allowed)?),
+        ExprKind::Add(a, b) => Sym::add(&lower(a, scope, allowed)?, &lower(b, scope, allowed)?),
+        ExprKind::Sub(a, b) => Sym::sub(&lower(a, scope, allowed)?, &lower(b, scope, allowed)?),
+        ExprKind::Mul(a, b) => Sym::mul(&lower(a, scope, allowed)?, &lower(b, scope, allowed)?),
+        ExprKind::Div(a, b) => Sym::div(&lower(a, scope, allowed)?, &lower(b, scope, allowed)?)
+            .ok_or_else(|| ("divides by zero".to_string(), b.span))?,
+        ExprKind::Pow(a, n) => lower(a, scope, allowed)?
+            .powi(i64::from(*n))
+            .ok_or_else(zero_power)?,
+        ExprKind::RealPow(a, b) => lower(a, scope, allowed)?
+            .powf(&lower(b, scope, allowed)?)
+            .ok_or_else(zero_power)?,
+        ExprKind::Call(function, args) => Sym::call(
+            *function,
+            args.iter()
+                .map(|a| lower(a, scope, allowed))
+                .collect::<Result<_, _>>()?,
+        ),
+    })
+}
