@@ -5,6 +5,7 @@ pub mod events;
 pub mod hybrid;
 pub mod linalg;
 pub mod numeric;
+pub mod ode;
 pub mod parasitic;
 pub mod propagate;
 pub mod scenario;
