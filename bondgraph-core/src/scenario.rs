@@ -976,10 +976,7 @@ impl Checker<'_> {
                 continue;
             };
             let kind = &model.element(id).kind;
-            if !matches!(
-                kind,
-                ElementKind::Inertia(_) | ElementKind::Compliance(_) | ElementKind::TensionOnly(_)
-            ) {
+            if model.storage_name(id).is_none() {
                 let what = kind.description();
                 let article = if what.starts_with(['a', 'e', 'i', 'o', 'u']) {
                     "an"

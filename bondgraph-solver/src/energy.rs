@@ -53,7 +53,7 @@ impl EnergyBalance {
 }
 
 /// Gauss–Legendre nodes and weights on [-1, 1], 8 points.
-const NODES: [f64; 8] = [
+pub(crate) const NODES: [f64; 8] = [
     -0.960_289_856_497_536_3,
     -0.796_666_477_413_626_7,
     -0.525_532_409_916_329,
@@ -63,7 +63,7 @@ const NODES: [f64; 8] = [
     0.796_666_477_413_626_7,
     0.960_289_856_497_536_3,
 ];
-const WEIGHTS: [f64; 8] = [
+pub(crate) const WEIGHTS: [f64; 8] = [
     0.101_228_536_290_376_26,
     0.222_381_034_453_374_47,
     0.313_706_645_877_887_3,

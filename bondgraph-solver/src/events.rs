@@ -175,7 +175,7 @@ pub fn first_crossing(
 /// Refines a bracket `[a, b]` with `f(a) < 0 <= f(b)` by Brent's method (inverse quadratic
 /// interpolation, secant steps and bisection, as in Brent's `zeroin`); returns a `τ` with
 /// `f(τ) >= 0` within a few ulps of the root.
-fn refine(a: f64, b: f64, fa: f64, fb: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
+pub(crate) fn refine(a: f64, b: f64, fa: f64, fb: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
     // `low` keeps f < 0, `high` keeps f >= 0: the answer is `high`.
     let (mut low, mut high, mut f_low, mut f_high) = (a, b, fa, fb);
     // Brent's state: b the best estimate, a the previous, c the contrapoint.

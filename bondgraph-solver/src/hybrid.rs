@@ -25,6 +25,8 @@ use bondgraph_core::modes::{Mode, ModeCache};
 
 use crate::energy::EnergyBalance;
 use crate::events;
+
+mod integrate;
 use crate::numeric::{NumericGuard, NumericMode, Storage, dot};
 use num_complex::Complex64;
 
@@ -337,6 +339,11 @@ impl<'m> Simulator<'m> {
     pub fn mode(&mut self, mode: &Mode) -> Result<Arc<NumericMode>, SimError> {
         if let Some(numeric) = self.numeric.get(mode) {
             return Ok(numeric.clone());
+        }
+        if self.model.is_nonlinear() {
+            let numeric = Arc::new(integrate::numeric_mode(self, mode)?);
+            self.numeric.insert(mode.clone(), numeric.clone());
+            return Ok(numeric);
         }
         let derived = self.symbolic.get(mode).map_err(SimError::Derivation)?;
         let forms: Vec<_> = self
@@ -842,6 +849,19 @@ impl<'s, 'm> Stepper<'s, 'm> {
 
     /// Propagates the current mode to `end` or to its first event; true at an event.
     fn segment(&mut self, end: f64) -> Result<bool, SimError> {
+        let crossing = if self.mode.nonlinear.is_some() {
+            self.integrated_segment(end)?
+        } else {
+            self.closed_form_segment(end)?
+        };
+        match crossing {
+            Some(crossing) => self.switch_at(crossing),
+            None => Ok(false),
+        }
+    }
+
+    /// Propagates a linear mode in closed form to `end` or to its first crossing.
+    fn closed_form_segment(&mut self, end: f64) -> Result<Option<events::Crossing>, SimError> {
         let length = end - self.t;
         let (u0, u1) = self.inputs_at(self.t);
         let current = self.mode.clone();
@@ -957,10 +977,13 @@ impl<'s, 'm> Stepper<'s, 'm> {
         if self.x.iter().any(|v| !v.is_finite()) {
             return Err(self.simulator.non_finite(self.t, &current, &self.x));
         }
-        let Some(crossing) = crossing else {
-            return Ok(false);
-        };
+        Ok(crossing)
+    }
 
+    /// At a guard's crossing: rebuild the full state, switch, and make the new mode
+    /// consistent; true when the mode changed.
+    fn switch_at(&mut self, crossing: events::Crossing) -> Result<bool, SimError> {
+        let current = self.mode.clone();
         // An event: rebuild the full state, switch, and make the new mode consistent.
         let t = self.t;
         let (u, rate) = self.inputs_at(t);

@@ -1,9 +1,11 @@
 //! Simulation of the state equations that `bondgraph-core` derives.
 
 pub mod energy;
+pub mod equilibrium;
 pub mod events;
 pub mod hybrid;
 pub mod linalg;
+pub mod nonlinear;
 pub mod numeric;
 pub mod ode;
 pub mod parasitic;

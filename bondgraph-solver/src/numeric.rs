@@ -14,9 +14,12 @@ use bondgraph_core::equations::StateEquations;
 use bondgraph_core::guards::Watched;
 use bondgraph_core::linear::{LinearForm, Var};
 use bondgraph_core::model::{ElementId, ElementKind, ElementMode, Model};
-use bondgraph_core::modes::{Mode, ModeEquations};
+use bondgraph_core::modes::{Mode, ModeEquations, NonlinearModeEquations};
+use bondgraph_core::symbolic::expr::Sym;
 use nalgebra::{DMatrix, DVector};
+use std::sync::Arc;
 
+use crate::nonlinear::{NonlinearNumeric, RowProgram, StorageLawTape};
 use crate::propagate::Propagator;
 
 /// The storage elements of a model, whose energy variables make up the full state.
@@ -26,8 +29,10 @@ pub struct Storage {
     pub elements: Vec<ElementId>,
     /// Their energy variables' names (`p_mass`, `q_spring`).
     pub names: Vec<String>,
-    /// Their inertances or compliances.
+    /// Their inertances or compliances (1 for nonlinear storage, which is never merged).
     pub coefficients: Vec<f64>,
+    /// The laws of nonlinear storage, for the energy they store.
+    pub laws: Vec<Option<Arc<StorageLawTape>>>,
 }
 
 impl Storage {
@@ -43,18 +48,27 @@ impl Storage {
             elements: Vec::new(),
             names: Vec::new(),
             coefficients: Vec::new(),
+            laws: Vec::new(),
         };
         for id in model.element_ids() {
             let element = model.element(id);
             let (letter, coefficient) = match &element.kind {
-                ElementKind::Inertia(c) => ("p", &c.value),
-                ElementKind::Compliance(c) => ("q", &c.value),
-                ElementKind::TensionOnly(t) => ("q", &t.compliance.value),
+                ElementKind::Inertia(c) => ("p", c.value.eval(values)),
+                ElementKind::Compliance(c) => ("q", c.value.eval(values)),
+                ElementKind::TensionOnly(t) => ("q", t.compliance.value.eval(values)),
+                ElementKind::Nonlinear(nl) => match nl.law {
+                    bondgraph_core::model::NonlinearLaw::Inertia(_) => ("p", 1.0),
+                    bondgraph_core::model::NonlinearLaw::Compliance(_) => ("q", 1.0),
+                    _ => continue,
+                },
                 _ => continue,
             };
             storage.elements.push(id);
             storage.names.push(format!("{letter}_{}", element.name));
-            storage.coefficients.push(coefficient.eval(values));
+            storage.coefficients.push(coefficient);
+            storage
+                .laws
+                .push(StorageLawTape::of(model, id.index(), values).map(Arc::new));
         }
         storage
     }
@@ -87,6 +101,9 @@ pub struct Row {
     pub rate: Vec<f64>,
     /// The constant.
     pub constant: f64,
+    /// In a nonlinear mode, the compiled expression the row stands for (the affine parts
+    /// above are then unused).
+    pub program: Option<RowProgram>,
 }
 
 impl Row {
@@ -97,6 +114,7 @@ impl Row {
             input: vec![0.0; inputs],
             rate: vec![0.0; inputs],
             constant: 0.0,
+            program: None,
         };
         for (var, coefficient) in form.terms() {
             let value = coefficient.eval(values);
@@ -112,13 +130,30 @@ impl Row {
         row
     }
 
+    /// A row standing for one value of a nonlinear mode's tape.
+    pub fn program(program: RowProgram) -> Self {
+        Row {
+            state: Vec::new(),
+            input: Vec::new(),
+            rate: Vec::new(),
+            constant: 0.0,
+            program: Some(program),
+        }
+    }
+
     /// `y` at the state `x`, inputs `u` and rates `u̇`.
     pub fn eval(&self, x: &[f64], u: &[f64], rate: &[f64]) -> f64 {
+        if let Some(program) = &self.program {
+            return program.outputs(x, u, rate)[program.value];
+        }
         dot(&self.state, x) + dot(&self.input, u) + dot(&self.rate, rate) + self.constant
     }
 
     /// The size of the terms of `y`: the scale against which `y ≈ 0` is judged.
     pub fn magnitude(&self, x: &[f64], u: &[f64], rate: &[f64]) -> f64 {
+        if let Some(program) = &self.program {
+            return program.outputs(x, u, rate)[program.magnitude];
+        }
         let sum = |c: &[f64], v: &[f64]| c.iter().zip(v).map(|(a, b)| (a * b).abs()).sum::<f64>();
         sum(&self.state, x) + sum(&self.input, u) + sum(&self.rate, rate) + self.constant.abs()
     }
@@ -188,8 +223,12 @@ pub struct NumericMode {
     /// Every one-port that exchanges energy without storing it (sources, resistors, friction
     /// contacts): its effort and its flow into the element, for energy accounting.
     pub ports: Vec<Port>,
-    /// Exact propagation.
+    /// Exact propagation (of a linear mode; a nonlinear mode's is of zero matrices and
+    /// unused).
     pub propagator: Propagator,
+    /// A nonlinear mode's compiled `f(x, u)` and its other expressions; `a`, `b`, `c` are
+    /// then zero and unused.
+    pub nonlinear: Option<Arc<NonlinearNumeric>>,
     /// `R`: full state from the mode's states.
     reconstruct_state: DMatrix<f64>,
     /// `S`: full state from the inputs.
@@ -219,33 +258,8 @@ impl NumericMode {
         let b = evaluate(eq.b(), m);
         let c = DVector::from_iterator(n, eq.c().iter().map(|e| e.eval(values)));
 
-        let full = storage.len();
-        let mut reconstruct_state = DMatrix::zeros(full, n);
-        let mut reconstruct_input = DMatrix::zeros(full, m);
-        let mut reconstruct_constant = DVector::zeros(full);
-        for (element, form) in eq.storage_energy() {
-            let Some(i) = storage.index(*element) else {
-                continue;
-            };
-            let row = Row::from_form(form, n, m, values);
-            for j in 0..n {
-                reconstruct_state[(i, j)] = row.state[j];
-            }
-            for j in 0..m {
-                reconstruct_input[(i, j)] = row.input[j];
-            }
-            reconstruct_constant[i] = row.constant;
-        }
-        let weight = DMatrix::from_diagonal(&DVector::from_iterator(
-            full,
-            storage.coefficients.iter().map(|c| 1.0 / c),
-        ));
-        let weighted = reconstruct_state.transpose() * &weight;
-        let gram = &weighted * &reconstruct_state;
-        let projection = gram
-            .try_inverse()
-            .map(|inverse| inverse * weighted)
-            .unwrap_or_else(|| DMatrix::from_element(n, full, f64::NAN));
+        let (reconstruct_state, reconstruct_input, reconstruct_constant, projection) =
+            reconstruction(storage, eq.storage_energy(), n, m, values);
 
         let guards = derived
             .guards
@@ -298,6 +312,67 @@ impl NumericMode {
             reconstruct_input,
             reconstruct_constant,
             projection,
+            nonlinear: None,
+        }
+    }
+
+    /// Puts numbers into a derived nonlinear mode; `outputs` are the requested outputs'
+    /// expressions.
+    pub fn from_nonlinear(
+        model: &Model,
+        values: &[f64],
+        storage: &Storage,
+        derived: &NonlinearModeEquations,
+        outputs: &[Sym],
+    ) -> Self {
+        let eq = &derived.equations;
+        let (n, m) = (eq.states.len(), eq.inputs.len());
+        let compiled = Arc::new(NonlinearNumeric::new(model, values, derived, outputs));
+        let (reconstruct_state, reconstruct_input, reconstruct_constant, projection) =
+            reconstruction(storage, eq.storage_energy(), n, m, values);
+        let program = |tape: &Arc<bondgraph_core::symbolic::expr::Tape>, value, magnitude, rate| {
+            Row::program(RowProgram {
+                tape: tape.clone(),
+                value,
+                magnitude,
+                rate,
+            })
+        };
+        let guards = derived
+            .guards
+            .iter()
+            .enumerate()
+            .map(|(k, g)| NumericGuard {
+                element: g.element,
+                leaves_to: g.leaves_to,
+                requires_hold: g.requires_hold,
+                watched: g.watched,
+                row: program(&compiled.guards, 3 * k, 3 * k + 1, 3 * k + 2),
+            })
+            .collect();
+        let count = outputs.len();
+        let outputs = (0..count)
+            .map(|k| program(&compiled.outputs, k, k, count + k))
+            .collect();
+        let a = DMatrix::zeros(n, n);
+        let b = DMatrix::zeros(n, m);
+        let c = DVector::zeros(n);
+        NumericMode {
+            spec: derived.mode.spec(model),
+            mode: derived.mode.clone(),
+            state_names: eq.states.iter().map(|s| s.name.clone()).collect(),
+            propagator: Propagator::new(&a, &b, &c),
+            a,
+            b,
+            c,
+            guards,
+            outputs,
+            ports: Vec::new(),
+            reconstruct_state,
+            reconstruct_input,
+            reconstruct_constant,
+            projection,
+            nonlinear: Some(compiled),
         }
     }
 
@@ -324,8 +399,17 @@ impl NumericMode {
             .collect()
     }
 
-    /// `dx/dt = A x + B u + c`.
+    /// `dx/dt = A x + B u + c`, or `f(x, u)` in a nonlinear mode.
     pub fn derivative(&self, x: &[f64], u: &[f64]) -> Vec<f64> {
+        if let Some(nl) = &self.nonlinear {
+            let input: Vec<f64> = x
+                .iter()
+                .chain(u)
+                .copied()
+                .chain(std::iter::repeat_n(0.0, u.len()))
+                .collect();
+            return nl.f.eval_alloc(&input);
+        }
         let x = DVector::from_column_slice(x);
         let u = DVector::from_column_slice(u);
         (&self.a * x + &self.b * u + &self.c)
@@ -342,7 +426,11 @@ impl NumericMode {
             .iter()
             .zip(&storage.coefficients)
             .zip(full)
-            .map(|((id, c), x)| {
+            .zip(&storage.laws)
+            .map(|(((id, c), x), law)| {
+                if let Some(law) = law {
+                    return law.energy(*x);
+                }
                 let tension_only = matches!(model.element(*id).kind, ElementKind::TensionOnly(_));
                 if tension_only && *x < 0.0 {
                     0.0
@@ -356,6 +444,53 @@ impl NumericMode {
     /// A row's rate of change along the trajectory at `x`, with inputs `u` changing at `u̇`
     /// (inputs are piecewise linear, so `ü = 0`).
     pub fn row_rate(&self, row: &Row, x: &[f64], u: &[f64], rate: &[f64]) -> f64 {
+        if let Some(program) = &row.program {
+            return program.outputs(x, u, rate)[program.rate];
+        }
         dot(&row.state, &self.derivative(x, u)) + dot(&row.input, rate)
     }
+}
+
+/// `R`, `S`, `s` and the projection `(Rᵀ W R)⁻¹ Rᵀ W` of a mode's storage energy forms.
+fn reconstruction(
+    storage: &Storage,
+    storage_energy: &[(bondgraph_core::model::ElementId, LinearForm)],
+    n: usize,
+    m: usize,
+    values: &[f64],
+) -> (DMatrix<f64>, DMatrix<f64>, DVector<f64>, DMatrix<f64>) {
+    let full = storage.len();
+    let mut reconstruct_state = DMatrix::zeros(full, n);
+    let mut reconstruct_input = DMatrix::zeros(full, m);
+    let mut reconstruct_constant = DVector::zeros(full);
+    for (element, form) in storage_energy {
+        let Some(i) = storage.index(*element) else {
+            continue;
+        };
+        let row = Row::from_form(form, n, m, values);
+        for j in 0..n {
+            reconstruct_state[(i, j)] = row.state[j];
+        }
+        for j in 0..m {
+            reconstruct_input[(i, j)] = row.input[j];
+        }
+        reconstruct_constant[i] = row.constant;
+    }
+    let weight = DMatrix::from_diagonal(&DVector::from_iterator(
+        full,
+        storage.coefficients.iter().map(|c| 1.0 / c),
+    ));
+    let weighted = reconstruct_state.transpose() * &weight;
+    let gram = &weighted * &reconstruct_state;
+    let projection = gram
+        .try_inverse()
+        .map(|inverse| inverse * weighted)
+        .unwrap_or_else(|| DMatrix::from_element(n, full, f64::NAN));
+
+    (
+        reconstruct_state,
+        reconstruct_input,
+        reconstruct_constant,
+        projection,
+    )
 }

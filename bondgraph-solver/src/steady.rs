@@ -145,6 +145,9 @@ pub fn steady_state(
             }
         }
         let mode = stepper.mode().clone();
+        if mode.nonlinear.is_some() {
+            return crate::equilibrium::steady_by_integration(stepper, settings);
+        }
         let values = mode.propagator.eigenvalues();
         if let Some(v) = values.iter().find(|v| {
             v.re > settings.zero_eigenvalue

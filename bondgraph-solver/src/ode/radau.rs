@@ -222,7 +222,14 @@ impl Radau {
 
     /// Solves the stage equations of a step of size `h` from `(tau, x)`; false when Newton's
     /// iteration does not converge. The Jacobian is evaluated at `(tau, x)` when `fresh`.
-    fn solve_stages(&mut self, system: &mut dyn System, tau: f64, x: &[f64], h: f64, fresh: bool) -> bool {
+    fn solve_stages(
+        &mut self,
+        system: &mut dyn System,
+        tau: f64,
+        x: &[f64],
+        h: f64,
+        fresh: bool,
+    ) -> bool {
         let n = self.n;
         if fresh {
             system.rhs(tau, x, &mut self.f0);
@@ -260,7 +267,11 @@ impl Radau {
                 for r in 0..n {
                     self.stage_x[r] = x[r] + self.z[i * n + r];
                 }
-                system.rhs(tau + c[i] * h, &self.stage_x, &mut self.stage_f[i * n..(i + 1) * n]);
+                system.rhs(
+                    tau + c[i] * h,
+                    &self.stage_x,
+                    &mut self.stage_f[i * n..(i + 1) * n],
+                );
                 self.stats.rhs += 1;
             }
             for i in 0..3 {
@@ -278,7 +289,8 @@ impl Radau {
                 for r in 0..n {
                     self.z[i * n + r] += self.dz[i * n + r];
                     if r < self.controlled {
-                        let scale = self.tolerances.absolute + self.tolerances.relative * x[r].abs();
+                        let scale =
+                            self.tolerances.absolute + self.tolerances.relative * x[r].abs();
                         sum += (self.dz[i * n + r] / scale).powi(2);
                     }
                 }
@@ -304,7 +316,13 @@ impl Radau {
 
     /// Attempts a step of size `h` from `(tau, x)`; on acceptance `x` becomes the state at
     /// `tau + h` and [`Radau::dense`] refers to this step.
-    pub fn step(&mut self, system: &mut dyn System, tau: f64, x: &mut [f64], h: f64) -> StepOutcome {
+    pub fn step(
+        &mut self,
+        system: &mut dyn System,
+        tau: f64,
+        x: &mut [f64],
+        h: f64,
+    ) -> StepOutcome {
         let n = self.n;
         if !self.solve_stages(system, tau, x, h, true) {
             self.stats.rejected += 1;
@@ -331,7 +349,8 @@ impl Radau {
             let mut sum = 0.0;
             for r in 0..self.controlled {
                 let new = x[r] + self.z[2 * n + r];
-                let scale = self.tolerances.absolute + self.tolerances.relative * x[r].abs().max(new.abs());
+                let scale =
+                    self.tolerances.absolute + self.tolerances.relative * x[r].abs().max(new.abs());
                 sum += (self.error[r] / scale).powi(2);
             }
             error_norm = (sum / self.controlled.max(1) as f64).sqrt();
@@ -343,7 +362,9 @@ impl Radau {
         };
         if error_norm > 1.0 {
             self.stats.rejected += 1;
-            return StepOutcome::Rejected { h_next: h * factor.min(0.9) };
+            return StepOutcome::Rejected {
+                h_next: h * factor.min(0.9),
+            };
         }
         self.last_x0.copy_from_slice(x);
         self.last_z.copy_from_slice(&self.z);
@@ -451,7 +472,12 @@ mod tests {
         }
     }
 
-    fn integrate(system: &mut dyn System, x: &mut [f64], end: f64, tolerances: Tolerances) -> Radau {
+    fn integrate(
+        system: &mut dyn System,
+        x: &mut [f64],
+        end: f64,
+        tolerances: Tolerances,
+    ) -> Radau {
         let mut radau = Radau::new(system.dimension(), system.controlled(), tolerances);
         let mut t = 0.0;
         let mut h = radau.initial_step(system, t, x, end);
@@ -508,7 +534,15 @@ mod tests {
     #[test]
     fn a_stiff_problem_takes_few_steps() {
         let mut x = [0.0];
-        let radau = integrate(&mut Stiff, &mut x, 2.0, Tolerances { relative: 1e-8, absolute: 1e-10 });
+        let radau = integrate(
+            &mut Stiff,
+            &mut x,
+            2.0,
+            Tolerances {
+                relative: 1e-8,
+                absolute: 1e-10,
+            },
+        );
         // After the fast transient x follows cos t - 1e-6 sin t (to first order).
         let want = 2f64.cos() + 1e-6 * 2f64.sin();
         assert!((x[0] - want).abs() < 1e-9, "{}", x[0] - want);
@@ -518,9 +552,19 @@ mod tests {
     #[test]
     fn the_dense_output_interpolates_the_step() {
         let mut x = [1.0, 0.0, 0.0];
-        let mut radau = Radau::new(3, 2, Tolerances { relative: 1e-6, absolute: 1e-8 });
+        let mut radau = Radau::new(
+            3,
+            2,
+            Tolerances {
+                relative: 1e-6,
+                absolute: 1e-8,
+            },
+        );
         let h = 0.05;
-        assert!(matches!(radau.step(&mut Oscillator, 0.0, &mut x, h), StepOutcome::Accepted { .. }));
+        assert!(matches!(
+            radau.step(&mut Oscillator, 0.0, &mut x, h),
+            StepOutcome::Accepted { .. }
+        ));
         let mut mid = [0.0; 3];
         radau.dense(0.5, &mut mid);
         assert!((mid[0] - (h / 2.0).cos()).abs() < 1e-8);

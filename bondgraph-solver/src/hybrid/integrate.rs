@@ -1,0 +1,448 @@
+//! Segments of nonlinear modes: integrated numerically by Radau IIA ([`crate::ode`]) instead
+//! of propagated in closed form, with the same events, samples, integrals and energy books.
+//!
+//! Within a segment the inputs are linear in time, so the mode is the ODE
+//! `dx/dτ = f(x, u₀ + u₁τ)`; the energy books and integral outputs ride along as quadrature
+//! components that never set the step size, so keeping the books does not change the
+//! trajectory. After each accepted step the guards are checked on the step's collocation
+//! polynomial; a crossing is bracketed there, located by Brent's method, and then refined
+//! by Newton's method on the guard along exact steps from the step's start (each a full
+//! Radau step landing on the candidate time, the guard's rate `∇g·f` from its symbolic
+//! derivative), so the event is where the integrated solution crosses, not where its
+//! interpolant does.
+
+use bondgraph_core::modes::Mode;
+use bondgraph_core::symbolic::expr::Sym;
+
+use super::{SimError, Simulator, Stepper};
+use crate::events::{self, Crossing};
+use crate::nonlinear::NonlinearNumeric;
+use crate::numeric::NumericMode;
+use crate::ode::{Radau, StepOutcome, System, Tolerances};
+
+/// The integrator's tolerances for nonlinear modes.
+pub(crate) const TOLERANCES: Tolerances = Tolerances {
+    relative: 1e-10,
+    absolute: 1e-12,
+};
+
+/// The numeric form of a mode of a nonlinear model.
+pub(super) fn numeric_mode(
+    simulator: &mut Simulator<'_>,
+    mode: &Mode,
+) -> Result<NumericMode, SimError> {
+    let derived = simulator
+        .symbolic
+        .get_nonlinear(mode)
+        .map_err(SimError::Derivation)?;
+    let outputs: Vec<Sym> = simulator
+        .outputs
+        .iter()
+        .map(|o| derived.equations.output(&o.spec).value)
+        .collect();
+    Ok(NumericMode::from_nonlinear(
+        simulator.model,
+        &simulator.values,
+        &simulator.storage,
+        &derived,
+        &outputs,
+    ))
+}
+
+/// A nonlinear mode over one segment, with its quadratures: the energy supplied and
+/// dissipated (when kept) and the integral outputs.
+struct Segment<'a> {
+    nl: &'a NonlinearNumeric,
+    u0: &'a [f64],
+    u1: &'a [f64],
+    /// `[x, u, u̇]` for the tapes.
+    input: Vec<f64>,
+    f_scratch: Vec<f64>,
+    fj_scratch: Vec<f64>,
+    fj_out: Vec<f64>,
+    port_scratch: Vec<f64>,
+    port_out: Vec<f64>,
+    output_scratch: Vec<f64>,
+    output_out: Vec<f64>,
+    energy: bool,
+    /// The outputs integrated, by index.
+    integrals: Vec<usize>,
+}
+
+impl<'a> Segment<'a> {
+    fn new(
+        nl: &'a NonlinearNumeric,
+        u0: &'a [f64],
+        u1: &'a [f64],
+        energy: bool,
+        integrals: Vec<usize>,
+    ) -> Self {
+        Self {
+            input: vec![0.0; nl.n + 2 * nl.m],
+            f_scratch: nl.f.scratch(),
+            fj_scratch: nl.f_and_jacobian.scratch(),
+            fj_out: vec![0.0; nl.n + nl.n * nl.n],
+            port_scratch: nl.ports.scratch(),
+            port_out: vec![0.0; nl.ports.output_count()],
+            output_scratch: nl.outputs.scratch(),
+            output_out: vec![0.0; nl.outputs.output_count()],
+            nl,
+            u0,
+            u1,
+            energy,
+            integrals,
+        }
+    }
+
+    fn quadratures(&self) -> usize {
+        usize::from(self.energy) * 2 + self.integrals.len()
+    }
+
+    fn load(&mut self, tau: f64, x: &[f64]) {
+        let (n, m) = (self.nl.n, self.nl.m);
+        self.input[..n].copy_from_slice(&x[..n]);
+        for k in 0..m {
+            self.input[n + k] = self.u0[k] + self.u1[k] * tau;
+            self.input[n + m + k] = self.u1[k];
+        }
+    }
+
+    /// The requested outputs at `(tau, x)` (integrals excluded) into `output_out`.
+    fn outputs(&mut self, tau: f64, x: &[f64]) {
+        self.load(tau, x);
+        self.nl
+            .outputs
+            .eval(&self.input, &mut self.output_scratch, &mut self.output_out);
+    }
+}
+
+impl System for Segment<'_> {
+    fn dimension(&self) -> usize {
+        self.nl.n + self.quadratures()
+    }
+
+    fn controlled(&self) -> usize {
+        self.nl.n
+    }
+
+    fn rhs(&mut self, tau: f64, x: &[f64], dx: &mut [f64]) {
+        let n = self.nl.n;
+        self.load(tau, x);
+        self.nl
+            .f
+            .eval(&self.input, &mut self.f_scratch, &mut dx[..n]);
+        let mut next = n;
+        if self.energy {
+            self.nl
+                .ports
+                .eval(&self.input, &mut self.port_scratch, &mut self.port_out);
+            let (mut supplied, mut dissipated) = (0.0, 0.0);
+            for (k, source) in self.nl.port_sources.iter().enumerate() {
+                let power = self.port_out[2 * k] * self.port_out[2 * k + 1];
+                if *source {
+                    supplied -= power;
+                } else {
+                    dissipated += power;
+                }
+            }
+            dx[n] = supplied;
+            dx[n + 1] = dissipated;
+            next += 2;
+        }
+        if !self.integrals.is_empty() {
+            self.nl
+                .outputs
+                .eval(&self.input, &mut self.output_scratch, &mut self.output_out);
+            for (slot, &k) in self.integrals.iter().enumerate() {
+                dx[next + slot] = self.output_out[k];
+            }
+        }
+    }
+
+    fn jacobian(&mut self, tau: f64, x: &[f64], jacobian: &mut [f64]) {
+        let n = self.nl.n;
+        let size = self.dimension();
+        self.load(tau, x);
+        self.nl
+            .f_and_jacobian
+            .eval(&self.input, &mut self.fj_scratch, &mut self.fj_out);
+        jacobian.fill(0.0);
+        for r in 0..n {
+            jacobian[r * size..r * size + n]
+                .copy_from_slice(&self.fj_out[n + r * n..n + (r + 1) * n]);
+        }
+    }
+}
+
+/// The guards' values, magnitudes and rates at a point, evaluated without allocating.
+struct Guards<'a> {
+    nl: &'a NonlinearNumeric,
+    scratch: Vec<f64>,
+    out: Vec<f64>,
+    input: Vec<f64>,
+}
+
+impl<'a> Guards<'a> {
+    fn new(nl: &'a NonlinearNumeric) -> Self {
+        Self {
+            scratch: nl.guards.scratch(),
+            out: vec![0.0; nl.guards.output_count()],
+            input: vec![0.0; nl.n + 2 * nl.m],
+            nl,
+        }
+    }
+
+    fn count(&self) -> usize {
+        self.out.len() / 3
+    }
+
+    fn at(&mut self, tau: f64, x: &[f64], u0: &[f64], u1: &[f64]) {
+        let (n, m) = (self.nl.n, self.nl.m);
+        self.input[..n].copy_from_slice(&x[..n]);
+        for k in 0..m {
+            self.input[n + k] = u0[k] + u1[k] * tau;
+            self.input[n + m + k] = u1[k];
+        }
+        self.nl
+            .guards
+            .eval(&self.input, &mut self.scratch, &mut self.out);
+    }
+
+    fn value(&self, k: usize) -> f64 {
+        self.out[3 * k]
+    }
+
+    fn rate(&self, k: usize) -> f64 {
+        self.out[3 * k + 2]
+    }
+}
+
+impl Stepper<'_, '_> {
+    /// Integrates the current (nonlinear) mode to `end` or to its first guard crossing.
+    pub(super) fn integrated_segment(&mut self, end: f64) -> Result<Option<Crossing>, SimError> {
+        let current = self.mode.clone();
+        let nl = current
+            .nonlinear
+            .clone()
+            .expect("an integrated segment is of a nonlinear mode");
+        let length = end - self.t;
+        let (u0, u1) = self.inputs_at(self.t);
+        self.stats.segments += 1;
+        let integral_outputs: Vec<usize> = self
+            .simulator
+            .outputs
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| o.integral)
+            .map(|(k, _)| k)
+            .collect();
+        let mut system = Segment::new(
+            &nl,
+            &u0,
+            &u1,
+            self.energy.is_some(),
+            integral_outputs.clone(),
+        );
+        let n = nl.n;
+        let size = system.dimension();
+        let mut z = vec![0.0; size];
+        z[..n].copy_from_slice(&self.x);
+        let mut guards = Guards::new(&nl);
+        let guard_count = guards.count();
+        let mode_index = self.sample.map(|_| self.recorder.mode_index(&current.spec));
+        let start = self.t;
+
+        // Guards at the start: an armed guard already at zero fires at once.
+        guards.at(0.0, &z, &u0, &u1);
+        let mut previous: Vec<f64> = (0..guard_count).map(|k| guards.value(k)).collect();
+        if let Some(k) = (0..guard_count).find(|&k| self.armed[k] && previous[k] >= 0.0) {
+            self.sample_until(&mut system, start, &z, None, 0.0, mode_index);
+            return Ok(Some(Crossing { guard: k, tau: 0.0 }));
+        }
+        for (k, value) in previous.iter().enumerate() {
+            if *value < self.arm_below[k] {
+                self.armed[k] = true;
+            }
+        }
+        self.sample_until(&mut system, start, &z, None, 0.0, mode_index);
+
+        let mut radau = Radau::new(size, n, TOLERANCES);
+        let mut tau = 0.0;
+        let mut h = if length > 0.0 {
+            radau.initial_step(&mut system, 0.0, &z, length)
+        } else {
+            0.0
+        };
+        let mut before = vec![0.0; size];
+        let mut point = vec![0.0; size];
+        let mut crossing: Option<Crossing> = None;
+        while tau < length {
+            let step = h.min(length - tau);
+            if step <= f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0 {
+                return Err(SimError::Stalled {
+                    t: start + tau,
+                    mode: current.spec.clone(),
+                });
+            }
+            before.copy_from_slice(&z);
+            match radau.step(&mut system, tau, &mut z, step) {
+                StepOutcome::Rejected { h_next } => {
+                    h = h_next;
+                    continue;
+                }
+                StepOutcome::Accepted { h_next } => h = h_next,
+            }
+            if z[..n].iter().any(|v| !v.is_finite()) {
+                return Err(self
+                    .simulator
+                    .non_finite(start + tau + step, &current, &z[..n]));
+            }
+            // Guards along the step, on its collocation polynomial.
+            let mut found: Option<(usize, f64)> = None;
+            let mut theta_before = 0.0;
+            for theta in [0.25, 0.5, 0.75, 1.0] {
+                if theta == 1.0 {
+                    point.copy_from_slice(&z);
+                } else {
+                    radau.dense(theta, &mut point);
+                }
+                guards.at(tau + theta * step, &point, &u0, &u1);
+                let current_values: Vec<f64> = (0..guard_count).map(|k| guards.value(k)).collect();
+                for k in 0..guard_count {
+                    if self.armed[k] && previous[k] < 0.0 && current_values[k] >= 0.0 {
+                        let (a, b) = (theta_before, theta);
+                        let mut probe = vec![0.0; size];
+                        let mut probe_guards = Guards::new(&nl);
+                        let root = events::refine(a, b, previous[k], current_values[k], |th| {
+                            radau.dense(th, &mut probe);
+                            probe_guards.at(tau + th * step, &probe, &u0, &u1);
+                            probe_guards.value(k)
+                        });
+                        if found.is_none_or(|(_, r)| root < r) {
+                            found = Some((k, root));
+                        }
+                    }
+                }
+                if found.is_some() {
+                    break;
+                }
+                for k in 0..guard_count {
+                    if current_values[k] < self.arm_below[k] {
+                        self.armed[k] = true;
+                    }
+                }
+                previous = current_values;
+                theta_before = theta;
+            }
+            if let Some((k, theta)) = found {
+                // Land exactly on the crossing: Newton on the guard along exact steps.
+                let mut hit = theta * step;
+                let mut reuse = false;
+                for _ in 0..8 {
+                    if !radau.step_exact(&mut system, tau, &before, hit, reuse, &mut point) {
+                        radau.dense(hit / step, &mut point);
+                        break;
+                    }
+                    reuse = true;
+                    guards.at(tau + hit, &point, &u0, &u1);
+                    let (g, rate) = (guards.value(k), guards.rate(k));
+                    if rate <= 0.0 || !rate.is_finite() {
+                        break;
+                    }
+                    let next = (hit - g / rate).clamp(0.0, step);
+                    let converged = (next - hit).abs()
+                        <= 4.0 * f64::EPSILON * (start + tau + hit).abs().max(1e-300);
+                    hit = next;
+                    if converged {
+                        if !radau.step_exact(&mut system, tau, &before, hit, true, &mut point) {
+                            radau.dense(hit / step, &mut point);
+                        }
+                        break;
+                    }
+                }
+                self.sample_until(
+                    &mut system,
+                    start + tau,
+                    &before,
+                    Some(&radau),
+                    step,
+                    mode_index,
+                );
+                z.copy_from_slice(&point);
+                tau += hit;
+                crossing = Some(Crossing { guard: k, tau });
+                break;
+            }
+            self.sample_until(
+                &mut system,
+                start + tau,
+                &before,
+                Some(&radau),
+                step,
+                mode_index,
+            );
+            tau += step;
+        }
+        // Books and integrals over the segment, then the state at its end.
+        let mut next = n;
+        if let Some(energy) = &mut self.energy {
+            energy.supplied += z[n];
+            energy.dissipated += z[n + 1];
+            next += 2;
+        }
+        for (slot, &k) in integral_outputs.iter().enumerate() {
+            self.integrals[k] += z[next + slot];
+        }
+        self.t = if crossing.is_some() { start + tau } else { end };
+        self.x = z[..n].to_vec();
+        Ok(crossing)
+    }
+
+    /// Records the samples due in a step that starts at `step_start` (time) from `before`
+    /// and lasts `step`, from its dense output; with no integrator, the samples due at
+    /// `step_start` itself.
+    fn sample_until(
+        &mut self,
+        system: &mut Segment<'_>,
+        step_start: f64,
+        before: &[f64],
+        radau: Option<&Radau>,
+        step: f64,
+        mode_index: Option<usize>,
+    ) {
+        let (Some(sample), Some(mode_index)) = (self.sample, mode_index) else {
+            return;
+        };
+        let segment_start = self.t;
+        let n = system.nl.n;
+        let integrals_offset = n + if system.energy { 2 } else { 0 };
+        let mut point = before.to_vec();
+        while self.next_sample as f64 * sample <= step_start + step {
+            let time = self.next_sample as f64 * sample;
+            if let Some(radau) = radau {
+                let theta = ((time - step_start) / step).clamp(0.0, 1.0);
+                radau.dense(theta, &mut point);
+            }
+            let tau = time - segment_start;
+            system.outputs(tau, &point);
+            let mut integral_slot = 0;
+            let values: Vec<f64> = self
+                .simulator
+                .outputs
+                .iter()
+                .enumerate()
+                .map(|(k, output)| {
+                    if output.integral {
+                        let value = self.integrals[k] + point[integrals_offset + integral_slot];
+                        integral_slot += 1;
+                        value
+                    } else {
+                        system.output_out[k]
+                    }
+                })
+                .collect();
+            self.recorder.sample_in(time, mode_index, values);
+            self.next_sample += 1;
+        }
+    }
+}

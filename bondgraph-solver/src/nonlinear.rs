@@ -1,0 +1,220 @@
+//! A nonlinear mode with numbers in: its `f(x, u)`, Jacobian, guards, outputs and ports
+//! compiled to evaluation tapes.
+//!
+//! Every expression reads the same input vector `[x, u, u̇]` (states, inputs, inputs'
+//! rates). The guards' tape gives, per guard, its value `g`, the size of its terms (to
+//! judge `g ≈ 0` against) and its rate along the motion `dg/dt = ∇ₓg·f + ∇ᵤg·u̇`, all
+//! differentiated symbolically, so that consistency checks at events are exact as in a
+//! linear mode.
+
+use std::sync::Arc;
+
+use bondgraph_core::equations::nonlinear::NonlinearEquations;
+use bondgraph_core::model::{ElementKind, Model, NonlinearLaw};
+use bondgraph_core::modes::NonlinearModeEquations;
+use bondgraph_core::symbolic::RatFunc;
+use bondgraph_core::symbolic::expr::{Atom, Sym, Tape, TapeBuilder};
+
+/// One value of a tape: what a [`Row`](crate::numeric::Row) of a nonlinear mode evaluates.
+#[derive(Clone, Debug)]
+pub struct RowProgram {
+    /// The tape, reading `[x, u, u̇]`.
+    pub tape: Arc<Tape>,
+    /// The output holding the value.
+    pub value: usize,
+    /// The output holding the size of its terms.
+    pub magnitude: usize,
+    /// The output holding its rate along the motion.
+    pub rate: usize,
+}
+
+impl PartialEq for RowProgram {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.tape, &other.tape)
+            && (self.value, self.magnitude, self.rate) == (other.value, other.magnitude, other.rate)
+    }
+}
+
+impl RowProgram {
+    /// The tape's outputs at `(x, u, u̇)`, allocating (for checks at events).
+    pub fn outputs(&self, x: &[f64], u: &[f64], rate: &[f64]) -> Vec<f64> {
+        let input: Vec<f64> = x.iter().chain(u).chain(rate).copied().collect();
+        self.tape.eval_alloc(&input)
+    }
+}
+
+/// The compiled expressions of a nonlinear mode.
+#[derive(Debug)]
+pub struct NonlinearNumeric {
+    /// States.
+    pub n: usize,
+    /// Inputs.
+    pub m: usize,
+    /// `f`: `n` outputs.
+    pub f: Tape,
+    /// `f` then `∂f/∂x` row-major: `n + n²` outputs.
+    pub f_and_jacobian: Tape,
+    /// Per guard: value, magnitude, rate.
+    pub guards: Arc<Tape>,
+    /// The requested outputs, then their rates along the motion.
+    pub outputs: Arc<Tape>,
+    /// Per port: effort, flow into the element.
+    pub ports: Arc<Tape>,
+    /// Whether each port supplies energy (a source) rather than dissipating it.
+    pub port_sources: Vec<bool>,
+}
+
+/// Where each variable sits in the tapes' input `[x, u, u̇]`.
+fn slots(n: usize, m: usize) -> impl Fn(Atom) -> Option<usize> {
+    move |a| match a {
+        Atom::State(i) => Some(i as usize),
+        Atom::Input(i) => Some(n + i as usize),
+        Atom::InputRate(i) => Some(n + m + i as usize),
+        _ => None,
+    }
+}
+
+fn compile(n: usize, m: usize, values: &[f64], exprs: &[Sym]) -> Tape {
+    let slot = slots(n, m);
+    let mut builder = TapeBuilder::new(n + 2 * m, &slot, values);
+    for e in exprs {
+        // Derivation resolves every other variable; one that is left is a NaN.
+        if builder.push(e).is_err() {
+            builder
+                .push(&Sym::coefficient(RatFunc::zero()))
+                .expect("a constant compiles");
+        }
+    }
+    builder.finish()
+}
+
+/// The rate of `g` along the motion: `∇ₓg·f + ∇ᵤg·u̇`.
+pub(crate) fn rate_along(g: &Sym, equations: &NonlinearEquations) -> Sym {
+    let mut parts = Vec::new();
+    for (i, f) in equations.derivatives.iter().enumerate() {
+        let d = g.diff(Atom::State(i as u32));
+        if !d.is_zero() {
+            parts.push((Sym::mul(&d, f), RatFunc::one()));
+        }
+    }
+    for j in 0..equations.inputs.len() {
+        let d = g.diff(Atom::Input(j as u32));
+        if !d.is_zero() {
+            parts.push((
+                Sym::mul(&d, &Sym::atom(Atom::InputRate(j as u32))),
+                RatFunc::one(),
+            ));
+        }
+    }
+    Sym::sum(parts)
+}
+
+impl NonlinearNumeric {
+    /// Compiles a derived nonlinear mode with the parameter `values`; `outputs` are the
+    /// requested outputs' expressions.
+    pub fn new(
+        model: &Model,
+        values: &[f64],
+        derived: &NonlinearModeEquations,
+        outputs: &[Sym],
+    ) -> Self {
+        let eq = &derived.equations;
+        let (n, m) = (eq.states.len(), eq.inputs.len());
+        let f = compile(n, m, values, &eq.derivatives);
+        let mut with_jacobian = eq.derivatives.clone();
+        for row in eq.jacobian_states() {
+            with_jacobian.extend(row);
+        }
+        let f_and_jacobian = compile(n, m, values, &with_jacobian);
+        let mut guard_exprs = Vec::new();
+        for guard in &derived.guards {
+            let g = guard.function();
+            guard_exprs.push(g.clone());
+            guard_exprs.push(g.magnitude());
+            guard_exprs.push(rate_along(&g, eq));
+        }
+        let guards = Arc::new(compile(n, m, values, &guard_exprs));
+        // The outputs, then their rates along the motion (for steady drift).
+        let mut output_exprs = outputs.to_vec();
+        output_exprs.extend(outputs.iter().map(|y| rate_along(y, eq)));
+        let outputs = Arc::new(compile(n, m, values, &output_exprs));
+        let mut port_exprs = Vec::new();
+        let mut port_sources = Vec::new();
+        for id in model.element_ids() {
+            let source = match &model.element(id).kind {
+                ElementKind::EffortSource(_) | ElementKind::FlowSource(_) => true,
+                ElementKind::Resistor(_) | ElementKind::Friction(_) | ElementKind::FlowLimit(_) => {
+                    false
+                }
+                ElementKind::Nonlinear(nl) => match nl.law {
+                    NonlinearLaw::EffortSource(_) | NonlinearLaw::FlowSource(_) => true,
+                    NonlinearLaw::Resistor(_) => false,
+                    _ => continue,
+                },
+                _ => continue,
+            };
+            let bond = model.element(id).bonds[0];
+            let sign = RatFunc::integer(model.bond(bond).sign_into(id));
+            port_exprs.push(eq.bond_effort(bond).clone());
+            port_exprs.push(eq.bond_flow(bond).scaled(&sign));
+            port_sources.push(source);
+        }
+        let ports = Arc::new(compile(n, m, values, &port_exprs));
+        Self {
+            n,
+            m,
+            f,
+            f_and_jacobian,
+            guards,
+            outputs,
+            ports,
+            port_sources,
+        }
+    }
+}
+
+/// A nonlinear storage element's law as a tape of its own energy variable, for the energy
+/// it stores: `∫₀^x law(s) ds`.
+#[derive(Debug)]
+pub struct StorageLawTape {
+    tape: Tape,
+}
+
+impl StorageLawTape {
+    /// The law of nonlinear storage element `index` of `model`, if it is one.
+    pub fn of(model: &Model, index: usize, values: &[f64]) -> Option<Self> {
+        let element = &model.elements[index];
+        let ElementKind::Nonlinear(nl) = &element.kind else {
+            return None;
+        };
+        let (NonlinearLaw::Inertia(law) | NonlinearLaw::Compliance(law)) = &nl.law else {
+            return None;
+        };
+        let own = index as u32;
+        let slot = move |a: Atom| (a == Atom::Storage(own)).then_some(0);
+        let mut builder = TapeBuilder::new(1, &slot, values);
+        builder.push(law).ok()?;
+        Some(Self {
+            tape: builder.finish(),
+        })
+    }
+
+    /// The energy stored at `x`: the law integrated from 0 by Gauss–Legendre quadrature on
+    /// 32 panels (exact to rounding for smooth laws; a kink at zero is a panel edge).
+    pub fn energy(&self, x: f64) -> f64 {
+        const PANELS: usize = 32;
+        let mut scratch = self.tape.scratch();
+        let mut out = [0.0];
+        let mut total = 0.0;
+        let width = x / PANELS as f64;
+        for p in 0..PANELS {
+            let a = p as f64 * width;
+            let (mid, half) = (a + width / 2.0, width / 2.0);
+            for (node, weight) in crate::energy::NODES.iter().zip(crate::energy::WEIGHTS) {
+                self.tape.eval(&[mid + half * node], &mut scratch, &mut out);
+                total += weight * half * out[0];
+            }
+        }
+        total
+    }
+}
