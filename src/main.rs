@@ -6,6 +6,7 @@
 
 mod diagnostics;
 mod discover;
+mod nonlinear;
 mod plot;
 mod reproduce;
 mod residual_plot;
@@ -17,8 +18,9 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use bondgraph_core::diagnostics::Diagnostics;
-use bondgraph_core::equations::{self, OutputSpec, Variables};
+use bondgraph_core::equations::{self, Variables};
 use bondgraph_core::model::{self, Model};
+use bondgraph_core::scenario::Record;
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::{Diagnostic, DiagnosticKind, causality, graph, laws, modes};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -62,9 +64,18 @@ enum Command {
         /// Output format.
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
-        /// Also derive an output equation: effort:ELEMENT, flow:ELEMENT or effort:FROM->TO.
+        /// Also derive an output equation: effort:ELEMENT, flow:ELEMENT, effort:FROM->TO, or
+        /// integral:OUTPUT for an output's time integral.
         #[arg(long = "output", value_name = "SPEC")]
         outputs: Vec<String>,
+        /// An operating point, NAME=VALUE,... over states and inputs (others are 0): a
+        /// nonlinear mode's Jacobians are evaluated there, as A and B.
+        #[arg(long, value_name = "NAME=VALUE,...")]
+        at: Option<String>,
+        /// Find an equilibrium f(x, u) = 0 of a nonlinear mode (inputs as --at gives them,
+        /// starting from its states) and linearise there.
+        #[arg(long)]
+        equilibrium: bool,
     },
     /// Simulate a model driven by a scenario file; print the trajectory as CSV or JSON.
     Simulate {
@@ -169,7 +180,7 @@ enum GraphFormat {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum Format {
+pub(crate) enum Format {
     Text,
     Latex,
     Json,
@@ -193,7 +204,7 @@ impl From<Diagnostics> for Failure {
 
 impl Failure {
     /// A failure with a plain message (no file to point into).
-    fn message(kind: DiagnosticKind, message: impl Into<String>) -> Self {
+    pub(crate) fn message(kind: DiagnosticKind, message: impl Into<String>) -> Self {
         Self::from(Diagnostics::from(Diagnostic::new(kind, message)))
     }
 }
@@ -227,6 +238,9 @@ fn run(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Command::Check { model } => {
             let (model, source) = load(&model)?;
+            if model.is_nonlinear() {
+                return nonlinear::check(&model, &source);
+            }
             let reachable = modes::reachable(&model, &equations::Options::default())
                 .map_err(|d| with_source(d, &source))?;
             let initial = &reachable.modes[0].equations;
@@ -274,18 +288,51 @@ fn run(cli: Cli) -> Result<(), Failure> {
             states,
             format,
             outputs,
+            at,
+            equilibrium,
         } => {
             let (model, source) = load(&model)?;
             let mode = parse_mode(&model, mode.as_deref(), &source)?;
             let options = equations::Options {
                 variables: states.variables(),
             };
+            if model.is_nonlinear() {
+                return nonlinear::equations(&nonlinear::EquationsArgs {
+                    model: &model,
+                    source: &source,
+                    mode: &mode,
+                    options,
+                    format,
+                    outputs: &outputs,
+                    at: at.as_deref(),
+                    equilibrium,
+                });
+            }
+            if equilibrium {
+                return Err(Failure::message(
+                    DiagnosticKind::NotLinear,
+                    "--equilibrium is for nonlinear models; a linear mode's equilibria solve A x + B u + c = 0",
+                ));
+            }
             let derived =
                 modes::derive(&model, &mode, &options).map_err(|d| with_source(d, &source))?;
             let equations = &derived.equations;
+            if let Some(at) = &at {
+                // A linear mode's matrices do not depend on the point; the point is checked.
+                let names: Vec<String> = equations.states.iter().map(|s| s.name.clone()).collect();
+                equations::nonlinear::OperatingPoint::parse(&names, &equations.inputs, at)
+                    .map_err(|d| with_source(d, &source))?;
+            }
             let outputs = outputs
                 .iter()
-                .map(|spec| OutputSpec::parse(&model, spec).map(|spec| equations.output(&spec)))
+                .map(|spec| {
+                    Record::parse(&model, spec).map(|record| {
+                        let mut output = equations.output(record.spec());
+                        output.integral = matches!(record, Record::Integral(_));
+                        output.name = record.name();
+                        output
+                    })
+                })
                 .collect::<Result<Vec<_>, _>>()
                 .map_err(|d| with_source(d, &source))?;
             let text = match format {
@@ -357,6 +404,9 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let options = equations::Options {
                 variables: states.variables(),
             };
+            if model.is_nonlinear() {
+                return nonlinear::modes(&model, &source, &options, format == ModesFormat::Json);
+            }
             let reachable =
                 modes::reachable(&model, &options).map_err(|d| with_source(d, &source))?;
             let text = match format {
@@ -518,7 +568,7 @@ fn load(path: &Path) -> Result<(Model, Arc<SourceFile>), Failure> {
     Ok((model, source))
 }
 
-fn with_source(diagnostics: Diagnostics, source: &Arc<SourceFile>) -> Failure {
+pub(crate) fn with_source(diagnostics: Diagnostics, source: &Arc<SourceFile>) -> Failure {
     Failure {
         diagnostics,
         sources: vec![source.clone()],
@@ -540,7 +590,7 @@ pub(crate) fn json(value: &impl serde::Serialize) -> Result<String, Failure> {
 }
 
 /// `1 bond`, `2 bonds`.
-fn count(n: usize, noun: &str) -> String {
+pub(crate) fn count(n: usize, noun: &str) -> String {
     format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
 }
 

@@ -284,6 +284,19 @@ pub enum Record {
 }
 
 impl Record {
+    /// Parses an output as `--output` and scenarios' `record` write it: `effort:ELEMENT`,
+    /// `flow:FROM->TO`, or `integral:OUTPUT` for its time integral.
+    ///
+    /// # Errors
+    /// As [`OutputSpec::parse`].
+    pub fn parse(model: &Model, text: &str) -> Result<Self> {
+        let trimmed = text.trim();
+        match trimmed.strip_prefix("integral:") {
+            Some(rest) => Ok(Record::Integral(OutputSpec::parse(model, rest.trim())?)),
+            None => Ok(Record::Output(OutputSpec::parse(model, trimmed)?)),
+        }
+    }
+
     /// The output being recorded, or integrated.
     pub fn spec(&self) -> &OutputSpec {
         match self {

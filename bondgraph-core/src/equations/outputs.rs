@@ -36,6 +36,8 @@ pub struct OutputEquation {
     pub name: String,
     /// `y` as an affine form.
     pub row: LinearForm,
+    /// Whether what is output is the time integral of `y` (`integral:flow:mass`).
+    pub integral: bool,
 }
 
 impl OutputSpec {
@@ -126,6 +128,7 @@ impl StateEquations {
         OutputEquation {
             name: spec.name.clone(),
             row: row.clone(),
+            integral: false,
         }
     }
 }

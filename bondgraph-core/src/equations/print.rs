@@ -76,6 +76,9 @@ pub struct OutputJson {
     pub D_value: Vec<f64>,
     /// `d` evaluated.
     pub d_value: f64,
+    /// Whether the output is the time integral of `y` (then `C`, `D`, `d` are its rate's).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub integral: bool,
 }
 
 impl StateEquations {
@@ -303,11 +306,19 @@ impl StateEquations {
             C_value: c.iter().map(|e| self.evaluate(e)).collect(),
             D_value: d.iter().map(|e| self.evaluate(e)).collect(),
             d_value: self.evaluate(&constant),
+            integral: output.integral,
         }
     }
 
     /// An output equation as text: `effort:damper = b/m*p_mass`.
     pub fn output_text(&self, output: &OutputEquation) -> String {
+        if output.integral {
+            return format!(
+                "{} = integral of ({}) dt",
+                output.name,
+                self.form_text(&output.row)
+            );
+        }
         format!("{} = {}", output.name, self.form_text(&output.row))
     }
 }
