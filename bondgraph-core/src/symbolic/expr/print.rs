@@ -201,11 +201,12 @@ impl Printer<'_> {
         let mut text = if magnitude == "1" {
             if num.is_empty() { "1".to_string() } else { num }
         } else if let Some(rest) = magnitude.strip_prefix("1/") {
-            if num.is_empty() {
-                magnitude.to_string()
-            } else {
-                format!("{num}/{rest}")
+            let num = if num.is_empty() { "1".to_string() } else { num };
+            if !den.is_empty() {
+                // One fraction bar: `F/(c_theta*r_0)`, not `F/r_0/c_theta`.
+                return format!("{num}/({den}*{rest})");
             }
+            format!("{num}/{rest}")
         } else {
             let magnitude = if has_top_level_sum(magnitude) {
                 format!("({magnitude})")
