@@ -49,6 +49,12 @@ pub fn expected(model: &Model, text: &str) -> RatFunc {
                 .checked_div(&convert(model, b))
                 .expect("non-zero divisor"),
             ExprKind::Pow(a, n) => convert(model, a).powi(*n).expect("power"),
+            ExprKind::RealPow(..) | ExprKind::Call(..) => {
+                panic!(
+                    "expected values are rational functions, not {text:?}",
+                    text = e
+                )
+            }
         }
     }
     convert(

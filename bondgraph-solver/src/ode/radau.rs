@@ -19,20 +19,27 @@ pub trait System {
     fn jacobian(&mut self, tau: f64, x: &[f64], jacobian: &mut [f64]);
 }
 
-/// Error tolerances: a component's error is judged against `absolute + relative · |x|`.
+/// Error tolerances: a component's error is judged against
+/// `absolute + relative · (|x| + peak_fraction · peak)`, where `peak` is the largest
+/// magnitude the component has had, so that the absolute part follows each state's own
+/// scale (a charge of 1e-7 C and a volume of 1 m³ alike) and no unit is assumed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerances {
     /// Relative tolerance.
     pub relative: f64,
-    /// Absolute tolerance.
+    /// Absolute floor (in the states' own units).
     pub absolute: f64,
+    /// The fraction of a component's peak magnitude that acts as its absolute tolerance
+    /// (times `relative`).
+    pub peak_fraction: f64,
 }
 
 impl Default for Tolerances {
     fn default() -> Self {
         Self {
             relative: 1e-10,
-            absolute: 1e-12,
+            absolute: 1e-300,
+            peak_fraction: 1e-3,
         }
     }
 }
@@ -156,6 +163,8 @@ pub struct Radau {
     last_x0: Vec<f64>,
     last_z: Vec<f64>,
     last_h: f64,
+    /// The largest magnitude of each component so far.
+    peak: Vec<f64>,
     /// Work counts.
     pub stats: OdeStats,
 }
@@ -171,6 +180,7 @@ impl Radau {
         let internal = Tolerances {
             relative,
             absolute: tolerances.absolute * relative / tolerances.relative,
+            peak_fraction: tolerances.peak_fraction,
         };
         let newton_tolerance = (10.0 * f64::EPSILON / relative).max(0.03f64.min(relative.sqrt()));
         Self {
@@ -193,7 +203,20 @@ impl Radau {
             last_x0: vec![0.0; n],
             last_z: vec![0.0; 3 * n],
             last_h: 0.0,
+            peak: vec![0.0; n],
             stats: OdeStats::default(),
+        }
+    }
+
+    /// What an error in component `r` at magnitude `value` is judged against.
+    fn scale(&self, r: usize, value: f64) -> f64 {
+        self.tolerances.absolute
+            + self.tolerances.relative * (value + self.tolerances.peak_fraction * self.peak[r])
+    }
+
+    fn note_peaks(&mut self, x: &[f64]) {
+        for (peak, v) in self.peak.iter_mut().zip(x) {
+            *peak = peak.max(v.abs());
         }
     }
 
@@ -207,9 +230,10 @@ impl Radau {
     pub fn initial_step(&mut self, system: &mut dyn System, tau: f64, x: &[f64], max: f64) -> f64 {
         system.rhs(tau, x, &mut self.f0);
         self.stats.rhs += 1;
+        self.note_peaks(x);
         let mut norm: f64 = 0.0;
         for i in 0..self.controlled {
-            let scale = self.tolerances.absolute + self.tolerances.relative * x[i].abs();
+            let scale = self.scale(i, x[i].abs());
             norm = norm.max((self.f0[i] / scale).abs());
         }
         let h = if norm > 0.0 {
@@ -372,6 +396,7 @@ impl Radau {
         for r in 0..n {
             x[r] += self.z[2 * n + r];
         }
+        self.note_peaks(x);
         self.stats.accepted += 1;
         StepOutcome::Accepted { h_next: h * factor }
     }
