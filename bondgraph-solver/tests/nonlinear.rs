@@ -233,7 +233,9 @@ fn the_diode_circuit_follows_its_quadrature_and_closed_form() {
     let tau = C * V_T / I_S;
     for (i, &t) in trajectory.times.iter().enumerate().step_by(50) {
         let v = trajectory.value(i, 0).unwrap();
-        let exact = -V_T * (1.0 - (1.0 - (-v0 / V_T).exp()) * (-t / tau).exp()).ln();
+        // 1 - (1 - a) e^{-s} written as -expm1(-s) + a e^{-s}, without cancellation.
+        let (a, s) = ((-v0 / V_T).exp(), t / tau);
+        let exact = -V_T * (-(-s).exp_m1() + a * (-s).exp()).ln();
         assert!((v - exact).abs() < 1e-8 * v0, "t = {t}: {v} vs {exact}");
     }
 }
