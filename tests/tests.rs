@@ -5,6 +5,7 @@
 mod cli;
 mod diagnostics;
 mod examples;
+mod nonlinear;
 mod paper;
 mod scenarios;
 mod snapshots;

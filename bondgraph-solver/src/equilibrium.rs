@@ -68,7 +68,9 @@ impl std::error::Error for EquilibriumError {}
 /// The equilibrium `f(x, u) = 0` nearest (in Newton's sense) to `start`, with the inputs
 /// held at `start`'s; see the [module documentation](self).
 ///
-/// Converged when every `|fᵢ|` is below `1e-12` of the size of its terms.
+/// Converged when every `|fᵢ|` is below `1e-12` of the size of its terms plus that of its
+/// linear part `Σⱼ |∂fᵢ/∂xⱼ| |xⱼ|` (a term that vanishes at the equilibrium, `sin(q)` at
+/// `q = π`, has no size of its own there).
 ///
 /// # Errors
 /// [`EquilibriumError::NotFound`] when 200 iterations do not converge.
@@ -111,22 +113,33 @@ pub fn find(
     let mut scratch = tape.scratch();
     let mut out = vec![0.0; tape.output_count()];
     let mut x = start.states.clone();
-    let residual = |out: &[f64]| -> (f64, bool) {
+    let residual = |out: &[f64], x: &[f64]| -> (f64, bool) {
         let mut worst: f64 = 0.0;
         let mut converged = true;
         for i in 0..n {
             worst = worst.max(out[i].abs());
-            if out[i].abs() > 1e-12 * out[n + i] + f64::MIN_POSITIVE {
+            let linear: f64 = (0..n).map(|j| (out[2 * n + i * n + j] * x[j]).abs()).sum();
+            if out[i].abs() > 1e-12 * (out[n + i] + linear) + f64::MIN_POSITIVE {
                 converged = false;
             }
         }
         (worst, converged)
     };
     tape.eval(&x, &mut scratch, &mut out);
+    // The size of f where the search starts: at an equilibrium at the origin the terms
+    // themselves vanish, and f is judged against this instead.
+    let start_scale: f64 = (0..n)
+        .map(|i| {
+            out[n + i]
+                + (0..n)
+                    .map(|j| (out[2 * n + i * n + j] * x[j]).abs())
+                    .sum::<f64>()
+        })
+        .fold(0.0, f64::max);
     let mut lambda = 1e-9;
     for iteration in 0..200 {
-        let (worst, converged) = residual(&out);
-        if converged || n == 0 {
+        let (worst, converged) = residual(&out, &x);
+        if converged || n == 0 || worst <= 1e-14 * start_scale {
             return Ok(Equilibrium {
                 point: OperatingPoint::from_values(x, inputs),
                 residual: worst,
@@ -166,7 +179,14 @@ pub fn find(
             break;
         }
     }
-    let (worst, _) = residual(&out);
+    let (worst, converged) = residual(&out, &x);
+    if converged || worst <= 1e-14 * start_scale {
+        return Ok(Equilibrium {
+            point: OperatingPoint::from_values(x, inputs),
+            residual: worst,
+            iterations: 200,
+        });
+    }
     Err(EquilibriumError::NotFound {
         residual: worst,
         states: x,

@@ -72,7 +72,7 @@ fn column(trajectory: &Trajectory, k: usize) -> Vec<f64> {
 
 #[test]
 fn the_pendulum_s_period_is_the_elliptic_integral_s() {
-    let model = load("models/examples/pendulum.ron");
+    let model = load("models/examples/nonlinear/pendulum.ron");
     let (l, g): (f64, f64) = (1.0, 9.81);
     for theta0 in [0.5, 2.0, 3.0] {
         let period = 4.0 * elliptic_k((theta0 / 2.0_f64).sin()) * (l / g).sqrt();
@@ -107,7 +107,7 @@ fn the_pendulum_s_period_is_the_elliptic_integral_s() {
 
 #[test]
 fn the_tank_s_level_falls_as_torricelli_says_until_it_is_empty() {
-    let model = load("models/examples/orifice_tank.ron");
+    let model = load("models/examples/nonlinear/orifice_tank.ron");
     let (area, orifice, c_d, rho, g): (f64, f64, f64, f64, f64) = (0.5, 0.001, 0.6, 1000.0, 9.81);
     let q0: f64 = 0.5;
     let k = c_d * orifice * (g / (2.0 * area)).sqrt();
@@ -198,7 +198,7 @@ fn time_to_reach(v: f64, v0: f64, leak: bool) -> f64 {
 
 #[test]
 fn the_diode_circuit_follows_its_quadrature_and_closed_form() {
-    let model = load("models/examples/diode_rc.ron");
+    let model = load("models/examples/nonlinear/diode_rc.ron");
     let v0 = 0.7;
     let trajectory = simulate(
         &model,
@@ -223,7 +223,7 @@ fn the_diode_circuit_follows_its_quadrature_and_closed_form() {
     // Without the leak, v(t) = -V_T ln(1 - (1 - e^{-v0/V_T}) e^{-I_s t/(C V_T)}).
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../models/examples/diode_rc.ron"
+        "/../models/examples/nonlinear/diode_rc.ron"
     ))
     .unwrap()
     .replace("\"leak\": R(resistance: \"R\"),", "")
@@ -260,12 +260,12 @@ impl Signal for Step {
 
 #[test]
 fn the_modulated_lever_moves_its_load_as_the_fixed_lever_does() {
-    let modulated = load("models/examples/lever.ron");
+    let modulated = load("models/examples/nonlinear/lever.ron");
     assert!(modulated.is_nonlinear());
     // The same lever with its ratio fixed at r_0*1.5 is linear: propagated exactly.
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../models/examples/lever.ron"
+        "/../models/examples/nonlinear/lever.ron"
     ))
     .unwrap()
     .replace("TF(ratio: \"r_0*c_theta\")", "TF(ratio: \"r_0*1.5\")");
@@ -326,7 +326,7 @@ fn rk4(
 
 #[test]
 fn the_duffing_oscillator_s_energy_decays_as_rk4_says() {
-    let model = load("models/examples/duffing.ron");
+    let model = load("models/examples/nonlinear/duffing.ron");
     let (m, k, k3, b) = (1.0, 1.0, 5.0, 0.1);
     let spring = |q: f64| k * q + k3 * q * q * q;
     let energy = |q: f64, p: f64| p * p / (2.0 * m) + k * q * q / 2.0 + k3 * q.powi(4) / 4.0;
@@ -366,7 +366,7 @@ fn the_duffing_oscillator_s_energy_decays_as_rk4_says() {
 
 #[test]
 fn a_nonlinear_steady_state_balances_the_spring() {
-    let model = load("models/examples/duffing.ron");
+    let model = load("models/examples/nonlinear/duffing.ron");
     let outputs = vec![output(&model, "effort:spring"), output(&model, "flow:mass")];
     let mut simulator = Simulator::new(&model, outputs);
     let steady = steady_state(
@@ -383,7 +383,7 @@ fn a_nonlinear_steady_state_balances_the_spring() {
 
 #[test]
 fn the_stick_slip_spring_breaks_away_and_sticks_when_rk4_says() {
-    let model = load("models/examples/stick_slip_spring.ron");
+    let model = load("models/examples/nonlinear/stick_slip_spring.ron");
     let (m, k, k3, f_s, f_c, v) = (1.0, 100.0, 2.0e4, 10.0, 6.0, 0.1);
     let spring = |q: f64| k * q + k3 * q * q * q;
     let belt = Constant(v);

@@ -182,6 +182,9 @@ pub fn affine(
             ExprKind::Pow(a, n) => {
                 LinearForm::constant(constant(&convert(model, eq, a)).powi(*n).expect("power"))
             }
+            ExprKind::RealPow(..) | ExprKind::Call(..) => {
+                panic!("expected forms are affine, not {e:?}")
+            }
         }
     }
     convert(
