@@ -282,13 +282,12 @@ fn the_modulated_lever_moves_its_load_as_the_fixed_lever_does() {
     let b = simulate(&fixed, &records, &inputs, vec![0.0, 0.0], 1.0, 1e-3);
     assert_eq!(a.times.len(), b.times.len());
     let scale = 4.0; // the load feels 12 N / 3
-    for k in 0..records.len() {
+    for (k, record) in records.iter().enumerate() {
         for i in 0..a.times.len() {
             let (x, y) = (a.value(i, k).unwrap(), b.value(i, k).unwrap());
             assert!(
                 (x - y).abs() < 1e-8 * scale,
-                "{} at {}: {x} vs {y}",
-                records[k],
+                "{record} at {}: {x} vs {y}",
                 a.times[i]
             );
         }

@@ -11,6 +11,9 @@
 //! derivative), so the event is where the integrated solution crosses, not where its
 //! interpolant does.
 
+// The kernels index stages and components as the method's formulas do.
+#![allow(clippy::needless_range_loop)]
+
 use bondgraph_core::modes::Mode;
 use bondgraph_core::symbolic::expr::Sym;
 

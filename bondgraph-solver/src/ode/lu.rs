@@ -1,6 +1,9 @@
 //! Dense LU decomposition with partial pivoting, in place, for the integrator's small
 //! systems.
 
+// The kernels index stages and components as the method's formulas do.
+#![allow(clippy::needless_range_loop)]
+
 /// `a` (row-major, `n × n`) replaced by its LU factors; `pivots` records the row swaps.
 /// Returns false when the matrix is singular to working precision.
 pub(crate) fn factor(a: &mut [f64], n: usize, pivots: &mut [usize]) -> bool {

@@ -417,17 +417,18 @@ fn solve_affine(members: &[u32], equations: &[Sym]) -> Option<Vec<Sym>> {
         matrix.swap(k, pivot_row);
         rhs.swap(k, pivot_row);
         let pivot = matrix[k][k].clone();
-        for j in 0..n {
-            matrix[k][j] = Sym::div(&matrix[k][j], &pivot)?;
+        for entry in matrix[k].iter_mut() {
+            *entry = Sym::div(entry, &pivot)?;
         }
         rhs[k] = Sym::div(&rhs[k], &pivot)?;
+        let pivot_row = matrix[k].clone();
         for r in 0..n {
             if r == k || matrix[r][k].is_zero() {
                 continue;
             }
             let factor = matrix[r][k].clone();
-            for j in 0..n {
-                matrix[r][j] = Sym::sub(&matrix[r][j], &Sym::mul(&factor, &matrix[k][j]));
+            for (entry, above) in matrix[r].iter_mut().zip(&pivot_row) {
+                *entry = Sym::sub(entry, &Sym::mul(&factor, above));
             }
             rhs[r] = Sym::sub(&rhs[r], &Sym::mul(&factor, &rhs[k]));
         }

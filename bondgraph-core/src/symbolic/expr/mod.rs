@@ -736,10 +736,10 @@ impl Sym {
 
 /// `x^e` in floating point, odd roots of negative numbers real (`(-8)^(1/3)` is -2).
 pub fn power(x: f64, e: Rational) -> f64 {
-    if e.is_integer() {
-        if let Ok(n) = i32::try_from(e.num) {
-            return x.powi(n);
-        }
+    if e.is_integer()
+        && let Ok(n) = i32::try_from(e.num)
+    {
+        return x.powi(n);
     }
     if x < 0.0 && e.den % 2 != 0 {
         let magnitude = (-x).powf(e.to_f64());
