@@ -211,7 +211,7 @@ fn unknown_field() {
             column: 19,
             element: Some("mass"),
             underlined: "mass",
-            message: "element 'mass': unknown field 'mass'; expected 'inertance'",
+            message: "element 'mass': unknown field 'mass'; expected 'inertance' or 'flow'",
         },
     );
 }
@@ -517,11 +517,11 @@ fn product_of_inputs() {
         "product_of_inputs",
         Expect {
             kind: DiagnosticKind::NotLinear,
-            line: 15,
-            column: 29,
-            element: Some("pump"),
+            line: 16,
+            column: 40,
+            element: Some("relief"),
             underlined: "A*gain*P_s",
-            message: "element 'pump': effort \"A*gain*P_s\": multiplies two inputs; sources \
+            message: "element 'relief': max_flow \"A*gain*P_s\": multiplies two inputs; sources \
                       must be linear in the inputs",
         },
     );

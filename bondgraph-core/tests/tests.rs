@@ -3,5 +3,6 @@
 //! One test binary with modules (rather than one binary per file) keeps link times down.
 
 mod jacobian;
+mod nonlinear;
 mod random_graph;
 mod regressions;

@@ -394,7 +394,7 @@ impl Validator<'_> {
                 ElementKind::FlowSource(self.source_value(name, index, "flow", flow, scope)?)
             }
             RawElement::I { inertance, flow } => match (inertance, flow) {
-                (Some(inertance), None) if self.needs_law(inertance, scope, true) => {
+                (Some(inertance), None) if self.needs_law_where(inertance, scope, true, false) => {
                     self.nonlinear_storage(name, index, "inertance", inertance, scope)?
                 }
                 (Some(inertance), None) => ElementKind::Inertia(self.coefficient(
@@ -410,7 +410,7 @@ impl Validator<'_> {
                     self.one_of(
                         name,
                         index,
-                        "inertia",
+                        "inertance",
                         given.is_some(),
                         "inertance: \"m\" or flow: \"EXPR of p_NAME\"",
                     );
@@ -438,14 +438,14 @@ impl Validator<'_> {
                 compliance: Some(text),
                 stiffness: None,
                 effort: None,
-            } if self.needs_law(text, scope, true) => {
+            } if self.needs_law_where(text, scope, true, false) => {
                 self.nonlinear_storage(name, index, "compliance", text, scope)?
             }
             RawElement::C {
                 compliance: None,
                 stiffness: Some(text),
                 effort: None,
-            } if self.needs_law(text, scope, true) => {
+            } if self.needs_law_where(text, scope, true, false) => {
                 self.nonlinear_storage(name, index, "stiffness", text, scope)?
             }
             RawElement::C {
@@ -578,7 +578,7 @@ impl Validator<'_> {
                     }
                     (r, e, f) => {
                         let given = [r, e, f].iter().filter(|x| x.is_some()).count() > 1;
-                        self.one_of(name, index, "resistor", given, "resistance: \"b\", effort: \"EXPR of flow\" or flow: \"EXPR of effort\"");
+                        self.one_of(name, index, "resistance", given, "resistance: \"b\", effort: \"EXPR of flow\" or flow: \"EXPR of effort\"");
                         return None;
                     }
                 }
@@ -656,18 +656,22 @@ impl Validator<'_> {
         }
     }
 
-    /// Reports an element given none, or more than one, of its alternative fields.
-    fn one_of(&mut self, name: &str, index: usize, what: &str, several: bool, fields: &str) {
-        let span = self.entry_span(&self.map.elements, index);
+    /// Reports an element given none, or more than one, of its alternative fields
+    /// (`field` is the linear one, as missing fields are named).
+    fn one_of(&mut self, name: &str, index: usize, field: &str, several: bool, fields: &str) {
+        let span = self.map.elements.get(index).map_or_else(
+            || self.entry_span(&self.map.elements, index),
+            |e| e.value_span,
+        );
         let (kind, message) = if several {
             (
                 DiagnosticKind::ConflictingFields,
-                format!("{what} '{name}' gives more than one law; give one"),
+                format!("element '{name}' gives more than one law; give one"),
             )
         } else {
             (
                 DiagnosticKind::MissingField,
-                format!("{what} '{name}' needs a law"),
+                format!("element '{name}': missing field '{field}'"),
             )
         };
         self.problems.push(

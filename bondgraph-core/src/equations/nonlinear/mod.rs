@@ -396,19 +396,17 @@ fn solve_affine(members: &[u32], equations: &[Sym]) -> Option<Vec<Sym>> {
     let mut rhs: Vec<Sym> = Vec::with_capacity(n);
     for (i, equation) in equations.iter().enumerate() {
         let mut row = Vec::with_capacity(n);
-        let mut rest = equation.clone();
         for (j, &unknown) in unknowns.iter().enumerate() {
             let coefficient = equation.diff(unknown);
             if coefficient.mentions_any(&is_unknown) {
                 return None;
             }
-            rest = Sym::sub(&rest, &Sym::mul(&coefficient, &Sym::atom(unknown)));
             let identity = if i == j { Sym::one() } else { Sym::zero() };
             row.push(Sym::sub(&identity, &coefficient));
         }
-        if rest.mentions_any(&is_unknown) {
-            return None;
-        }
+        // Affine (every slope free of the unknowns): the rest is the equation at w = 0,
+        // without multiplying out products such as r(u)·(p/m - w/b).
+        let rest = equation.substitute(&|a| is_unknown(a).then(Sym::zero));
         matrix.push(row);
         rhs.push(rest);
     }

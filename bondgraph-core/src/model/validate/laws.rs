@@ -46,9 +46,33 @@ impl Validator<'_> {
     /// keep parameter-only) names an input. Text that does not parse takes the linear path,
     /// which reports it.
     pub(super) fn needs_law(&self, text: &str, scope: &Scope<'_>, coefficient: bool) -> bool {
+        self.needs_law_where(text, scope, coefficient, true)
+    }
+
+    /// As [`Validator::needs_law`]; an input in a coefficient that may not be `modulated`
+    /// (an inertance, a compliance) takes the linear path, which says it may use parameters
+    /// only.
+    pub(super) fn needs_law_where(
+        &self,
+        text: &str,
+        scope: &Scope<'_>,
+        coefficient: bool,
+        modulated: bool,
+    ) -> bool {
         let Ok(expr) = expr::parse(text) else {
             return false;
         };
+        let known = |name: &str| {
+            scope.symbols.get(name).is_some()
+                || scope.inputs.contains_key(name)
+                || scope.states.contains_key(name)
+                || name == "flow"
+                || name == "effort"
+        };
+        if !expr.symbols().iter().all(|(name, _)| known(name)) {
+            // An unknown name: the linear path reports it, with its suggestion.
+            return false;
+        }
         if expr.is_transcendental() {
             return true;
         }
@@ -65,7 +89,7 @@ impl Validator<'_> {
             .iter()
             .any(|(name, _)| scope.symbols.get(name).is_none() && scope.inputs.contains_key(name));
         if coefficient {
-            return names_input;
+            return names_input && modulated;
         }
         // A source: nonlinear in its inputs (`u^2`, `u*v`, `1/u`) needs a law.
         matches!(

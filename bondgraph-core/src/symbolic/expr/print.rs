@@ -203,8 +203,8 @@ impl Printer<'_> {
         } else if let Some(rest) = magnitude.strip_prefix("1/") {
             let num = if num.is_empty() { "1".to_string() } else { num };
             if !den.is_empty() {
-                // One fraction bar: `F/(c_theta*r_0)`, not `F/r_0/c_theta`.
-                return format!("{num}/({den}*{rest})");
+                // One fraction bar: `F/(r_0*c_theta)`, not `F/r_0/c_theta`.
+                return format!("{num}/({rest}*{den})");
             }
             format!("{num}/{rest}")
         } else {

@@ -104,7 +104,7 @@ fn derivatives_follow_the_textbook_rules() {
     let g = Sym::call(Function::Exp, vec![Sym::mul(&p("c"), &q())]);
     assert_eq!(text(&g.diff(Atom::State(0))), "c*exp(c*q)");
     let h = Sym::call(Function::Sqrt, vec![q()]);
-    assert_eq!(text(&h.diff(Atom::State(0))), "1/2/sqrt(q)");
+    assert_eq!(text(&h.diff(Atom::State(0))), "1/(2*sqrt(q))");
     let cubic = Sym::mul(&p("k"), &q().powi(3).unwrap());
     assert_eq!(text(&cubic.diff(Atom::State(0))), "3*k*q^2");
     assert!(cubic.diff(Atom::State(1)).is_zero());
