@@ -393,14 +393,16 @@ fn signed_column(entries: &[&RatFunc], symbols: &crate::symbolic::SymbolTable) -
     ))
 }
 
-fn matrix_text(name: &str, entries: &[Vec<String>]) -> String {
+/// A matrix as text, `name = [ ... ]` row by row; a blank `name` indents the rows without
+/// a name (a matrix's values under its symbolic form).
+pub(crate) fn matrix_text(name: &str, entries: &[Vec<String>]) -> String {
     let columns = entries.first().map_or(0, Vec::len);
     let widths: Vec<usize> = (0..columns)
         .map(|j| entries.iter().map(|row| row[j].len()).max().unwrap_or(0))
         .collect();
     let mut out = String::new();
     for (i, row) in entries.iter().enumerate() {
-        let prefix = if i == 0 {
+        let prefix = if i == 0 && !name.trim().is_empty() {
             format!("{name} = ")
         } else {
             " ".repeat(name.len() + 3)

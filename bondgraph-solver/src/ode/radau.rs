@@ -41,7 +41,7 @@ impl Default for Tolerances {
     fn default() -> Self {
         Self {
             relative: 1e-10,
-            absolute: 1e-300,
+            absolute: 1e-18,
             peak_fraction: 1e-3,
         }
     }

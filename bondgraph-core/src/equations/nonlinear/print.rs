@@ -9,6 +9,7 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
+use crate::equations::print::matrix_text;
 use crate::equations::{StateJson, Variables};
 use crate::symbolic::expr::{Atom, Sym};
 use crate::symbolic::latex_name;
@@ -323,26 +324,4 @@ impl NonlinearEquations {
             h_value: point.map(|p| self.evaluate(&output.value, p)),
         }
     }
-}
-
-fn matrix_text(name: &str, entries: &[Vec<String>]) -> String {
-    let columns = entries.first().map_or(0, Vec::len);
-    let widths: Vec<usize> = (0..columns)
-        .map(|j| entries.iter().map(|row| row[j].len()).max().unwrap_or(0))
-        .collect();
-    let mut out = String::new();
-    for (i, row) in entries.iter().enumerate() {
-        let prefix = if i == 0 && !name.trim().is_empty() {
-            format!("{name} = ")
-        } else {
-            " ".repeat(name.len() + 3)
-        };
-        let cells: Vec<String> = row
-            .iter()
-            .zip(&widths)
-            .map(|(cell, w)| format!("{cell:>w$}"))
-            .collect();
-        out.push_str(&format!("{prefix}[ {} ]\n", cells.join("  ")));
-    }
-    out
 }
