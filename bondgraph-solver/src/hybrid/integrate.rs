@@ -284,6 +284,7 @@ impl Stepper<'_, '_> {
         let mut before = vec![0.0; size];
         let mut point = vec![0.0; size];
         let mut crossing: Option<Crossing> = None;
+        let mut current_values: Vec<f64> = Vec::with_capacity(guard_count);
         while tau < length {
             let step = h.min(length - tau);
             if step <= f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0 {
@@ -319,14 +320,20 @@ impl Stepper<'_, '_> {
             // Guards along the step, on its collocation polynomial.
             let mut found: Option<(usize, f64)> = None;
             let mut theta_before = 0.0;
-            for theta in [0.25, 0.5, 0.75, 1.0] {
+            let thetas: &[f64] = if guard_count == 0 {
+                &[]
+            } else {
+                &[0.25, 0.5, 0.75, 1.0]
+            };
+            for &theta in thetas {
                 if theta == 1.0 {
                     point.copy_from_slice(&z);
                 } else {
                     radau.dense(theta, &mut point);
                 }
                 guards.at(tau + theta * step, &point, &u0, &u1);
-                let current_values: Vec<f64> = (0..guard_count).map(|k| guards.value(k)).collect();
+                current_values.clear();
+                current_values.extend((0..guard_count).map(|k| guards.value(k)));
                 for k in 0..guard_count {
                     if self.armed[k] && previous[k] < 0.0 && current_values[k] >= 0.0 {
                         let (a, b) = (theta_before, theta);
@@ -350,7 +357,7 @@ impl Stepper<'_, '_> {
                         self.armed[k] = true;
                     }
                 }
-                previous = current_values;
+                std::mem::swap(&mut previous, &mut current_values);
                 theta_before = theta;
             }
             if let Some((k, theta)) = found {

@@ -59,6 +59,10 @@ impl Validator<'_> {
         coefficient: bool,
         modulated: bool,
     ) -> bool {
+        if coefficient && plainly_parameters(text, scope) {
+            // The common case, decided without parsing twice: `1/k_ge`, `m_ct + m_ge`.
+            return false;
+        }
         let Ok(expr) = expr::parse(text) else {
             return false;
         };
@@ -469,6 +473,15 @@ impl Validator<'_> {
         }
         Some(diagnostic)
     }
+}
+
+/// Whether `text` has no call, no power and names parameters only: a linear coefficient.
+fn plainly_parameters(text: &str, scope: &Scope<'_>) -> bool {
+    !text.contains(['(', '^'])
+        && text
+            .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .filter(|word| word.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_'))
+            .all(|word| scope.symbols.get(word).is_some())
 }
 
 fn nonlinear(law: NonlinearLaw, field: &str, text: &str, span: Span) -> ElementKind {
