@@ -57,6 +57,7 @@ pub mod laws;
 pub mod linear;
 pub mod model;
 pub mod modes;
+pub mod normal_tree;
 pub mod scenario;
 pub mod source;
 pub mod symbolic;

@@ -48,11 +48,12 @@
 //! assert_eq!(model.linear_graph.as_ref().unwrap().branches.len(), 4);
 //!
 //! let typo = model::load_str("msd.lg.ron", r#"LinearGraph(name: "msd", ground: "g",
-//!     parameters: {"m": (value: 2.0)},
+//!     parameters: {"m": (value: 2.0), "k": (value: 1.0)},
 //!     branches: {"mass": A(capacitance: "m", from: "v1", to: "g"),
+//!                "spring": T(stiffness: "k", from: "v1", to: "g"),
 //!                "push": ThroughSource(value: "1", from: "g", to: "v2")})"#).unwrap_err();
 //! assert_eq!(typo.first().message, "branch 'push' names node 'v2', which no other branch touches");
-//! assert_eq!(typo.first().location.as_ref().unwrap().line, 4);
+//! assert_eq!(typo.first().location.as_ref().unwrap().line, 5);
 //! ```
 
 mod check;
