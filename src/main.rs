@@ -6,6 +6,9 @@
 
 mod diagnostics;
 mod discover;
+mod explain_lg;
+mod lg_graph;
+mod lg_svg;
 mod plot;
 mod reproduce;
 mod residual_plot;
@@ -38,16 +41,27 @@ enum Command {
         /// The model file (RON).
         model: PathBuf,
     },
-    /// Show the bond graph and its causal strokes, as text or Graphviz DOT.
+    /// Show the bond graph and its causal strokes (a linear graph: its nodes, branches and
+    /// normal tree), as text, Graphviz DOT or SVG.
     Graph {
         /// The model file (RON).
         model: PathBuf,
         /// The mode of the switching elements, e.g. fr=stuck,string=taut (default: initial).
         #[arg(long, value_name = "SPEC")]
         mode: Option<String>,
-        /// Output format: text, or dot (render with `dot -Tsvg`).
+        /// Output format: text, dot (render with `dot -Tsvg`), or svg (linear graphs).
         #[arg(long, value_enum, default_value_t = GraphFormat::Text)]
         format: GraphFormat,
+    },
+    /// Walk through the derivation as a teacher would on the board (a linear graph: the
+    /// normal tree's construction, its primary and secondary variables, and the cut-set and
+    /// loop equations).
+    Explain {
+        /// The model file (RON).
+        model: PathBuf,
+        /// The mode of the switching elements (default: initial).
+        #[arg(long, value_name = "SPEC")]
+        mode: Option<String>,
     },
     /// Derive the state equations dx/dt = A x + B u + c of a model.
     Equations {
@@ -56,13 +70,15 @@ enum Command {
         /// The mode of the switching elements, e.g. fr=stuck,string=taut (default: initial).
         #[arg(long, value_name = "SPEC")]
         mode: Option<String>,
-        /// Energy variables (momenta p, displacements q) or co-energy (velocities v, forces f).
-        #[arg(long, value_enum, default_value_t = StatesArg::Energy)]
-        states: StatesArg,
+        /// Energy variables (momenta p, displacements q) or co-energy (velocities v, forces
+        /// f); default energy for a bond graph, co-energy for a linear graph.
+        #[arg(long, value_enum)]
+        states: Option<StatesArg>,
         /// Output format.
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
-        /// Also derive an output equation: effort:ELEMENT, flow:ELEMENT or effort:FROM->TO.
+        /// Also derive an output equation: effort:ELEMENT, flow:ELEMENT, effort:FROM->TO, or
+        /// across:BRANCH, through:BRANCH of a linear graph.
         #[arg(long = "output", value_name = "SPEC")]
         outputs: Vec<String>,
     },
@@ -129,9 +145,10 @@ enum Command {
     Modes {
         /// The model file (RON).
         model: PathBuf,
-        /// Energy or co-energy variables, for the guards' expressions.
-        #[arg(long, value_enum, default_value_t = StatesArg::Energy)]
-        states: StatesArg,
+        /// Energy or co-energy variables, for the guards' expressions (default as for
+        /// equations).
+        #[arg(long, value_enum)]
+        states: Option<StatesArg>,
         /// Output format.
         #[arg(long, value_enum, default_value_t = ModesFormat::Text)]
         format: ModesFormat,
@@ -166,6 +183,7 @@ enum StatesArg {
 enum GraphFormat {
     Text,
     Dot,
+    Svg,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -254,6 +272,9 @@ fn run(cli: Cli) -> Result<(), Failure> {
         } => {
             let (model, source) = load(&model)?;
             let mode = parse_mode(&model, mode.as_deref(), &source)?;
+            if model.linear_graph.is_some() {
+                return lg_graph::run(&model, &mode, format, &source);
+            }
             let laws = laws::for_mode(&model, &mode);
             let causality =
                 causality::assign(&model, &laws).map_err(|d| with_source(d, &source))?;
@@ -264,6 +285,12 @@ fn run(cli: Cli) -> Result<(), Failure> {
                     graph::describe_causality(&model, &laws, &causality)
                 ),
                 GraphFormat::Dot => graph::to_dot(&model, Some(&causality)),
+                GraphFormat::Svg => {
+                    return Err(Failure::message(
+                        DiagnosticKind::Io,
+                        "SVG drawings are made of linear graphs; for a bond graph use --format dot",
+                    ));
+                }
             };
             print(&text);
             Ok(())
@@ -278,7 +305,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let (model, source) = load(&model)?;
             let mode = parse_mode(&model, mode.as_deref(), &source)?;
             let options = equations::Options {
-                variables: states.variables(),
+                variables: variables(states, &model),
             };
             let derived =
                 modes::derive(&model, &mode, &options).map_err(|d| with_source(d, &source))?;
@@ -314,7 +341,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                     }
                     text
                 }
-                Format::Latex => equations.to_latex(),
+                Format::Latex => equations.to_latex_with_outputs(&outputs),
                 Format::Json => json(&equations.to_json(&mode.spec(&model), &outputs))?,
             };
             print(&text);
@@ -327,6 +354,11 @@ fn run(cli: Cli) -> Result<(), Failure> {
             out,
             plot,
         } => simulate(&model, &scenario, format, out.as_deref(), plot.as_deref()),
+        Command::Explain { model, mode } => {
+            let (model, source) = load(&model)?;
+            let mode = parse_mode(&model, mode.as_deref(), &source)?;
+            explain_lg::run(&model, &mode, &source)
+        }
         Command::Reproduce { out, format } => reproduce::run(&out, format == ReproduceFormat::Json),
         Command::Discover {
             model,
@@ -355,7 +387,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
         } => {
             let (model, source) = load(&model)?;
             let options = equations::Options {
-                variables: states.variables(),
+                variables: variables(states, &model),
             };
             let reachable =
                 modes::reachable(&model, &options).map_err(|d| with_source(d, &source))?;
@@ -492,6 +524,12 @@ impl StatesArg {
     }
 }
 
+/// The variables asked for, or the model's own: co-energy for a linear graph (as Rowell &
+/// Wormley write its states), energy for a bond graph.
+fn variables(states: Option<StatesArg>, model: &Model) -> Variables {
+    states.map_or_else(|| Variables::preferred(model), StatesArg::variables)
+}
+
 /// The mode given on the command line, or the model's initial mode.
 fn parse_mode(
     model: &Model,
@@ -504,8 +542,9 @@ fn parse_mode(
     }
 }
 
-/// Reads and validates a model file.
-fn load(path: &Path) -> Result<(Model, Arc<SourceFile>), Failure> {
+/// Reads and validates a model file, a bond graph or a linear graph
+/// ([`model::load_source`]).
+pub(crate) fn load(path: &Path) -> Result<(Model, Arc<SourceFile>), Failure> {
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|error| {
         Failure::message(
@@ -518,7 +557,7 @@ fn load(path: &Path) -> Result<(Model, Arc<SourceFile>), Failure> {
     Ok((model, source))
 }
 
-fn with_source(diagnostics: Diagnostics, source: &Arc<SourceFile>) -> Failure {
+pub(crate) fn with_source(diagnostics: Diagnostics, source: &Arc<SourceFile>) -> Failure {
     Failure {
         diagnostics,
         sources: vec![source.clone()],

@@ -160,7 +160,10 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
 /// ([`crate::normal_tree`]), so that the states are the tree's where dependent storage
 /// leaves a choice (which of two springs in series keeps its state).
 fn storage_order(model: &Model, laws: &[Law]) -> Vec<ElementId> {
-    let mut order: Vec<ElementId> = match (&model.linear_graph, crate::normal_tree::of_mode(model, laws)) {
+    let mut order: Vec<ElementId> = match (
+        &model.linear_graph,
+        crate::normal_tree::of_mode(model, laws),
+    ) {
         (Some(graph), Some(tree)) => tree.storage_priority(graph),
         _ => Vec::new(),
     };

@@ -258,10 +258,10 @@ fn attempt(graph: &LinearGraph, roles: &[Vec<Role>], placement: &[(usize, Vec<us
         (e.from, e.to)
     };
     let consider = |b: usize,
-                        p: usize,
-                        tree: &mut Forest,
-                        in_tree: &mut Vec<Vec<bool>>,
-                        steps: &mut Vec<Step>| {
+                    p: usize,
+                    tree: &mut Forest,
+                    in_tree: &mut Vec<Vec<bool>>,
+                    steps: &mut Vec<Step>| {
         let (from, to) = edge(b, p);
         let reason = match tree.path(from, to) {
             None => {
@@ -461,7 +461,11 @@ impl NormalTree {
         self.independent_storage()
             .into_iter()
             .map(|b| {
-                let letter = if self.roles[b][0] == Role::A { "v" } else { "f" };
+                let letter = if self.roles[b][0] == Role::A {
+                    "v"
+                } else {
+                    "f"
+                };
                 format!("{letter}_{}", graph.branches[b].name)
             })
             .collect()

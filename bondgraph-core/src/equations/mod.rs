@@ -1,4 +1,6 @@
-//! State equations `dx/dt = A x + B u + c` of one mode, with symbolic entries.
+//! State equations `dx/dt = A x + B u + c` of one mode, with symbolic entries, and the
+//! term `E du/dt` where storage driven by an input makes the states follow the input's rate
+//! (Rowell & Wormley's dependent spring, in co-energy variables).
 //!
 //! The derivation runs in four steps, each in its own module:
 //! 1. [`causality`](crate::causality::assign) assigns causal strokes (SCAP);
@@ -44,6 +46,19 @@ pub enum Variables {
     /// Velocities `v` of inertias and efforts (forces) `f` of compliances.
     #[serde(rename = "coenergy")]
     CoEnergy,
+}
+
+impl Variables {
+    /// The variables a model is best read in: co-energy for a linear graph (Rowell &
+    /// Wormley's states are across variables of A-types and through variables of T-types),
+    /// energy for a bond graph.
+    pub fn preferred(model: &Model) -> Self {
+        if model.linear_graph.is_some() {
+            Variables::CoEnergy
+        } else {
+            Variables::Energy
+        }
+    }
 }
 
 /// The physical quantity a state measures.
@@ -183,8 +198,9 @@ pub struct StateEquations {
     pub states: Vec<StateVariable>,
     /// The model's inputs, in file order.
     pub inputs: Vec<String>,
-    /// `dx_i/dt` as an affine form of [`Var::State`], [`Var::Input`] and [`Var::Constant`]
-    /// (never of input rates).
+    /// `dx_i/dt` as an affine form of [`Var::State`], [`Var::Input`], [`Var::Constant`] and,
+    /// where storage driven by an input feeds a state, [`Var::InputRate`] (the `E du/dt`
+    /// term).
     pub derivatives: Vec<LinearForm>,
     /// What the derivation merged, held and solved.
     pub notes: Vec<Note>,
@@ -308,14 +324,8 @@ pub fn derive_with(
     let mut storage_energy: Vec<(ElementId, LinearForm)> =
         merged.storage_energy.into_iter().collect();
     if options.variables == Variables::CoEnergy {
-        let converted = coenergy::convert(
-            model,
-            &merged.blocks,
-            &state_elements,
-            &derivatives,
-            &bond_vars,
-            &storage_energy,
-        )?;
+        let converted =
+            coenergy::convert(&merged.blocks, &derivatives, &bond_vars, &storage_energy)?;
         derivatives = converted.derivatives;
         bond_vars = converted.bond_vars;
         storage_energy = converted.storage_energy;
@@ -350,6 +360,19 @@ impl StateEquations {
     /// The dense matrix `B` (states × inputs).
     pub fn b(&self) -> Vec<Vec<RatFunc>> {
         self.dense(|j| Var::Input(j as u32), self.inputs.len())
+    }
+
+    /// The dense matrix `E` (states × inputs) of the inputs' rates: zero unless storage
+    /// driven by an input feeds a state.
+    pub fn e(&self) -> Vec<Vec<RatFunc>> {
+        self.dense(|j| Var::InputRate(j as u32), self.inputs.len())
+    }
+
+    /// Whether the state equations have an `E du/dt` term.
+    pub fn has_input_rates(&self) -> bool {
+        self.derivatives
+            .iter()
+            .any(|row| row.mentions(|v| matches!(v, Var::InputRate(_))))
     }
 
     /// The affine term `c` (one entry per state).

@@ -123,7 +123,14 @@ pub(crate) fn check(file: &SourceFile, raw: &RawLinearGraph, map: &SourceMap) ->
             });
         }
         ports.push(branch_ports);
-        check_fields(file, name, branch, map.branches.get(b), branch_span(b), &mut problems);
+        check_fields(
+            file,
+            name,
+            branch,
+            map.branches.get(b),
+            branch_span(b),
+            &mut problems,
+        );
     }
     touches.resize(nodes.len(), Vec::new());
 
@@ -131,10 +138,7 @@ pub(crate) fn check(file: &SourceFile, raw: &RawLinearGraph, map: &SourceMap) ->
     if touches[ground.index()].is_empty() {
         let mut d = Diagnostic::new(
             DiagnosticKind::UndefinedNode,
-            format!(
-                "the ground '{}' is not a node of any branch",
-                raw.ground
-            ),
+            format!("the ground '{}' is not a node of any branch", raw.ground),
         )
         .at(file, ground_span)
         .element(raw.ground.clone());
@@ -285,7 +289,9 @@ fn check_fields(
         (true, true) => (
             DiagnosticKind::ConflictingFields,
             format!("branch '{name}' gives both {} and {}; give one", a.0, b.0),
-            entry.and_then(|e| e.field(b.0)).map_or(span, |f| f.name_span),
+            entry
+                .and_then(|e| e.field(b.0))
+                .map_or(span, |f| f.name_span),
         ),
         (false, false) => (
             DiagnosticKind::MissingField,
@@ -360,7 +366,8 @@ fn check_connected(
     if order.len() < 2 {
         return;
     }
-    let grounded = |root: usize| (0..n).any(|x| x != ground && pieces.find(x) == root && touches_ground[x]);
+    let grounded =
+        |root: usize| (0..n).any(|x| x != ground && pieces.find(x) == root && touches_ground[x]);
     let describe = |branches: &[usize]| {
         let names: Vec<String> = branches
             .iter()

@@ -216,10 +216,7 @@ pub(crate) fn translate(raw: &RawLinearGraph, map: &SourceMap, topology: &Topolo
             elements[bond.to].name.clone(),
         ));
         let port = topology.ports[bond.branch][bond.port];
-        let span = map
-            .branches
-            .get(bond.branch)
-            .map_or(map.root, |e| e.span());
+        let span = map.branches.get(bond.branch).map_or(map.root, |e| e.span());
         bond_spans.push(ItemSpans {
             span,
             strings: vec![
@@ -407,7 +404,13 @@ fn simplify(elements: &mut [DraftElement], bonds: &mut [DraftBond]) {
 fn identifier(name: &str, prefix: &str) -> String {
     let cleaned: String = name
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect();
     match cleaned.chars().next() {
         Some(c) if c.is_ascii_alphabetic() || c == '_' => cleaned,
@@ -482,10 +485,17 @@ fn element_of(branch: &RawBranch) -> (RawElement, Vec<(&'static str, &'static st
                 stribeck,
                 initial,
             },
-            ["breakaway", "coulomb", "viscous", "dead_band", "stribeck", "initial"]
-                .into_iter()
-                .map(|f| (f, f))
-                .collect(),
+            [
+                "breakaway",
+                "coulomb",
+                "viscous",
+                "dead_band",
+                "stribeck",
+                "initial",
+            ]
+            .into_iter()
+            .map(|f| (f, f))
+            .collect(),
         ),
         RawBranch::TensionOnly {
             inductance,
