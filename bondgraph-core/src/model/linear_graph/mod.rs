@@ -89,6 +89,35 @@ pub fn load(source: &Arc<SourceFile>) -> Result<Model> {
     Ok(model)
 }
 
+/// The linear graph in `source` in the shape [`edit`](crate::model::edit) edits: a raw
+/// model whose elements are the branches (their kinds left out) and has no bonds, with the
+/// source map of the branches as its elements.
+///
+/// # Errors
+/// The file's syntax error.
+pub(crate) fn editable(
+    source: &SourceFile,
+) -> Result<(crate::model::raw::RawModel, crate::model::source_map::SourceMap)> {
+    let (raw, map) = parse_file::<RawLinearGraph>(source, FileKind::LinearGraph)?;
+    let model = crate::model::raw::RawModel {
+        name: raw.name,
+        description: raw.description,
+        parameters: raw.parameters,
+        inputs: raw.inputs,
+        elements: raw
+            .branches
+            .into_iter()
+            .map(|(name, _)| (name, crate::model::raw::RawElement::One))
+            .collect(),
+        bonds: Vec::new(),
+    };
+    let map = crate::model::source_map::SourceMap {
+        elements: map.branches.clone(),
+        ..map
+    };
+    Ok((model, map))
+}
+
 /// `diagnostics` about `model` reworded in its linear graph's terms, if it has one: a
 /// branch's element is called a branch (`A-type 'mass'` rather than `inertia 'mass'`), a
 /// node's 1-junction the node.
