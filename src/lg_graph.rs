@@ -56,23 +56,25 @@ pub(crate) fn describe(
         graph.node(graph.ground).name,
         graph.branches.len()
     );
-    let width = graph.nodes.iter().map(|n| n.name.len()).max().unwrap_or(0);
-    for (n, node) in graph.nodes.iter().enumerate() {
+    let label = |n: usize| {
+        let name = &graph.nodes[n].name;
+        if n == graph.ground.index() {
+            format!("{name} (ground)")
+        } else {
+            name.clone()
+        }
+    };
+    let width = (0..graph.nodes.len())
+        .map(|n| label(n).len())
+        .max()
+        .unwrap_or(0);
+    for n in 0..graph.nodes.len() {
         let touching: Vec<String> = graph
             .edges()
             .filter(|(_, _, e)| e.from.index() == n || e.to.index() == n)
             .map(|(b, p, _)| graph.edge_name(b, p))
             .collect();
-        let ground = if n == graph.ground.index() {
-            " (ground)"
-        } else {
-            ""
-        };
-        out.push_str(&format!(
-            "  {:width$}{ground}  {}\n",
-            node.name,
-            touching.join(", ")
-        ));
+        out.push_str(&format!("  {:width$}  {}\n", label(n), touching.join(", ")));
     }
     out.push_str("\nbranches (from -> to):\n");
     let name_width = graph
@@ -92,7 +94,7 @@ pub(crate) fn describe(
             format!(" (here: {})", role.description())
         };
         out.push_str(&format!(
-            "  {:name_width$}  {:<15} {} -> {}  {}{role_text}\n",
+            "  {:name_width$}  {:<19} {} -> {}  {}{role_text}\n",
             graph.edge_name(b, p),
             kind,
             graph.node(edge.from).name,

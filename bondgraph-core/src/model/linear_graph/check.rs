@@ -146,7 +146,16 @@ pub(crate) fn check(file: &SourceFile, raw: &RawLinearGraph, map: &SourceMap) ->
         if let Some(s) = suggest(&raw.ground, others) {
             d = d.note(format!("did you mean '{s}'?"));
         } else {
-            d = d.note("name the reference node in some branch's from or to");
+            let named: Vec<String> = nodes
+                .iter()
+                .skip(1)
+                .take(6)
+                .map(|n| format!("'{}'", n.name))
+                .collect();
+            d = d.note(format!(
+                "the branches' nodes are {}; the ground must be one of them",
+                named.join(", ")
+            ));
         }
         problems.push(d);
     }
@@ -193,9 +202,11 @@ pub(crate) fn check(file: &SourceFile, raw: &RawLinearGraph, map: &SourceMap) ->
         ground,
         ports,
     };
-    check_connected(file, raw, map, &topology, &mut problems);
+    // Source loops and cut-sets first: a node reached only through through sources is a
+    // cut-set of sources before it is a separate part.
+    check_sources(file, raw, map, &topology, &mut problems);
     if problems.is_empty() {
-        check_sources(file, raw, map, &topology, &mut problems);
+        check_connected(file, raw, map, &topology, &mut problems);
     }
     if problems.is_empty() {
         Ok(topology)
@@ -499,13 +510,21 @@ fn check_sources(
             .take(4)
             .map(|x| format!("'{}'", topology.nodes[x].name))
             .collect();
+        let side_nodes = format!(
+            "{} {}",
+            if side_nodes.len() == 1 {
+                "node"
+            } else {
+                "nodes"
+            },
+            side_nodes.join(", ")
+        );
         problems.push(
             Diagnostic::new(
                 DiagnosticKind::ThroughSourceCutSet,
                 format!(
-                    "through sources {} form a cut-set: they alone join nodes {} to the rest of the graph, so their through variables would have to sum to zero",
+                    "through sources {} form a cut-set: they alone join {side_nodes} to the rest of the graph, so their through variables would have to sum to zero",
                     crossing.join(", "),
-                    side_nodes.join(", ")
                 ),
             )
             .at(file, span(b))

@@ -82,7 +82,22 @@ pub fn load(source: &Arc<SourceFile>) -> Result<Model> {
     let (raw, map) = parse_file::<RawLinearGraph>(source, FileKind::LinearGraph)?;
     let topology = check::check(source, &raw, &map)?;
     let translated = translate::translate(&raw, &map, &topology);
-    let words = Words::new(&translated.graph, &translated.raw, &translated.fields);
+    let names: Vec<String> = translated
+        .raw
+        .elements
+        .iter()
+        .map(|(n, _)| n.clone())
+        .collect();
+    let bonds: Vec<(usize, usize)> = translated
+        .raw
+        .bonds
+        .iter()
+        .filter_map(|b| {
+            let at = |name: &str| names.iter().position(|n| n == name);
+            Some((at(&b.0)?, at(&b.1)?))
+        })
+        .collect();
+    let words = Words::new(&translated.graph, &names, &bonds, &translated.fields);
     let mut model = crate::model::validate::validate(source, translated.raw, &translated.map)
         .map_err(|d| words.apply(d))?;
     model.linear_graph = Some(Arc::new(translated.graph));
@@ -97,7 +112,10 @@ pub fn load(source: &Arc<SourceFile>) -> Result<Model> {
 /// The file's syntax error.
 pub(crate) fn editable(
     source: &SourceFile,
-) -> Result<(crate::model::raw::RawModel, crate::model::source_map::SourceMap)> {
+) -> Result<(
+    crate::model::raw::RawModel,
+    crate::model::source_map::SourceMap,
+)> {
     let (raw, map) = parse_file::<RawLinearGraph>(source, FileKind::LinearGraph)?;
     let model = crate::model::raw::RawModel {
         name: raw.name,
@@ -125,8 +143,12 @@ pub fn reword(model: &Model, diagnostics: Diagnostics) -> Diagnostics {
     match &model.linear_graph {
         Some(graph) => {
             let names: Vec<String> = model.elements.iter().map(|e| e.name.clone()).collect();
-            let words = Words::from_names(graph, &names, &[]);
-            words.apply(diagnostics)
+            let bonds: Vec<(usize, usize)> = model
+                .bonds
+                .iter()
+                .map(|b| (b.from.index(), b.to.index()))
+                .collect();
+            Words::new(graph, &names, &bonds, &[]).apply(diagnostics)
         }
         None => diagnostics,
     }
@@ -138,21 +160,38 @@ struct Words {
 }
 
 impl Words {
+    /// The words for `graph`, translated into a bond graph whose elements are called
+    /// `element_names` and whose bonds join `bonds` (element indices).
     fn new(
         graph: &LinearGraph,
-        raw: &crate::model::raw::RawModel,
-        fields: &[Vec<(&'static str, &'static str)>],
-    ) -> Self {
-        let names: Vec<String> = raw.elements.iter().map(|(n, _)| n.clone()).collect();
-        Self::from_names(graph, &names, fields)
-    }
-
-    fn from_names(
-        graph: &LinearGraph,
         element_names: &[String],
+        bonds: &[(usize, usize)],
         fields: &[Vec<(&'static str, &'static str)>],
     ) -> Self {
         let mut pairs = Vec::new();
+        // Which branch each element belongs to (its element, or a 0-junction of a port).
+        let branch_of = |index: usize| -> Option<&str> {
+            let id = crate::model::ElementId(index as u32);
+            match graph.junction(id) {
+                Some(JunctionOf::Branch(b, _)) => Some(graph.branches[b].name.as_str()),
+                Some(JunctionOf::Node(_)) => None,
+                None => graph
+                    .branch_of_element(id)
+                    .map(|b| graph.branches[b].name.as_str()),
+            }
+        };
+        for &(from, to) in bonds {
+            let (Some(a), Some(b)) = (element_names.get(from), element_names.get(to)) else {
+                continue;
+            };
+            if let Some(branch) = branch_of(from).or_else(|| branch_of(to)) {
+                pairs.push((
+                    format!("on bond {a} -> {b}"),
+                    format!("at branch '{branch}'"),
+                ));
+                pairs.push((format!("bond {a} -> {b}"), format!("branch '{branch}'")));
+            }
+        }
         for (b, branch) in graph.branches.iter().enumerate() {
             let n = &branch.name;
             pairs.push((format!("element name '{n}'"), format!("branch name '{n}'")));
@@ -185,11 +224,23 @@ impl Words {
             let Some(name) = element_names.get(element.index()) else {
                 continue;
             };
-            if let JunctionOf::Node(node) = of {
-                pairs.push((
-                    format!("1-junction '{name}'"),
-                    format!("node '{}'", graph.node(*node).name),
-                ));
+            match of {
+                JunctionOf::Node(node) => {
+                    let node = &graph.node(*node).name;
+                    pairs.push((
+                        format!("1-junction '{name}': its flow"),
+                        format!("node '{node}': its across variable"),
+                    ));
+                    pairs.push((format!("1-junction '{name}'"), format!("node '{node}'")));
+                }
+                JunctionOf::Branch(b, _) => {
+                    let branch = &graph.branches[*b].name;
+                    pairs.push((
+                        format!("0-junction '{name}': its effort"),
+                        format!("branch '{branch}': its through variable"),
+                    ));
+                    pairs.push((format!("0-junction '{name}'"), format!("branch '{branch}'")));
+                }
             }
         }
         Self { pairs }
