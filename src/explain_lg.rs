@@ -222,20 +222,12 @@ pub(crate) fn explain(
     out.push_str("\nContinuity (cut-set) equations, one per tree branch:\n");
     for (b, p) in tree.tree_edges() {
         let terms = tree.cut_set_equation(graph, b, p);
-        out.push_str(&format!(
-            "  {} = {}\n",
-            through(b, p),
-            sum(&terms, |b, p| through(b, p))
-        ));
+        out.push_str(&format!("  {} = {}\n", through(b, p), sum(&terms, through)));
     }
     out.push_str("\nCompatibility (loop) equations, one per link:\n");
     for (b, p) in tree.links() {
         let terms = tree.loop_equation(graph, b, p);
-        out.push_str(&format!(
-            "  {} = {}\n",
-            across(b, p),
-            sum(&terms, |b, p| across(b, p))
-        ));
+        out.push_str(&format!("  {} = {}\n", across(b, p), sum(&terms, across)));
     }
     out.push_str("\nElemental equations in this mode:\n");
     for (b, branch) in graph.branches.iter().enumerate() {

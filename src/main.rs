@@ -253,12 +253,28 @@ fn run(cli: Cli) -> Result<(), Failure> {
             } else {
                 format!(", {}", count(reachable.modes.len(), "reachable mode"))
             };
+            let (kind, parts) = match &model.linear_graph {
+                Some(graph) => (
+                    "linear graph",
+                    [
+                        (graph.nodes.len(), "node"),
+                        (graph.branches.len(), "branch"),
+                    ],
+                ),
+                None => (
+                    "model",
+                    [
+                        (model.elements.len(), "element"),
+                        (model.bonds.len(), "bond"),
+                    ],
+                ),
+            };
             println!(
-                "{}: ok: model '{}' with {}, {}, {}, {} and {}{mode_count}",
+                "{}: ok: {kind} '{}' with {}, {}, {}, {} and {}{mode_count}",
                 source.name(),
                 model.name,
-                count(model.elements.len(), "element"),
-                count(model.bonds.len(), "bond"),
+                count(parts[0].0, parts[0].1),
+                count(parts[1].0, parts[1].1),
                 count(model.parameters.len(), "parameter"),
                 count(model.inputs.len(), "input"),
                 count(initial.state_count(), "state"),
@@ -578,9 +594,14 @@ pub(crate) fn json(value: &impl serde::Serialize) -> Result<String, Failure> {
         })
 }
 
-/// `1 bond`, `2 bonds`.
+/// `1 bond`, `2 bonds`, `3 branches`.
 fn count(n: usize, noun: &str) -> String {
-    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
+    let plural = match (n, noun.ends_with(['s', 'h'])) {
+        (1, _) => "",
+        (_, true) => "es",
+        _ => "s",
+    };
+    format!("{n} {noun}{plural}")
 }
 
 /// Writes to stdout, ignoring a closed pipe (`bondgraph ... | head`).

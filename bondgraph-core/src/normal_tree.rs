@@ -337,7 +337,7 @@ fn attempt(graph: &LinearGraph, roles: &[Vec<Role>], placement: &[(usize, Vec<us
         });
     }
     for (b, ports) in placement {
-        for p in 0..roles[*b].len() {
+        for (p, &role) in roles[*b].iter().enumerate() {
             if ports.contains(&p) {
                 continue;
             }
@@ -349,7 +349,7 @@ fn attempt(graph: &LinearGraph, roles: &[Vec<Role>], placement: &[(usize, Vec<us
             steps.push(Step {
                 branch: *b,
                 port: p,
-                role: roles[*b][p],
+                role,
                 in_tree: false,
                 reason: Reason::TwoPortLink,
             });

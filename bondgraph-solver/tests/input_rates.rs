@@ -61,7 +61,7 @@ fn the_rate_matrix_is_the_hand_derived_one() {
 fn a_ramp_is_propagated_exactly() {
     let (_, mode) = coenergy_mode();
     let (e, a, r) = (K1 / (K1 + K2), K1 * K2 / (B * (K1 + K2)), 40.0);
-    let carried = mode.project(&vec![0.0; 2], &[0.0]);
+    let carried = mode.project(&[0.0; 2], &[0.0]);
     let mut segment = mode.propagator.start(&carried, &[0.0], &[r]);
     for t in [0.0, 0.01, 0.05, 0.1, 0.3] {
         let mut state = vec![0.0];
@@ -80,7 +80,7 @@ fn a_step_makes_the_state_jump_by_e_times_the_step() {
     let (_, mode) = coenergy_mode();
     let (e, a, step) = (K1 / (K1 + K2), K1 * K2 / (B * (K1 + K2)), 12.0);
     // Before the step, at rest with F = 0; the carried x' = x - E u does not jump.
-    let carried = mode.project(&vec![0.0; 2], &[0.0]);
+    let carried = mode.project(&[0.0; 2], &[0.0]);
     assert_eq!(mode.states(&carried, &[0.0]), [0.0]);
     let after = mode.states(&carried, &[step]);
     assert!((after[0] - e * step).abs() < 1e-12, "{after:?}");

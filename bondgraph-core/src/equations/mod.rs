@@ -89,6 +89,17 @@ impl Quantity {
         }
     }
 
+    /// A readable name of the quantity in a linear graph's terms: a state of an A-type
+    /// (an inertia of the bond graph) is its across variable, or its capacitance times it.
+    pub fn linear_graph_description(self) -> &'static str {
+        match self {
+            Quantity::Momentum => "momentum (capacitance times across variable)",
+            Quantity::Displacement => "displacement (inductance times through variable)",
+            Quantity::Velocity => "across variable",
+            Quantity::Force => "through variable",
+        }
+    }
+
     /// A readable name of the quantity.
     pub fn description(self) -> &'static str {
         match self {
@@ -210,6 +221,9 @@ pub struct StateEquations {
     pub symbols: SymbolTable,
     /// The parameter values, indexed by symbol.
     pub values: Vec<f64>,
+    /// Whether the model is a linear graph, whose states text names in its terms (the across
+    /// variable of an A-type, the through variable of a T-type).
+    pub linear_graph: bool,
     /// Effort (`2b`) and flow (`2b + 1`) of every bond.
     bond_vars: Vec<LinearForm>,
     /// Energy variable of each storage element of the mode, as a form over the states.
@@ -341,6 +355,7 @@ pub fn derive_with(
         causality: causal,
         symbols: model.symbols.clone(),
         values: model.values.clone(),
+        linear_graph: model.linear_graph.is_some(),
         bond_vars,
         storage_energy,
     })

@@ -166,7 +166,11 @@ impl StateEquations {
                 out.push_str(&format!(
                     "  {:width$}  {} of '{}'{merged}\n",
                     state.name,
-                    state.quantity.description(),
+                    if self.linear_graph {
+                        state.quantity.linear_graph_description()
+                    } else {
+                        state.quantity.description()
+                    },
                     state.element
                 ));
             }
@@ -211,7 +215,12 @@ impl StateEquations {
         if !self.notes.is_empty() {
             out.push_str("\nnotes:\n");
             for note in &self.notes {
-                out.push_str(&format!("  - {}\n", note.text(&self.symbols)));
+                let text = note.text(&self.symbols);
+                let text = match text.strip_prefix("derivative causality: ") {
+                    Some(rest) if self.linear_graph => format!("dependent storage: {rest}"),
+                    _ => text,
+                };
+                out.push_str(&format!("  - {text}\n"));
             }
         }
         out
