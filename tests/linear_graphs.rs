@@ -843,3 +843,22 @@ fn check_summarises_a_linear_graph_in_its_terms() {
         assert!(line.contains(": ok: linear graph '"), "{line}");
     }
 }
+
+#[test]
+fn a_gyrator_relates_across_to_through() {
+    // By hand (see the fixture): dv/dt = -(B + R/G^2)/M v - P_s/(G M); the gyrator's ports
+    // stay out of the tree, which keeps the mass in it.
+    let (model, eq) = plain("tests/fixtures/linear_graph/piston.lg.ron");
+    assert_eq!(names(&eq), ["v_mass"]);
+    assert_symbolic(&model, "A", &eq.a(), &[&["-(B + R/G^2)/M"]]);
+    assert_symbolic(&model, "B", &eq.b(), &[&["-1/(G*M)"]]);
+    let tree = normal_tree::of_mode(&model, &laws::plain_laws(&model)).unwrap();
+    let summary: Vec<(bool, usize)> = tree
+        .alternatives
+        .iter()
+        .map(|a| (a.feasible, a.a_in_tree))
+        .collect();
+    // Both ports in the tree (the mass a dependent link), or neither (the mass in the tree).
+    assert_eq!(summary, [(true, 0), (true, 1)]);
+    assert_eq!(tree.chosen, 1);
+}
