@@ -81,7 +81,13 @@ pub(crate) fn draw(model: &Model, graph: &LinearGraph, tree: &NormalTree, spec: 
             top = top.min(ROW - lift - 30.0);
             (start, control, end)
         };
-        curves.push((b, p, curve));
+        // Labels of parallel drops to the ground are stacked, so they do not overlap.
+        let label_shift = if from == ground || to == ground {
+            26.0 * (index as f64 - (count as f64 - 1.0) / 2.0)
+        } else {
+            0.0
+        };
+        curves.push((b, p, curve, label_shift));
     }
     let shift = (60.0 - top).max(0.0);
     let height = ground_y + 70.0 + shift;
@@ -138,7 +144,7 @@ pub(crate) fn draw(model: &Model, graph: &LinearGraph, tree: &NormalTree, spec: 
         ground_y + 32.0,
         escape(&graph.node(graph.ground).name)
     );
-    for (b, p, ((x0, y0), (cx, cy), (x1, y1))) in &curves {
+    for (b, p, ((x0, y0), (cx, cy), (x1, y1)), label_shift) in &curves {
         let in_tree = tree.in_tree[*b][*p];
         let (stroke, dash, colour) = if in_tree {
             (3.2, "", "#1f4e9c")
@@ -166,17 +172,16 @@ pub(crate) fn draw(model: &Model, graph: &LinearGraph, tree: &NormalTree, spec: 
             r#"<polygon points="{:.1},{:.1} {:.1},{:.1} {:.1},{:.1}" fill="{colour}"/>"#,
             tip.0, tip.1, left.0, left.1, right.0, right.1
         );
-        let label = format!(
-            "{} ({})",
-            graph.edge_name(*b, *p),
-            tree.roles[*b][*p].description()
-        );
+        // The branch's name, and its role in the mode in small print below it.
         let _ = writeln!(
             svg,
-            r#"<text x="{:.1}" y="{:.1}" fill="{colour}">{}</text>"#,
+            r#"<text x="{:.1}" y="{:.1}" fill="{colour}">{}</text><text x="{:.1}" y="{:.1}" fill="{colour}" font-size="10">{}</text>"#,
             mx + 10.0,
-            my - 6.0,
-            escape(&label)
+            my - 6.0 + label_shift,
+            escape(&graph.edge_name(*b, *p)),
+            mx + 10.0,
+            my + 5.0 + label_shift,
+            escape(tree.roles[*b][*p].description())
         );
     }
     for &n in &row {
