@@ -24,7 +24,7 @@
 //! each mode ([`crate::normal_tree`]), which also decides which storage causality treats as
 //! independent so that the states are the normal tree's, and for drawing the graph.
 //!
-//! The modules: [`format`] (the file as serde reads it), `check` (the graph's own rules:
+//! The modules: [`format`](mod@format) (the file as serde reads it), `check` (the graph's own rules:
 //! nodes, pieces, source loops and cut-sets), [`translate`] (to the bond graph), and
 //! [`graph`] (the checked graph).
 //!
