@@ -6,6 +6,9 @@
 
 mod diagnostics;
 mod discover;
+mod explain_lg;
+mod lg_graph;
+mod lg_svg;
 mod nonlinear;
 mod plot;
 mod reproduce;
@@ -40,16 +43,27 @@ enum Command {
         /// The model file (RON).
         model: PathBuf,
     },
-    /// Show the bond graph and its causal strokes, as text or Graphviz DOT.
+    /// Show the bond graph and its causal strokes (a linear graph: its nodes, branches and
+    /// normal tree), as text, Graphviz DOT or SVG.
     Graph {
         /// The model file (RON).
         model: PathBuf,
         /// The mode of the switching elements, e.g. fr=stuck,string=taut (default: initial).
         #[arg(long, value_name = "SPEC")]
         mode: Option<String>,
-        /// Output format: text, or dot (render with `dot -Tsvg`).
+        /// Output format: text, dot (render with `dot -Tsvg`), or svg (linear graphs).
         #[arg(long, value_enum, default_value_t = GraphFormat::Text)]
         format: GraphFormat,
+    },
+    /// Walk through the derivation as a teacher would on the board (a linear graph: the
+    /// normal tree's construction, its primary and secondary variables, and the cut-set and
+    /// loop equations).
+    Explain {
+        /// The model file (RON).
+        model: PathBuf,
+        /// The mode of the switching elements (default: initial).
+        #[arg(long, value_name = "SPEC")]
+        mode: Option<String>,
     },
     /// Derive the state equations dx/dt = A x + B u + c of a model.
     Equations {
@@ -58,14 +72,16 @@ enum Command {
         /// The mode of the switching elements, e.g. fr=stuck,string=taut (default: initial).
         #[arg(long, value_name = "SPEC")]
         mode: Option<String>,
-        /// Energy variables (momenta p, displacements q) or co-energy (velocities v, forces f).
-        #[arg(long, value_enum, default_value_t = StatesArg::Energy)]
-        states: StatesArg,
+        /// Energy variables (momenta p, displacements q) or co-energy (velocities v, forces
+        /// f); default energy for a bond graph, co-energy for a linear graph.
+        #[arg(long, value_enum)]
+        states: Option<StatesArg>,
         /// Output format.
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
         /// Also derive an output equation: effort:ELEMENT, flow:ELEMENT, effort:FROM->TO, or
-        /// integral:OUTPUT for an output's time integral.
+        /// across:BRANCH, through:BRANCH of a linear graph, or integral:OUTPUT for an
+        /// output's time integral.
         #[arg(long = "output", value_name = "SPEC")]
         outputs: Vec<String>,
         /// An operating point, NAME=VALUE,... over states and inputs (others are 0): a
@@ -140,9 +156,10 @@ enum Command {
     Modes {
         /// The model file (RON).
         model: PathBuf,
-        /// Energy or co-energy variables, for the guards' expressions.
-        #[arg(long, value_enum, default_value_t = StatesArg::Energy)]
-        states: StatesArg,
+        /// Energy or co-energy variables, for the guards' expressions (default as for
+        /// equations).
+        #[arg(long, value_enum)]
+        states: Option<StatesArg>,
         /// Output format.
         #[arg(long, value_enum, default_value_t = ModesFormat::Text)]
         format: ModesFormat,
@@ -177,6 +194,7 @@ enum StatesArg {
 enum GraphFormat {
     Text,
     Dot,
+    Svg,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -249,12 +267,28 @@ fn run(cli: Cli) -> Result<(), Failure> {
             } else {
                 format!(", {}", count(reachable.modes.len(), "reachable mode"))
             };
+            let (kind, parts) = match &model.linear_graph {
+                Some(graph) => (
+                    "linear graph",
+                    [
+                        (graph.nodes.len(), "node"),
+                        (graph.branches.len(), "branch"),
+                    ],
+                ),
+                None => (
+                    "model",
+                    [
+                        (model.elements.len(), "element"),
+                        (model.bonds.len(), "bond"),
+                    ],
+                ),
+            };
             println!(
-                "{}: ok: model '{}' with {}, {}, {}, {} and {}{mode_count}",
+                "{}: ok: {kind} '{}' with {}, {}, {}, {} and {}{mode_count}",
                 source.name(),
                 model.name,
-                count(model.elements.len(), "element"),
-                count(model.bonds.len(), "bond"),
+                count(parts[0].0, parts[0].1),
+                count(parts[1].0, parts[1].1),
                 count(model.parameters.len(), "parameter"),
                 count(model.inputs.len(), "input"),
                 count(initial.state_count(), "state"),
@@ -268,6 +302,9 @@ fn run(cli: Cli) -> Result<(), Failure> {
         } => {
             let (model, source) = load(&model)?;
             let mode = parse_mode(&model, mode.as_deref(), &source)?;
+            if model.linear_graph.is_some() {
+                return lg_graph::run(&model, &mode, format, &source);
+            }
             let laws = laws::for_mode(&model, &mode);
             let causality =
                 causality::assign(&model, &laws).map_err(|d| with_source(d, &source))?;
@@ -278,6 +315,12 @@ fn run(cli: Cli) -> Result<(), Failure> {
                     graph::describe_causality(&model, &laws, &causality)
                 ),
                 GraphFormat::Dot => graph::to_dot(&model, Some(&causality)),
+                GraphFormat::Svg => {
+                    return Err(Failure::message(
+                        DiagnosticKind::Io,
+                        "SVG drawings are made of linear graphs; for a bond graph use --format dot",
+                    ));
+                }
             };
             print(&text);
             Ok(())
@@ -294,7 +337,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let (model, source) = load(&model)?;
             let mode = parse_mode(&model, mode.as_deref(), &source)?;
             let options = equations::Options {
-                variables: states.variables(),
+                variables: variables(states, &model),
             };
             if model.is_nonlinear() {
                 return nonlinear::equations(&nonlinear::EquationsArgs {
@@ -361,7 +404,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                     }
                     text
                 }
-                Format::Latex => equations.to_latex(),
+                Format::Latex => equations.to_latex_with_outputs(&outputs),
                 Format::Json => json(&equations.to_json(&mode.spec(&model), &outputs))?,
             };
             print(&text);
@@ -374,6 +417,11 @@ fn run(cli: Cli) -> Result<(), Failure> {
             out,
             plot,
         } => simulate(&model, &scenario, format, out.as_deref(), plot.as_deref()),
+        Command::Explain { model, mode } => {
+            let (model, source) = load(&model)?;
+            let mode = parse_mode(&model, mode.as_deref(), &source)?;
+            explain_lg::run(&model, &mode, &source)
+        }
         Command::Reproduce { out, format } => reproduce::run(&out, format == ReproduceFormat::Json),
         Command::Discover {
             model,
@@ -402,7 +450,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
         } => {
             let (model, source) = load(&model)?;
             let options = equations::Options {
-                variables: states.variables(),
+                variables: variables(states, &model),
             };
             if model.is_nonlinear() {
                 return nonlinear::modes(&model, &source, &options, format == ModesFormat::Json);
@@ -542,6 +590,12 @@ impl StatesArg {
     }
 }
 
+/// The variables asked for, or the model's own: co-energy for a linear graph (as Rowell &
+/// Wormley write its states), energy for a bond graph.
+fn variables(states: Option<StatesArg>, model: &Model) -> Variables {
+    states.map_or_else(|| Variables::preferred(model), StatesArg::variables)
+}
+
 /// The mode given on the command line, or the model's initial mode.
 fn parse_mode(
     model: &Model,
@@ -554,8 +608,9 @@ fn parse_mode(
     }
 }
 
-/// Reads and validates a model file.
-fn load(path: &Path) -> Result<(Model, Arc<SourceFile>), Failure> {
+/// Reads and validates a model file, a bond graph or a linear graph
+/// ([`model::load_source`]).
+pub(crate) fn load(path: &Path) -> Result<(Model, Arc<SourceFile>), Failure> {
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|error| {
         Failure::message(
@@ -589,9 +644,14 @@ pub(crate) fn json(value: &impl serde::Serialize) -> Result<String, Failure> {
         })
 }
 
-/// `1 bond`, `2 bonds`.
+/// `1 bond`, `2 bonds`, `3 branches`.
 pub(crate) fn count(n: usize, noun: &str) -> String {
-    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
+    let plural = match (n, noun.ends_with(['s', 'h'])) {
+        (1, _) => "",
+        (_, true) => "es",
+        _ => "s",
+    };
+    format!("{n} {noun}{plural}")
 }
 
 /// Writes to stdout, ignoring a closed pipe (`bondgraph ... | head`).

@@ -22,7 +22,7 @@ const STATES: &[(&str, usize)] = &[
 ];
 
 /// Runs `bondgraph ARGS` in the repository root.
-fn run(args: &[&str]) -> Output {
+pub(crate) fn run(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_bondgraph"))
         .args(args)
         .current_dir(root())
@@ -39,7 +39,7 @@ fn stderr(output: &Output) -> String {
 }
 
 /// Runs `bondgraph ARGS`, expecting success.
-fn succeed(args: &[&str]) -> String {
+pub(crate) fn succeed(args: &[&str]) -> String {
     let output = run(args);
     assert!(
         output.status.success(),
@@ -52,7 +52,7 @@ fn succeed(args: &[&str]) -> String {
 }
 
 /// Runs `bondgraph ARGS`, expecting a clean failure (exit 1, not a panic); returns stderr.
-fn fail(args: &[&str]) -> String {
+pub(crate) fn fail(args: &[&str]) -> String {
     let output = run(args);
     let err = stderr(&output);
     assert_eq!(
@@ -67,7 +67,7 @@ fn fail(args: &[&str]) -> String {
 }
 
 /// Runs `equations ARGS --format json` and parses the result.
-fn json(args: &[&str]) -> Value {
+pub(crate) fn json(args: &[&str]) -> Value {
     let mut all = vec!["equations"];
     all.extend_from_slice(args);
     all.extend_from_slice(&["--format", "json"]);
@@ -92,7 +92,7 @@ fn states_of(path: &str) -> usize {
 }
 
 /// A JSON array of arrays as a matrix of numbers.
-fn numbers(value: &Value) -> Vec<Vec<f64>> {
+pub(crate) fn numbers(value: &Value) -> Vec<Vec<f64>> {
     value
         .as_array()
         .expect("an array of rows")

@@ -18,22 +18,27 @@ use crate::support::{ron_files, root};
 const DIR: &str = "tests/fixtures/invalid";
 
 /// What a fixture's first diagnostic must be.
-struct Expect {
-    kind: DiagnosticKind,
-    line: usize,
-    column: usize,
+pub(crate) struct Expect {
+    pub(crate) kind: DiagnosticKind,
+    pub(crate) line: usize,
+    pub(crate) column: usize,
     /// The element (or parameter, or input) it names, if any.
-    element: Option<&'static str>,
+    pub(crate) element: Option<&'static str>,
     /// The text of the file its span covers.
-    underlined: &'static str,
-    message: &'static str,
+    pub(crate) underlined: &'static str,
+    pub(crate) message: &'static str,
 }
 
 /// Loads the fixture `name` and, if it loads, derives its equations; returns every
 /// diagnostic of the first stage that fails, after checking the first against `expect`
 /// through the library and through the program.
 fn check(name: &str, expect: Expect) -> Diagnostics {
-    let path = format!("{DIR}/{name}.ron");
+    check_file(&format!("{DIR}/{name}.ron"), expect)
+}
+
+/// [`check`] for the fixture at `path` (relative to the root).
+pub(crate) fn check_file(path: &str, expect: Expect) -> Diagnostics {
+    let path = path.to_string();
     let text = std::fs::read_to_string(root().join(&path)).expect("fixture exists");
     assert!(
         text.starts_with("//"),
@@ -44,7 +49,8 @@ fn check(name: &str, expect: Expect) -> Diagnostics {
         Ok(model) => {
             let laws = laws::plain_laws(&model);
             match equations::derive(&model, &laws, &equations::Options::default()) {
-                Err(diagnostics) => diagnostics,
+                // In a linear graph's words, as the program prints them.
+                Err(diagnostics) => model::linear_graph::reword(&model, diagnostics),
                 Ok(_) => panic!("{path}: loads and derives without a diagnostic"),
             }
         }

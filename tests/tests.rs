@@ -5,6 +5,8 @@
 mod cli;
 mod diagnostics;
 mod examples;
+mod linear_graph_diagnostics;
+mod linear_graphs;
 mod nonlinear;
 mod paper;
 mod scenarios;

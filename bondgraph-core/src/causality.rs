@@ -139,11 +139,8 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
     }
 
     let mut dependent = Vec::new();
-    for element in model.element_ids() {
+    for element in storage_order(model, laws) {
         let law = &laws[element.index()];
-        if !law.is_storage() {
-            continue;
-        }
         let bond = single_bond(model, element);
         let integral_receiver = if law.gives_effort() {
             model.bond(bond).other(element)
@@ -166,6 +163,7 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
     let mut budget = SEARCH_BUDGET;
     scap.complete(&mut arbitrary, &mut budget)
         .map_err(|e| explain_fixed(model, laws, e))?;
+    dependent.sort();
 
     Ok(Causality {
         strokes: scap
@@ -219,6 +217,27 @@ fn explain_fixed(model: &Model, laws: &[Law], mut error: Diagnostics) -> Diagnos
         }
     }
     error
+}
+
+/// The storage elements in the order integral causality is offered to them: element order
+/// for a bond graph; for a linear graph, the normal tree's independent storage first
+/// ([`crate::normal_tree`]), so that the states are the tree's where dependent storage
+/// leaves a choice (which of two springs in series keeps its state).
+fn storage_order(model: &Model, laws: &[Law]) -> Vec<ElementId> {
+    let mut order: Vec<ElementId> = match (
+        &model.linear_graph,
+        crate::normal_tree::of_mode(model, laws),
+    ) {
+        (Some(graph), Some(tree)) => tree.storage_priority(graph),
+        _ => Vec::new(),
+    };
+    let mut listed = vec![false; model.elements.len()];
+    for element in &order {
+        listed[element.index()] = true;
+    }
+    order.extend(model.element_ids().filter(|e| !listed[e.index()]));
+    order.retain(|e| laws[e.index()].is_storage());
+    order
 }
 
 /// How many arbitrary choices the search may try before it reports the first conflict it

@@ -77,6 +77,18 @@ pub enum DiagnosticKind {
     MissingInput,
     /// A scenario gives an initial state to an element that stores no energy.
     NotStorage,
+    /// A linear-graph branch names a node that is neither the ground nor the end of
+    /// another branch (a typo), or a two-port names the same node twice in one pair.
+    UndefinedNode,
+    /// A linear-graph node that only one branch touches: the branch carries no through
+    /// variable, and is almost always a typo in a node name.
+    DanglingNode,
+    /// Across sources (velocity, voltage, pressure) that form a loop: their across variables
+    /// must sum to zero, so they contradict each other.
+    AcrossSourceLoop,
+    /// Through sources (force, current, flow) that form a cut-set: their through variables
+    /// must sum to zero at the cut, so they contradict each other.
+    ThroughSourceCutSet,
 }
 
 /// One problem found in a model, with where it is and what it concerns.

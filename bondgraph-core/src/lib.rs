@@ -1,8 +1,9 @@
 //! Bond-graph models, from RON model files to symbolic state equations.
 //!
 //! `bondgraph-core` reads a lumped-parameter model written as a bond graph (sources,
-//! inertias, compliances, resistors, transformers, gyrators and junctions, in a RON file),
-//! checks it, assigns causality, and derives its state equations
+//! inertias, compliances, resistors, transformers, gyrators and junctions, in a RON file) or
+//! as a linear graph (nodes and branches, [`model::linear_graph`], with its
+//! [`normal_tree`]), checks it, assigns causality, and derives its state equations
 //! `dx/dt = A x + B u + c` with entries that read like a textbook: `-(b + K_p)/M`.
 //!
 //! Each stage is a value that can be printed and tested on its own:
@@ -57,6 +58,7 @@ pub mod laws;
 pub mod linear;
 pub mod model;
 pub mod modes;
+pub mod normal_tree;
 pub mod scenario;
 pub mod source;
 pub mod symbolic;

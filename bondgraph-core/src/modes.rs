@@ -158,7 +158,8 @@ pub struct ModeEquations {
 /// velocity sources) cannot be entered.
 pub fn derive(model: &Model, mode: &Mode, options: &Options) -> Result<ModeEquations> {
     let laws = laws::for_mode(model, mode);
-    let equations = equations::derive(model, &laws, options)?;
+    let equations = equations::derive(model, &laws, options)
+        .map_err(|d| crate::model::linear_graph::reword(model, d))?;
     let guards = guards::derive(model, mode, &equations);
     Ok(ModeEquations {
         mode: mode.clone(),

@@ -1068,6 +1068,7 @@ impl Checker<'_> {
                 std::mem::discriminant(r) == std::mem::discriminant(&record)
                     && r.spec().quantity == record.spec().quantity
                     && r.spec().bond == record.spec().bond
+                    && r.spec().negated == record.spec().negated
             };
             if let Some((first, first_index)) = records.iter().find(|(r, _)| same(r)) {
                 let message = format!(

@@ -9,6 +9,13 @@
 //! metric, `x = (Rᵀ W R)⁻¹ Rᵀ W (x_full - S u - s)` with `W` the inverse inertances and
 //! compliances: for bodies that stick it conserves their total momentum (a perfectly plastic
 //! contact), and for an unmerged state it is the identity.
+//!
+//! Equations with a term in the inputs' rates, `dx/dt = A x + B u + E du/dt + c` (storage
+//! driven by an input, in co-energy variables), are carried in the variable `x' = x - E u`,
+//! for which `dx'/dt = A x' + (B + A E) u + c` has no rates: inputs are piecewise linear, so
+//! `x'` is continuous where they step and `x = x' + E u` jumps by `E Δu` exactly as the
+//! rate's impulse would make it. Every row (guards, outputs, ports) and the maps to and from
+//! the full state are rewritten in `x'` once, here, so nothing downstream sees `E`.
 
 use bondgraph_core::equations::StateEquations;
 use bondgraph_core::guards::Watched;
@@ -208,8 +215,11 @@ pub struct NumericMode {
     pub mode: Mode,
     /// Its specification (`fr_ge=stuck,...`).
     pub spec: String,
-    /// Its states' names.
+    /// Its states' names. With an `E du/dt` term the numbers carried are `x - E u`
+    /// ([`NumericMode::states`] gives `x`).
     pub state_names: Vec<String>,
+    /// `E`, the coefficients of the inputs' rates (zero for most models).
+    pub e: DMatrix<f64>,
     /// `A`.
     pub a: DMatrix<f64>,
     /// `B`.
@@ -255,11 +265,28 @@ impl NumericMode {
             DMatrix::from_fn(rows.len(), columns, |i, j| rows[i][j].eval(values))
         };
         let a = evaluate(eq.a(), n);
-        let b = evaluate(eq.b(), m);
+        let mut b = evaluate(eq.b(), m);
         let c = DVector::from_iterator(n, eq.c().iter().map(|e| e.eval(values)));
+        let e = evaluate(eq.e(), m);
+        let with_rates = e.iter().any(|x| *x != 0.0);
+        if with_rates {
+            b += &a * &e;
+        }
 
-        let (reconstruct_state, reconstruct_input, reconstruct_constant, projection) =
+        let (reconstruct_state, mut reconstruct_input, reconstruct_constant, projection) =
             reconstruction(storage, eq.storage_energy(), n, m, values);
+        if with_rates {
+            reconstruct_input += &reconstruct_state * &e;
+        }
+        // A row in x becomes a row in x' = x - E u: its input part gains (state part)·E.
+        let in_carried = |mut row: Row| {
+            if with_rates {
+                for j in 0..m {
+                    row.input[j] += (0..n).map(|i| row.state[i] * e[(i, j)]).sum::<f64>();
+                }
+            }
+            row
+        };
 
         let guards = derived
             .guards
@@ -269,12 +296,12 @@ impl NumericMode {
                 leaves_to: g.leaves_to,
                 requires_hold: g.requires_hold,
                 watched: g.watched,
-                row: Row::from_form(&g.function(), n, m, values),
+                row: in_carried(Row::from_form(&g.function(), n, m, values)),
             })
             .collect();
         let outputs = outputs
             .iter()
-            .map(|form| Row::from_form(form, n, m, values))
+            .map(|form| in_carried(Row::from_form(form, n, m, values)))
             .collect();
         let ports = model
             .element_ids()
@@ -292,8 +319,13 @@ impl NumericMode {
                 Some(Port {
                     element: id,
                     source,
-                    effort: Row::from_form(eq.bond_effort(bond), n, m, values),
-                    flow: Row::from_form(&eq.bond_flow(bond).scaled(&sign), n, m, values),
+                    effort: in_carried(Row::from_form(eq.bond_effort(bond), n, m, values)),
+                    flow: in_carried(Row::from_form(
+                        &eq.bond_flow(bond).scaled(&sign),
+                        n,
+                        m,
+                        values,
+                    )),
                 })
             })
             .collect();
@@ -305,6 +337,7 @@ impl NumericMode {
             a,
             b,
             c,
+            e,
             guards,
             outputs,
             ports,
@@ -362,6 +395,7 @@ impl NumericMode {
             mode: derived.mode.clone(),
             state_names: eq.states.iter().map(|s| s.name.clone()).collect(),
             propagator: Propagator::new(&a, &b, &c),
+            e: DMatrix::zeros(n, m),
             a,
             b,
             c,
@@ -379,6 +413,12 @@ impl NumericMode {
     /// The number of states.
     pub fn state_count(&self) -> usize {
         self.a.nrows()
+    }
+
+    /// The mode's named states `x = x' + E u` from the numbers carried, `x'`.
+    pub fn states(&self, carried: &[f64], u: &[f64]) -> Vec<f64> {
+        let x = DVector::from_column_slice(carried) + &self.e * DVector::from_column_slice(u);
+        x.iter().copied().collect()
     }
 
     /// The mode's states from the full state, conserving momentum where bodies merge.

@@ -4,6 +4,7 @@ mod energy;
 mod fig6;
 mod flagship;
 mod flow_limit;
+mod input_rates;
 mod nonlinear;
 mod stick_slip;
 mod stribeck;

@@ -108,13 +108,27 @@ pub fn value(model: &Model, name: &str) -> f64 {
         .value
 }
 
-/// Every `.ron` file directly in `dir` (relative to the root), sorted.
+/// Every bond-graph `.ron` file directly in `dir` (relative to the root), sorted: linear
+/// graphs (`.lg.ron`) are left out, see [`linear_graph_files`].
 pub fn ron_files(dir: &str) -> Vec<String> {
+    files_ending(dir, ".ron")
+        .into_iter()
+        .filter(|f| !f.ends_with(".lg.ron"))
+        .collect()
+}
+
+/// Every linear-graph file (`.lg.ron`) directly in `dir`, sorted.
+pub fn linear_graph_files(dir: &str) -> Vec<String> {
+    files_ending(dir, ".lg.ron")
+}
+
+fn files_ending(dir: &str, suffix: &str) -> Vec<String> {
     let mut files: Vec<String> = std::fs::read_dir(root().join(dir))
         .unwrap_or_else(|e| panic!("{dir}: {e}"))
         .filter_map(|entry| {
             let path = entry.ok()?.path();
-            (path.extension()? == "ron").then(|| relative(&path))
+            let name = path.file_name()?.to_string_lossy().into_owned();
+            name.ends_with(suffix).then(|| relative(&path))
         })
         .collect();
     files.sort();

@@ -2,15 +2,19 @@
 //!
 //! Energy variables are what the junction structure integrates, so derivation happens in
 //! them; textbooks and papers usually write velocities and forces. Per storage block
-//! `x = M y + r` (a mass or compliance matrix, with the constant momentum of merged storage
-//! driven by constant sources as `r`), so `dy/dt = M⁻¹ dx/dt`: a change of variables, exact,
-//! with the same eigenvalues.
+//! `x = M y + r(u)` (a mass or compliance matrix, with the momentum of merged storage driven
+//! by sources as `r`), so `dy/dt = M⁻¹ (dx/dt - dr/dt)`: a change of variables, exact, with
+//! the same eigenvalues. Where merged storage is driven by an input (a spring between a
+//! force source and a spring, in series: Rowell & Wormley's dependent spring), `r` depends
+//! on the input and `dr/dt` brings the input's rate into the co-energy equations:
+//! `dy/dt = A y + B u + E du/dt + c`.
 
-use crate::diagnostics::{Diagnostic, DiagnosticKind, Result};
+use crate::diagnostics::Result;
 use crate::equations::matrix;
-use crate::equations::merging::Block;
+use crate::equations::merging::{Block, input_rate};
 use crate::linear::{LinearForm, Var};
-use crate::model::{ElementId, Model};
+use crate::model::ElementId;
+use crate::symbolic::RatFunc;
 
 pub(crate) struct Converted {
     pub derivatives: Vec<LinearForm>,
@@ -19,9 +23,7 @@ pub(crate) struct Converted {
 }
 
 pub(crate) fn convert(
-    model: &Model,
     blocks: &[Block],
-    state_elements: &[ElementId],
     derivatives: &[LinearForm],
     bond_vars: &[LinearForm],
     storage_energy: &[(ElementId, LinearForm)],
@@ -30,20 +32,6 @@ pub(crate) fn convert(
     let mut energy_in_coenergy: Vec<LinearForm> = vec![LinearForm::zero(); derivatives.len()];
     for block in blocks {
         for (a, &k) in block.states.iter().enumerate() {
-            if block.offset[a].mentions(|v| matches!(v, Var::Input(_))) {
-                let element = state_elements[k as usize];
-                let name = &model.element(element).name;
-                return Err(Diagnostic::new(
-                    DiagnosticKind::DependentStorage,
-                    format!(
-                        "co-energy states are not available for this mode: the merged state of '{name}' includes storage driven directly by an input"
-                    ),
-                )
-                .at_location(model.locate_element(element))
-                .element(name.clone())
-                .note("derive in energy variables (the default) instead")
-                .into());
-            }
             let mut form = block.offset[a].clone();
             for (b, &l) in block.states.iter().enumerate() {
                 form.add_scaled(&LinearForm::var(Var::State(l)), &block.matrix[a][b]);
@@ -60,10 +48,16 @@ pub(crate) fn convert(
 
     let mut converted = vec![LinearForm::zero(); derivatives.len()];
     for block in blocks {
+        // dx/dt - dr/dt, with dr/dt the offset's inputs replaced by their rates.
         let rates: Vec<LinearForm> = block
             .states
             .iter()
-            .map(|&k| substitute(&derivatives[k as usize]))
+            .enumerate()
+            .map(|(a, &k)| {
+                let mut rate = substitute(&derivatives[k as usize]);
+                rate.add_scaled(&input_rate(&block.offset[a]), &RatFunc::integer(-1));
+                rate
+            })
             .collect();
         for (a, row) in matrix::apply(&block.inverse, &rates)
             .into_iter()

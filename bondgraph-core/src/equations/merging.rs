@@ -9,7 +9,9 @@
 //! conservation of the junction structure the unknown efforts `e_d` cancel from that sum.
 //! The dependents' own efforts then follow from the group's acceleration; where a dependent
 //! is driven by an input (a block stuck to a belt moving at `v_belt`), they involve the
-//! input's rate, which output equations and guards may use but state equations may not.
+//! input's rate ([`Var::InputRate`]), which output equations and guards may use, and which
+//! a state equation keeps as its `E du/dt` term where storage held by an input feeds a
+//! state.
 //! So the group keeps one state per independent inertia, its momentum now including the
 //! dependent ones: two masses on one 1-junction become one mass `m1 + m2`, and a catheter
 //! stuck to a robot tip becomes the single body `M = m_ct + m_ge` of that mode.
@@ -20,8 +22,7 @@
 //!
 //! # Errors
 //! [`DiagnosticKind::DependentStorage`] when a dependent element follows a storage element
-//! of the other kind (an inertia whose velocity is set by a spring through a damper), or
-//! when resolving it would need the time derivative of an input.
+//! of the other kind (an inertia whose velocity is set by a spring through a damper).
 
 use std::collections::BTreeMap;
 
@@ -380,15 +381,8 @@ pub(crate) fn merge(
         })
     };
 
-    for (k, derivative) in derivatives.iter_mut().enumerate() {
+    for derivative in &mut derivatives {
         *derivative = resolve(derivative);
-        if derivative.mentions(|v| matches!(v, Var::InputRate(_))) {
-            let driven = dependents
-                .iter()
-                .find(|d| d.driven.mentions(|v| matches!(v, Var::Input(_))))
-                .map_or(state_elements[k], |d| d.element);
-            return Err(needs_input_derivative(model, driven, state_elements[k]));
-        }
     }
 
     let bond_vars_new: Vec<LinearForm> = bond_vars
@@ -421,7 +415,7 @@ pub(crate) fn merge(
 
 /// The time derivative of the input part of `form`: each input replaced by its rate, the
 /// constant and everything else dropped.
-fn input_rate(form: &LinearForm) -> LinearForm {
+pub(crate) fn input_rate(form: &LinearForm) -> LinearForm {
     let mut rate = LinearForm::zero();
     for (var, coefficient) in form.terms() {
         if let Var::Input(i) = var {
@@ -482,23 +476,6 @@ fn cross_domain(model: &Model, dependent: ElementId, other: ElementId) -> Diagno
     .at_location(model.locate_element(dependent))
     .element(d.name.clone())
     .note("add a compliance or resistor next to it so that it can keep its own state")
-    .into()
-}
-
-fn needs_input_derivative(model: &Model, dependent: ElementId, state: ElementId) -> Diagnostics {
-    let d = model.element(dependent);
-    Diagnostic::new(
-        DiagnosticKind::DependentStorage,
-        format!(
-            "{} '{}' is driven directly by an input source, and the equation of '{}' would need the input's time derivative",
-            d.kind.description(),
-            d.name,
-            model.element(state).name
-        ),
-    )
-    .at_location(model.locate_element(dependent))
-    .element(d.name.clone())
-    .note("put a compliance or resistor between the source and the storage element")
     .into()
 }
 

@@ -1,4 +1,6 @@
-//! State equations `dx/dt = A x + B u + c` of one mode, with symbolic entries.
+//! State equations `dx/dt = A x + B u + c` of one mode, with symbolic entries, and the
+//! term `E du/dt` where storage driven by an input makes the states follow the input's rate
+//! (Rowell & Wormley's dependent spring, in co-energy variables).
 //!
 //! The derivation runs in four steps, each in its own module:
 //! 1. [`causality`](crate::causality::assign) assigns causal strokes (SCAP);
@@ -47,6 +49,19 @@ pub enum Variables {
     CoEnergy,
 }
 
+impl Variables {
+    /// The variables a model is best read in: co-energy for a linear graph (Rowell &
+    /// Wormley's states are across variables of A-types and through variables of T-types),
+    /// energy for a bond graph.
+    pub fn preferred(model: &Model) -> Self {
+        if model.linear_graph.is_some() {
+            Variables::CoEnergy
+        } else {
+            Variables::Energy
+        }
+    }
+}
+
 /// The physical quantity a state measures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 pub enum Quantity {
@@ -72,6 +87,17 @@ impl Quantity {
             Quantity::Displacement => "q",
             Quantity::Velocity => "v",
             Quantity::Force => "f",
+        }
+    }
+
+    /// A readable name of the quantity in a linear graph's terms: a state of an A-type
+    /// (an inertia of the bond graph) is its across variable, or its capacitance times it.
+    pub fn linear_graph_description(self) -> &'static str {
+        match self {
+            Quantity::Momentum => "momentum (capacitance times across variable)",
+            Quantity::Displacement => "displacement (inductance times through variable)",
+            Quantity::Velocity => "across variable",
+            Quantity::Force => "through variable",
         }
     }
 
@@ -192,8 +218,9 @@ pub struct StateEquations {
     pub states: Vec<StateVariable>,
     /// The model's inputs, in file order.
     pub inputs: Vec<String>,
-    /// `dx_i/dt` as an affine form of [`Var::State`], [`Var::Input`] and [`Var::Constant`]
-    /// (never of input rates).
+    /// `dx_i/dt` as an affine form of [`Var::State`], [`Var::Input`], [`Var::Constant`] and,
+    /// where storage driven by an input feeds a state, [`Var::InputRate`] (the `E du/dt`
+    /// term).
     pub derivatives: Vec<LinearForm>,
     /// What the derivation merged, held and solved.
     pub notes: Vec<Note>,
@@ -203,6 +230,9 @@ pub struct StateEquations {
     pub symbols: SymbolTable,
     /// The parameter values, indexed by symbol.
     pub values: Vec<f64>,
+    /// Whether the model is a linear graph, whose states text names in its terms (the across
+    /// variable of an A-type, the through variable of a T-type).
+    pub linear_graph: bool,
     /// Effort (`2b`) and flow (`2b + 1`) of every bond.
     bond_vars: Vec<LinearForm>,
     /// Energy variable of each storage element of the mode, as a form over the states.
@@ -354,14 +384,8 @@ pub(crate) fn derive_parts(
     let mut storage_energy: Vec<(ElementId, LinearForm)> =
         merged.storage_energy.into_iter().collect();
     if options.variables == Variables::CoEnergy {
-        let converted = coenergy::convert(
-            model,
-            &merged.blocks,
-            &state_elements,
-            &derivatives,
-            &bond_vars,
-            &storage_energy,
-        )?;
+        let converted =
+            coenergy::convert(&merged.blocks, &derivatives, &bond_vars, &storage_energy)?;
         derivatives = converted.derivatives;
         bond_vars = converted.bond_vars;
         storage_energy = converted.storage_energy;
@@ -377,6 +401,7 @@ pub(crate) fn derive_parts(
         causality: causal,
         symbols: model.symbols.clone(),
         values: model.values.clone(),
+        linear_graph: model.linear_graph.is_some(),
         bond_vars,
         storage_energy,
     })
@@ -396,6 +421,19 @@ impl StateEquations {
     /// The dense matrix `B` (states × inputs).
     pub fn b(&self) -> Vec<Vec<RatFunc>> {
         self.dense(|j| Var::Input(j as u32), self.inputs.len())
+    }
+
+    /// The dense matrix `E` (states × inputs) of the inputs' rates: zero unless storage
+    /// driven by an input feeds a state.
+    pub fn e(&self) -> Vec<Vec<RatFunc>> {
+        self.dense(|j| Var::InputRate(j as u32), self.inputs.len())
+    }
+
+    /// Whether the state equations have an `E du/dt` term.
+    pub fn has_input_rates(&self) -> bool {
+        self.derivatives
+            .iter()
+            .any(|row| row.mentions(|v| matches!(v, Var::InputRate(_))))
     }
 
     /// The affine term `c` (one entry per state).

@@ -2,7 +2,9 @@
 //!
 //! Outputs are named on the command line and in scenarios as `effort:ELEMENT`,
 //! `flow:ELEMENT` (the one bond of a one-port, e.g. `effort:damper` is the damper force) or
-//! `effort:FROM->TO` for any bond (e.g. `flow:j1->j2`).
+//! `effort:FROM->TO` for any bond (e.g. `flow:j1->j2`). A model read from a linear graph
+//! also has `across:BRANCH` and `through:BRANCH`, its branches' across and through
+//! variables (a bond variable, or minus one, in the bond graph it was translated into).
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::equations::StateEquations;
@@ -27,6 +29,9 @@ pub struct OutputSpec {
     pub quantity: OutputQuantity,
     /// The bond.
     pub bond: BondId,
+    /// Whether the output is minus the bond variable (a linear-graph branch whose through
+    /// or across variable is the opposite of its bond's effort or flow).
+    pub negated: bool,
 }
 
 /// One output equation, an affine form of the states, inputs and the constant 1.
@@ -49,6 +54,11 @@ impl OutputSpec {
     /// bond, or an element with more than one bond named without its bond.
     pub fn parse(model: &Model, text: &str) -> Result<Self> {
         let bad = |message: String| Diagnostic::new(DiagnosticKind::BadOutput, message);
+        if let Some((quantity @ ("across" | "through"), branch)) =
+            text.split_once(':').map(|(q, t)| (q.trim(), t.trim()))
+        {
+            return Self::parse_branch(model, text, quantity == "across", branch);
+        }
         let Some((quantity, target)) = text.split_once(':') else {
             return Err(bad(format!(
                 "output '{text}' must be written effort:ELEMENT, flow:ELEMENT or effort:FROM->TO"
@@ -60,7 +70,12 @@ impl OutputSpec {
             "flow" | "f" => OutputQuantity::Flow,
             other => {
                 return Err(bad(format!(
-                    "output '{text}': unknown quantity '{other}'; expected effort or flow"
+                    "output '{text}': unknown quantity '{other}'; expected {}",
+                    if model.linear_graph.is_some() {
+                        "across, through, effort or flow"
+                    } else {
+                        "effort or flow"
+                    }
                 ))
                 .into());
             }
@@ -112,6 +127,53 @@ impl OutputSpec {
             name: text.to_string(),
             quantity,
             bond,
+            negated: false,
+        })
+    }
+
+    /// `across:BRANCH` or `through:BRANCH` of a linear graph's one-port branch.
+    fn parse_branch(model: &Model, text: &str, across: bool, name: &str) -> Result<Self> {
+        let bad = |message: String| Diagnostic::new(DiagnosticKind::BadOutput, message);
+        let Some(graph) = &model.linear_graph else {
+            return Err(bad(format!(
+                "output '{text}': across: and through: name branches of a linear graph, and model '{}' is a bond graph",
+                model.name
+            ))
+            .note("write effort:ELEMENT or flow:ELEMENT")
+            .into());
+        };
+        let Some(index) = graph.branch_named(name) else {
+            let mut d = bad(format!(
+                "output '{text}': the linear graph has no branch '{name}'"
+            ))
+            .element(name);
+            if let Some(close) = crate::model::validate::suggest(
+                name,
+                graph.branches.iter().map(|b| b.name.as_str()),
+            ) {
+                d = d.note(format!("did you mean '{close}'?"));
+            }
+            return Err(d.into());
+        };
+        let branch = &graph.branches[index];
+        let [edge] = branch.edges[..] else {
+            return Err(bad(format!(
+                "output '{text}': '{name}' is a {} with two ports; name a one-port branch on the nodes of the port wanted",
+                branch.kind.description()
+            ))
+            .element(name)
+            .into());
+        };
+        let (quantity, sign) = if across {
+            (OutputQuantity::Flow, edge.across_sign)
+        } else {
+            (OutputQuantity::Effort, edge.through_sign)
+        };
+        Ok(Self {
+            name: text.to_string(),
+            quantity,
+            bond: edge.bond,
+            negated: sign < 0,
         })
     }
 }
@@ -127,7 +189,11 @@ impl StateEquations {
         };
         OutputEquation {
             name: spec.name.clone(),
-            row: row.clone(),
+            row: if spec.negated {
+                row.scaled(&crate::symbolic::RatFunc::integer(-1))
+            } else {
+                row.clone()
+            },
             integral: false,
         }
     }

@@ -3,7 +3,8 @@
 //! Text lists one equation per state (`dp_mass/dt = -b/m*p_mass - k*q_spring + F`) and then
 //! the matrices; LaTeX writes the matrix form the way papers do, one input column at a time;
 //! JSON carries the fields other programs rely on (`states`, `inputs`, `A`, `B`, `c` and
-//! their numeric `_value` twins).
+//! their numeric `_value` twins, `E` where the inputs' rates enter, `C`, `D`, `F`, `d` for
+//! outputs).
 
 use serde::Serialize;
 
@@ -37,6 +38,13 @@ pub struct EquationsJson {
     pub B_value: Vec<Vec<f64>>,
     /// `c` with the parameter values substituted.
     pub c_value: Vec<f64>,
+    /// `E`, symbolic (states × inputs): the coefficients of the inputs' rates, present only
+    /// where they enter (`dx/dt = A x + B u + E du/dt + c`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub E: Option<Vec<Vec<String>>>,
+    /// `E` with the parameter values substituted, where `E` is present.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub E_value: Option<Vec<Vec<f64>>>,
     /// Output equations requested.
     pub outputs: Vec<OutputJson>,
     /// What the derivation merged, held and solved.
@@ -68,12 +76,19 @@ pub struct OutputJson {
     pub C: Vec<String>,
     /// The row of `D`.
     pub D: Vec<String>,
+    /// The row of `F`: the coefficients of the inputs' rates (`y = C x + D u + F du/dt + d`),
+    /// present only where they enter (storage driven directly by an input).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub F: Option<Vec<String>>,
     /// The constant `d`.
     pub d: String,
     /// `C` evaluated.
     pub C_value: Vec<f64>,
     /// `D` evaluated.
     pub D_value: Vec<f64>,
+    /// `F` evaluated, where `F` is present.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub F_value: Option<Vec<f64>>,
     /// `d` evaluated.
     pub d_value: f64,
     /// Whether the output is the time integral of `y` (then `C`, `D`, `d` are its rate's).
@@ -154,7 +169,11 @@ impl StateEquations {
                 out.push_str(&format!(
                     "  {:width$}  {} of '{}'{merged}\n",
                     state.name,
-                    state.quantity.description(),
+                    if self.linear_graph {
+                        state.quantity.linear_graph_description()
+                    } else {
+                        state.quantity.description()
+                    },
                     state.element
                 ));
             }
@@ -180,6 +199,9 @@ impl StateEquations {
             if !self.inputs.is_empty() {
                 out.push_str(&matrix_text("B", &self.text_entries(&self.b())));
             }
+            if self.has_input_rates() {
+                out.push_str(&matrix_text("E", &self.text_entries(&self.e())));
+            }
             let c = self.c();
             if c.iter().all(RatFunc::is_zero) {
                 out.push_str("c = 0\n");
@@ -196,7 +218,12 @@ impl StateEquations {
         if !self.notes.is_empty() {
             out.push_str("\nnotes:\n");
             for note in &self.notes {
-                out.push_str(&format!("  - {}\n", note.text(&self.symbols)));
+                let text = note.text(&self.symbols);
+                let text = match text.strip_prefix("derivative causality: ") {
+                    Some(rest) if self.linear_graph => format!("dependent storage: {rest}"),
+                    _ => text,
+                };
+                out.push_str(&format!("  - {text}\n"));
             }
         }
         out
@@ -246,12 +273,69 @@ impl StateEquations {
                 out.push_str(&format!("{text} {}\n", latex_name(input)));
             }
         }
+        let e = self.e();
+        for (j, input) in self.inputs.iter().enumerate() {
+            let entries: Vec<&RatFunc> = e.iter().map(|row| &row[j]).collect();
+            if let Some(text) = signed_column(&entries, &self.symbols) {
+                out.push_str(&format!("{text} \\frac{{d{}}}{{dt}}\n", latex_name(input)));
+            }
+        }
         let c = self.c();
         if let Some(text) = signed_column(&c.iter().collect::<Vec<_>>(), &self.symbols) {
             out.push_str(&text);
             out.push('\n');
         }
         out.push_str("\\end{equation}\n");
+        out
+    }
+
+    /// The matrix form and output equations `y = C x + D u + F du/dt + d` in LaTeX, one
+    /// equation per output after the state equations.
+    pub fn to_latex_with_outputs(&self, outputs: &[OutputEquation]) -> String {
+        let mut out = self.to_latex();
+        for output in outputs {
+            out.push_str("\\begin{equation}\n");
+            out.push_str(&format!(
+                "{} = {}\n",
+                latex_output_name(&output.name),
+                self.form_latex(&output.row)
+            ));
+            out.push_str("\\end{equation}\n");
+        }
+        out
+    }
+
+    /// An affine form in LaTeX: `\frac{b}{m} p_{mass} + F`.
+    pub fn form_latex(&self, form: &LinearForm) -> String {
+        let mut out = String::new();
+        for (var, coefficient) in form.terms() {
+            let (negative, magnitude) = coefficient.signed_latex(&self.symbols);
+            let name = match var {
+                Var::State(i) => state_latex(&self.states[*i as usize]),
+                Var::Input(i) => latex_name(&self.inputs[*i as usize]),
+                Var::InputRate(i) => {
+                    format!("\\frac{{d{}}}{{dt}}", latex_name(&self.inputs[*i as usize]))
+                }
+                _ => String::new(),
+            };
+            let term = match (name.is_empty(), magnitude.as_str()) {
+                (true, _) => magnitude,
+                (false, "1") => name,
+                (false, m) if m.contains(['+', '-']) => format!("\\left({m}\\right) {name}"),
+                (false, m) => format!("{m} {name}"),
+            };
+            let sign = match (out.is_empty(), negative) {
+                (true, false) => "",
+                (true, true) => "-",
+                (false, false) => " + ",
+                (false, true) => " - ",
+            };
+            out.push_str(sign);
+            out.push_str(&term);
+        }
+        if out.is_empty() {
+            out.push('0');
+        }
         out
     }
 
@@ -264,6 +348,7 @@ impl StateEquations {
                 .collect()
         };
         let (a, b, c) = (self.a(), self.b(), self.c());
+        let e = self.has_input_rates().then(|| self.e());
         EquationsJson {
             model: self.model.clone(),
             mode: mode.to_string(),
@@ -286,6 +371,8 @@ impl StateEquations {
             A_value: values(&a),
             B_value: values(&b),
             c_value: c.iter().map(|e| self.evaluate(e)).collect(),
+            E: e.as_deref().map(texts),
+            E_value: e.as_deref().map(values),
             outputs: outputs.iter().map(|o| self.output_json(o)).collect(),
             notes: self.notes.iter().map(|n| n.text(&self.symbols)).collect(),
         }
@@ -297,14 +384,23 @@ impl StateEquations {
         };
         let c = row(&|j| Var::State(j as u32), self.states.len());
         let d = row(&|j| Var::Input(j as u32), self.inputs.len());
+        let f = output
+            .row
+            .mentions(|v| matches!(v, Var::InputRate(_)))
+            .then(|| row(&|j| Var::InputRate(j as u32), self.inputs.len()));
         let constant = output.row.coefficient(Var::Constant);
         OutputJson {
             name: output.name.clone(),
             C: c.iter().map(|e| e.text(&self.symbols)).collect(),
             D: d.iter().map(|e| e.text(&self.symbols)).collect(),
+            F: f.as_ref()
+                .map(|f| f.iter().map(|e| e.text(&self.symbols)).collect()),
             d: constant.text(&self.symbols),
             C_value: c.iter().map(|e| self.evaluate(e)).collect(),
             D_value: d.iter().map(|e| self.evaluate(e)).collect(),
+            F_value: f
+                .as_ref()
+                .map(|f| f.iter().map(|e| self.evaluate(e)).collect()),
             d_value: self.evaluate(&constant),
             integral: output.integral,
         }
@@ -333,6 +429,19 @@ fn state_latex(state: &crate::equations::StateVariable) -> String {
         element.clone()
     };
     format!("{}_{{{subscript}}}", state.quantity.letter())
+}
+
+/// An output's name in LaTeX: `flow:mass` as `\mathrm{flow}(\mathrm{mass})`.
+fn latex_output_name(name: &str) -> String {
+    let escape = |t: &str| t.trim().replace('_', "\\_").replace("->", "\\to ");
+    match name.split_once(':') {
+        Some((quantity, target)) => format!(
+            "\\mathrm{{{}}}(\\mathrm{{{}}})",
+            escape(quantity),
+            escape(target)
+        ),
+        None => format!("\\mathrm{{{}}}", escape(name)),
+    }
 }
 
 /// Dense matrices wider than this are not printed as text.

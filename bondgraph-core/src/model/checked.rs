@@ -66,6 +66,9 @@ pub struct Model {
     pub bonds: Vec<Bond>,
     /// Parameter values indexed by [`Symbol::index`].
     pub values: Vec<f64>,
+    /// The linear graph the model was translated from, if its file is a `LinearGraph(...)`:
+    /// its nodes and branches, and where each branch is in this bond graph.
+    pub linear_graph: Option<Arc<crate::model::linear_graph::LinearGraph>>,
 }
 
 /// A named parameter with its value.

@@ -9,6 +9,9 @@
 //! must be connected) applies to the variant with the same diagnostics, and the variant can
 //! be printed and read by a person.
 //!
+//! A linear-graph file is edited the same way: a branch removed is its entry in `branches`
+//! (a linear graph has no bonds to cut).
+//!
 //! The [`SourceMap`](super::source_map::SourceMap) gives the span of every element entry, bond and parameter value, so an
 //! [`Edit`] is a list of text replacements: an element's entry and every bond that touches
 //! it are cut out (whole lines when they stand on their own lines), and a parameter's
@@ -147,7 +150,17 @@ pub(crate) fn apply_located(
     edit: &Edit,
     locate: &dyn Fn(EditItem) -> Option<Location>,
 ) -> Result<Edited> {
-    let (raw, map) = parse_model(source)?;
+    let linear = super::Format::of(source.text()) == super::Format::LinearGraph;
+    let (raw, map) = if linear {
+        super::linear_graph::editable(source)?
+    } else {
+        parse_model(source)?
+    };
+    let (noun, section) = if linear {
+        ("branch", "branches")
+    } else {
+        ("element", "elements")
+    };
     let text = source.text();
     if map.elements.len() != raw.elements.len()
         || map.parameters.len() != raw.parameters.len()
@@ -181,20 +194,20 @@ pub(crate) fn apply_located(
             problems.push(
                 Diagnostic::new(
                     DiagnosticKind::DuplicateName,
-                    format!("element '{name}' is removed twice"),
+                    format!("{noun} '{name}' is removed twice"),
                 )
-                .at_location(place(item, "elements"))
+                .at_location(place(item, section))
                 .element(name.clone()),
             );
         } else if !raw.elements.iter().any(|(n, _)| n == name) {
             let mut diagnostic = Diagnostic::new(
                 DiagnosticKind::UnknownName,
                 format!(
-                    "cannot remove element '{name}': model '{}' has no element '{name}'",
+                    "cannot remove {noun} '{name}': model '{}' has no {noun} '{name}'",
                     raw.name
                 ),
             )
-            .at_location(place(item, "elements"))
+            .at_location(place(item, section))
             .element(name.clone());
             if let Some(suggestion) = suggest(name, raw.elements.iter().map(|(n, _)| n.as_str())) {
                 diagnostic = diagnostic.note(format!("did you mean '{suggestion}'?"));

@@ -285,6 +285,19 @@ impl Extended {
 /// Problems of the merged model (a bond to an unknown element) are found by
 /// [`Extended::load`].
 pub fn merge(base: &Arc<SourceFile>, extensions: &[Extension]) -> Result<Extended> {
+    if super::Format::of(base.text()) == super::Format::LinearGraph {
+        let map = super::source_map::SourceMap::scan_partial(base.text());
+        return Err(Diagnostic::new(
+            DiagnosticKind::WrongType,
+            format!(
+                "{} is a linear graph; extensions are bond-graph fragments and merge into bond-graph models only",
+                base.name()
+            ),
+        )
+        .at(base, map.root)
+        .note("write the extended model as a linear graph, or extend the model's bond-graph file")
+        .into());
+    }
     let (raw, map) = parse_model(base)?;
     let text = base.text();
     let mut problems = Vec::new();

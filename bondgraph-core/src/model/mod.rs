@@ -21,6 +21,7 @@
 mod checked;
 pub mod edit;
 pub mod extension;
+pub mod linear_graph;
 pub mod parse;
 pub mod raw;
 pub mod reduction;
@@ -38,13 +39,50 @@ pub use checked::{
 use crate::diagnostics::Result;
 use crate::source::SourceFile;
 
-/// Parses and validates the model in `source`.
+/// Parses and validates the model in `source`: a bond graph (`Model(...)`) or a linear
+/// graph (`LinearGraph(...)`, see [`linear_graph`]), told apart by the top-level value. This
+/// is the one loader every command uses.
 ///
 /// # Errors
 /// Every problem found, each naming its file, line, column and element.
 pub fn load_source(source: &Arc<SourceFile>) -> Result<Model> {
-    let (raw, map) = parse::parse_model(source)?;
-    validate::validate(source, raw, &map)
+    match Format::of(source.text()) {
+        Format::LinearGraph => linear_graph::load(source),
+        Format::BondGraph => {
+            let (raw, map) = parse::parse_model(source)?;
+            validate::validate(source, raw, &map)
+        }
+    }
+}
+
+/// The two kinds of model file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Format {
+    /// `Model(...)`: elements and bonds.
+    BondGraph,
+    /// `LinearGraph(...)`: a ground, nodes and branches.
+    LinearGraph,
+}
+
+impl Format {
+    /// The kind of model file `text` is: a linear graph if its top-level value is named
+    /// `LinearGraph`, or is unnamed and has a `branches` or `ground` field; a bond graph
+    /// otherwise (whose parser reports what is wrong with a file that is neither).
+    pub fn of(text: &str) -> Self {
+        let map = source_map::SourceMap::scan_partial(text);
+        let named = text
+            .get(map.root.start.min(text.len())..)
+            .unwrap_or("")
+            .trim_start();
+        let linear = named.starts_with("LinearGraph")
+            || (named.starts_with('(')
+                && (map.field("branches").is_some() || map.field("ground").is_some()));
+        if linear {
+            Format::LinearGraph
+        } else {
+            Format::BondGraph
+        }
+    }
 }
 
 /// Parses and validates `text`, read from a file called `name`.

@@ -37,6 +37,8 @@ pub enum FileKind {
     Scenario,
     /// A model extension, `Extension(...)`.
     Extension,
+    /// A linear-graph model file, `LinearGraph(...)`.
+    LinearGraph,
 }
 
 impl FileKind {
@@ -46,6 +48,7 @@ impl FileKind {
             FileKind::Model => "model",
             FileKind::Scenario => "scenario",
             FileKind::Extension => "extension",
+            FileKind::LinearGraph => "linear graph",
         }
     }
 
@@ -55,6 +58,7 @@ impl FileKind {
             FileKind::Model => "Model",
             FileKind::Scenario => "Scenario",
             FileKind::Extension => "Extension",
+            FileKind::LinearGraph => "LinearGraph",
         }
     }
 }
@@ -82,7 +86,7 @@ pub fn parse_file<T: DeserializeOwned>(
     let text = file.text();
     if skip_trivia(text, 0) == Ok(text.len()) {
         let diagnostic_kind = match kind {
-            FileKind::Model => DiagnosticKind::EmptyModel,
+            FileKind::Model | FileKind::LinearGraph => DiagnosticKind::EmptyModel,
             FileKind::Scenario | FileKind::Extension => DiagnosticKind::Syntax,
         };
         return Err(Diagnostic::new(
@@ -457,6 +461,13 @@ fn diagnose(file: &SourceFile, error: &SpannedError, file_kind: FileKind) -> Dia
                     expected.join(", ")
                 ),
             ),
+            Place::Entry(Section::Branches, _) => (
+                K::UnknownElementKind,
+                format!(
+                    "{prefix}unknown branch kind '{found}'; expected one of {}",
+                    expected.join(", ")
+                ),
+            ),
             _ => (
                 K::UnknownElementKind,
                 format!(
@@ -486,7 +497,7 @@ fn diagnose(file: &SourceFile, error: &SpannedError, file_kind: FileKind) -> Dia
         }
         E::ExpectedDifferentStructName { expected, found } => {
             let message = match *expected {
-                "Model" | "Scenario" => {
+                "Model" | "Scenario" | "LinearGraph" => {
                     format!(
                         "expected {expected}(...) or just (...) around the {noun}, found '{found}'"
                     )
@@ -500,7 +511,7 @@ fn diagnose(file: &SourceFile, error: &SpannedError, file_kind: FileKind) -> Dia
         }
         E::ExpectedNamedStructLike(name) if !name.is_empty() => {
             let what = match *name {
-                "Model" | "Scenario" => format!("a {name}(...)"),
+                "Model" | "Scenario" | "LinearGraph" => format!("a {name}(...)"),
                 "Parameter" => "a parameter (value: ..., unit: \"...\")".to_string(),
                 "Input" => "an input (unit: \"...\", description: \"...\")".to_string(),
                 "Bond" => "a bond (\"from\", \"to\")".to_string(),
@@ -552,6 +563,12 @@ fn diagnose(file: &SourceFile, error: &SpannedError, file_kind: FileKind) -> Dia
                     "{prefix}expected an element kind (Se, Sf, I, C, R, TF, GY, Friction, TensionOnly, FlowLimit, Zero or One), found {found_text}"
                 ),
             ),
+            Place::Entry(Section::Branches, entry) if focus.start == entry.value_span.start => (
+                type_kind,
+                format!(
+                    "{prefix}expected a branch kind (A, T, D, AcrossSource, ThroughSource, Transformer, Gyrator, Friction or TensionOnly), found {found_text}"
+                ),
+            ),
             _ => (
                 K::Syntax,
                 format!("{prefix}expected a field name, found {found_text}"),
@@ -566,6 +583,7 @@ fn diagnose(file: &SourceFile, error: &SpannedError, file_kind: FileKind) -> Dia
                         Section::Inputs => "an input",
                         Section::Parameters => "a parameter",
                         Section::Elements | Section::InitialState => "an element",
+                        Section::Branches => "a branch",
                     }
                 ),
                 Place::Item(List::Bonds, ..) => {

@@ -175,6 +175,24 @@ pub enum RawElement {
         /// The mode at the start: `"open"` (default) or `"limiting"`.
         initial: Option<String>,
     },
+    /// A resistor given by its conductance, `f = conductance · e`. Model files do not write
+    /// it (serde skips it): it is what a linear graph's `D(resistance: "R")` becomes, since a
+    /// linear-graph resistance relates across to through, which are a bond graph's flow and
+    /// effort.
+    #[serde(skip)]
+    Conductance {
+        /// The conductance (1/resistance), positive.
+        conductance: String,
+    },
+    /// A gyrator given by the reciprocal of its modulus, `e_in = f_out / ratio`. Model files
+    /// do not write it (serde skips it): it is what a linear graph's `Gyrator(ratio: "G")`
+    /// becomes, since a linear-graph gyrator relates an across variable (a bond graph's flow)
+    /// to a through variable (effort), the inverse of a bond-graph gyrator.
+    #[serde(skip)]
+    ReciprocalGY {
+        /// The reciprocal of the gyrator modulus, non-zero.
+        ratio: String,
+    },
     /// Common-effort junction.
     Zero,
     /// Common-flow junction.

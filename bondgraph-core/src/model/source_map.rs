@@ -6,7 +6,7 @@
 //! underlined inside the string it was written in. So, next to serde, a small independent
 //! RON scanner walks the same text and records the spans of the things users name:
 //! top-level fields and their values, the entries of the map sections (`parameters`,
-//! `inputs`, `elements`, `initial_state`: key, kind, fields, string contents), and the items
+//! `inputs`, `elements`, `branches`, `initial_state`: key, kind, fields, string contents), and the items
 //! of the list sections (`bonds`, `remove`, `record`).
 //!
 //! Model files and scenario files share this scanner: both are a struct of named fields
@@ -37,6 +37,9 @@ pub struct SourceMap {
     pub inputs: Vec<EntrySpans>,
     /// The entries of the `elements` map (model files), in file order, duplicates kept.
     pub elements: Vec<EntrySpans>,
+    /// The entries of the `branches` map (linear-graph files), in file order, duplicates
+    /// kept.
+    pub branches: Vec<EntrySpans>,
     /// The entries of the `initial_state` map (scenario files), in file order, duplicates
     /// kept.
     pub initial_state: Vec<EntrySpans>,
@@ -102,6 +105,8 @@ pub enum Section {
     Elements,
     /// `initial_state: {...}`, in scenario files.
     InitialState,
+    /// `branches: {...}`, in linear-graph files.
+    Branches,
 }
 
 /// Which list section an item is in.
@@ -117,11 +122,12 @@ pub enum List {
 
 impl Section {
     /// Every section, in the order lookups try them.
-    pub const ALL: [Section; 4] = [
+    pub const ALL: [Section; 5] = [
         Section::Parameters,
         Section::Inputs,
         Section::Elements,
         Section::InitialState,
+        Section::Branches,
     ];
 
     /// What one entry of the section is called in messages: "parameter", "input",
@@ -132,6 +138,7 @@ impl Section {
             Section::Inputs => "input",
             Section::Elements => "element",
             Section::InitialState => "initial state",
+            Section::Branches => "branch",
         }
     }
 
@@ -142,6 +149,7 @@ impl Section {
             Section::Inputs => "inputs",
             Section::Elements => "elements",
             Section::InitialState => "initial_state",
+            Section::Branches => "branches",
         }
     }
 
@@ -247,6 +255,7 @@ impl SourceMap {
             Section::Inputs => &self.inputs,
             Section::Elements => &self.elements,
             Section::InitialState => &self.initial_state,
+            Section::Branches => &self.branches,
         }
     }
 
@@ -813,6 +822,7 @@ impl<'a> Walker<'a> {
             Section::Inputs => &mut self.map.inputs,
             Section::Elements => &mut self.map.elements,
             Section::InitialState => &mut self.map.initial_state,
+            Section::Branches => &mut self.map.branches,
         }
     }
 

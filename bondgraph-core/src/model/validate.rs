@@ -241,6 +241,7 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
         elements,
         bonds,
         values,
+        linear_graph: None,
     };
     for element in model.element_ids() {
         v.check_ports(&model, element);
@@ -605,6 +606,22 @@ impl Validator<'_> {
                 scope,
                 Sign::NonZero,
             )?),
+            RawElement::Conductance { conductance } => {
+                let coefficient = self.coefficient(
+                    name,
+                    index,
+                    "conductance",
+                    conductance,
+                    scope,
+                    Sign::Positive,
+                )?;
+                ElementKind::Resistor(reciprocal(coefficient))
+            }
+            RawElement::ReciprocalGY { ratio } => {
+                let coefficient =
+                    self.coefficient(name, index, "ratio", ratio, scope, Sign::NonZero)?;
+                ElementKind::Gyrator(reciprocal(coefficient))
+            }
             RawElement::Zero => ElementKind::ZeroJunction,
             RawElement::One => ElementKind::OneJunction,
         })
@@ -1076,6 +1093,15 @@ impl Validator<'_> {
             .element(model.element(first_of_second).name.clone())
             .note("bond the pieces together, or model them in separate files"),
         );
+    }
+}
+
+/// `1/c`, for a coefficient checked non-zero, with its text saying so.
+fn reciprocal(c: Coefficient) -> Coefficient {
+    Coefficient {
+        value: c.value.inv().expect("checked non-zero"),
+        text: format!("1/({})", c.text),
+        span: c.span,
     }
 }
 

@@ -1,0 +1,373 @@
+//! `bondgraph explain` on a linear graph: the normal tree built step by step, as Rowell &
+//! Wormley teach it, then the primary and secondary variables, the continuity (cut-set)
+//! and compatibility (loop) equations the tree gives, the elemental equations of the mode,
+//! and the state equations they lead to.
+//!
+//! A bond-graph model gets its causal strokes, one bond at a time, the minimal form of the
+//! explanation for that formalism.
+
+use std::sync::Arc;
+
+use bondgraph_core::equations::{Options, Variables};
+use bondgraph_core::laws::{self, Law};
+use bondgraph_core::linear::{LinearForm, Var};
+use bondgraph_core::model::Model;
+use bondgraph_core::model::linear_graph::{LinearGraph, reword};
+use bondgraph_core::modes::{self, Mode};
+use bondgraph_core::normal_tree::{self, NormalTree, Reason, Role, Terms};
+use bondgraph_core::source::SourceFile;
+use bondgraph_core::symbolic::RatFunc;
+use bondgraph_core::{causality, graph};
+
+use crate::{Failure, print, with_source};
+
+/// Prints the explanation of `model` in `mode`.
+pub(crate) fn run(model: &Model, mode: &Mode, source: &Arc<SourceFile>) -> Result<(), Failure> {
+    let laws = laws::for_mode(model, mode);
+    let causal =
+        causality::assign(model, &laws).map_err(|d| with_source(reword(model, d), source))?;
+    let Some(graph) = &model.linear_graph else {
+        let mut text = format!(
+            "bond graph '{}': causal strokes by the sequential causality assignment procedure \
+             (sources first, then storage in integral causality, then resistors)\n\n",
+            model.name
+        );
+        text.push_str(&graph::describe_causality(model, &laws, &causal));
+        print(&text);
+        return Ok(());
+    };
+    let tree = normal_tree::of_mode(model, &laws).expect("a linear graph has a normal tree");
+    let derived = modes::derive(
+        model,
+        mode,
+        &Options {
+            variables: Variables::CoEnergy,
+        },
+    )
+    .map_err(|d| with_source(d, source))?;
+    let mut text = explain(model, graph, &tree, &laws, &mode.spec(model));
+    text.push_str("\nState equations (co-energy variables), from the elemental, continuity and compatibility equations:\n\n");
+    text.push_str(&derived.equations.to_text());
+    print(&text);
+    Ok(())
+}
+
+/// The explanation of the normal tree and its equations.
+pub(crate) fn explain(
+    model: &Model,
+    graph: &LinearGraph,
+    tree: &NormalTree,
+    laws: &[Law],
+    spec: &str,
+) -> String {
+    let edge = |b: usize, p: usize| format!("'{}'", graph.edge_name(b, p));
+    let mut out = format!(
+        "linear graph '{}'{}: the normal tree (Rowell & Wormley)\n\n",
+        model.name,
+        if spec.is_empty() {
+            String::new()
+        } else {
+            format!(" in mode {spec}")
+        }
+    );
+    out.push_str(
+        "A tree joins every node without a loop. The normal tree takes across sources first, then \
+         A-types, D-types and T-types, each in file order, a branch joining where it reaches a \
+         node the tree does not reach yet; through sources are links. A-types in the tree and \
+         T-types among the links are the independent storage: their across and through \
+         variables are the states.\n",
+    );
+    if !tree.alternatives.is_empty() {
+        out.push_str(
+            "\nTwo-ports: a transformer puts one of its ports in the tree, a gyrator both or \
+             neither. Every placement was tried; the tree kept has the most A-types in it, then \
+             the fewest T-types:\n",
+        );
+        for (i, alternative) in tree.alternatives.iter().enumerate() {
+            let placed: Vec<String> = alternative
+                .placement
+                .iter()
+                .map(|(b, ports)| {
+                    let names: Vec<String> = ports.iter().map(|&p| edge(*b, p)).collect();
+                    if names.is_empty() {
+                        format!("neither port of '{}'", graph.branches[*b].name)
+                    } else {
+                        names.join(" and ")
+                    }
+                })
+                .collect();
+            let result = if alternative.feasible {
+                format!(
+                    "{} A-type{} and {} T-type{} in the tree",
+                    alternative.a_in_tree,
+                    plural(alternative.a_in_tree),
+                    alternative.t_in_tree,
+                    plural(alternative.t_in_tree)
+                )
+            } else {
+                "no tree (a port would close a loop, or the tree would not reach every node)"
+                    .to_string()
+            };
+            let chosen = if i == tree.chosen { "  <- chosen" } else { "" };
+            out.push_str(&format!(
+                "  {}. {} in the tree: {result}{chosen}\n",
+                i + 1,
+                placed.join(", ")
+            ));
+        }
+    }
+    out.push_str("\nConstruction:\n");
+    for (i, step) in tree.steps.iter().enumerate() {
+        let e = &graph.branches[step.branch].edges[step.port];
+        let what = format!(
+            "{} ({}, {} -> {})",
+            edge(step.branch, step.port),
+            role_text(graph, step.branch, step.role),
+            graph.node(e.from).name,
+            graph.node(e.to).name
+        );
+        let why = match &step.reason {
+            Reason::Reaches => {
+                let mut s = "joins the tree: it reaches a node the tree did not reach".to_string();
+                if step.role == Role::A {
+                    s.push_str(&format!(
+                        "; its across variable v_{} is a state",
+                        graph.branches[step.branch].name
+                    ));
+                }
+                if step.role == Role::T {
+                    s.push_str(
+                        "; a T-type in the tree is dependent storage: its through variable is set by the links of its cut-set",
+                    );
+                }
+                s
+            }
+            Reason::ClosesLoop(path) => {
+                let names: Vec<String> = path.iter().map(|&(b, p)| edge(b, p)).collect();
+                let mut s = format!(
+                    "becomes a link: it would close a loop with {}",
+                    names.join(", ")
+                );
+                match step.role {
+                    Role::A => s.push_str(
+                        "; an A-type link is dependent storage: its across variable is set by the loop",
+                    ),
+                    Role::T => s.push_str(&format!(
+                        "; its through variable f_{} is a state",
+                        graph.branches[step.branch].name
+                    )),
+                    Role::AcrossSource => s.push_str(
+                        "; across sources in a loop contradict each other, so this mode cannot be entered",
+                    ),
+                    _ => {}
+                }
+                s
+            }
+            Reason::TwoPortInTree => {
+                "joins the tree, as the chosen two-port placement puts it there".to_string()
+            }
+            Reason::TwoPortLink => {
+                "is a link, as the chosen two-port placement leaves it out".to_string()
+            }
+            Reason::Source if step.in_tree => {
+                "joins the tree: nothing else reaches its node, so its cut-set holds only sources"
+                    .to_string()
+            }
+            Reason::Source => "is a link: through sources are links".to_string(),
+        };
+        out.push_str(&format!("  {}. {what} {why}.\n", i + 1));
+    }
+
+    let states = tree.states(graph);
+    out.push_str(&format!(
+        "\nStates: {}\n",
+        if states.is_empty() {
+            "none".to_string()
+        } else {
+            states.join(", ")
+        }
+    ));
+    let dependent = tree.dependent_storage();
+    if !dependent.is_empty() {
+        let names: Vec<String> = dependent
+            .iter()
+            .map(|&b| format!("'{}'", graph.branches[b].name))
+            .collect();
+        out.push_str(&format!(
+            "Dependent storage: {} (merged into the states it follows; see the notes below)\n",
+            names.join(", ")
+        ));
+    }
+
+    let across = |b: usize, p: usize| format!("v_{}", variable(graph, b, p));
+    let through = |b: usize, p: usize| format!("f_{}", variable(graph, b, p));
+    let list = |items: Vec<String>| {
+        if items.is_empty() {
+            "none".to_string()
+        } else {
+            items.join(", ")
+        }
+    };
+    out.push_str(&format!(
+        "\nPrimary variables: the across variables of the tree, {}; the through variables of the links, {}.\n",
+        list(tree.tree_edges().map(|(b, p)| across(b, p)).collect()),
+        list(tree.links().map(|(b, p)| through(b, p)).collect())
+    ));
+    out.push_str(&format!(
+        "Secondary variables: the through variables of the tree, {}; the across variables of the links, {}.\n",
+        list(tree.tree_edges().map(|(b, p)| through(b, p)).collect()),
+        list(tree.links().map(|(b, p)| across(b, p)).collect())
+    ));
+
+    out.push_str("\nContinuity (cut-set) equations, one per tree branch:\n");
+    for (b, p) in tree.tree_edges() {
+        let terms = tree.cut_set_equation(graph, b, p);
+        out.push_str(&format!("  {} = {}\n", through(b, p), sum(&terms, through)));
+    }
+    out.push_str("\nCompatibility (loop) equations, one per link:\n");
+    for (b, p) in tree.links() {
+        let terms = tree.loop_equation(graph, b, p);
+        out.push_str(&format!("  {} = {}\n", across(b, p), sum(&terms, across)));
+    }
+    out.push_str("\nElemental equations in this mode:\n");
+    for (b, branch) in graph.branches.iter().enumerate() {
+        let law = &laws[branch.element.index()];
+        out.push_str(&format!(
+            "  {}: {}\n",
+            branch.name,
+            elemental(model, graph, b, law)
+        ));
+    }
+    out
+}
+
+/// The variable suffix of an edge: the branch's name, with `_1`, `_2` for a two-port's ports.
+fn variable(graph: &LinearGraph, b: usize, p: usize) -> String {
+    let branch = &graph.branches[b];
+    if branch.kind.is_two_port() {
+        format!("{}_{}", branch.name, p + 1)
+    } else {
+        branch.name.clone()
+    }
+}
+
+/// `v_a - v_b + ...`, or `0`.
+fn sum(terms: &Terms, name: impl Fn(usize, usize) -> String) -> String {
+    let mut out = String::new();
+    for &(b, p, sign) in terms {
+        match (out.is_empty(), sign > 0) {
+            (true, true) => {}
+            (true, false) => out.push('-'),
+            (false, true) => out.push_str(" + "),
+            (false, false) => out.push_str(" - "),
+        }
+        out.push_str(&name(b, p));
+    }
+    if out.is_empty() {
+        out.push('0');
+    }
+    out
+}
+
+/// The branch's role, with its kind where the mode makes it something else (a stuck
+/// contact is an across source).
+fn role_text(graph: &LinearGraph, b: usize, role: Role) -> String {
+    let kind = graph.branches[b].kind;
+    let described = role.description();
+    if described == kind.description() || kind.is_two_port() {
+        described.to_string()
+    } else {
+        format!("{}, here a {described}", kind.description())
+    }
+}
+
+/// The branch's constitutive law in the mode, in its across and through variables.
+fn elemental(model: &Model, graph: &LinearGraph, b: usize, law: &Law) -> String {
+    let name = variable(graph, b, 0);
+    let text = |r: &RatFunc| r.text(&model.symbols);
+    let times = |r: &RatFunc, v: &str| {
+        if r.is_one() {
+            v.to_string()
+        } else {
+            format!("{}*{v}", parenthesised(&text(r)))
+        }
+    };
+    match law {
+        Law::Inertia(c) => format!("f_{name} = {}", times(c, &format!("dv_{name}/dt"))),
+        Law::Compliance(l) => format!("v_{name} = {}", times(l, &format!("df_{name}/dt"))),
+        Law::Resistor { resistance, offset } => {
+            let mut form = LinearForm::term(Var::State(0), resistance.clone());
+            form.add(offset);
+            format!(
+                "f_{name} = {}",
+                form_text(model, &form, &format!("v_{name}"))
+            )
+        }
+        Law::EffortSource(value) => format!("f_{name} = {}", form_text(model, value, "")),
+        Law::FlowSource(value) => format!("v_{name} = {}", form_text(model, value, "")),
+        Law::SlackStorage => {
+            format!("f_{name} = 0 (slack: it stretches at v_{name} carrying nothing)")
+        }
+        Law::Transformer(n) => {
+            let (one, two) = (variable(graph, b, 0), variable(graph, b, 1));
+            format!(
+                "v_{one} = {}, f_{one} = -f_{two}/{}",
+                times(n, &format!("v_{two}")),
+                parenthesised(&text(n))
+            )
+        }
+        Law::Gyrator(r) => {
+            let (one, two) = (variable(graph, b, 0), variable(graph, b, 1));
+            let g = r.inv().unwrap_or_else(RatFunc::zero);
+            format!(
+                "v_{one} = {}, f_{one} = -v_{two}/{}",
+                times(&g, &format!("f_{two}")),
+                parenthesised(&text(&g))
+            )
+        }
+        // A linear graph's branches are written with linear laws only.
+        Law::Nonlinear(law) => format!("{}: a nonlinear law", law.keyword()),
+        Law::ZeroJunction | Law::OneJunction => String::new(),
+    }
+}
+
+/// An affine form of the inputs, with `Var::State(0)` standing for `variable`.
+fn form_text(model: &Model, form: &LinearForm, variable: &str) -> String {
+    let mut out = String::new();
+    for (var, coefficient) in form.terms() {
+        let (negative, magnitude) = coefficient.signed_text(&model.symbols);
+        let name = match var {
+            Var::State(_) => variable.to_string(),
+            Var::Input(i) => model.inputs[*i as usize].name.clone(),
+            _ => String::new(),
+        };
+        let term = match (name.is_empty(), magnitude.as_str()) {
+            (true, _) => magnitude,
+            (false, "1") => name,
+            (false, m) => format!("{}*{name}", parenthesised(m)),
+        };
+        match (out.is_empty(), negative) {
+            (true, false) => {}
+            (true, true) => out.push('-'),
+            (false, false) => out.push_str(" + "),
+            (false, true) => out.push_str(" - "),
+        }
+        out.push_str(&term);
+    }
+    if out.is_empty() {
+        out.push('0');
+    }
+    out
+}
+
+fn parenthesised(text: &str) -> String {
+    if text.chars().skip(1).any(|c| matches!(c, '+' | '-')) {
+        format!("({text})")
+    } else {
+        text.to_string()
+    }
+}
+
+fn plural(n: usize) -> &'static str {
+    if n == 1 { "" } else { "s" }
+}
