@@ -362,16 +362,17 @@ impl Dop853 {
     }
 }
 
-/// `out = x + h Σ_j a_j k_j` over the stages `j` that `a` covers.
+/// `out = x + h Σ_j a_j k_j` over the stages `j` that `a` covers (skipping the tableau's
+/// zeros).
 fn combine(x: &[f64], h: f64, a: &[f64], k: &[f64], n: usize, out: &mut [f64]) {
-    for r in 0..n {
-        let mut sum = 0.0;
-        for (j, &weight) in a.iter().enumerate() {
-            if weight != 0.0 {
-                sum += weight * k[j * n + r];
+    out[..n].copy_from_slice(&x[..n]);
+    for (&weight, stage) in a.iter().zip(k.chunks_exact(n)) {
+        if weight != 0.0 {
+            let w = h * weight;
+            for (o, &d) in out[..n].iter_mut().zip(stage) {
+                *o += w * d;
             }
         }
-        out[r] = x[r] + h * sum;
     }
 }
 
