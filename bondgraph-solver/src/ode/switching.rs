@@ -229,13 +229,14 @@ mod tests {
 
     #[test]
     fn a_non_stiff_problem_stays_explicit() {
-        // Van der Pol (μ = 1) from (2, 0) returns to its limit cycle; after one period of
-        // 6.6633 (Hairer, Nørsett and Wanner, Solving ODEs I, I.16) x is back near 2.
-        let mut x = [2.00861986087484313650940188, 0.0];
-        let period = 6.6632868593231301896996820305;
+        // Van der Pol (μ = 1) started at the top of its limit cycle (x = 2.00862, x' = 0) is
+        // back there after one period, 6.66329 (the cycle's published amplitude and period).
+        const AMPLITUDE: f64 = 2.008_619_860_874_843;
+        let mut x = [AMPLITUDE, 0.0];
+        let period = 6.663_286_859_323_13;
         let method = integrate(&mut VanDerPol, &mut x, period, Tolerances::default());
         assert_eq!(method.method(), Method::Explicit);
-        assert!((x[0] - 2.00861986087484313650940188).abs() < 1e-8, "{x:?}");
+        assert!((x[0] - AMPLITUDE).abs() < 1e-8, "{x:?}");
         assert!(x[1].abs() < 1e-8, "{x:?}");
         assert_eq!(method.stats().jacobians, 0);
     }
