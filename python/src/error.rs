@@ -116,8 +116,8 @@ impl Failure {
             .join("\n");
         let error = BondGraphError::new_err(text);
         let list: Vec<PyDiagnostic> = self.diagnostics.iter().map(PyDiagnostic::from).collect();
-        let attached = PyList::new(py, list)
-            .and_then(|list| error.value(py).setattr("diagnostics", list));
+        let attached =
+            PyList::new(py, list).and_then(|list| error.value(py).setattr("diagnostics", list));
         match attached {
             Ok(()) => error,
             Err(other) => other,

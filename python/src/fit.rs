@@ -72,7 +72,10 @@ fn run_discover(
     let experiment = Experiment::parse(&experiment_path.display().to_string(), &experiment_text)
         .map_err(|e| fail(DiagnosticKind::Syntax, e))?;
     if data_files.is_empty() {
-        return Err(fail(DiagnosticKind::Io, "discover needs at least one data file"));
+        return Err(fail(
+            DiagnosticKind::Io,
+            "discover needs at least one data file",
+        ));
     }
     let mut names = Vec::new();
     let mut rows = Vec::new();

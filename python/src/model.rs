@@ -30,7 +30,12 @@ pub struct PyModel {
 }
 
 /// The equations of one mode in the three forms the bindings show.
-#[pyclass(name = "NativeEquations", module = "bondgraph._native", frozen, get_all)]
+#[pyclass(
+    name = "NativeEquations",
+    module = "bondgraph._native",
+    frozen,
+    get_all
+)]
 pub struct PyEquations {
     /// The command line's `--format json` document.
     json: String,
@@ -86,8 +91,8 @@ fn count(n: usize, noun: &str) -> String {
 
 impl PyModel {
     fn from_source(source: Arc<SourceFile>) -> Result<Self, Failure> {
-        let model = model::load_source(&source)
-            .map_err(|d| Failure::with_sources(d, &[&source]))?;
+        let model =
+            model::load_source(&source).map_err(|d| Failure::with_sources(d, &[&source]))?;
         Ok(Self { model, source })
     }
 
@@ -130,7 +135,11 @@ impl PyModel {
                 ],
             ),
             (None, nonlinear) => (
-                if nonlinear { "nonlinear model" } else { "model" },
+                if nonlinear {
+                    "nonlinear model"
+                } else {
+                    "model"
+                },
                 [
                     (model.elements.len(), "element"),
                     (model.bonds.len(), "bond"),
@@ -240,11 +249,13 @@ impl PyModel {
         let Some(graph) = &model.linear_graph else {
             return Ok(None);
         };
-        causality::assign(model, &laws).map_err(|d| {
-            self.fail(bondgraph_core::model::linear_graph::reword(model, d))
-        })?;
+        causality::assign(model, &laws)
+            .map_err(|d| self.fail(bondgraph_core::model::linear_graph::reword(model, d)))?;
         let tree = normal_tree::of_mode(model, &laws).ok_or_else(|| {
-            Failure::message(DiagnosticKind::CausalConflict, "the mode has no normal tree")
+            Failure::message(
+                DiagnosticKind::CausalConflict,
+                "the mode has no normal tree",
+            )
         })?;
         Ok(Some(bondgraph::lg_svg::draw(
             model,
