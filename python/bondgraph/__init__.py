@@ -44,6 +44,9 @@ __all__ = [
 
 __version__ = _native.__version__
 
+# Raised by the bindings, an error always has its diagnostics; one made by hand has none.
+BondGraphError.diagnostics = ()
+
 PathLike = Union[str, "os.PathLike[str]"]
 
 

@@ -95,6 +95,10 @@ def test_bad_arguments_raise(call):
         (EXAMPLES / "mass_spring_damper.ron").read_text()[:200],
         (EXAMPLES / "rlc.lg.ron").read_text().replace('ground: "g"', 'ground: "gg"'),
         "Model(name: \"x\", parameters: {\"m\": (value: 1e999)}, inputs: {}, elements: {}, bonds: [])",
+        # Deep nesting must be refused, not overflow the stack (which would kill Python).
+        "Model(" + "[" * 100_000,
+        'Model(name: "x", parameters: {"a": (value: 1.0)}, inputs: {}, elements: {"s": Se(effort: "'
+        + "(" * 100_000 + "a" + ")" * 100_000 + '")}, bonds: [])',
     ],
 )
 def test_malformed_text_raises_bondgraph_error_only(text):
