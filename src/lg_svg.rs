@@ -21,7 +21,7 @@ const GROUND_GAP: f64 = 170.0;
 const ARCH: f64 = 70.0;
 
 /// The SVG document of `graph` with its normal `tree`.
-pub(crate) fn draw(model: &Model, graph: &LinearGraph, tree: &NormalTree, spec: &str) -> String {
+pub fn draw(model: &Model, graph: &LinearGraph, tree: &NormalTree, spec: &str) -> String {
     let ground = graph.ground.index();
     // Positions: the non-ground nodes in a row, the ground below.
     let row: Vec<usize> = (0..graph.nodes.len()).filter(|&n| n != ground).collect();

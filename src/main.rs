@@ -4,16 +4,14 @@
 //! requested format; diagnostics from the libraries are rendered here with a snippet of the
 //! model file, and any failure exits non-zero.
 
-mod diagnostics;
 mod discover;
 mod explain_lg;
 mod lg_graph;
-mod lg_svg;
 mod nonlinear;
-mod plot;
 mod reproduce;
 mod residual_plot;
-mod trajectory;
+
+use bondgraph::{diagnostics, lg_svg, plot, trajectory};
 
 use std::io::Write;
 use std::path::{Path, PathBuf};

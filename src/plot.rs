@@ -35,7 +35,7 @@ const LARGEST_PLOTTED: f64 = 1e300;
 
 /// The colour of the mode with this index: the Okabe-Ito palette (distinguishable with
 /// colour blindness), then colours spread round the hue circle.
-pub(crate) fn mode_colour(index: usize) -> RGBColor {
+pub fn mode_colour(index: usize) -> RGBColor {
     const PALETTE: [RGBColor; 8] = [
         RGBColor(230, 159, 0),
         RGBColor(86, 180, 233),

@@ -1,0 +1,25 @@
+//! The `bondgraph` library: what the command line prints, for other front ends.
+//!
+//! The `bondgraph` binary renders the libraries' results as text, JSON, CSV and SVG; the
+//! modules here are the renderers that another front end (the Python bindings in
+//! `python/`) needs too, so that both print the same documents from the same code.
+//!
+//! ```
+//! use bondgraph_core::model;
+//! use bondgraph_core::modes::Mode;
+//! use bondgraph_core::normal_tree;
+//! use bondgraph_core::laws;
+//!
+//! let text = std::fs::read_to_string("models/examples/rlc.lg.ron").unwrap();
+//! let model = model::load_str("rlc.lg.ron", &text).unwrap();
+//! let graph = model.linear_graph.as_ref().unwrap();
+//! let mode = Mode::initial(&model);
+//! let tree = normal_tree::of_mode(&model, &laws::for_mode(&model, &mode)).unwrap();
+//! let svg = bondgraph::lg_svg::draw(&model, graph, &tree, &mode.spec(&model));
+//! assert!(svg.starts_with("<svg"));
+//! ```
+
+pub mod diagnostics;
+pub mod lg_svg;
+pub mod plot;
+pub mod trajectory;
