@@ -114,11 +114,7 @@ pub fn load(file: &SourceFile, symbols: &SymbolTable) -> Result<Answer> {
         problems.push(
             Diagnostic::new(
                 DiagnosticKind::InvalidValue,
-                format!(
-                    "states names {} states, A has {}",
-                    states.len(),
-                    a.len()
-                ),
+                format!("states names {} states, A has {}", states.len(), a.len()),
             )
             .at(file, key_span("states")),
         );
@@ -163,7 +159,10 @@ fn matrix(
         let mut parsed = Vec::new();
         for (j, text) in row.iter().enumerate() {
             // The span of the string's contents, when the scan found it.
-            let span = spans.get(k).copied().filter(|s| &file.text()[s.start..s.end] == text);
+            let span = spans
+                .get(k)
+                .copied()
+                .filter(|s| &file.text()[s.start..s.end] == text);
             k += 1;
             match rational(text, symbols) {
                 Ok(value) => parsed.push(value),
@@ -189,10 +188,7 @@ fn matrix(
 }
 
 /// `text` as an exact rational function of `symbols`: the error and its span in `text`.
-pub fn rational(
-    text: &str,
-    symbols: &SymbolTable,
-) -> std::result::Result<RatFunc, (String, Span)> {
+pub fn rational(text: &str, symbols: &SymbolTable) -> std::result::Result<RatFunc, (String, Span)> {
     let parsed = expr::parse(text).map_err(|e| (e.message, e.span))?;
     lower(&parsed, symbols)
 }
@@ -209,10 +205,7 @@ fn lower(e: &Expr, symbols: &SymbolTable) -> std::result::Result<RatFunc, (Strin
         ExprKind::Symbol(name) => match symbols.get(name) {
             Some(s) => RatFunc::symbol(s),
             None => {
-                return Err((
-                    format!("'{name}' is not a parameter of the model"),
-                    e.span,
-                ));
+                return Err((format!("'{name}' is not a parameter of the model"), e.span));
             }
         },
         ExprKind::Neg(x) => -lower(x, symbols)?,

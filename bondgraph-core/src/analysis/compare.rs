@@ -163,9 +163,15 @@ pub fn compare(
     let all_coenergy = matched.iter().all(|s| s.coenergy);
     let all_energy = matched.iter().all(|s| !s.coenergy);
     let (base, map): (&StateEquations, Vec<(usize, RatFunc)>) = if all_coenergy {
-        (coenergy, matched.iter().map(|s| (s.state, RatFunc::one())).collect())
+        (
+            coenergy,
+            matched.iter().map(|s| (s.state, RatFunc::one())).collect(),
+        )
     } else if all_energy {
-        (energy, matched.iter().map(|s| (s.state, RatFunc::one())).collect())
+        (
+            energy,
+            matched.iter().map(|s| (s.state, RatFunc::one())).collect(),
+        )
     } else if scaling_is_diagonal(energy, coenergy) {
         let map = matched
             .iter()
@@ -222,9 +228,8 @@ pub fn compare(
         } else if base_variables != preferred {
             let own = &preferred_eq.states[*k];
             changes.push(format!(
-                "{} = {} ({} variable; the model writes {})",
+                "{}: {} variable (the model's own state is {})",
                 states[i],
-                state.name,
                 variables_name(base_variables),
                 own.name
             ));
@@ -287,7 +292,11 @@ fn match_states(
             .state_named(name)
             .map(|k| (k, false))
             .or_else(|| coenergy.state_named(name).map(|k| (k, true)))
-            .or_else(|| alias.and_then(|a| energy.state_named(&a)).map(|k| (k, false)))?;
+            .or_else(|| {
+                alias
+                    .and_then(|a| energy.state_named(&a))
+                    .map(|k| (k, false))
+            })?;
         if std::mem::replace(&mut seen[found.0], true) {
             return None;
         }
@@ -350,7 +359,14 @@ fn first_difference(
             let (kj, sj) = &map[j];
             let want = (si * &a[*ki][*kj]).checked_div(sj).unwrap_or_default();
             if answer.a[i][j] != want {
-                return Some(report("A", i, j, format!("coefficient of {}", name(j)), &answer.a[i][j], &want));
+                return Some(report(
+                    "A",
+                    i,
+                    j,
+                    format!("coefficient of {}", name(j)),
+                    &answer.a[i][j],
+                    &want,
+                ));
             }
         }
     }

@@ -97,9 +97,8 @@ impl Analysis {
         if self.symbolic {
             return TransferFunction::new(&self.characteristic, channel, &self.symbols);
         }
-        let v = |x: &[RatFunc]| -> Vec<RatFunc> {
-            x.iter().map(|c| valued(c, &self.values)).collect()
-        };
+        let v =
+            |x: &[RatFunc]| -> Vec<RatFunc> { x.iter().map(|c| valued(c, &self.values)).collect() };
         let channel = Channel {
             b: v(&channel.b),
             e: v(&channel.e),
@@ -123,8 +122,13 @@ impl Analysis {
 
     /// `det(sI - A)` as text: `s^2 + b/m*s + k/m`.
     pub fn characteristic_text(&self) -> String {
-        let highest_first: Vec<RatFunc> =
-            self.characteristic.coefficients.iter().rev().cloned().collect();
+        let highest_first: Vec<RatFunc> = self
+            .characteristic
+            .coefficients
+            .iter()
+            .rev()
+            .cloned()
+            .collect();
         polynomial_text(&highest_first, &self.symbols)
     }
 }

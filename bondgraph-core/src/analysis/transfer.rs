@@ -153,7 +153,9 @@ impl TransferFunction {
     /// The coefficients divided by the denominator's leading one (highest power first): the
     /// denominator is monic.
     pub fn monic(&self) -> (Vec<RatFunc>, Vec<RatFunc>) {
-        let lead = self.denominator[0].inv().expect("leading coefficient not zero");
+        let lead = self.denominator[0]
+            .inv()
+            .expect("leading coefficient not zero");
         let scale = |v: &[RatFunc]| v.iter().map(|c| c * &lead).collect();
         (scale(&self.numerator), scale(&self.denominator))
     }
@@ -218,8 +220,16 @@ pub fn polynomial_text(coefficients: &[RatFunc], symbols: &SymbolTable) -> Strin
             continue;
         }
         let power = degree - i;
-        let (negative, mut magnitude) = c.signed_text(symbols);
-        let compound = c.numerator().term_count() > 1 || !c.denominator().is_one();
+        let (negative, mut magnitude) = match c.to_constant() {
+            // An exact decimal of a linearisation prints as its value, not as p/10^16.
+            Some((_, den)) if den.to_string().len() > 7 => {
+                let value = c.eval(&[]);
+                (value < 0.0, format!("{}", value.abs()))
+            }
+            _ => c.signed_text(symbols),
+        };
+        let compound =
+            !c.is_constant() && (c.numerator().term_count() > 1 || !c.denominator().is_one());
         if power > 0 && compound && magnitude.contains([' ', '/']) {
             magnitude = format!("({magnitude})");
         }
