@@ -62,17 +62,19 @@ pub(crate) fn run(args: &Args) -> Result<(), Failure> {
             ),
             None => None,
         };
-        let point = if args.equilibrium || given.is_none() {
-            let start = given
-                .clone()
-                .unwrap_or_else(|| OperatingPoint::zero(names.len(), eq.inputs.len()));
-            if given.is_none() {
-                notes.push(
+        let point = match given {
+            Some(point) if !args.equilibrium => point,
+            given => {
+                let start = given
+                    .clone()
+                    .unwrap_or_else(|| OperatingPoint::zero(names.len(), eq.inputs.len()));
+                if given.is_none() {
+                    notes.push(
                     "nonlinear model without --at: linearised at the equilibrium found from all states and inputs 0"
                         .to_string(),
                 );
-            }
-            let found = bondgraph_solver::equilibrium::find(eq, &start).map_err(|e| {
+                }
+                let found = bondgraph_solver::equilibrium::find(eq, &start).map_err(|e| {
                 Failure::message(
                     DiagnosticKind::Simulation,
                     format!(
@@ -80,13 +82,12 @@ pub(crate) fn run(args: &Args) -> Result<(), Failure> {
                     ),
                 )
             })?;
-            notes.push(format!(
-                "equilibrium: f = 0 to {:e} after {} Newton iterations",
-                found.residual, found.iterations
-            ));
-            found.point
-        } else {
-            given.expect("checked")
+                notes.push(format!(
+                    "equilibrium: f = 0 to {:e} after {} Newton iterations",
+                    found.residual, found.iterations
+                ));
+                found.point
+            }
         };
         Prepared {
             linearised_at: Some(eq.point_text(&point)),

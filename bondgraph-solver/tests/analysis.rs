@@ -57,9 +57,9 @@ fn roots_of_a_cubic_and_a_quadratic_with_complex_roots() {
 #[test]
 fn time_scales_of_an_underdamped_pair() {
     // m = 2, b = 4, k = 200: wn = sqrt(k/m) = 10, zeta = b/(2 sqrt(k m)) = 0.1.
-    let (m, b, k) = (2.0, 4.0, 200.0);
-    let wn = (k / m as f64).sqrt();
-    let zeta = b / (2.0 * (k * m as f64).sqrt());
+    let (m, b, k): (f64, f64, f64) = (2.0, 4.0, 200.0);
+    let wn = (k / m).sqrt();
+    let zeta = b / (2.0 * (k * m).sqrt());
     let r = roots(&[1.0, b / m, k / m]);
     let s = Scale::of(r[1]);
     close("natural frequency", s.natural_frequency, wn, 1e-14);
@@ -95,9 +95,9 @@ fn first_order_step_metrics_are_tau_ln9_and_tau_ln50() {
 
 #[test]
 fn second_order_overshoot_peak_and_rise_against_the_closed_form() {
-    let (m, b, k) = (2.0, 4.0, 200.0);
-    let wn = (k / m as f64).sqrt();
-    let zeta = b / (2.0 * (k * m as f64).sqrt());
+    let (m, b, k): (f64, f64, f64) = (2.0, 4.0, 200.0);
+    let wn = (k / m).sqrt();
+    let zeta = b / (2.0 * (k * m).sqrt());
     let wd = wn * (1.0 - zeta * zeta).sqrt();
     let poles = roots(&[1.0, b / m, k / m]);
     let metrics = step_metrics(&mass_spring_damper(m, b, k), &poles, Some(1.0 / k));

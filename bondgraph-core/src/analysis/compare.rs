@@ -353,10 +353,8 @@ fn first_difference(
             want.text(symbols)
         )
     };
-    for i in 0..n {
-        let (ki, si) = &map[i];
-        for j in 0..n {
-            let (kj, sj) = &map[j];
+    for (i, (ki, si)) in map.iter().enumerate() {
+        for (j, (kj, sj)) in map.iter().enumerate() {
             let want = (si * &a[*ki][*kj]).checked_div(sj).unwrap_or_default();
             if answer.a[i][j] != want {
                 return Some(report(
@@ -375,8 +373,7 @@ fn first_difference(
         ("B", &b, &answer.b),
         ("E", &e, answer.e.as_ref().unwrap_or(&zero)),
     ] {
-        for i in 0..n {
-            let (ki, si) = &map[i];
+        for (i, (ki, si)) in map.iter().enumerate() {
             for (j, input) in base.inputs.iter().enumerate() {
                 let want = si * &model[*ki][j];
                 let got = given[i].get(j).cloned().unwrap_or_default();
