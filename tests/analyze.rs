@@ -10,8 +10,14 @@ use bondgraph_core::equations::Variables;
 use bondgraph_core::symbolic::RatFunc;
 use serde_json::Value;
 
-use crate::cli::{json, run};
+use crate::cli::{run, succeed};
 use crate::support::{derive, expected, linear_graph_files, load, ron_files, value};
+
+/// Runs `bondgraph ARGS` (which ask for JSON), expecting success, and parses its output.
+fn json(args: &[&str]) -> Value {
+    let text = succeed(args);
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{e}:\n{text}"))
+}
 
 const QUARTER_CAR: &str = "tests/fixtures/analysis/quarter_car.ron";
 
@@ -169,7 +175,7 @@ fn second_order_json_has_the_textbook_time_scales_and_overshoot() {
 
 #[test]
 fn text_prints_the_transfer_function_as_a_fraction() {
-    let text = crate::cli::succeed(&[
+    let text = succeed(&[
         "analyze",
         "models/examples/mass_spring_damper.ron",
         "--output",
