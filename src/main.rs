@@ -4,6 +4,9 @@
 //! requested format; diagnostics from the libraries are rendered here with a snippet of the
 //! model file, and any failure exits non-zero.
 
+mod analyze;
+mod analyze_plot;
+mod compare;
 mod discover;
 mod explain_lg;
 mod lg_graph;
@@ -90,6 +93,51 @@ enum Command {
         /// starting from its states) and linearise there.
         #[arg(long)]
         equilibrium: bool,
+    },
+    /// Poles, time constants, the transfer function, zeros, DC gain and step response of a
+    /// linear mode (a nonlinear model: of its linearisation).
+    Analyze {
+        /// The model file (RON).
+        model: PathBuf,
+        /// The mode of the switching elements (default: initial).
+        #[arg(long, value_name = "SPEC")]
+        mode: Option<String>,
+        /// The input of the transfer function (default: the first).
+        #[arg(long, value_name = "NAME")]
+        input: Option<String>,
+        /// The output: a state's name, effort:ELEMENT, flow:ELEMENT, across:BRANCH,
+        /// through:BRANCH or integral:OUTPUT (default: the first state).
+        #[arg(long, value_name = "SPEC")]
+        output: Option<String>,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = ReproduceFormat::Text)]
+        format: ReproduceFormat,
+        /// Also draw the Bode diagram, as SVG.
+        #[arg(long, value_name = "FILE.svg")]
+        bode: Option<PathBuf>,
+        /// Also draw the step response, as SVG.
+        #[arg(long, value_name = "FILE.svg")]
+        step: Option<PathBuf>,
+        /// A nonlinear model's operating point, NAME=VALUE,... (others 0).
+        #[arg(long, value_name = "NAME=VALUE,...")]
+        at: Option<String>,
+        /// Linearise a nonlinear model at the equilibrium found from --at (or from 0).
+        #[arg(long)]
+        equilibrium: bool,
+    },
+    /// Check an answer's A and B (RON) against a model's equations: exit 0 if equal or equal
+    /// up to a change of state variables, 1 if different, 2 on error.
+    Compare {
+        /// The model file (RON).
+        model: PathBuf,
+        /// The answer file (RON): Answer(states: [...], A: [[...]], B: [[...]]).
+        answer: PathBuf,
+        /// The mode of the switching elements (default: initial).
+        #[arg(long, value_name = "SPEC")]
+        mode: Option<String>,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = ReproduceFormat::Text)]
+        format: ReproduceFormat,
     },
     /// Simulate a model driven by a scenario file; print the trajectory as CSV or JSON.
     Simulate {
@@ -227,9 +275,41 @@ impl Failure {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Command::Compare {
+        model,
+        answer,
+        mode,
+        format,
+    } = &cli.command
+    {
+        // Its own exit codes: 0 equal or similar, 1 different, 2 error.
+        return match compare::run(
+            model,
+            answer,
+            mode.as_deref(),
+            *format == ReproduceFormat::Json,
+        ) {
+            Ok(true) => ExitCode::SUCCESS,
+            Ok(false) => ExitCode::from(1),
+            Err(failure) => {
+                report(failure);
+                ExitCode::from(2)
+            }
+        };
+    }
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {
+            report(failure);
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Writes a failure's diagnostics to stderr, with snippets of the files they point into.
+fn report(failure: Failure) {
+    {
+        {
             let mut stderr = std::io::stderr().lock();
             for diagnostic in failure.diagnostics.iter() {
                 let source = diagnostic.location.as_ref().and_then(|location| {
@@ -245,7 +325,6 @@ fn main() -> ExitCode {
             if count > 1 {
                 let _ = writeln!(stderr, "error: {count} problems found");
             }
-            ExitCode::FAILURE
         }
     }
 }
@@ -420,6 +499,29 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let mode = parse_mode(&model, mode.as_deref(), &source)?;
             explain_lg::run(&model, &mode, &source)
         }
+        Command::Analyze {
+            model,
+            mode,
+            input,
+            output,
+            format,
+            bode,
+            step,
+            at,
+            equilibrium,
+        } => analyze::run(&analyze::Args {
+            model,
+            mode,
+            input,
+            output,
+            json: format == ReproduceFormat::Json,
+            bode,
+            step,
+            at,
+            equilibrium,
+        }),
+        // Dispatched in `main`, for its exit codes.
+        Command::Compare { .. } => Ok(()),
         Command::Reproduce { out, format } => reproduce::run(&out, format == ReproduceFormat::Json),
         Command::Discover {
             model,

@@ -48,6 +48,7 @@
 //! # Crate features
 //! None: the crate has no optional parts.
 
+pub mod analysis;
 pub mod causality;
 pub mod diagnostics;
 pub mod equations;

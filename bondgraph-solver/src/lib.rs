@@ -1,5 +1,6 @@
 //! Simulation of the state equations that `bondgraph-core` derives.
 
+pub mod analysis;
 pub mod energy;
 pub mod equilibrium;
 pub mod events;

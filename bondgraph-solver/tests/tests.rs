@@ -1,5 +1,6 @@
 //! Whole-crate tests of the solver on real model files, against closed-form solutions.
 
+mod analysis;
 mod energy;
 mod fig6;
 mod flagship;

@@ -1,0 +1,111 @@
+//! `bondgraph compare MODEL ANSWER.ron`: checks a student's `A`, `B` against the model's
+//! equations of one mode (see `bondgraph_core::analysis::compare` for how), and says equal,
+//! equal up to a change of state variables, or different at which entry.
+//!
+//! Exit codes: 0 equal or similar, 1 different, 2 an error (unreadable files, bad entries).
+
+use std::path::Path;
+
+use bondgraph_core::DiagnosticKind;
+use bondgraph_core::analysis::answer;
+use bondgraph_core::analysis::compare::{Comparison, Verdict, compare};
+use bondgraph_core::equations::{self, Variables};
+use bondgraph_core::modes;
+use serde_json::json;
+
+use crate::{Failure, json as to_json, load, parse_mode, print, read_source, with_source};
+
+/// Runs the comparison and prints the verdict; `Ok(true)` unless the answer is different.
+pub(crate) fn run(
+    model_path: &Path,
+    answer_path: &Path,
+    mode: Option<&str>,
+    as_json: bool,
+) -> Result<bool, Failure> {
+    let (model, source) = load(model_path)?;
+    if model.is_nonlinear() {
+        return Err(Failure::message(
+            DiagnosticKind::NotLinear,
+            format!(
+                "'{}' is nonlinear: an answer's A and B are compared with a linear mode's",
+                source.name()
+            ),
+        ));
+    }
+    let mode = parse_mode(&model, mode, &source)?;
+    let derive = |variables| {
+        modes::derive(&model, &mode, &equations::Options { variables })
+            .map(|d| d.equations)
+            .map_err(|d| with_source(d, &source))
+    };
+    let energy = derive(Variables::Energy)?;
+    let coenergy = derive(Variables::CoEnergy)?;
+    let answer_source = read_source(answer_path)?;
+    let answer = answer::load(&answer_source, &model.symbols).map_err(|d| Failure {
+        diagnostics: d,
+        sources: vec![answer_source.clone()],
+    })?;
+    let comparison = compare(&energy, &coenergy, Variables::preferred(&model), &answer);
+    let ok = !matches!(comparison.verdict, Verdict::Different { .. });
+    let text = if as_json {
+        to_json(&to_value(&comparison, &mode.spec(&model)))?
+    } else {
+        to_text(&comparison, &energy.model, &mode.spec(&model))
+    };
+    print(&text);
+    Ok(ok)
+}
+
+fn to_text(comparison: &Comparison, model: &str, mode: &str) -> String {
+    let mut text = String::new();
+    let mode = if mode.is_empty() {
+        String::new()
+    } else {
+        format!(", mode {mode}")
+    };
+    match &comparison.verdict {
+        Verdict::Equal => text.push_str(&format!("equal: the answer is '{model}'{mode}\n")),
+        Verdict::Similar {
+            changes,
+            entries_checked,
+        } => {
+            text.push_str(&format!(
+                "similar: the answer is '{model}'{mode} up to a change of state variables{}\n",
+                if *entries_checked {
+                    ""
+                } else {
+                    " (only the characteristic polynomial could be checked)"
+                }
+            ));
+            for change in changes {
+                text.push_str(&format!("  {change}\n"));
+            }
+        }
+        Verdict::Different { first } => {
+            text.push_str(&format!("different from '{model}'{mode}: {first}\n"));
+        }
+    }
+    for note in &comparison.notes {
+        text.push_str(&format!("note: {note}\n"));
+    }
+    text
+}
+
+fn to_value(comparison: &Comparison, mode: &str) -> serde_json::Value {
+    let (verdict, changes, first, entries_checked) = match &comparison.verdict {
+        Verdict::Equal => ("equal", Vec::new(), None, true),
+        Verdict::Similar {
+            changes,
+            entries_checked,
+        } => ("similar", changes.clone(), None, *entries_checked),
+        Verdict::Different { first } => ("different", Vec::new(), Some(first.clone()), true),
+    };
+    json!({
+        "mode": mode,
+        "verdict": verdict,
+        "changes": changes,
+        "first_difference": first,
+        "entries_checked": entries_checked,
+        "notes": comparison.notes,
+    })
+}
