@@ -2,6 +2,7 @@
 //!
 //! One test binary with modules (rather than one binary per file) keeps link times down.
 
+mod bond_graph_views;
 mod cli;
 mod diagnostics;
 mod examples;

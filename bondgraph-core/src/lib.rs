@@ -50,6 +50,7 @@
 
 pub mod causality;
 pub mod diagnostics;
+pub mod diagram;
 pub mod equations;
 pub mod expr;
 pub mod graph;
