@@ -12,6 +12,8 @@ use bondgraph_core::diagram::{self, Diagram, FONT, Point, Rect, SMALL_FONT};
 use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 
+use crate::lg_svg::escape;
+
 const INK: &str = "#1b1b1b";
 const DERIVATIVE: &str = "#c62828";
 
@@ -169,11 +171,4 @@ fn box_data(r: &Rect) -> String {
         r#"data-box="{:.2} {:.2} {:.2} {:.2}""#,
         r.x, r.y, r.width, r.height
     )
-}
-
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }

@@ -102,6 +102,9 @@ fn derivation(
     })
 }
 
+/// A heading and the decisions listed under it.
+type Phase = (&'static str, fn(&Decision) -> bool);
+
 /// A numbered step with its sub-items.
 struct Item {
     number: usize,
@@ -158,7 +161,7 @@ impl Explainer<'_> {
             .collect();
         self.block(&mut out, &lines);
 
-        let phases: [(&str, fn(&Decision) -> bool); 4] = [
+        let phases: [Phase; 4] = [
             ("Sources", |d| {
                 matches!(d, Decision::Source | Decision::OneWayResistor)
             }),

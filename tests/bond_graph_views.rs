@@ -5,7 +5,7 @@
 
 use std::collections::HashMap;
 
-use bondgraph_core::causality::{self, Stroke};
+use bondgraph_core::causality;
 use bondgraph_core::equations::Options;
 use bondgraph_core::{laws, modes};
 
