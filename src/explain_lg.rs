@@ -3,11 +3,11 @@
 //! and compatibility (loop) equations the tree gives, the elemental equations of the mode,
 //! and the state equations they lead to.
 //!
-//! A bond-graph model gets its causal strokes, one bond at a time, the minimal form of the
-//! explanation for that formalism.
+//! A bond-graph model is explained by [`crate::explain_bg`].
 
 use std::sync::Arc;
 
+use bondgraph_core::causality;
 use bondgraph_core::equations::{Options, Variables};
 use bondgraph_core::laws::{self, Law};
 use bondgraph_core::linear::{LinearForm, Var};
@@ -17,24 +17,22 @@ use bondgraph_core::modes::{self, Mode};
 use bondgraph_core::normal_tree::{self, NormalTree, Reason, Role, Terms};
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::symbolic::RatFunc;
-use bondgraph_core::{causality, graph};
 
+use crate::explain_bg::ExplainFormat;
 use crate::{Failure, print, with_source};
 
-/// Prints the explanation of `model` in `mode`.
-pub(crate) fn run(model: &Model, mode: &Mode, source: &Arc<SourceFile>) -> Result<(), Failure> {
+/// Prints the explanation of linear graph `model` in `mode`; in Markdown, the text under a
+/// heading, as a preformatted block.
+pub(crate) fn run(
+    model: &Model,
+    mode: &Mode,
+    source: &Arc<SourceFile>,
+    format: ExplainFormat,
+) -> Result<(), Failure> {
     let laws = laws::for_mode(model, mode);
-    let causal =
-        causality::assign(model, &laws).map_err(|d| with_source(reword(model, d), source))?;
+    causality::assign(model, &laws).map_err(|d| with_source(reword(model, d), source))?;
     let Some(graph) = &model.linear_graph else {
-        let mut text = format!(
-            "bond graph '{}': causal strokes by the sequential causality assignment procedure \
-             (sources first, then storage in integral causality, then resistors)\n\n",
-            model.name
-        );
-        text.push_str(&graph::describe_causality(model, &laws, &causal));
-        print(&text);
-        return Ok(());
+        return crate::explain_bg::run(model, mode, source, format);
     };
     let tree = normal_tree::of_mode(model, &laws).expect("a linear graph has a normal tree");
     let derived = modes::derive(
@@ -48,6 +46,12 @@ pub(crate) fn run(model: &Model, mode: &Mode, source: &Arc<SourceFile>) -> Resul
     let mut text = explain(model, graph, &tree, &laws, &mode.spec(model));
     text.push_str("\nState equations (co-energy variables), from the elemental, continuity and compatibility equations:\n\n");
     text.push_str(&derived.equations.to_text());
+    if format == ExplainFormat::Markdown {
+        text = format!(
+            "# Linear graph `{}`: the normal tree and its equations\n\n```text\n{text}```\n",
+            model.name
+        );
+    }
     print(&text);
     Ok(())
 }

@@ -198,7 +198,8 @@ pub fn draw(model: &Model, graph: &LinearGraph, tree: &NormalTree, spec: &str) -
     svg
 }
 
-fn escape(text: &str) -> String {
+/// `text` with the characters XML reserves escaped.
+pub(crate) fn escape(text: &str) -> String {
     text.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")

@@ -6,8 +6,10 @@
 
 mod analyze;
 mod analyze_plot;
+mod bg_svg;
 mod compare;
 mod discover;
+mod explain_bg;
 mod explain_lg;
 mod lg_graph;
 mod nonlinear;
@@ -52,7 +54,7 @@ enum Command {
         /// The mode of the switching elements, e.g. fr=stuck,string=taut (default: initial).
         #[arg(long, value_name = "SPEC")]
         mode: Option<String>,
-        /// Output format: text, dot (render with `dot -Tsvg`), or svg (linear graphs).
+        /// Output format: text, dot (render with `dot -Tsvg`), or svg (drawn by the program).
         #[arg(long, value_enum, default_value_t = GraphFormat::Text)]
         format: GraphFormat,
     },
@@ -65,6 +67,9 @@ enum Command {
         /// The mode of the switching elements (default: initial).
         #[arg(long, value_name = "SPEC")]
         mode: Option<String>,
+        /// Output format: text, or Markdown for lecture notes.
+        #[arg(long, value_enum, default_value_t = explain_bg::ExplainFormat::Text)]
+        format: explain_bg::ExplainFormat,
     },
     /// Derive the state equations dx/dt = A x + B u + c of a model.
     Equations {
@@ -391,13 +396,12 @@ fn run(cli: Cli) -> Result<(), Failure> {
                     graph::describe(&model),
                     graph::describe_causality(&model, &laws, &causality)
                 ),
-                GraphFormat::Dot => graph::to_dot(&model, Some(&causality)),
-                GraphFormat::Svg => {
-                    return Err(Failure::message(
-                        DiagnosticKind::Io,
-                        "SVG drawings are made of linear graphs; for a bond graph use --format dot",
-                    ));
-                }
+                GraphFormat::Dot => graph::to_dot_titled(
+                    &model,
+                    Some(&causality),
+                    Some(&crate::bg_svg::title(&model, &mode.spec(&model))),
+                ),
+                GraphFormat::Svg => bg_svg::draw(&model, &mode, &causality),
             };
             print(&text);
             Ok(())
@@ -494,10 +498,18 @@ fn run(cli: Cli) -> Result<(), Failure> {
             out,
             plot,
         } => simulate(&model, &scenario, format, out.as_deref(), plot.as_deref()),
-        Command::Explain { model, mode } => {
+        Command::Explain {
+            model,
+            mode,
+            format,
+        } => {
             let (model, source) = load(&model)?;
             let mode = parse_mode(&model, mode.as_deref(), &source)?;
-            explain_lg::run(&model, &mode, &source)
+            if model.linear_graph.is_some() {
+                explain_lg::run(&model, &mode, &source, format)
+            } else {
+                explain_bg::run(&model, &mode, &source, format)
+            }
         }
         Command::Analyze {
             model,

@@ -35,9 +35,13 @@
 //! assert!(causal.dependent.is_empty());
 //! ```
 
+pub mod trace;
+
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::laws::Law;
 use crate::model::{BondId, ElementId, ElementKind, Model, NonlinearLaw};
+
+pub use trace::{CausalityTrace, Decision, Propagation, Rule, Step};
 
 /// Which end of a bond receives the effort: the end where the causal stroke is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -106,6 +110,15 @@ impl Causality {
 /// causality, then resistors, then whatever is left, propagating through junctions,
 /// transformers and gyrators after each choice. See the module documentation.
 pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
+    assign_traced(model, laws).map(|(causality, _)| causality)
+}
+
+/// Assigns causality as [`assign`] does, and returns the record of every decision it made
+/// on the way ([`trace`]): the same run, so the trace's strokes are the causality's.
+///
+/// # Errors
+/// As [`assign`].
+pub fn assign_traced(model: &Model, laws: &[Law]) -> Result<(Causality, CausalityTrace)> {
     let mut scap = Scap::new(model, laws);
 
     for element in model.element_ids() {
@@ -118,7 +131,7 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
             } else {
                 element
             };
-            scap.impose(bond, receiver, element)?;
+            scap.impose(bond, receiver, element, Decision::Source)?;
         }
     }
 
@@ -133,7 +146,7 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
             Fixed::Resistance => model.bond(bond).other(element),
             Fixed::Conductance => element,
         };
-        if let Err(error) = scap.impose(bond, receiver, element) {
+        if let Err(error) = scap.impose(bond, receiver, element, Decision::OneWayResistor) {
             return Err(explain_fixed(model, laws, error));
         }
     }
@@ -149,10 +162,26 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
         };
         match scap.strokes[bond.index()] {
             None => scap
-                .impose(bond, integral_receiver, element)
+                .impose(bond, integral_receiver, element, Decision::Integral)
                 .map_err(|e| explain_fixed(model, laws, e))?,
-            Some(_) if scap.receiver(bond) == integral_receiver => {}
-            Some(_) => dependent.push(element),
+            Some(_) if scap.receiver(bond) == integral_receiver => {
+                scap.record(bond, element, Decision::Integral);
+            }
+            Some(_) => {
+                scap.record(bond, element, Decision::Derivative);
+                dependent.push(element);
+            }
+        }
+    }
+
+    // Resistors whose causality sources and storage have already forced.
+    for element in model.element_ids() {
+        let law = &laws[element.index()];
+        if is_resistor(law) && fixed_resistor_causality(law).is_none() {
+            let bond = single_bond(model, element);
+            if scap.strokes[bond.index()].is_some() {
+                scap.record(bond, element, Decision::ResistorForced);
+            }
         }
     }
 
@@ -165,7 +194,10 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
         .map_err(|e| explain_fixed(model, laws, e))?;
     dependent.sort();
 
-    Ok(Causality {
+    let trace = CausalityTrace {
+        steps: std::mem::take(&mut scap.steps),
+    };
+    let causality = Causality {
         strokes: scap
             .strokes
             .into_iter()
@@ -173,7 +205,14 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
             .collect(),
         dependent,
         arbitrary,
-    })
+    };
+    Ok((causality, trace))
+}
+
+/// Whether `law` is a resistor's (linear, or nonlinear).
+fn is_resistor(law: &Law) -> bool {
+    matches!(law, Law::Resistor { .. })
+        || matches!(law.nonlinear(), Some(NonlinearLaw::Resistor(_)))
 }
 
 /// The causality a one-way resistor law forces.
@@ -257,6 +296,10 @@ struct Scap<'a> {
     /// The element whose choice led to each bond's assignment, for naming conflicts.
     origin: Vec<Option<ElementId>>,
     queue: Vec<ElementId>,
+    /// The decisions so far ([`trace`]).
+    steps: Vec<Step>,
+    /// The step that stroked each bond.
+    bond_step: Vec<Option<usize>>,
 }
 
 impl<'a> Scap<'a> {
@@ -267,7 +310,31 @@ impl<'a> Scap<'a> {
             strokes: vec![None; model.bonds.len()],
             origin: vec![None; model.bonds.len()],
             queue: Vec::new(),
+            steps: Vec::new(),
+            bond_step: vec![None; model.bonds.len()],
         }
+    }
+
+    /// The stroke that makes `receiver` receive the effort of `bond`.
+    fn stroke_for(&self, bond: BondId, receiver: ElementId) -> Stroke {
+        if receiver == self.model.bond(bond).from {
+            Stroke::AtFrom
+        } else {
+            Stroke::AtTo
+        }
+    }
+
+    /// Records a decision about `element`'s bond, which an earlier step already stroked.
+    fn record(&mut self, bond: BondId, element: ElementId, decision: Decision) {
+        self.steps.push(Step {
+            element,
+            decision,
+            bond,
+            stroke: self.strokes[bond.index()].expect("recorded bonds are stroked"),
+            new: false,
+            earlier: self.bond_step[bond.index()],
+            propagated: Vec::new(),
+        });
     }
 
     fn receiver(&self, bond: BondId) -> ElementId {
@@ -278,34 +345,55 @@ impl<'a> Scap<'a> {
         }
     }
 
-    /// Assigns `bond` so that `receiver` receives its effort, then propagates.
-    fn impose(&mut self, bond: BondId, receiver: ElementId, origin: ElementId) -> Result<()> {
-        self.set(bond, receiver, origin)?;
+    /// Assigns `bond` so that `receiver` receives its effort, then propagates; the decision
+    /// is `origin`'s, recorded as one step of the trace.
+    fn impose(
+        &mut self,
+        bond: BondId,
+        receiver: ElementId,
+        origin: ElementId,
+        decision: Decision,
+    ) -> Result<()> {
+        self.steps.push(Step {
+            element: origin,
+            decision,
+            bond,
+            stroke: self.stroke_for(bond, receiver),
+            new: self.strokes[bond.index()].is_none(),
+            earlier: self.bond_step[bond.index()],
+            propagated: Vec::new(),
+        });
+        self.set(bond, receiver, origin, None)?;
         self.propagate()
     }
 
     /// The next choice nothing forced: a free resistor (resistance causality first, then
     /// conductance), else a free bond (effort to its head first).
-    fn next_choice(&self) -> Option<(BondId, [ElementId; 2], ElementId)> {
+    fn next_choice(&self) -> Option<(BondId, [ElementId; 2], ElementId, Decision)> {
         let model = self.model;
         let resistor = model.element_ids().find_map(|element| {
-            let law = &self.laws[element.index()];
-            if !matches!(law, Law::Resistor { .. })
-                && !matches!(law.nonlinear(), Some(NonlinearLaw::Resistor(_)))
-            {
+            if !is_resistor(&self.laws[element.index()]) {
                 return None;
             }
             let bond = single_bond(model, element);
-            self.strokes[bond.index()]
-                .is_none()
-                .then(|| (bond, [model.bond(bond).other(element), element], element))
+            self.strokes[bond.index()].is_none().then(|| {
+                (
+                    bond,
+                    [model.bond(bond).other(element), element],
+                    element,
+                    Decision::ResistorChosen,
+                )
+            })
         });
         resistor.or_else(|| {
             model.bond_ids().find_map(|bond| {
                 let b = model.bond(bond);
-                self.strokes[bond.index()]
-                    .is_none()
-                    .then_some((bond, [b.to, b.from], b.from))
+                self.strokes[bond.index()].is_none().then_some((
+                    bond,
+                    [b.to, b.from],
+                    b.from,
+                    Decision::BondChosen,
+                ))
             })
         })
     }
@@ -314,13 +402,19 @@ impl<'a> Scap<'a> {
     /// junction is checked once all bonds are assigned, and a choice that leads to a conflict
     /// is undone and the alternative tried.
     fn complete(&mut self, arbitrary: &mut Vec<ElementId>, budget: &mut usize) -> Result<()> {
-        let Some((bond, receivers, origin)) = self.next_choice() else {
+        let Some((bond, receivers, origin, decision)) = self.next_choice() else {
             for element in self.model.element_ids() {
                 self.check_complete(element)?;
             }
             return Ok(());
         };
-        let saved = (self.strokes.clone(), self.origin.clone(), arbitrary.len());
+        let saved = (
+            self.strokes.clone(),
+            self.origin.clone(),
+            arbitrary.len(),
+            self.bond_step.clone(),
+            self.steps.len(),
+        );
         let mut first_error = None;
         for receiver in receivers {
             if *budget == 0 {
@@ -329,13 +423,26 @@ impl<'a> Scap<'a> {
             *budget -= 1;
             arbitrary.push(origin);
             let attempt = self
-                .impose(bond, receiver, origin)
+                .impose(bond, receiver, origin, decision.clone())
                 .and_then(|()| self.complete(arbitrary, budget));
             match attempt {
                 Ok(()) => return Ok(()),
                 Err(error) => {
-                    first_error.get_or_insert(error);
                     (self.strokes, self.origin) = (saved.0.clone(), saved.1.clone());
+                    self.bond_step.clone_from(&saved.3);
+                    self.steps.truncate(saved.4);
+                    self.steps.push(Step {
+                        element: origin,
+                        decision: Decision::Undone {
+                            conflict: error.first().message.clone(),
+                        },
+                        bond,
+                        stroke: self.stroke_for(bond, receiver),
+                        new: false,
+                        earlier: None,
+                        propagated: Vec::new(),
+                    });
+                    first_error.get_or_insert(error);
                     arbitrary.truncate(saved.2);
                     self.queue.clear();
                 }
@@ -358,19 +465,32 @@ impl<'a> Scap<'a> {
         .into()
     }
 
-    fn set(&mut self, bond: BondId, receiver: ElementId, origin: ElementId) -> Result<()> {
+    /// Strokes `bond` so that `receiver` receives its effort; `via` is the junction or
+    /// two-port whose rule forced it, when it was propagated rather than decided.
+    fn set(
+        &mut self,
+        bond: BondId,
+        receiver: ElementId,
+        origin: ElementId,
+        via: Option<(ElementId, Rule)>,
+    ) -> Result<()> {
         let b = *self.model.bond(bond);
-        let stroke = if receiver == b.from {
-            Stroke::AtFrom
-        } else {
-            Stroke::AtTo
-        };
+        let stroke = self.stroke_for(bond, receiver);
         match self.strokes[bond.index()] {
             Some(existing) if existing == stroke => Ok(()),
             Some(_) => Err(self.conflict_on_bond(bond, origin)),
             None => {
                 self.strokes[bond.index()] = Some(stroke);
                 self.origin[bond.index()] = Some(origin);
+                self.bond_step[bond.index()] = self.steps.len().checked_sub(1);
+                if let (Some((through, rule)), Some(step)) = (via, self.steps.last_mut()) {
+                    step.propagated.push(Propagation {
+                        bond,
+                        stroke,
+                        through,
+                        rule,
+                    });
+                }
                 self.queue.push(b.from);
                 self.queue.push(b.to);
                 Ok(())
@@ -421,13 +541,18 @@ impl<'a> Scap<'a> {
                     .and_then(|b| self.origin[b.index()])
                     .unwrap_or(element);
                 if unique.len() == 1 {
+                    let rule = if zero {
+                        Rule::CommonEffort { from: unique[0] }
+                    } else {
+                        Rule::CommonFlow { from: unique[0] }
+                    };
                     for bond in open {
                         let receiver = if zero {
                             model.bond(bond).other(element)
                         } else {
                             element
                         };
-                        self.set(bond, receiver, origin)?;
+                        self.set(bond, receiver, origin, Some((element, rule)))?;
                     }
                 } else if open.len() == 1 {
                     let bond = open[0];
@@ -440,7 +565,12 @@ impl<'a> Scap<'a> {
                         .iter()
                         .find_map(|b| self.origin[b.index()])
                         .unwrap_or(element);
-                    self.set(bond, receiver, origin)?;
+                    let rule = if zero {
+                        Rule::LastSetsEffort
+                    } else {
+                        Rule::LastSetsFlow
+                    };
+                    self.set(bond, receiver, origin, Some((element, rule)))?;
                 }
             }
             _ => {}
@@ -469,7 +599,12 @@ impl<'a> Scap<'a> {
                     model.bond(open).other(element)
                 };
                 let origin = self.origin[known.index()].unwrap_or(element);
-                self.set(open, receiver, origin)?;
+                let rule = if transformer {
+                    Rule::Transformer { from: known }
+                } else {
+                    Rule::Gyrator { from: known }
+                };
+                self.set(open, receiver, origin, Some((element, rule)))?;
             }
         }
         if let (Some(_), Some(_)) = (self.strokes[a.index()], self.strokes[b.index()]) {
@@ -611,7 +746,7 @@ impl<'a> Scap<'a> {
 
 /// How an element acts in this mode, for messages: a switching element is described by
 /// its mode ("stuck friction contact"), a plain one by its kind.
-fn law_description(law: &Law, kind: &ElementKind) -> &'static str {
+pub fn law_description(law: &Law, kind: &ElementKind) -> &'static str {
     match (kind, law) {
         (ElementKind::Friction(_), Law::FlowSource(_)) => "stuck friction contact",
         (ElementKind::Friction(_), _) => "slipping friction contact",

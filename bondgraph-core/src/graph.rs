@@ -82,11 +82,25 @@ pub fn describe(model: &Model) -> String {
             element_label(model, element)
         );
     }
-    let _ = writeln!(out, "bonds (power flows from -> to):");
+    let _ = writeln!(out, "bonds (numbered; power flows from -> to):");
+    let number_width = model.bonds.len().to_string().len();
     for bond in model.bond_ids() {
-        let _ = writeln!(out, "  {}", model.bond_label(bond));
+        let _ = writeln!(
+            out,
+            "  {:>number_width$}  {}",
+            bond.index() + 1,
+            model.bond_label(bond)
+        );
     }
     out
+}
+
+/// Whether `bond` is the bond of a storage element in derivative causality.
+pub fn is_derivative_bond(model: &Model, causality: &Causality, bond: BondId) -> bool {
+    causality
+        .dependent
+        .iter()
+        .any(|&e| model.element(e).bonds.contains(&bond))
 }
 
 /// The causal graph: for every bond, which end sets the effort and which the flow; then the
@@ -99,6 +113,7 @@ pub fn describe_causality(model: &Model, laws: &[Law], causality: &Causality) ->
         out,
         "causal strokes (| at the end that receives the effort):"
     );
+    let number_width = model.bonds.len().to_string().len();
     for bond in model.bond_ids() {
         let b = model.bond(bond);
         let (from, to) = (&model.element(b.from).name, &model.element(b.to).name);
@@ -108,9 +123,15 @@ pub fn describe_causality(model: &Model, laws: &[Law], causality: &Causality) ->
         };
         let giver = &model.element(causality.effort_giver(model, bond)).name;
         let receiver = &model.element(causality.effort_receiver(model, bond)).name;
+        let mark = if is_derivative_bond(model, causality, bond) {
+            "  (derivative causality)"
+        } else {
+            ""
+        };
         let _ = writeln!(
             out,
-            "  {stroked:w$}  effort set by {giver}, flow by {receiver}",
+            "  {:>number_width$}  {stroked:w$}  effort set by {giver}, flow by {receiver}{mark}",
+            bond.index() + 1,
             w = width + 1
         );
     }
@@ -146,9 +167,23 @@ pub fn describe_causality(model: &Model, laws: &[Law], causality: &Causality) ->
 /// The graph in Graphviz DOT: half-arrows for power, and, when a causality is given, the
 /// causal stroke drawn as a bar at the end that receives the effort.
 pub fn to_dot(model: &Model, causality: Option<&Causality>) -> String {
+    to_dot_titled(model, causality, None)
+}
+
+/// The graph in Graphviz DOT as [`to_dot`], with bond numbers as edge labels, the bonds of
+/// storage in derivative causality in red, and `title` (naming the mode, say) as the
+/// graph's label with a legend for the red bonds.
+pub fn to_dot_titled(model: &Model, causality: Option<&Causality>, title: Option<&str>) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "digraph \"{}\" {{", escape(&model.name));
     let _ = writeln!(out, "  rankdir=LR;");
+    if let Some(title) = title {
+        let _ = writeln!(
+            out,
+            "  labelloc=t; label=\"{}\\nbond numbers on the bonds; red: derivative causality\";",
+            escape(title)
+        );
+    }
     let _ = writeln!(out, "  node [shape=plaintext];");
     for element in model.element_ids() {
         let name = &model.element(element).name;
@@ -167,11 +202,18 @@ pub fn to_dot(model: &Model, causality: Option<&Causality>) -> String {
             Some(Stroke::AtFrom) => ("lvee", "tee"),
             None => ("lvee", "none"),
         };
+        let derivative = causality.is_some_and(|c| is_derivative_bond(model, c, bond));
+        let colour = if derivative {
+            ", color=red, fontcolor=red, penwidth=2"
+        } else {
+            ""
+        };
         let _ = writeln!(
             out,
-            "  \"{}\" -> \"{}\" [dir=both, arrowhead={head}, arrowtail={tail}];",
+            "  \"{}\" -> \"{}\" [dir=both, arrowhead={head}, arrowtail={tail}, label=\"{}\"{colour}];",
             escape(&model.element(b.from).name),
-            escape(&model.element(b.to).name)
+            escape(&model.element(b.to).name),
+            bond.index() + 1
         );
     }
     out.push_str("}\n");

@@ -51,6 +51,7 @@
 pub mod analysis;
 pub mod causality;
 pub mod diagnostics;
+pub mod diagram;
 pub mod equations;
 pub mod expr;
 pub mod graph;

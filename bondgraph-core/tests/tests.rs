@@ -2,6 +2,7 @@
 //!
 //! One test binary with modules (rather than one binary per file) keeps link times down.
 
+mod causality_trace;
 mod jacobian;
 mod nonlinear;
 mod random_graph;
