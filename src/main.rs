@@ -369,8 +369,8 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let outputs = outputs
                 .iter()
                 .map(|spec| {
-                    Record::parse(&model, spec).map(|record| {
-                        let mut output = equations.output(record.spec());
+                    Record::parse_output(&model, spec).map(|(record, spec)| {
+                        let mut output = equations.output(&spec);
                         output.integral = matches!(record, Record::Integral(_));
                         output.name = record.name();
                         output

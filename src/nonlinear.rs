@@ -35,10 +35,10 @@ pub(crate) fn equations(args: &EquationsArgs<'_>) -> Result<(), Failure> {
         .outputs
         .iter()
         .map(|spec| {
-            Record::parse(model, spec).map(|record| NonlinearOutput {
+            Record::parse_output(model, spec).map(|(record, spec)| NonlinearOutput {
                 integral: matches!(record, Record::Integral(_)),
                 name: record.name(),
-                ..eq.output(record.spec())
+                ..eq.output(&spec)
             })
         })
         .collect::<Result<Vec<_>, _>>()

@@ -1,6 +1,7 @@
 //! Whole-crate tests of the solver on real model files, against closed-form solutions.
 
 mod energy;
+mod energy_records;
 mod fig6;
 mod flagship;
 mod flow_limit;
