@@ -4,6 +4,7 @@
 //! requested format; diagnostics from the libraries are rendered here with a snippet of the
 //! model file, and any failure exits non-zero.
 
+mod conventions;
 mod diagnostics;
 mod discover;
 mod explain_lg;
@@ -109,6 +110,10 @@ enum Command {
         /// Also plot the recorded outputs against time, with the modes shaded, as SVG.
         #[arg(long, value_name = "FILE.svg")]
         plot: Option<PathBuf>,
+        /// With --plot: one panel of these recorded outputs, comma-separated (repeat for
+        /// more panels, top to bottom); default one panel per output.
+        #[arg(long = "panel", value_name = "OUTPUT,...")]
+        panels: Vec<String>,
     },
     /// The main job: the flagship eversion robot against the paper's tables and Fig. 6.
     Reproduce {
@@ -402,9 +407,14 @@ fn run(cli: Cli) -> Result<(), Failure> {
                             ));
                         }
                     }
+                    text.push_str(&conventions::text(&model));
                     text
                 }
-                Format::Latex => equations.to_latex_with_outputs(&outputs),
+                Format::Latex => format!(
+                    "{}{}",
+                    conventions::latex_preamble(&model),
+                    equations.to_latex_with_outputs(&outputs)
+                ),
                 Format::Json => json(&equations.to_json(&mode.spec(&model), &outputs))?,
             };
             print(&text);
@@ -416,7 +426,15 @@ fn run(cli: Cli) -> Result<(), Failure> {
             format,
             out,
             plot,
-        } => simulate(&model, &scenario, format, out.as_deref(), plot.as_deref()),
+            panels,
+        } => simulate(
+            &model,
+            &scenario,
+            format,
+            out.as_deref(),
+            plot.as_deref(),
+            &panels,
+        ),
         Command::Explain { model, mode } => {
             let (model, source) = load(&model)?;
             let mode = parse_mode(&model, mode.as_deref(), &source)?;
@@ -474,6 +492,7 @@ fn simulate(
     format: SimulateFormat,
     out: Option<&Path>,
     plot: Option<&Path>,
+    panels: &[String],
 ) -> Result<(), Failure> {
     let model_source = read_source(model)?;
     let scenario_source = read_source(scenario)?;
@@ -501,7 +520,9 @@ fn simulate(
     }
     if let Some(path) = plot {
         let title = format!("{}: scenario {}", loaded.model.name, loaded.name);
-        let svg = plot::plot_svg(&trajectory, &title, &[])
+        let panels = plot::panels(&trajectory, panels)
+            .map_err(|e| Failure::message(DiagnosticKind::BadOutput, e))?;
+        let svg = plot::plot_svg(&trajectory, &title, &panels)
             .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot: {e}")))?;
         write_file(path, &svg)?;
     }

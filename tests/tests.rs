@@ -12,3 +12,4 @@ mod paper;
 mod scenarios;
 mod snapshots;
 mod support;
+mod teaching;

@@ -49,6 +49,7 @@
 //! None: the crate has no optional parts.
 
 pub mod causality;
+pub mod conventions;
 pub mod diagnostics;
 pub mod equations;
 pub mod expr;

@@ -1420,7 +1420,7 @@ Scenario(
         assert!(matches!(scenario.record[2], Record::Integral(_)));
         assert_eq!(scenario.record[2].spec(), scenario.record[0].spec());
         assert_eq!(
-            scenario.record[3].spec().bond,
+            scenario.record[3].spec().unwrap().bond,
             model.bond_ids().next().unwrap()
         );
     }
