@@ -1,15 +1,17 @@
-//! Segments of nonlinear modes: integrated numerically by Radau IIA ([`crate::ode`]) instead
-//! of propagated in closed form, with the same events, samples, integrals and energy books.
+//! Segments of nonlinear modes: integrated numerically ([`crate::ode`]: DOP853, handing
+//! over to Radau IIA if the mode proves stiff) instead of propagated in closed form, with
+//! the same events, samples, integrals and energy books.
 //!
 //! Within a segment the inputs are linear in time, so the mode is the ODE
 //! `dx/dτ = f(x, u₀ + u₁τ)`; the energy books and integral outputs ride along as quadrature
 //! components that never set the step size, so keeping the books does not change the
-//! trajectory. After each accepted step the guards are checked on the step's collocation
-//! polynomial; a crossing is bracketed there, located by Brent's method, and then refined
-//! by Newton's method on the guard along exact steps from the step's start (each a full
-//! Radau step landing on the candidate time, the guard's rate `∇g·f` from its symbolic
+//! trajectory. After each accepted step the guards are checked on the step's dense output;
+//! a crossing is bracketed there, located by Brent's method, and then refined by Newton's
+//! method on the guard along exact steps from the step's start (each a full step of the
+//! same method landing on the candidate time, the guard's rate `∇g·f` from its symbolic
 //! derivative), so the event is where the integrated solution crosses, not where its
-//! interpolant does.
+//! interpolant does. Samples come from the dense output, which DOP853 builds (three more
+//! evaluations of `f`) only for steps with a sample or a guard to check.
 
 // The kernels index stages and components as the method's formulas do.
 #![allow(clippy::needless_range_loop)]
@@ -21,7 +23,7 @@ use super::{SimError, Simulator, Stepper};
 use crate::events::{self, Crossing};
 use crate::nonlinear::NonlinearNumeric;
 use crate::numeric::NumericMode;
-use crate::ode::{Radau, StepOutcome, System, Tolerances};
+use crate::ode::{Method, StepOutcome, Switching, System, Tolerances};
 
 /// The integrator's tolerances for nonlinear modes.
 ///
@@ -274,10 +276,10 @@ impl Stepper<'_, '_> {
         }
         self.sample_until(&mut system, start, &z, None, 0.0, mode_index);
 
-        let mut radau = Radau::new(size, n, TOLERANCES);
+        let mut integrator = Switching::new(size, n, TOLERANCES);
         let mut tau = 0.0;
         let mut h = if length > 0.0 {
-            radau.initial_step(&mut system, 0.0, &z, length)
+            integrator.initial_step(&mut system, 0.0, &z, length)
         } else {
             0.0
         };
@@ -287,6 +289,14 @@ impl Stepper<'_, '_> {
         let mut current_values: Vec<f64> = Vec::with_capacity(guard_count);
         while tau < length {
             let step = h.min(length - tau);
+            if step <= f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0
+                && integrator.method() == Method::Explicit
+            {
+                // Explicit steps held below the clock's resolution: stiff beyond doubt.
+                integrator.force_implicit();
+                h = integrator.initial_step(&mut system, tau, &z, length - tau);
+                continue;
+            }
             if step <= f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0 {
                 // Steps collapse where the motion reaches a guard tangentially (a tank
                 // emptying as (t_e - t)², its law's slope infinite there): the guard is met.
@@ -305,7 +315,7 @@ impl Stepper<'_, '_> {
                 });
             }
             before.copy_from_slice(&z);
-            match radau.step(&mut system, tau, &mut z, step) {
+            match integrator.step(&mut system, tau, &mut z, step) {
                 StepOutcome::Rejected { h_next } => {
                     h = h_next;
                     continue;
@@ -317,7 +327,10 @@ impl Stepper<'_, '_> {
                     .simulator
                     .non_finite(start + tau + step, &current, &z[..n]));
             }
-            // Guards along the step, on its collocation polynomial.
+            if guard_count > 0 || self.sample_due(start + tau + step, mode_index) {
+                integrator.prepare_dense(&mut system);
+            }
+            // Guards along the step, on its dense output.
             let mut found: Option<(usize, f64)> = None;
             let mut theta_before = 0.0;
             let thetas: &[f64] = if guard_count == 0 {
@@ -329,7 +342,7 @@ impl Stepper<'_, '_> {
                 if theta == 1.0 {
                     point.copy_from_slice(&z);
                 } else {
-                    radau.dense(theta, &mut point);
+                    integrator.dense(theta, &mut point);
                 }
                 guards.at(tau + theta * step, &point, &u0, &u1);
                 current_values.clear();
@@ -340,7 +353,7 @@ impl Stepper<'_, '_> {
                         let mut probe = vec![0.0; size];
                         let mut probe_guards = Guards::new(&nl);
                         let root = events::refine(a, b, previous[k], current_values[k], |th| {
-                            radau.dense(th, &mut probe);
+                            integrator.dense(th, &mut probe);
                             probe_guards.at(tau + th * step, &probe, &u0, &u1);
                             probe_guards.value(k)
                         });
@@ -365,8 +378,8 @@ impl Stepper<'_, '_> {
                 let mut hit = theta * step;
                 let mut reuse = false;
                 for _ in 0..8 {
-                    if !radau.step_exact(&mut system, tau, &before, hit, reuse, &mut point) {
-                        radau.dense(hit / step, &mut point);
+                    if !integrator.step_exact(&mut system, tau, &before, hit, reuse, &mut point) {
+                        integrator.dense(hit / step, &mut point);
                         break;
                     }
                     reuse = true;
@@ -380,8 +393,9 @@ impl Stepper<'_, '_> {
                         <= 4.0 * f64::EPSILON * (start + tau + hit).abs().max(1e-300);
                     hit = next;
                     if converged {
-                        if !radau.step_exact(&mut system, tau, &before, hit, true, &mut point) {
-                            radau.dense(hit / step, &mut point);
+                        if !integrator.step_exact(&mut system, tau, &before, hit, true, &mut point)
+                        {
+                            integrator.dense(hit / step, &mut point);
                         }
                         break;
                     }
@@ -390,8 +404,8 @@ impl Stepper<'_, '_> {
                     &mut system,
                     start + tau,
                     &before,
-                    Some(&radau),
-                    step,
+                    Some((&integrator, step)),
+                    hit,
                     mode_index,
                 );
                 z.copy_from_slice(&point);
@@ -403,7 +417,7 @@ impl Stepper<'_, '_> {
                 &mut system,
                 start + tau,
                 &before,
-                Some(&radau),
+                Some((&integrator, step)),
                 step,
                 mode_index,
             );
@@ -424,18 +438,29 @@ impl Stepper<'_, '_> {
         Ok(crossing)
     }
 
-    /// Records the samples due in a step that starts at `step_start` (time) from `before`
-    /// and lasts `step`, from its dense output; with no integrator, the samples due at
-    /// `step_start` itself.
+    /// Whether a sample is due at or before `time`.
+    fn sample_due(&self, time: f64, mode_index: Option<usize>) -> bool {
+        match (self.sample, mode_index) {
+            (Some(sample), Some(_)) => self.next_sample as f64 * sample <= time,
+            _ => false,
+        }
+    }
+
+    /// Records the samples due in the first `until` of a step that starts at `step_start`
+    /// (time) from `before`, from the dense output of the integrator's last step (of size
+    /// `step`); with no integrator, the samples due at `step_start` itself.
     fn sample_until(
         &mut self,
         system: &mut Segment<'_>,
         step_start: f64,
         before: &[f64],
-        radau: Option<&Radau>,
-        step: f64,
+        integrator: Option<(&Switching, f64)>,
+        until: f64,
         mode_index: Option<usize>,
     ) {
+        if !self.sample_due(step_start + until, mode_index) {
+            return;
+        }
         let (Some(sample), Some(mode_index)) = (self.sample, mode_index) else {
             return;
         };
@@ -443,11 +468,11 @@ impl Stepper<'_, '_> {
         let n = system.nl.n;
         let integrals_offset = n + if system.energy { 2 } else { 0 };
         let mut point = before.to_vec();
-        while self.next_sample as f64 * sample <= step_start + step {
+        while self.next_sample as f64 * sample <= step_start + until {
             let time = self.next_sample as f64 * sample;
-            if let Some(radau) = radau {
+            if let Some((integrator, step)) = integrator {
                 let theta = ((time - step_start) / step).clamp(0.0, 1.0);
-                radau.dense(theta, &mut point);
+                integrator.dense(theta, &mut point);
             }
             let tau = time - segment_start;
             system.outputs(tau, &point);

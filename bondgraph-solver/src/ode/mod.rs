@@ -1,14 +1,19 @@
-//! Stiff ODE integration for nonlinear modes: the 3-stage Radau IIA method (order 5).
+//! ODE integration for nonlinear modes: DOP853 (explicit, order 8) while the problem is
+//! not stiff, Radau IIA (implicit, order 5) once it is ([`Switching`]).
 //!
 //! Linear modes are propagated in closed form; a nonlinear mode `dx/dt = f(x, u)` needs a
-//! numerical integrator, and one that copes with stiffness, because a nonlinear model has
-//! the same fast parasitic dynamics as a linear one (a light tip on a stiff damper, an
-//! orifice near empty, a diode's exponential). Radau IIA is L-stable and stiffly accurate,
-//! its collocation polynomial gives a dense output of order 3 for event location and
-//! sampling, and with the analytic Jacobian (differentiated symbolically, compiled to a
-//! tape) its simplified Newton iteration converges in a few steps.
+//! numerical integrator. Most are not stiff (a pendulum, a Duffing oscillator), and for
+//! them an explicit method of high order is the fastest at tight tolerances: DOP853 takes
+//! large steps with no Jacobian and no linear algebra, and its dense output of order 7
+//! serves sampling and event location. A nonlinear model can also have the same fast
+//! parasitic dynamics as a linear one (a light tip on a stiff damper, an orifice near empty,
+//! a diode's exponential); DOP853's stiffness test notices its steps being held to its
+//! stability limit, and the segment goes on with Radau IIA, which is L-stable and stiffly
+//! accurate, its collocation polynomial a dense output of order 3, and with the analytic
+//! Jacobian (differentiated symbolically, compiled to a tape) its simplified Newton
+//! iteration converges in a few steps. LSODA switches between Adams and BDF the same way.
 //!
-//! The implementation follows Hairer and Wanner (Solving ODEs II, IV.8): the stage system
+//! Radau IIA follows Hairer and Wanner (Solving ODEs II, IV.8): the stage system
 //! `(I - h A⊗J) ΔZ = -G(Z)` is solved with one LU decomposition per step (the systems here
 //! are small), the error estimate is the embedded third-order formula filtered by
 //! `(I - h γ₀ J)⁻¹`, and the step size follows it with exponent 1/4. Work buffers are
@@ -19,7 +24,14 @@
 //! build on two cores, measured), and its event location works on its interpolant, while
 //! the hybrid loop here refines each event by re-integrating exactly to it.
 
+pub mod dop853;
+mod dop853_coefficients;
 mod lu;
+mod problem;
 pub mod radau;
+pub mod switching;
 
-pub use radau::{Radau, StepOutcome, System, Tolerances};
+pub use dop853::Dop853;
+pub use problem::{OdeStats, StepOutcome, System, Tolerances};
+pub use radau::Radau;
+pub use switching::{Method, Switching};
