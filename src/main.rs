@@ -8,6 +8,7 @@ mod analyze;
 mod analyze_plot;
 mod bg_svg;
 mod compare;
+mod conventions;
 mod discover;
 mod explain_bg;
 mod explain_lg;
@@ -160,6 +161,10 @@ enum Command {
         /// Also plot the recorded outputs against time, with the modes shaded, as SVG.
         #[arg(long, value_name = "FILE.svg")]
         plot: Option<PathBuf>,
+        /// With --plot: one panel of these recorded outputs, comma-separated (repeat for
+        /// more panels, top to bottom); default one panel per output.
+        #[arg(long = "panel", value_name = "OUTPUT,...")]
+        panels: Vec<String>,
     },
     /// The main job: the flagship eversion robot against the paper's tables and Fig. 6.
     Reproduce {
@@ -450,8 +455,8 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let outputs = outputs
                 .iter()
                 .map(|spec| {
-                    Record::parse(&model, spec).map(|record| {
-                        let mut output = equations.output(record.spec());
+                    Record::parse_output(&model, spec).map(|(record, spec)| {
+                        let mut output = equations.output(&spec);
                         output.integral = matches!(record, Record::Integral(_));
                         output.name = record.name();
                         output
@@ -483,9 +488,14 @@ fn run(cli: Cli) -> Result<(), Failure> {
                             ));
                         }
                     }
+                    text.push_str(&conventions::text(&model));
                     text
                 }
-                Format::Latex => equations.to_latex_with_outputs(&outputs),
+                Format::Latex => format!(
+                    "{}{}",
+                    conventions::latex_preamble(&model),
+                    equations.to_latex_with_outputs(&outputs)
+                ),
                 Format::Json => json(&equations.to_json(&mode.spec(&model), &outputs))?,
             };
             print(&text);
@@ -497,7 +507,15 @@ fn run(cli: Cli) -> Result<(), Failure> {
             format,
             out,
             plot,
-        } => simulate(&model, &scenario, format, out.as_deref(), plot.as_deref()),
+            panels,
+        } => simulate(
+            &model,
+            &scenario,
+            format,
+            out.as_deref(),
+            plot.as_deref(),
+            &panels,
+        ),
         Command::Explain {
             model,
             mode,
@@ -586,6 +604,7 @@ fn simulate(
     format: SimulateFormat,
     out: Option<&Path>,
     plot: Option<&Path>,
+    panels: &[String],
 ) -> Result<(), Failure> {
     let model_source = read_source(model)?;
     let scenario_source = read_source(scenario)?;
@@ -613,7 +632,9 @@ fn simulate(
     }
     if let Some(path) = plot {
         let title = format!("{}: scenario {}", loaded.model.name, loaded.name);
-        let svg = plot::plot_svg(&trajectory, &title, &[])
+        let panels = plot::panels(&trajectory, panels)
+            .map_err(|e| Failure::message(DiagnosticKind::BadOutput, e))?;
+        let svg = plot::plot_svg(&trajectory, &title, &panels)
             .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot: {e}")))?;
         write_file(path, &svg)?;
     }

@@ -35,10 +35,10 @@ pub(crate) fn equations(args: &EquationsArgs<'_>) -> Result<(), Failure> {
         .outputs
         .iter()
         .map(|spec| {
-            Record::parse(model, spec).map(|record| NonlinearOutput {
+            Record::parse_output(model, spec).map(|(record, spec)| NonlinearOutput {
                 integral: matches!(record, Record::Integral(_)),
                 name: record.name(),
-                ..eq.output(record.spec())
+                ..eq.output(&spec)
             })
         })
         .collect::<Result<Vec<_>, _>>()
@@ -90,9 +90,14 @@ pub(crate) fn equations(args: &EquationsArgs<'_>) -> Result<(), Failure> {
                     ));
                 }
             }
+            text.push_str(&crate::conventions::text(model));
             text
         }
-        Format::Latex => eq.to_latex(),
+        Format::Latex => format!(
+            "{}{}",
+            crate::conventions::latex_preamble(model),
+            eq.to_latex()
+        ),
         Format::Json => json(&eq.to_json(&args.mode.spec(model), &outputs, point.as_ref()))?,
     };
     print(&text);

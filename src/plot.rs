@@ -134,14 +134,20 @@ pub fn plot_svg(
     }
     let time = time_range(trajectory)
         .ok_or("nothing to plot: the trajectory has no samples (at finite times)")?;
-    let legend = Legend::new(&trajectory.modes);
+    // A run that never switches has nothing to tell apart: no shading, no legend.
+    let switching = trajectory.modes.len() > 1 || !trajectory.events.is_empty();
+    let legend = if switching {
+        Legend::new(&trajectory.modes)
+    } else {
+        Legend::none()
+    };
     let height =
         TITLE_HEIGHT + PANEL_HEIGHT * panels.len() as u32 + TIME_AXIS_HEIGHT + legend.height;
 
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
-        draw(&root, trajectory, title, &panels, time, &legend)
+        draw(&root, trajectory, title, &panels, time, &legend, switching)
             .and_then(|()| root.present().map_err(Into::into))
             .map_err(|e| format!("could not draw the plot: {e}"))?;
     }
@@ -156,6 +162,7 @@ fn draw(
     panels: &[Vec<usize>],
     time: Range<f64>,
     legend: &Legend,
+    switching: bool,
 ) -> Result<(), Box<dyn Error>> {
     root.fill(&WHITE)?;
     let (title_area, rest) = root.split_vertically(TITLE_HEIGHT);
@@ -175,9 +182,11 @@ fn draw(
     let areas = panel_rows.split_by_breakpoints::<u32, u32, _, _>([], breakpoints);
     for (k, (area, outputs)) in areas.iter().zip(panels).enumerate() {
         let bottom = k + 1 == panels.len();
-        draw_panel(area, trajectory, outputs, time.clone(), bottom)?;
+        draw_panel(area, trajectory, outputs, time.clone(), bottom, switching)?;
     }
-    legend.draw(&legend_area)?;
+    if switching {
+        legend.draw(&legend_area)?;
+    }
     Ok(())
 }
 
@@ -188,6 +197,7 @@ fn draw_panel(
     outputs: &[usize],
     time: Range<f64>,
     bottom: bool,
+    switching: bool,
 ) -> Result<(), Box<dyn Error>> {
     let curves: Vec<(String, Vec<Stretch>)> = outputs
         .iter()
@@ -220,6 +230,7 @@ fn draw_panel(
         trajectory
             .intervals
             .iter()
+            .filter(|_| switching)
             .filter_map(|&(start, end, mode)| {
                 if !(start.is_finite() && end.is_finite() && start <= end) {
                     return None;
@@ -362,6 +373,15 @@ impl Legend {
     const HEADING: &str = "Background shading: the mode in force; \
          grey vertical lines: events (mode changes).";
 
+    /// No legend, for a run in one mode throughout.
+    fn none() -> Self {
+        Self {
+            entries: Vec::new(),
+            columns: 1,
+            height: 0,
+        }
+    }
+
     /// Lays out the legend for these modes.
     fn new(modes: &[String]) -> Self {
         let width = (WIDTH - 2 * LEGEND_MARGIN) as f64;
@@ -431,6 +451,46 @@ impl Legend {
         }
         Ok(())
     }
+}
+
+/// The panels `--panel` asks for, as indices of the trajectory's outputs: each text is one
+/// panel, its outputs separated by commas (`flow:mass,flow:wall`). None given: one panel
+/// per output.
+///
+/// # Errors
+/// A message naming an output the trajectory does not record, or an empty panel.
+pub(crate) fn panels(trajectory: &Trajectory, texts: &[String]) -> Result<Vec<Vec<usize>>, String> {
+    texts
+        .iter()
+        .enumerate()
+        .map(|(k, text)| {
+            let names: Vec<&str> = text.split(',').map(str::trim).filter(|n| !n.is_empty()).collect();
+            if names.is_empty() {
+                return Err(format!("--panel {}: names no output", k + 1));
+            }
+            names
+                .iter()
+                .map(|name| {
+                    trajectory
+                        .output_names
+                        .iter()
+                        .position(|n| n == name)
+                        .ok_or_else(|| {
+                            format!(
+                                "--panel {}: '{name}' is not recorded by the scenario (it records {})",
+                                k + 1,
+                                trajectory
+                                    .output_names
+                                    .iter()
+                                    .map(|n| format!("'{n}'"))
+                                    .collect::<Vec<_>>()
+                                    .join(", ")
+                            )
+                        })
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// A generous estimate of the width of legend text, in pixels (an SVG file cannot know the
@@ -601,6 +661,33 @@ mod tests {
         assert!(has_text(&svg, "f_k, f_fr_ct"));
         // A key names each curve of a shared panel.
         assert!(has_text(&svg, "x_ge"));
+    }
+
+    #[test]
+    fn a_run_in_one_mode_has_no_shading_and_no_legend() {
+        let mut trajectory = fig6_like();
+        trajectory.modes = vec![String::new()];
+        trajectory.events.clear();
+        trajectory.intervals = vec![(0.0, trajectory.final_time, 0)];
+        trajectory.sample_modes.iter_mut().for_each(|m| *m = 0);
+        let svg = plot_svg(&trajectory, "one mode", &[vec![0, 1]]).unwrap();
+        assert_eq!(filled_with(&svg, band_colour(0)), 0);
+        assert!(!has_text(&svg, "(the only mode)"));
+        assert!(!has_text(&svg, "Background shading"));
+        // Both curves in the one panel, with a key.
+        assert_eq!(stroked_with(&svg, CURVE_COLOURS[0]), 1 + 1);
+        assert_eq!(stroked_with(&svg, CURVE_COLOURS[1]), 1 + 1);
+        let names = &trajectory.output_names;
+        let asked = vec![format!("{}, {}", names[0], names[2]), names[1].clone()];
+        assert_eq!(
+            panels(&trajectory, &asked).unwrap(),
+            vec![vec![0, 2], vec![1]]
+        );
+        assert_eq!(
+            panels(&trajectory, &["v_ge,nothing".to_string()]).unwrap_err(),
+            "--panel 1: 'nothing' is not recorded by the scenario (it records 'f_k', 'v_ge', \
+             'x_ge', 'f_fr_ct')"
+        );
     }
 
     #[test]

@@ -563,3 +563,38 @@ fn extend_writes_a_model_and_points_at_the_fragment_line() {
     assert!(!err.contains("error: error"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The equations echo what the file's directions and ratios mean: the DC motor's gear
+/// (`TF(ratio: "1/N")`, N = 10) is a reduction, its supply pushes into the armature.
+#[test]
+fn equations_echo_the_conventions_of_sources_and_transformers() {
+    let text = succeed(&["equations", "models/examples/dc_motor.ron"]);
+    let block = text
+        .split("\nconventions (as written in the file):\n")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no conventions block:\n{text}"));
+    assert_eq!(
+        block.lines().collect::<Vec<_>>(),
+        [
+            "  Se 'supply' imposes effort V on its bond to 'armature'; a positive V with a \
+             positive flow out of the source delivers power",
+            "  GY 'motor' (K = 0.05): effort on the side of 'armature' = K × flow to 'gear'; \
+             effort on the side of 'gear' = K × flow from 'armature'",
+            "  TF 'gear' (1/N = 0.1): effort on the side of 'motor' = 1/N × effort on the side \
+             of 'load'; flow to 'load' = 1/N × flow from 'motor': the flow is reduced 10 times \
+             and the effort amplified 10 times",
+        ]
+    );
+    let latex = succeed(&[
+        "equations",
+        "models/examples/dc_motor.ron",
+        "--format",
+        "latex",
+    ]);
+    assert!(
+        latex.starts_with(
+            "% State equations of 'dc_motor' (bondgraph). The matrices need \\usepackage{amsmath}"
+        ),
+        "{latex}"
+    );
+}

@@ -14,3 +14,4 @@ mod paper;
 mod scenarios;
 mod snapshots;
 mod support;
+mod teaching;

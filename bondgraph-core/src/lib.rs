@@ -50,6 +50,7 @@
 
 pub mod analysis;
 pub mod causality;
+pub mod conventions;
 pub mod diagnostics;
 pub mod diagram;
 pub mod equations;

@@ -31,6 +31,11 @@
 //! )
 //! ```
 //!
+//! Besides bond outputs and their integrals, `record` takes energies ([`energy`]):
+//! `energy:ELEMENT` (the energy a storage element holds, J), `power:ELEMENT` (the power into
+//! a one-port along its bond, W) and the books `energy:supplied`, `energy:stored`,
+//! `energy:dissipated` (J since time 0).
+//!
 //! The other signals are `Step(at: 0.05, before: 0.0, after: 6.3e-3)` and
 //! `Table([(0.0, 0.0), (1.0, 2.0)])` (piecewise linear in time).
 //!
@@ -75,6 +80,9 @@ use crate::model::validate::suggest;
 use crate::model::{self, ElementId, ElementKind, Model};
 use crate::modes::Mode;
 use crate::source::{SourceFile, Span};
+
+pub mod energy;
+pub use energy::{Book, EnergyRecord};
 
 /// A time signal driving one input of the model.
 #[derive(Clone, Debug, PartialEq)]
@@ -281,34 +289,85 @@ pub enum Record {
     Output(OutputSpec),
     /// The time integral of a bond's effort or flow (`integral:flow:ge`: a displacement).
     Integral(OutputSpec),
+    /// An energy or a power (`energy:spring`, `power:damper`, `energy:supplied`; see
+    /// [`energy`]), with its name as written.
+    Energy(String, EnergyRecord),
 }
 
 impl Record {
     /// Parses an output as `--output` and scenarios' `record` write it: `effort:ELEMENT`,
-    /// `flow:FROM->TO`, or `integral:OUTPUT` for its time integral.
+    /// `flow:FROM->TO`, `integral:OUTPUT` for its time integral, or an energy record
+    /// (`energy:ELEMENT`, `power:ELEMENT`, `energy:supplied|stored|dissipated`).
     ///
     /// # Errors
-    /// As [`OutputSpec::parse`].
+    /// As [`OutputSpec::parse`] and [`EnergyRecord::parse`].
     pub fn parse(model: &Model, text: &str) -> Result<Self> {
         let trimmed = text.trim();
+        if let Some(energy) = EnergyRecord::parse(model, trimmed) {
+            return Ok(Record::Energy(trimmed.to_string(), energy?));
+        }
         match trimmed.strip_prefix("integral:") {
             Some(rest) => Ok(Record::Integral(OutputSpec::parse(model, rest.trim())?)),
             None => Ok(Record::Output(OutputSpec::parse(model, trimmed)?)),
         }
     }
 
-    /// The output being recorded, or integrated.
-    pub fn spec(&self) -> &OutputSpec {
-        match self {
-            Record::Output(spec) | Record::Integral(spec) => spec,
+    /// Parses an output of the state equations (`--output`): as [`Record::parse`], with the
+    /// bond output it stands for; an energy record is an error, since energies and powers
+    /// are products of bond variables, not rows of `y = C x + D u`.
+    ///
+    /// # Errors
+    /// As [`Record::parse`], and a [`DiagnosticKind::BadOutput`] for an energy record.
+    pub fn parse_output(model: &Model, text: &str) -> Result<(Self, OutputSpec)> {
+        let record = Self::parse(model, text)?;
+        match record.spec().cloned() {
+            Some(spec) => Ok((record, spec)),
+            None => Err(Diagnostic::new(
+                DiagnosticKind::BadOutput,
+                format!(
+                    "output '{}': energies and powers are not rows of the output equations",
+                    text.trim()
+                ),
+            )
+            .note("record them in a scenario (bondgraph simulate) instead")
+            .into()),
         }
     }
 
-    /// The record's name as written: `flow:ge`, `integral:flow:ge`.
+    /// The bond output being recorded, or integrated; `None` for an energy record.
+    pub fn spec(&self) -> Option<&OutputSpec> {
+        match self {
+            Record::Output(spec) | Record::Integral(spec) => Some(spec),
+            Record::Energy(..) => None,
+        }
+    }
+
+    /// The record's name as written: `flow:ge`, `integral:flow:ge`, `energy:spring`.
     pub fn name(&self) -> String {
         match self {
             Record::Output(spec) => spec.name.clone(),
             Record::Integral(spec) => format!("integral:{}", spec.name),
+            Record::Energy(name, _) => name.clone(),
+        }
+    }
+
+    /// Whether two records record the same quantity, however written.
+    fn same_as(&self, other: &Record) -> bool {
+        let bond = |a: &OutputSpec, b: &OutputSpec| {
+            a.quantity == b.quantity && a.bond == b.bond && a.negated == b.negated
+        };
+        match (self, other) {
+            (Record::Output(a), Record::Output(b)) | (Record::Integral(a), Record::Integral(b)) => {
+                bond(a, b)
+            }
+            (Record::Energy(_, a), Record::Energy(_, b)) => match (a, b) {
+                (
+                    EnergyRecord::Power { element: x, .. },
+                    EnergyRecord::Power { element: y, .. },
+                ) => x == y,
+                _ => a == b,
+            },
+            _ => false,
         }
     }
 }
@@ -1026,6 +1085,21 @@ impl Checker<'_> {
             let content = item.map_or(self.map.root, |i| i.text_span());
             let exact = self.file.text().get(content.start..content.end) == Some(text.as_str());
             let trimmed = text.trim();
+            if let Some(energy) = EnergyRecord::parse(model, trimmed) {
+                match energy {
+                    Ok(energy) => {
+                        let record = Record::Energy(trimmed.to_string(), energy);
+                        if self.duplicate_record(&records, &record, index, content) {
+                            continue;
+                        }
+                        records.push((record, index));
+                    }
+                    Err(diagnostics) => self
+                        .problems
+                        .extend(diagnostics.0.into_iter().map(|d| d.at(&self.file, content))),
+                }
+                continue;
+            }
             let (integral, spec_text) = match trimmed.strip_prefix("integral:") {
                 Some(rest) => (true, rest.trim()),
                 None => (false, trimmed),
@@ -1064,26 +1138,34 @@ impl Checker<'_> {
             } else {
                 Record::Output(spec)
             };
-            let same = |r: &Record| {
-                std::mem::discriminant(r) == std::mem::discriminant(&record)
-                    && r.spec().quantity == record.spec().quantity
-                    && r.spec().bond == record.spec().bond
-                    && r.spec().negated == record.spec().negated
-            };
-            if let Some((first, first_index)) = records.iter().find(|(r, _)| same(r)) {
-                let message = format!(
-                    "record item {} '{}' records the same as item {} '{}'",
-                    index + 1,
-                    record.name(),
-                    first_index + 1,
-                    first.name()
-                );
-                self.problem(DiagnosticKind::DuplicateName, message, content, None);
+            if self.duplicate_record(&records, &record, index, content) {
                 continue;
             }
             records.push((record, index));
         }
         records.into_iter().map(|(r, _)| r).collect()
+    }
+
+    /// Reports `record` (item `index`) if an earlier item records the same; true if so.
+    fn duplicate_record(
+        &mut self,
+        records: &[(Record, usize)],
+        record: &Record,
+        index: usize,
+        content: Span,
+    ) -> bool {
+        let Some((first, first_index)) = records.iter().find(|(r, _)| r.same_as(record)) else {
+            return false;
+        };
+        let message = format!(
+            "record item {} '{}' records the same as item {} '{}'",
+            index + 1,
+            record.name(),
+            first_index + 1,
+            first.name()
+        );
+        self.problem(DiagnosticKind::DuplicateName, message, content, None);
+        true
     }
 }
 
@@ -1338,7 +1420,7 @@ Scenario(
         assert!(matches!(scenario.record[2], Record::Integral(_)));
         assert_eq!(scenario.record[2].spec(), scenario.record[0].spec());
         assert_eq!(
-            scenario.record[3].spec().bond,
+            scenario.record[3].spec().unwrap().bond,
             model.bond_ids().next().unwrap()
         );
     }

@@ -10,6 +10,8 @@
 //! scales (geometric near the start of a segment, where a stiff mode settles in 1e-17 s, and
 //! fine enough for every oscillation).
 
+use bondgraph_core::model::ElementId;
+use bondgraph_core::scenario::Book;
 use num_complex::Complex64;
 
 use crate::numeric::NumericMode;
@@ -49,6 +51,23 @@ impl EnergyBalance {
         .iter()
         .map(|x| x.abs())
         .fold(0.0, f64::max)
+    }
+}
+
+/// An energy recorded beside the outputs at every sample ([`crate::hybrid::Simulator::with_energy_columns`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EnergyColumn {
+    /// The energy one storage element holds.
+    Element(ElementId),
+    /// A book: supplied and dissipated since time 0 (merges at events counted as
+    /// dissipated), or stored now.
+    Book(Book),
+}
+
+impl EnergyColumn {
+    /// Whether it needs the books kept (a quadrature of the ports' powers).
+    pub fn needs_books(self) -> bool {
+        matches!(self, EnergyColumn::Book(Book::Supplied | Book::Dissipated))
     }
 }
 

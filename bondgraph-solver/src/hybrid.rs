@@ -22,8 +22,9 @@ use bondgraph_core::equations::{Options, OutputSpec};
 use bondgraph_core::guards::Watched;
 use bondgraph_core::model::{ElementId, ElementMode, Model};
 use bondgraph_core::modes::{Mode, ModeCache};
+use bondgraph_core::scenario::Book;
 
-use crate::energy::EnergyBalance;
+use crate::energy::{EnergyBalance, EnergyColumn};
 use crate::events;
 
 mod integrate;
@@ -272,6 +273,8 @@ pub struct Simulator<'m> {
     symbolic: ModeCache<'m>,
     numeric: HashMap<Mode, Arc<NumericMode>>,
     settings: Settings,
+    /// Energies recorded after the outputs, by name.
+    energy_columns: Vec<(String, EnergyColumn)>,
 }
 
 impl<'m> Simulator<'m> {
@@ -285,7 +288,43 @@ impl<'m> Simulator<'m> {
             symbolic: ModeCache::new(model, Options::default()),
             numeric: HashMap::new(),
             settings: Settings::default(),
+            energy_columns: Vec::new(),
         }
+    }
+
+    /// Records these energies, by name, after the outputs at every sample: the
+    /// trajectory's columns are the outputs' and then these. Columns of the supplied or
+    /// dissipated book keep the books whether or not the run audits energy.
+    pub fn with_energy_columns(mut self, columns: Vec<(String, EnergyColumn)>) -> Self {
+        self.energy_columns = columns;
+        self
+    }
+
+    /// The energies at a state of `mode`; `books` is `(supplied, dissipated)` so far.
+    fn energy_values(
+        &self,
+        mode: &NumericMode,
+        x: &[f64],
+        u: &[f64],
+        books: (f64, f64),
+    ) -> impl Iterator<Item = f64> + use<'_> {
+        let full = if self.energy_columns.is_empty() {
+            Vec::new()
+        } else {
+            mode.reconstruct(x, u)
+        };
+        self.energy_columns
+            .iter()
+            .map(move |(_, column)| match column {
+                EnergyColumn::Element(id) => self.storage.index(*id).map_or(f64::NAN, |i| {
+                    NumericMode::element_energy(&self.storage, self.model, i, full[i])
+                }),
+                EnergyColumn::Book(Book::Stored) => {
+                    NumericMode::stored_energy(&self.storage, self.model, &full)
+                }
+                EnergyColumn::Book(Book::Supplied) => books.0,
+                EnergyColumn::Book(Book::Dissipated) => books.1,
+            })
     }
 
     /// Replaces the limits on numerical trouble.
@@ -378,6 +417,7 @@ impl<'m> Simulator<'m> {
             .sample
             .filter(|s| *s > 0.0 && s.is_finite())
             .unwrap_or(run.duration / 1000.0);
+        let books = self.energy_columns.iter().any(|(_, c)| c.needs_books());
         let mut stepper = Stepper::new(
             self,
             run.inputs,
@@ -385,13 +425,17 @@ impl<'m> Simulator<'m> {
             run.initial_state.clone(),
             Some(sample),
         )?;
-        if run.audit_energy {
+        if run.audit_energy || books {
             stepper.audit_energy();
         }
         while stepper.time() < run.duration {
             stepper.advance(run.duration)?;
         }
-        Ok(stepper.finish())
+        let mut trajectory = stepper.finish();
+        if !run.audit_energy {
+            trajectory.energy = None;
+        }
+        Ok(trajectory)
     }
 
     /// Output values at a state; integrals add `∫` over the segment so far.
@@ -710,8 +754,9 @@ impl<'s, 'm> Stepper<'s, 'm> {
             .collect();
         breakpoints.sort_by(f64::total_cmp);
         breakpoints.dedup();
-        let mut recorder =
-            Recorder::new(simulator.outputs.iter().map(|o| o.name.clone()).collect());
+        let names = simulator.outputs.iter().map(|o| o.name.clone());
+        let energy_names = simulator.energy_columns.iter().map(|(n, _)| n.clone());
+        let mut recorder = Recorder::new(names.chain(energy_names).collect());
         let (u, rate) = values_at(inputs, 0.0);
         let mode = simulator.resolve(
             initial_mode,
@@ -763,6 +808,14 @@ impl<'s, 'm> Stepper<'s, 'm> {
         self.energy
     }
 
+    /// `(supplied, dissipated)` so far, merges at events counted as dissipated (NaN when
+    /// the books are not kept).
+    fn books(&self) -> (f64, f64) {
+        self.energy.map_or((f64::NAN, f64::NAN), |e| {
+            (e.supplied, e.dissipated + e.lost_at_events)
+        })
+    }
+
     /// The current time.
     pub fn time(&self) -> f64 {
         self.t
@@ -793,7 +846,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
     pub fn outputs(&self) -> Vec<f64> {
         let (u, rate) = self.inputs_at(self.t);
         let zeros = vec![0.0; self.x.len()];
-        self.simulator.output_values(
+        let mut values = self.simulator.output_values(
             &self.mode,
             &self.x,
             &u,
@@ -803,7 +856,12 @@ impl<'s, 'm> Stepper<'s, 'm> {
             &u,
             &rate,
             0.0,
-        )
+        );
+        values.extend(
+            self.simulator
+                .energy_values(&self.mode, &self.x, &u, self.books()),
+        );
+        values
     }
 
     /// Whether each guard of the current mode has been seen below zero (can fire).
@@ -900,6 +958,12 @@ impl<'s, 'm> Stepper<'s, 'm> {
                     .collect()
             });
             let mut u = vec![0.0; u0.len()];
+            let mut energy_state = vec![0.0; n];
+            let books_wanted = self
+                .simulator
+                .energy_columns
+                .iter()
+                .any(|(_, c)| c.needs_books());
             while self.next_sample as f64 * sample <= self.t + stop {
                 let time = self.next_sample as f64 * sample;
                 let tau = (time - self.t).max(0.0);
@@ -946,6 +1010,26 @@ impl<'s, 'm> Stepper<'s, 'm> {
                         )
                     }
                 };
+                let mut values: Vec<f64> = values;
+                if !self.simulator.energy_columns.is_empty() {
+                    segment.state_and_integral_into(tau, &mut energy_state, None);
+                    for (k, slot) in u.iter_mut().enumerate() {
+                        *slot = u0[k] + u1[k] * tau;
+                    }
+                    let (mut supplied, mut dissipated) = self.books();
+                    if books_wanted {
+                        let (s, d) =
+                            crate::energy::integrate_segment(&current, &mut segment, &u0, &u1, tau);
+                        supplied += s;
+                        dissipated += d;
+                    }
+                    values.extend(self.simulator.energy_values(
+                        &current,
+                        &energy_state,
+                        &u,
+                        (supplied, dissipated),
+                    ));
+                }
                 self.recorder.sample_in(time, mode_index, values);
                 self.next_sample += 1;
             }

@@ -461,24 +461,26 @@ impl NumericMode {
     /// The energy stored in the full state: `p²/2m` for inertias, `q²/2C` for compliances,
     /// and for tension-only elements `q²/2C` when stretched, nothing when slack.
     pub fn stored_energy(storage: &Storage, model: &Model, full: &[f64]) -> f64 {
-        storage
-            .elements
-            .iter()
-            .zip(&storage.coefficients)
+        (0..storage.len())
             .zip(full)
-            .zip(&storage.laws)
-            .map(|(((id, c), x), law)| {
-                if let Some(law) = law {
-                    return law.energy(*x);
-                }
-                let tension_only = matches!(model.element(*id).kind, ElementKind::TensionOnly(_));
-                if tension_only && *x < 0.0 {
-                    0.0
-                } else {
-                    x * x / (2.0 * c)
-                }
-            })
+            .map(|(i, x)| Self::element_energy(storage, model, i, *x))
             .sum()
+    }
+
+    /// The energy held by storage element `index` (in [`Storage`]'s order) when its energy
+    /// variable is `x`: `x²/2c` for a linear law (nothing for a slack tension-only element),
+    /// `∫₀ˣ law` for a nonlinear one.
+    pub fn element_energy(storage: &Storage, model: &Model, index: usize, x: f64) -> f64 {
+        if let Some(law) = &storage.laws[index] {
+            return law.energy(x);
+        }
+        let id = storage.elements[index];
+        let tension_only = matches!(model.element(id).kind, ElementKind::TensionOnly(_));
+        if tension_only && x < 0.0 {
+            0.0
+        } else {
+            x * x / (2.0 * storage.coefficients[index])
+        }
     }
 
     /// A row's rate of change along the trajectory at `x`, with inputs `u` changing at `u̇`

@@ -2,6 +2,7 @@
 
 mod analysis;
 mod energy;
+mod energy_records;
 mod fig6;
 mod flagship;
 mod flow_limit;

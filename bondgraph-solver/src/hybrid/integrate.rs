@@ -492,6 +492,23 @@ impl Stepper<'_, '_> {
                     }
                 })
                 .collect();
+            let mut values = values;
+            if !self.simulator.energy_columns.is_empty() {
+                let u: Vec<f64> = (0..system.nl.m)
+                    .map(|k| system.u0[k] + system.u1[k] * tau)
+                    .collect();
+                let (mut supplied, mut dissipated) = self.books();
+                if system.energy {
+                    supplied += point[n];
+                    dissipated += point[n + 1];
+                }
+                values.extend(self.simulator.energy_values(
+                    &self.mode,
+                    &point[..n],
+                    &u,
+                    (supplied, dissipated),
+                ));
+            }
             self.recorder.sample_in(time, mode_index, values);
             self.next_sample += 1;
         }
