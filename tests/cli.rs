@@ -423,12 +423,7 @@ fn reproduce_writes_its_results_and_the_json_contract() {
         .count();
     assert_eq!(discrepancy["ranking"].as_array().unwrap().len(), library);
     assert!(discrepancy.get("selected").is_some());
-    assert!(
-        discrepancy["baseline"]["rmse_heldout_mm_s"]
-            .as_f64()
-            .unwrap()
-            > 0.0
-    );
+    assert!(discrepancy["baseline"]["rmse_heldout"].as_f64().unwrap() > 0.0);
     assert!(dir.join("discrepancy/residuals_before.svg").exists());
     // The same JSON on standard output with --format json.
     let printed: serde_json::Value =
@@ -507,17 +502,26 @@ fn discover_prints_the_json_contract() {
         "json",
     ]);
     let json: serde_json::Value = serde_json::from_str(&printed).unwrap();
-    for field in ["rmse_fit_mm_s", "rmse_heldout_mm_s"] {
+    assert_eq!(json["observed"], "v_ge_mm_s");
+    assert!(json["noise"].as_f64().is_some_and(|n| n > 0.0));
+    for field in ["rmse_fit", "rmse_heldout"] {
         assert!(
             json["baseline"][field].as_f64().is_some(),
             "missing {field}"
         );
     }
-    for field in ["id", "params", "rmse_heldout_mm_s", "score"] {
+    for field in [
+        "id",
+        "params",
+        "rmse_fit",
+        "rmse_heldout",
+        "p_value",
+        "score",
+    ] {
         assert!(json["ranking"][0].get(field).is_some(), "missing {field}");
     }
     assert!(json.get("selected").is_some() && json["indistinguishable"].is_array());
-    for field in ["rmse_heldout_before_mm_s", "rmse_heldout_after_mm_s"] {
+    for field in ["rmse_heldout_before", "rmse_heldout_after"] {
         assert!(json["gain"][field].as_f64().is_some(), "missing {field}");
     }
     // Best held-out RMSE first.
@@ -525,7 +529,7 @@ fn discover_prints_the_json_contract() {
         .as_array()
         .unwrap()
         .iter()
-        .map(|r| r["rmse_heldout_mm_s"].as_f64().unwrap())
+        .map(|r| r["rmse_heldout"].as_f64().unwrap())
         .collect();
     assert!(scores.windows(2).all(|w| w[0] <= w[1]), "{scores:?}");
 }
