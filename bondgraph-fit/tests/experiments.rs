@@ -15,20 +15,9 @@ fn motor() -> (model::Model, std::sync::Arc<SourceFile>) {
     (model::load_source(&source).unwrap(), source)
 }
 
-fn experiment(absent: &str) -> Experiment {
-    Experiment::parse(
-        "motor.ron",
-        &format!(
-            "Experiment(\n    kind: Steady,\n    conditions: [(\"V_V\", \"V\", 1.0), (\"gear_on\", \"V\", 0.0)],\n    absent: [{absent}],\n    observed: [(\"w_rad_s\", \"flow:load_inertia\", 1.0)],\n)"
-        ),
-    )
-    .unwrap_or_else(|e| panic!("{e}"))
-}
-
 #[test]
 fn a_removal_that_leaves_an_element_dangling_names_the_absent_entry() {
-    // Removing the gear leaves the gyrator `motor` with one bond. The factor 0 of `gear_on`
-    // is refused by the experiment itself, so this experiment uses its own column.
+    // Removing the gear leaves the gyrator `motor` with one bond.
     let text = "Experiment(\n    kind: Steady,\n    conditions: [(\"V_V\", \"V\", 1.0)],\n    absent: [(\"gear_on\", [\"gear\"])],\n    observed: [(\"w_rad_s\", \"flow:load_inertia\", 1.0)],\n)";
     let experiment = Experiment::parse("motor.ron", text).unwrap();
     let (model, source) = motor();
@@ -39,7 +28,7 @@ fn a_removal_that_leaves_an_element_dangling_names_the_absent_entry() {
     let location = first.location.as_ref().unwrap();
     assert_eq!(
         (location.file.as_str(), location.line, location.column),
-        ("motor.ron", 4, 14)
+        ("motor.ron", 4, 15)
     );
     assert!(
         first.message.starts_with(
@@ -58,7 +47,6 @@ fn a_removal_that_leaves_an_element_dangling_names_the_absent_entry() {
 
 #[test]
 fn an_input_or_output_the_model_lacks_is_reported_at_the_entry() {
-    let _ = experiment("");
     let text = "Experiment(\n    kind: Steady,\n    conditions: [(\"V_V\", \"U\", 1.0)],\n    observed: [(\"w_rad_s\", \"flow:load_inertai\", 1.0)],\n)";
     let experiment = Experiment::parse("motor.ron", text).unwrap();
     let (model, source) = motor();
@@ -66,7 +54,7 @@ fn an_input_or_output_the_model_lacks_is_reported_at_the_entry() {
     let text = error.to_string();
     assert!(
         text.starts_with(
-            "motor.ron:3:27: error: experiment: column `V_V` sets input 'U', which model 'dc_motor' does not have"
+            "motor.ron:3:26: error: experiment: column `V_V` sets input 'U', which model 'dc_motor' does not have"
         ),
         "{text}"
     );

@@ -6,7 +6,7 @@ geared_motor.ron): with alpha = N K / R_a and beta = N^2 K^2 / R_a,
     w = (alpha V - T_C - tau) / (b + beta)   if alpha V - tau > T_S (the shaft breaks away),
     w = 0                                     otherwise (stalled: the encoder reads no counts).
 
-The truth: K = 0.05 N m/A, b = 0.012 N m s/rad, T_C = 0.15 N m, T_S = 0.3 N m, with the model
+The truth: K = 0.05 N m/A, b = 0.05 N m s/rad, T_C = 0.15 N m, T_S = 0.3 N m, with the model
 file's R_a = 2 ohm and N = 20 (geared_motor.ron holds other values of the fitted parameters, so
 that a calibration has to find these). Noise: Gaussian, 0.05 rad/s, numpy seed 11, added to
 turning rows only.
@@ -17,13 +17,13 @@ Run from the repository root: python3 models/examples/geared_motor/data/generate
 import numpy as np
 
 R_a, N = 2.0, 20.0
-K, b, T_C, T_S = 0.05, 0.012, 0.15, 0.3
+K, b, T_C, T_S = 0.05, 0.05, 0.15, 0.3
 SIGMA = 0.05
 
 alpha, beta = N * K / R_a, N * N * K * K / R_a
 rng = np.random.default_rng(11)
-rows = [(v, None) for v in [0.4, 0.55, 0.65, 1.0, 2.0, 4.0, 6.0, 9.0, 12.0, 15.0, 18.0, 24.0]]
-rows += [(v, tau) for tau in [100.0, 200.0, 400.0] for v in [6.0, 12.0, 24.0]]
+rows = [(v, None) for v in [0.4, 0.5, 0.8, 1.0, 2.0, 4.0, 6.0, 9.0, 12.0, 15.0, 18.0, 24.0]]
+rows += [(v, tau) for tau in [1000.0, 2000.0, 4000.0] for v in [12.0, 18.0, 24.0]]
 rows += [(1.0, 400.0)]
 lines = ["V_V,tau_mNm,w_rad_s"]
 for v, tau_mNm in rows:
