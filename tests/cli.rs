@@ -567,3 +567,66 @@ fn extend_writes_a_model_and_points_at_the_fragment_line() {
     assert!(!err.contains("error: error"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn calibrate_and_discover_any_model_with_nothing_but_model_and_data() {
+    // The geared motor: experiment.ron and extensions/ beside the model, found by default.
+    let model = "models/examples/geared_motor/geared_motor.ron";
+    let data = "models/examples/geared_motor/data/steady.csv";
+    let printed = succeed(&[
+        "calibrate",
+        "--model",
+        model,
+        "--data",
+        data,
+        "--format",
+        "json",
+    ]);
+    let json: serde_json::Value = serde_json::from_str(&printed).unwrap();
+    // The independent optimum (bondgraph-fit/tests/calibration.rs): K = 0.050035 +- 1.7e-4.
+    let k = json["params"]["K"]["value"].as_f64().unwrap();
+    assert!((k - 0.050035).abs() < 0.2 * 1.7e-4, "{k}");
+    assert!(json["params"]["T_S"]["interval"].is_array());
+    assert_eq!(json["rows"], 22);
+    let printed = succeed(&[
+        "discover", "--model", model, "--data", data, "--format", "json",
+    ]);
+    let json: serde_json::Value = serde_json::from_str(&printed).unwrap();
+    assert_eq!(json["observed"], "w_rad_s");
+    assert_eq!(json["ranking"].as_array().unwrap().len(), 3);
+    // Nothing is hidden in the data: nothing may be selected, and the windage (an exact
+    // refit of b) is reported as indistinguishable from the base model.
+    assert!(json["selected"].is_null());
+    assert_eq!(
+        json["indistinguishable"],
+        serde_json::json!(["shaft-windage"])
+    );
+}
+
+#[test]
+fn a_bad_experiment_is_reported_at_its_line_and_field() {
+    let dir = scratch("bad-experiment");
+    std::fs::create_dir_all(&dir).unwrap();
+    let experiment = dir.join("experiment.ron");
+    std::fs::write(
+        &experiment,
+        "Experiment(\n    kind: Steady,\n    conditions: [(\"V_V\", \"V\", 1.0), (\"tau_mNm\", \"tau_load\", 0.001)],\n    absent: [(\"tau_mNm\", [\"gear\"])],\n    observed: [(\"w_rad_s\", \"flow:load_inertia\", 1.0)],\n)\n",
+    )
+    .unwrap();
+    let err = fail(&[
+        "calibrate",
+        "--model",
+        "models/examples/geared_motor/geared_motor.ron",
+        "--data",
+        "models/examples/geared_motor/data/steady.csv",
+        "--experiment",
+        experiment.to_str().unwrap(),
+    ]);
+    // Removing the gear leaves the motor's gyrator dangling: the `absent` entry is named.
+    assert!(err.contains("experiment.ron:4:15"), "{err}");
+    assert!(
+        err.contains("the `absent` entry for `tau_mNm` removes 'gear'"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
