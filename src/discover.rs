@@ -4,9 +4,11 @@ use std::path::{Path, PathBuf};
 
 use bondgraph_core::DiagnosticKind;
 use bondgraph_core::model::extension::{self, Extension};
-use bondgraph_fit::data;
-use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};
-use bondgraph_fit::experiment::Experiment;
+use std::sync::Arc;
+
+use bondgraph_core::source::SourceFile;
+use bondgraph_fit::discover::{self, Candidate, DiscoverError, Discovery, Settings};
+use bondgraph_fit::experiment::ExperimentError;
 
 use crate::{Failure, json, print, read_source, residual_plot, write_file};
 
@@ -22,6 +24,31 @@ pub struct Args {
 
 fn fail(kind: DiagnosticKind, message: impl std::fmt::Display) -> Failure {
     Failure::message(kind, message.to_string())
+}
+
+/// An experiment's error as located diagnostics, rendered with the lines of `sources`.
+pub fn experiment_failure(error: ExperimentError, sources: &[&Arc<SourceFile>]) -> Failure {
+    match error {
+        ExperimentError::Diagnostics(diagnostics) => Failure {
+            diagnostics,
+            sources: sources.iter().map(|s| Arc::clone(s)).collect(),
+        },
+        other => fail(DiagnosticKind::Simulation, other),
+    }
+}
+
+/// A discovery's (or calibration's) error, its diagnostics located where they point.
+pub fn discover_failure(error: DiscoverError, sources: &[&Arc<SourceFile>]) -> Failure {
+    let located = |diagnostics| Failure {
+        diagnostics,
+        sources: sources.iter().map(|s| Arc::clone(s)).collect(),
+    };
+    match error {
+        DiscoverError::Model(diagnostics) => located(diagnostics),
+        DiscoverError::Fitted(diagnostics) => located(diagnostics),
+        DiscoverError::Experiment(error) => experiment_failure(error, sources),
+        other => fail(DiagnosticKind::Simulation, other),
+    }
 }
 
 /// Reads the library: every `*.ron` in `dir`, in name order.
@@ -64,34 +91,9 @@ pub fn library(
 
 /// Runs `discover`.
 pub fn run(args: &Args) -> Result<(), Failure> {
-    let base = read_source(&args.model)?;
+    let (base, experiment_source, experiment, dataset) =
+        crate::calibrate::inputs(&args.model, args.experiment.as_deref(), &args.data)?;
     let folder = args.model.parent().unwrap_or(Path::new("."));
-    let experiment_path = args
-        .experiment
-        .clone()
-        .unwrap_or_else(|| folder.join("experiment.ron"));
-    let experiment_text = std::fs::read_to_string(&experiment_path).map_err(|e| {
-        fail(
-            DiagnosticKind::Io,
-            format!(
-                "cannot read the experiment file '{}': {e} (give one with --experiment)",
-                experiment_path.display()
-            ),
-        )
-    })?;
-    let experiment = Experiment::parse(&experiment_path.display().to_string(), &experiment_text)
-        .map_err(|e| fail(DiagnosticKind::Syntax, e))?;
-    let mut names = Vec::new();
-    let mut rows = Vec::new();
-    for path in &args.data {
-        let dataset = data::read_file(path).map_err(|e| fail(DiagnosticKind::Syntax, e))?;
-        names.push(dataset.name);
-        rows.extend(dataset.rows);
-    }
-    let dataset = data::Dataset {
-        name: names.join(" + "),
-        rows,
-    };
     let extensions = args
         .extensions
         .clone()
@@ -102,13 +104,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let discovery = discover::discover_with_progress(
         &base,
         &experiment,
-        &dataset.name,
-        &dataset.rows,
+        &dataset,
         &candidates,
         &Settings::default(),
         &|| progress.inc(1),
     )
-    .map_err(|e| fail(DiagnosticKind::Simulation, e))?;
+    .map_err(|e| discover_failure(e, &[&experiment_source, &base]))?;
     progress.finish_and_clear();
     let elapsed = started.elapsed();
     let text = json(&discovery)?;
@@ -165,7 +166,7 @@ pub fn write_outputs(out: &Path, discovery: &Discovery, json_text: &str) -> Resu
         } else {
             "Residuals of the refitted base model".to_string()
         };
-        residual_plot::residual_svg(&discovery.table, &title, after)
+        residual_plot::residual_svg(&discovery.table, &discovery.observed, &title, after)
             .map_err(|e| fail(DiagnosticKind::Io, format!("cannot plot residuals: {e}")))
     };
     write_file(&out.join("residuals_before.svg"), &plot(false)?)?;

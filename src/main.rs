@@ -9,6 +9,7 @@ mod analyze_plot;
 mod bg_svg;
 mod compare;
 mod conventions;
+mod calibrate;
 mod discover;
 mod explain_bg;
 mod explain_lg;
@@ -175,13 +176,30 @@ enum Command {
         #[arg(long, value_enum, default_value_t = ReproduceFormat::Text)]
         format: ReproduceFormat,
     },
+    /// Fit the experiment's parameters to measured data: values, standard errors, intervals
+    /// of thresholds, residuals by regime and by condition.
+    Calibrate {
+        /// The model file (RON).
+        #[arg(long)]
+        model: PathBuf,
+        /// The measured data (CSV, the columns the experiment names); repeat to fit several
+        /// files together.
+        #[arg(long, required = true)]
+        data: Vec<PathBuf>,
+        /// The experiment file (default: experiment.ron beside the model).
+        #[arg(long)]
+        experiment: Option<PathBuf>,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = ReproduceFormat::Text)]
+        format: ReproduceFormat,
+    },
     /// What a model gets wrong on measured data, and which candidate extension explains it.
     Discover {
         /// The model file (RON).
         #[arg(long)]
         model: PathBuf,
-        /// The measured data (CSV: P_s_kPa, v_ac_mm_s, v_ct_mm_s, v_ge_mm_s); repeat to
-        /// analyse several files together.
+        /// The measured data (CSV, the columns the experiment names); repeat to analyse
+        /// several files together.
         #[arg(long, required = true)]
         data: Vec<PathBuf>,
         /// The experiment file (default: experiment.ron beside the model).
@@ -553,6 +571,17 @@ fn run(cli: Cli) -> Result<(), Failure> {
         // Dispatched in `main`, for its exit codes.
         Command::Compare { .. } => Ok(()),
         Command::Reproduce { out, format } => reproduce::run(&out, format == ReproduceFormat::Json),
+        Command::Calibrate {
+            model,
+            data,
+            experiment,
+            format,
+        } => calibrate::run(&calibrate::Args {
+            model,
+            data,
+            experiment,
+            json: format == ReproduceFormat::Json,
+        }),
         Command::Discover {
             model,
             data,

@@ -5,10 +5,10 @@ use std::path::Path;
 use bondgraph_core::DiagnosticKind;
 use bondgraph_core::model::extension::Extension;
 use bondgraph_core::source::SourceFile;
+use bondgraph_eversion::reproduce::{Bundle, Named, Reproduction, TableRow, reproduce};
 use bondgraph_fit::data;
 use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};
 use bondgraph_fit::experiment::Experiment;
-use bondgraph_fit::reproduce::{Bundle, Named, Reproduction, TableRow, reproduce};
 use bondgraph_solver::Trajectory;
 use serde_json::json;
 
@@ -55,7 +55,8 @@ fn discrepancy() -> Result<Discovery, Failure> {
     let base = SourceFile::new(BUNDLE.robot.name, BUNDLE.robot.text);
     let experiment =
         Experiment::parse(BUNDLE.experiment.name, BUNDLE.experiment.text).map_err(|e| fail(&e))?;
-    let table3 = data::read(BUNDLE.table3.name, BUNDLE.table3.text).map_err(|e| fail(&e))?;
+    let table3 =
+        data::read(BUNDLE.table3.name, BUNDLE.table3.text, &experiment).map_err(|e| fail(&e))?;
     let mut candidates = Vec::new();
     for named in EXTENSIONS {
         let extension =
@@ -66,8 +67,7 @@ fn discrepancy() -> Result<Discovery, Failure> {
     let discovery = discover::discover_with_progress(
         &base,
         &experiment,
-        &table3.name,
-        &table3.rows,
+        &table3,
         &candidates,
         &Settings::default(),
         &|| progress.inc(1),
@@ -108,7 +108,7 @@ pub fn run(out: &Path, as_json: bool) -> Result<(), Failure> {
         let svg = plot::plot_svg(
             trajectory,
             &format!(
-                "Fig. 6 scenario, {name}.ron: v_ac = 5.8 mm/s, P_s = 1e6 t Pa, v_ct = 6.3 mm/s"
+                "Fig. 6 scenario, {name}.ron: v_ac = 5.8 mm/s, P_s = min(1e6 t, 1.1e5) Pa, v_ct = 6.3 mm/s"
             ),
             &[],
         )
@@ -123,8 +123,8 @@ pub fn run(out: &Path, as_json: bool) -> Result<(), Failure> {
             "\nTable III, nozzle friction refitted, candidate extensions tried: selected {} \
              (held-out RMSE {:.3} -> {:.3} mm/s); see out/report.md\n",
             discovery.selected.as_deref().unwrap_or("null"),
-            discovery.gain.rmse_heldout_before_mm_s,
-            discovery.gain.rmse_heldout_after_mm_s
+            discovery.gain.rmse_heldout_before,
+            discovery.gain.rmse_heldout_after
         ));
         print(&format!(
             "\nwritten to {}/: report.md, table3.csv, table6.csv, fig6_robot.svg, fig6_paper.svg, \

@@ -1,42 +1,66 @@
-//! Residuals of a fit against the tank pressure, one series per active-channel speed, before
-//! and after an extension: where a model goes wrong, and whether the extension fixes it.
+//! Residuals of a fit along a condition, one series per setting of the other conditions,
+//! before and after an extension: where a model goes wrong, and whether the extension fixes
+//! it.
 
+use std::collections::BTreeMap;
 use std::error::Error;
 
 use bondgraph_fit::discover::RowResult;
 use plotters::prelude::*;
 
-/// An SVG of `model - measured` against `P_s` for each `v_ac` (and `v_ct`, on catheter
-/// data): the baseline's residuals when `after` is false, the selected model's otherwise.
+/// An SVG of `model - measured` against the condition column with the most levels (for each
+/// row, among the columns it has a value in), one series per setting of the other columns:
+/// the baseline's residuals when `after` is false, the selected model's otherwise.
 ///
 /// # Errors
 /// A message when there is nothing to draw or drawing fails.
-pub fn residual_svg(rows: &[RowResult], title: &str, after: bool) -> Result<String, String> {
+pub fn residual_svg(
+    rows: &[RowResult],
+    observed: &str,
+    title: &str,
+    after: bool,
+) -> Result<String, String> {
+    let mut levels: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
+    for row in rows {
+        for (column, value) in &row.conditions {
+            if let Some(v) = value {
+                let entry = levels.entry(column.as_str()).or_default();
+                if !entry.contains(v) {
+                    entry.push(*v);
+                }
+            }
+        }
+    }
+    let mut axes: Vec<&str> = Vec::new();
     let points: Vec<(String, f64, f64)> = rows
         .iter()
         .filter_map(|r| {
-            let model = if after {
-                r.selected_mm_s?
-            } else {
-                r.baseline_mm_s
-            };
-            // Catheter sweeps vary v_ct: plot them against v_ct, one series per condition.
-            let (series, x) = match r.v_ct_mm_s {
-                Some(v_ct) => (
-                    format!("P_s = {} kPa, v_ac = {} mm/s", r.P_s_kPa, r.v_ac_mm_s),
-                    v_ct,
-                ),
-                None => (format!("v_ac = {} mm/s", r.v_ac_mm_s), r.P_s_kPa),
-            };
-            Some((series, x, model - r.measured_mm_s))
+            let model = if after { r.selected? } else { r.baseline };
+            let (x_column, x) = r
+                .conditions
+                .iter()
+                .filter_map(|(c, v)| v.map(|v| (c.as_str(), v)))
+                .max_by_key(|(c, _)| levels.get(c).map_or(0, Vec::len))?;
+            if !axes.contains(&x_column) {
+                axes.push(x_column);
+            }
+            let series: Vec<String> = r
+                .conditions
+                .iter()
+                .filter(|(c, _)| c.as_str() != x_column && levels.contains_key(c.as_str()))
+                .map(|(c, v)| match v {
+                    Some(v) => format!("{c} = {v}"),
+                    None => format!("{c} empty"),
+                })
+                .collect();
+            Some((series.join(", "), x, model - r.measured))
         })
         .collect();
     if points.is_empty() {
         return Err("no residuals to plot".into());
     }
-    let catheter = rows.iter().any(|r| r.v_ct_mm_s.is_some());
     let mut svg = String::new();
-    draw(&mut svg, &points, title, catheter).map_err(|e| e.to_string())?;
+    draw(&mut svg, &points, title, &axes.join(" / "), observed).map_err(|e| e.to_string())?;
     Ok(svg)
 }
 
@@ -44,7 +68,8 @@ fn draw(
     svg: &mut String,
     points: &[(String, f64, f64)],
     title: &str,
-    catheter: bool,
+    x_label: &str,
+    observed: &str,
 ) -> Result<(), Box<dyn Error>> {
     let root = SVGBackend::with_string(svg, (800, 480)).into_drawing_area();
     root.fill(&WHITE)?;
@@ -53,8 +78,8 @@ fn draw(
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
             (a.min(p.1), b.max(p.1))
         });
-    let y_max = points.iter().map(|p| p.2.abs()).fold(0.25, f64::max) * 1.15;
-    let pad = ((x_hi - x_lo) * 0.05).max(1.0);
+    let y_max = points.iter().map(|p| p.2.abs()).fold(1e-12, f64::max) * 1.15;
+    let pad = ((x_hi - x_lo) * 0.05).max(1e-3 * x_hi.abs().max(1.0));
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 20))
         .margin(12)
@@ -65,8 +90,8 @@ fn draw(
         .configure_mesh()
         .light_line_style(TRANSPARENT)
         .bold_line_style(BLACK.mix(0.12))
-        .x_desc(if catheter { "v_ct (mm/s)" } else { "P_s (kPa)" })
-        .y_desc("model - measured (mm/s)")
+        .x_desc(x_label)
+        .y_desc(format!("model - measured ({observed})"))
         .label_style(("sans-serif", 14))
         .axis_desc_style(("sans-serif", 16))
         .draw()?;

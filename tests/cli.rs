@@ -423,12 +423,7 @@ fn reproduce_writes_its_results_and_the_json_contract() {
         .count();
     assert_eq!(discrepancy["ranking"].as_array().unwrap().len(), library);
     assert!(discrepancy.get("selected").is_some());
-    assert!(
-        discrepancy["baseline"]["rmse_heldout_mm_s"]
-            .as_f64()
-            .unwrap()
-            > 0.0
-    );
+    assert!(discrepancy["baseline"]["rmse_heldout"].as_f64().unwrap() > 0.0);
     assert!(dir.join("discrepancy/residuals_before.svg").exists());
     // The same JSON on standard output with --format json.
     let printed: serde_json::Value =
@@ -507,17 +502,26 @@ fn discover_prints_the_json_contract() {
         "json",
     ]);
     let json: serde_json::Value = serde_json::from_str(&printed).unwrap();
-    for field in ["rmse_fit_mm_s", "rmse_heldout_mm_s"] {
+    assert_eq!(json["observed"], "v_ge_mm_s");
+    assert!(json["noise"].as_f64().is_some_and(|n| n > 0.0));
+    for field in ["rmse_fit", "rmse_heldout"] {
         assert!(
             json["baseline"][field].as_f64().is_some(),
             "missing {field}"
         );
     }
-    for field in ["id", "params", "rmse_heldout_mm_s", "score"] {
+    for field in [
+        "id",
+        "params",
+        "rmse_fit",
+        "rmse_heldout",
+        "p_value",
+        "score",
+    ] {
         assert!(json["ranking"][0].get(field).is_some(), "missing {field}");
     }
     assert!(json.get("selected").is_some() && json["indistinguishable"].is_array());
-    for field in ["rmse_heldout_before_mm_s", "rmse_heldout_after_mm_s"] {
+    for field in ["rmse_heldout_before", "rmse_heldout_after"] {
         assert!(json["gain"][field].as_f64().is_some(), "missing {field}");
     }
     // Best held-out RMSE first.
@@ -525,7 +529,7 @@ fn discover_prints_the_json_contract() {
         .as_array()
         .unwrap()
         .iter()
-        .map(|r| r["rmse_heldout_mm_s"].as_f64().unwrap())
+        .map(|r| r["rmse_heldout"].as_f64().unwrap())
         .collect();
     assert!(scores.windows(2).all(|w| w[0] <= w[1]), "{scores:?}");
 }
@@ -597,4 +601,66 @@ fn equations_echo_the_conventions_of_sources_and_transformers() {
         ),
         "{latex}"
     );
+}
+#[test]
+fn calibrate_and_discover_any_model_with_nothing_but_model_and_data() {
+    // The geared motor: experiment.ron and extensions/ beside the model, found by default.
+    let model = "models/examples/geared_motor/geared_motor.ron";
+    let data = "models/examples/geared_motor/data/steady.csv";
+    let printed = succeed(&[
+        "calibrate",
+        "--model",
+        model,
+        "--data",
+        data,
+        "--format",
+        "json",
+    ]);
+    let json: serde_json::Value = serde_json::from_str(&printed).unwrap();
+    // The independent optimum (bondgraph-fit/tests/calibration.rs): K = 0.050035 +- 1.7e-4.
+    let k = json["params"]["K"]["value"].as_f64().unwrap();
+    assert!((k - 0.050035).abs() < 0.2 * 1.7e-4, "{k}");
+    assert!(json["params"]["T_S"]["interval"].is_array());
+    assert_eq!(json["rows"], 22);
+    let printed = succeed(&[
+        "discover", "--model", model, "--data", data, "--format", "json",
+    ]);
+    let json: serde_json::Value = serde_json::from_str(&printed).unwrap();
+    assert_eq!(json["observed"], "w_rad_s");
+    assert_eq!(json["ranking"].as_array().unwrap().len(), 3);
+    // Nothing is hidden in the data: nothing may be selected, and the windage (an exact
+    // refit of b) is reported as indistinguishable from the base model.
+    assert!(json["selected"].is_null());
+    assert_eq!(
+        json["indistinguishable"],
+        serde_json::json!(["shaft-windage"])
+    );
+}
+
+#[test]
+fn a_bad_experiment_is_reported_at_its_line_and_field() {
+    let dir = scratch("bad-experiment");
+    std::fs::create_dir_all(&dir).unwrap();
+    let experiment = dir.join("experiment.ron");
+    std::fs::write(
+        &experiment,
+        "Experiment(\n    kind: Steady,\n    conditions: [(\"V_V\", \"V\", 1.0), (\"tau_mNm\", \"tau_load\", 0.001)],\n    absent: [(\"tau_mNm\", [\"gear\"])],\n    observed: [(\"w_rad_s\", \"flow:load_inertia\", 1.0)],\n)\n",
+    )
+    .unwrap();
+    let err = fail(&[
+        "calibrate",
+        "--model",
+        "models/examples/geared_motor/geared_motor.ron",
+        "--data",
+        "models/examples/geared_motor/data/steady.csv",
+        "--experiment",
+        experiment.to_str().unwrap(),
+    ]);
+    // Removing the gear leaves the motor's gyrator dangling: the `absent` entry is named.
+    assert!(err.contains("experiment.ron:4:15"), "{err}");
+    assert!(
+        err.contains("the `absent` entry for `tau_mNm` removes 'gear'"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

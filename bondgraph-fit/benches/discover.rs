@@ -11,7 +11,8 @@ use bondgraph_core::model::{self, extension::Extension};
 use bondgraph_core::source::SourceFile;
 use bondgraph_fit::data;
 use bondgraph_fit::discover::{self, Candidate, Settings};
-use bondgraph_fit::experiment::{Experiment, Predictor};
+use bondgraph_fit::experiment::Experiment;
+use bondgraph_fit::predict::Predictor;
 use criterion::{Criterion, criterion_group, criterion_main};
 
 fn root() -> PathBuf {
@@ -26,7 +27,12 @@ fn bench(c: &mut Criterion) {
     let base = SourceFile::new("robot.ron", read("models/eversion/robot.ron"));
     let experiment =
         Experiment::parse("experiment.ron", &read("models/eversion/experiment.ron")).unwrap();
-    let table3 = data::read("table3.csv", &read("models/eversion/data/table3.csv")).unwrap();
+    let table3 = data::read(
+        "table3.csv",
+        &read("models/eversion/data/table3.csv"),
+        &experiment,
+    )
+    .unwrap();
     let mut paths: Vec<PathBuf> = std::fs::read_dir(root().join("models/eversion/extensions"))
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -42,15 +48,7 @@ fn bench(c: &mut Criterion) {
     group.sample_size(10);
     group.bench_function("library on Table III", |b| {
         b.iter(|| {
-            discover::discover(
-                &base,
-                &experiment,
-                "table3.csv",
-                &table3.rows,
-                &library,
-                &Settings::default(),
-            )
-            .unwrap()
+            discover::discover(&base, &experiment, &table3, &library, &Settings::default()).unwrap()
         });
     });
     group.finish();

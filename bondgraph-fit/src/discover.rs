@@ -4,17 +4,18 @@
 //! The procedure, for a base model, its experiment, the data and a library of candidate
 //! extensions:
 //!
-//! 1. **Baseline**: refit the parameters the experiment names as fitted (`F_C_ge`, `b`,
-//!    `F_S_ge`; plus the catheter's on catheter data) and score the model on held-out data:
-//!    leave-one-column-out over the active-channel speeds (the paper fitted on one speed and
-//!    validated on the others) and k-fold (k = 5, rows dealt round-robin).
+//! 1. **Baseline**: refit the parameters the experiment names as fitted (and those of
+//!    `fitted_when_present` whose column has values) and score the model on held-out data:
+//!    leave one level out of a condition column with three or more levels (fit on some
+//!    settings of a condition, predict the others; [`crate::folds`] says which), and k-fold (k = 5, rows dealt
+//!    round-robin in the order of the conditions).
 //! 2. **Residuals** of the baseline by operating regime (named by the mode each row settles
-//!    in) and by each experimental factor, with the trend and whether it stands out of the
+//!    in) and along each condition column, with the trend and whether it stands out of the
 //!    noise.
 //! 3. **Candidates**: each extension merged into the base model, refitted with the base's
 //!    fitted parameters and its own, and scored the same way. A candidate whose parameters
-//!    move no prediction anywhere in their bounds is untestable on this data (a catheter
-//!    effect on data without a catheter); one whose effect the base parameters can mimic
+//!    move no prediction anywhere in their bounds is untestable on this data (an effect of
+//!    an element that every row removes); one whose effect the base parameters can mimic
 //!    exactly (its Jacobian columns lie in the span of theirs) is aliased with the base.
 //! 4. **Selection**: a candidate qualifies when its gain is beyond the noise — an F-test of
 //!    its sum of squares against the baseline's at level 0.01 divided by the number of
@@ -25,12 +26,13 @@
 //!    than the selected one beyond the noise (or, when nothing is selected, those aliased
 //!    with the base), each with the measurement that would separate them: a condition where
 //!    the two fitted models' predictions differ by more than three noise levels, searched
-//!    over a grid of conditions wider than the data's, or, when no steady tip velocity
+//!    over a grid of conditions wider than the data's, or, when no steady observation
 //!    separates them, what the extension's file says would show its effect directly.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
+use bondgraph_core::diagnostics::Diagnostics;
 use bondgraph_core::model::edit::{self, Edit};
 use bondgraph_core::model::extension::{self, Extension};
 use bondgraph_core::model::{self, Model};
@@ -38,9 +40,10 @@ use bondgraph_core::source::SourceFile;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::calibrate::{self, Fit};
-use crate::data::Measurement;
-use crate::experiment::{Evaluator, Experiment, Predictor};
+use crate::calibrate::{self, CalibrationError, Fit};
+use crate::data::{Dataset, Measurement};
+use crate::experiment::{Experiment, ExperimentError};
+use crate::predict::{Evaluator, Predictor};
 use crate::stats;
 
 /// How `discover` tests.
@@ -64,20 +67,40 @@ impl Default for Settings {
     }
 }
 
-/// Why discovery failed.
-#[derive(Clone, Debug)]
-pub struct DiscoverError(pub String);
-
-impl std::fmt::Display for DiscoverError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for DiscoverError {}
-
-fn error(e: impl std::fmt::Display) -> DiscoverError {
-    DiscoverError(e.to_string())
+/// Why a calibration or a discovery failed.
+#[derive(Clone, Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum DiscoverError {
+    /// A model, an extension or an edit that does not load: core's located diagnostics.
+    #[error("{0}")]
+    Model(#[from] Diagnostics),
+    /// The experiment does not fit the model, or a row cannot be predicted.
+    #[error("{0}")]
+    Experiment(#[from] ExperimentError),
+    /// The least-squares search could not start.
+    #[error("{data}: {error}")]
+    Calibration {
+        /// The data's name.
+        data: String,
+        /// Why.
+        error: CalibrationError,
+    },
+    /// Too few rows to fit and hold some out.
+    #[error("{data}: {rows} rows; discovery needs at least {needed} to fit and hold some out")]
+    TooFewRows {
+        /// The data's name.
+        data: String,
+        /// Rows it has.
+        rows: usize,
+        /// Rows needed.
+        needed: usize,
+    },
+    /// Discovery compares one observed column.
+    #[error("the experiment observes {0} columns; discovery compares one (calibrate fits several)")]
+    ObservedColumns(usize),
+    /// A fitted parameter that is not in the model, or has no bounds.
+    #[error("{0}")]
+    Fitted(Diagnostics),
 }
 
 /// A candidate extension, merged into the base model.
@@ -103,8 +126,8 @@ impl Candidate {
     /// # Errors
     /// Every problem of the merge or of the merged model, located in the file it came from.
     pub fn new(base: &Arc<SourceFile>, extension: &Extension) -> Result<Self, DiscoverError> {
-        let extended = extension::merge(base, std::slice::from_ref(extension)).map_err(error)?;
-        let model = extended.load().map_err(error)?;
+        let extended = extension::merge(base, std::slice::from_ref(extension))?;
+        let model = extended.load()?;
         let parameters = extension
             .raw
             .parameters
@@ -139,10 +162,10 @@ pub struct Estimate {
 /// The base model's scores.
 #[derive(Clone, Debug, Serialize)]
 pub struct Baseline {
-    /// RMSE of the fit on all rows, mm/s.
-    pub rmse_fit_mm_s: f64,
-    /// RMSE on held-out rows, mm/s.
-    pub rmse_heldout_mm_s: f64,
+    /// RMSE of the fit on all rows, in the observed column's units.
+    pub rmse_fit: f64,
+    /// RMSE on held-out rows.
+    pub rmse_heldout: f64,
     /// The refitted parameters.
     pub params: BTreeMap<String, Estimate>,
 }
@@ -154,10 +177,10 @@ pub struct Ranked {
     pub id: String,
     /// Every refitted parameter (the base's and its own).
     pub params: BTreeMap<String, Estimate>,
-    /// RMSE of the fit on all rows, mm/s.
-    pub rmse_fit_mm_s: f64,
-    /// RMSE on held-out rows, mm/s.
-    pub rmse_heldout_mm_s: f64,
+    /// RMSE of the fit on all rows, in the observed column's units.
+    pub rmse_fit: f64,
+    /// RMSE on held-out rows.
+    pub rmse_heldout: f64,
     /// The corrected Akaike criterion against the baseline's (negative: better).
     pub score: f64,
     /// The F-test's p-value against the baseline.
@@ -174,22 +197,22 @@ pub struct RegimeResiduals {
     pub regime: String,
     /// Rows in it.
     pub rows: usize,
-    /// Mean residual (model minus measured), mm/s.
-    pub mean_mm_s: f64,
-    /// Root-mean-square residual, mm/s.
-    pub rmse_mm_s: f64,
+    /// Mean residual (model minus measured), in the observed column's units.
+    pub mean: f64,
+    /// Root-mean-square residual.
+    pub rmse: f64,
     /// Whether the mean stands out of the noise (beyond three standard errors).
     pub stands_out: bool,
 }
 
-/// The trend of the residuals along one experimental factor.
+/// The trend of the residuals along one condition column.
 #[derive(Clone, Debug, Serialize)]
 pub struct FactorTrend {
-    /// `P_s_kPa`, `v_ac_mm_s` or `v_ct_mm_s`.
-    pub factor: String,
+    /// The condition column.
+    pub condition: String,
     /// The regime the trend is taken in (`all` for every row).
     pub regime: String,
-    /// Residual change per unit of the factor, mm/s per unit.
+    /// Residual change per unit of the condition (observed units per unit).
     pub slope: f64,
     /// Its standard error.
     pub std_error: f64,
@@ -202,26 +225,21 @@ pub struct FactorTrend {
 pub struct Residuals {
     /// By operating regime.
     pub by_regime: Vec<RegimeResiduals>,
-    /// By experimental factor, over all rows and within each regime with enough rows.
-    pub by_factor: Vec<FactorTrend>,
+    /// Along each condition column, over all rows and within each regime with enough rows.
+    pub by_condition: Vec<FactorTrend>,
 }
 
 /// One row with its predictions.
 #[derive(Clone, Debug, Serialize)]
-#[allow(non_snake_case)]
 pub struct RowResult {
-    /// Tank pressure, kPa.
-    pub P_s_kPa: f64,
-    /// Active-channel speed, mm/s.
-    pub v_ac_mm_s: f64,
-    /// Catheter speed, mm/s (none without a catheter).
-    pub v_ct_mm_s: Option<f64>,
-    /// Measured tip velocity, mm/s.
-    pub measured_mm_s: f64,
-    /// The refitted base model's, mm/s.
-    pub baseline_mm_s: f64,
-    /// The selected extended model's, mm/s.
-    pub selected_mm_s: Option<f64>,
+    /// The condition cells, by column (`None`: empty).
+    pub conditions: BTreeMap<String, Option<f64>>,
+    /// The measured value.
+    pub measured: f64,
+    /// The refitted base model's.
+    pub baseline: f64,
+    /// The selected extended model's.
+    pub selected: Option<f64>,
     /// The regime the base model settles in.
     pub regime: String,
 }
@@ -238,10 +256,10 @@ pub struct Separation {
 /// Held-out RMSE before and after the extension.
 #[derive(Clone, Debug, Serialize)]
 pub struct Gain {
-    /// The baseline's, mm/s.
-    pub rmse_heldout_before_mm_s: f64,
-    /// The selected extension's (the baseline's when nothing is selected), mm/s.
-    pub rmse_heldout_after_mm_s: f64,
+    /// The baseline's.
+    pub rmse_heldout_before: f64,
+    /// The selected extension's (the baseline's when nothing is selected).
+    pub rmse_heldout_after: f64,
 }
 
 /// Everything `discover` finds.
@@ -251,8 +269,11 @@ pub struct Discovery {
     pub data: String,
     /// Rows used.
     pub rows: usize,
-    /// The noise level estimated from the best model's residuals, mm/s.
-    pub noise_mm_s: f64,
+    /// The observed column's name (every RMSE and residual is in its units).
+    pub observed: String,
+    /// The noise level estimated from the best model's residuals, in the observed column's
+    /// units.
+    pub noise: f64,
     /// The base model.
     pub baseline: Baseline,
     /// Candidates, best held-out RMSE first.
@@ -295,7 +316,7 @@ struct Assessment {
 /// Simulated time within which a row must settle; the experiments filmed steady growth
 /// within seconds, and a model that has not settled after this is oscillating (a stick-slip
 /// cycle), which a steady velocity cannot describe.
-const SETTLE_WITHIN_S: f64 = 2.0;
+pub(crate) const SETTLE_WITHIN_S: f64 = 2.0;
 
 impl Assessment {
     fn rmse_fit(&self) -> f64 {
@@ -333,47 +354,82 @@ impl Assessment {
 }
 
 /// Names, bounds and starting values of the parameters to fit.
-type FittedParameters = (Vec<String>, Vec<(f64, f64)>, Vec<f64>);
-
-/// How an experimental factor is read from a row (`None`: the row does not have it).
-type Factor = fn(&Measurement) -> Option<f64>;
+pub(crate) type FittedParameters = (Vec<String>, Vec<(f64, f64)>, Vec<f64>);
 
 /// The names of the parameters to fit for `rows`, with their bounds and starting values.
-fn fitted_parameters(
+pub(crate) fn fitted_parameters(
     model: &Model,
     experiment: &Experiment,
     rows: &[Measurement],
     own: &[String],
 ) -> Result<FittedParameters, DiscoverError> {
-    let catheter = rows.iter().any(|r| r.catheter_velocity_mm_s.is_some());
-    let mut names: Vec<String> = experiment.fitted.clone();
-    if catheter {
-        names.extend(experiment.fitted_with_catheter.iter().cloned());
-    }
-    names.extend(own.iter().cloned());
+    let names = fitted_names(experiment, rows, own);
     let mut bounds = Vec::new();
     let mut start = Vec::new();
     for name in &names {
+        let field = if experiment.fitted.contains(name) {
+            "fitted"
+        } else {
+            "fitted_when_present"
+        };
         let parameter = model
             .parameters
             .iter()
             .find(|p| &p.name == name)
             .ok_or_else(|| {
-                DiscoverError(format!(
-                    "the experiment fits '{name}', which is not a parameter of model '{}'",
-                    model.name
-                ))
+                DiscoverError::Fitted(
+                    experiment
+                        .error(
+                            bondgraph_core::DiagnosticKind::UnknownName,
+                            field,
+                            name,
+                            format!(
+                                "experiment: `{field}` names '{name}', which is not a parameter of model '{}'",
+                                model.name
+                            ),
+                        )
+                        .into(),
+                )
             })?;
         let b = parameter.bounds.ok_or_else(|| {
-            DiscoverError(format!(
-                "parameter '{name}' of model '{}' is fitted but has no bounds; give it bounds: (low, high)",
-                model.name
-            ))
+            DiscoverError::Fitted(
+                experiment
+                    .error(
+                        bondgraph_core::DiagnosticKind::MissingField,
+                        field,
+                        name,
+                        format!(
+                            "experiment: parameter '{name}' of model '{}' is fitted but has no bounds",
+                            model.name
+                        ),
+                    )
+                    .note("give it bounds in the model file: bounds: (low, high)")
+                    .into(),
+            )
         })?;
         bounds.push(b);
         start.push(parameter.value);
     }
     Ok((names, bounds, start))
+}
+
+/// The parameters fitted on `rows`: the experiment's `fitted`, those of `fitted_when_present`
+/// whose column has a value in some row, then `own` (a candidate's).
+pub fn fitted_names(experiment: &Experiment, rows: &[Measurement], own: &[String]) -> Vec<String> {
+    let columns = experiment.condition_columns();
+    let mut names: Vec<String> = experiment.fitted.clone();
+    for (column, parameters) in &experiment.fitted_when_present {
+        let k = columns.iter().position(|c| c == column);
+        if k.is_some_and(|k| rows.iter().any(|r| r.conditions[k].is_some())) {
+            for name in parameters {
+                if !names.contains(name) {
+                    names.push(name.clone());
+                }
+            }
+        }
+    }
+    names.extend(own.iter().cloned());
+    names
 }
 
 /// The base model's fitted parameters and values: where a candidate's fit also starts.
@@ -417,8 +473,8 @@ fn fit_on_all(
         starts.push(start);
     }
     starts.push(bounds.iter().map(|(lo, hi)| 0.5 * (lo + hi)).collect());
-    let predictor = Predictor::new(model.clone(), source, experiment).map_err(error)?;
-    let mut evaluator = predictor.evaluator(&names).map_err(error)?;
+    let predictor = Predictor::new(model.clone(), source, experiment)?;
+    let mut evaluator = predictor.evaluator(&names)?;
     evaluator.set_max_time(SETTLE_WITHIN_S);
     let start_refs: Vec<&[f64]> = starts.iter().map(Vec::as_slice).collect();
     let fit = fit_best(&mut evaluator, rows, &start_refs, &bounds, settings)?;
@@ -427,7 +483,7 @@ fn fit_on_all(
         .predict_each(rows)
         .into_iter()
         .map(|p| match p {
-            Ok(p) => (p.tip_velocity_mm_s, p.mode),
+            Ok(p) => (p.observed[0], p.mode),
             Err(_) => (f64::NAN, "does not settle".to_string()),
         })
         .collect();
@@ -495,8 +551,8 @@ fn assess_candidate(
     Ok((fitted.assessment, false))
 }
 
-/// The held-out errors of a model fitted on all rows: leave one active-channel column out,
-/// then k-fold, each fold refitted.
+/// The held-out errors of a model fitted on all rows: leave one level out of a condition
+/// column, then k-fold, each fold refitted ([`crate::folds`]).
 fn cross_validate(
     model: &Model,
     source: &Arc<SourceFile>,
@@ -510,75 +566,17 @@ fn cross_validate(
         bounds,
         file_start,
     } = fitted;
-    let predictor = Predictor::new(model.clone(), source, experiment).map_err(error)?;
-    let mut evaluator = predictor.evaluator(&assessment.names).map_err(error)?;
+    let predictor = Predictor::new(model.clone(), source, experiment)?;
+    let mut evaluator = predictor.evaluator(&assessment.names)?;
     evaluator.set_max_time(SETTLE_WITHIN_S);
-    // Held-out errors: leave one active-channel column out, then k-fold.
-    let mut schemes: Vec<Vec<Vec<usize>>> = Vec::new();
-    let mut speeds: Vec<f64> = rows.iter().map(|r| r.channel_velocity_mm_s).collect();
-    speeds.sort_by(f64::total_cmp);
-    speeds.dedup();
-    if speeds.len() >= 2 {
-        schemes.push(
-            speeds
-                .iter()
-                .map(|&s| {
-                    (0..rows.len())
-                        .filter(|&i| rows[i].channel_velocity_mm_s == s)
-                        .collect()
-                })
-                .collect(),
-        );
-    }
-    let k = settings.folds.min(rows.len());
-    if k >= 2 {
-        // Every k-th row in order of pressure, then channel speed, then catheter speed: the
-        // rows at one pressure fall in different folds, so no fold holds out a whole
-        // condition (as taking every k-th row of the file does when k divides a column).
-        let mut order: Vec<usize> = (0..rows.len()).collect();
-        order.sort_by(|&a, &b| {
-            let key = |r: &Measurement| {
-                (
-                    r.pressure_kpa,
-                    r.channel_velocity_mm_s,
-                    r.catheter_velocity_mm_s.unwrap_or(f64::NEG_INFINITY),
-                )
-            };
-            let (ka, kb) = (key(&rows[a]), key(&rows[b]));
-            ka.0.total_cmp(&kb.0)
-                .then(ka.1.total_cmp(&kb.1))
-                .then(ka.2.total_cmp(&kb.2))
-        });
-        schemes.push(
-            (0..k)
-                .map(|f| (f..rows.len()).step_by(k).map(|r| order[r]).collect())
-                .collect(),
-        );
-    }
-    let mut folds: Vec<(Vec<Measurement>, Vec<Measurement>)> = Vec::new();
-    for scheme in &schemes {
-        for held in scheme {
-            let train: Vec<Measurement> = (0..rows.len())
-                .filter(|i| !held.contains(i))
-                .map(|i| rows[i].clone())
-                .collect();
-            let test: Vec<Measurement> = held.iter().map(|&i| rows[i].clone()).collect();
-            // A fold that holds out every row with a catheter (or every row without one)
-            // leaves nothing to fit that part of the model on: it tests the start values,
-            // not the model, and is left out.
-            let has = |rows: &[Measurement], with: bool| {
-                rows.iter()
-                    .any(|r| r.catheter_velocity_mm_s.is_some() == with)
-            };
-            if [true, false]
-                .iter()
-                .any(|&with| has(&test, with) && !has(&train, with))
-            {
-                continue;
-            }
-            folds.push((train, test));
-        }
-    }
+    let folds: Vec<(Vec<Measurement>, Vec<Measurement>)> =
+        crate::folds::folds(experiment, rows, settings.folds)
+            .into_iter()
+            .map(|fold| {
+                let pick = |indices: &[usize]| indices.iter().map(|&i| rows[i].clone()).collect();
+                (pick(&fold.train), pick(&fold.test))
+            })
+            .collect();
     let mut fold_fits = Vec::new();
     for (train, _) in &folds {
         let starts: [&[f64]; 2] = [&assessment.fit.values, file_start];
@@ -589,7 +587,7 @@ fn cross_validate(
         for (p, row) in evaluator.predict_each(test).iter().zip(test) {
             match p {
                 Ok(p) => {
-                    assessment.heldout_sse += (p.tip_velocity_mm_s - row.tip_velocity_mm_s).powi(2);
+                    assessment.heldout_sse += (p.observed[0] - row.observed[0]).powi(2);
                     assessment.heldout_count += 1;
                 }
                 Err(_) => assessment.unsettled += 1,
@@ -601,22 +599,26 @@ fn cross_validate(
 
 /// The best least-squares fit on `train` of the parameters `evaluator` sets, from each of
 /// `starts` in turn.
-fn fit_best(
+pub(crate) fn fit_best(
     evaluator: &mut Evaluator<'_>,
     train: &[Measurement],
     starts: &[&[f64]],
     bounds: &[(f64, f64)],
     settings: &Settings,
 ) -> Result<Fit, DiscoverError> {
-    let measured: Vec<f64> = train.iter().map(|r| r.tip_velocity_mm_s).collect();
+    let measured: Vec<f64> = train
+        .iter()
+        .flat_map(|r| r.observed.iter().copied())
+        .collect();
     let mut residuals = |x: &[f64]| -> Option<Vec<f64>> {
         evaluator.set(x);
         let predictions = evaluator.predict(train).ok()?;
         Some(
             predictions
                 .iter()
+                .flat_map(|p| p.observed.iter().copied())
                 .zip(&measured)
-                .map(|(p, m)| p.tip_velocity_mm_s - m)
+                .map(|(p, m)| p - m)
                 .collect(),
         )
     };
@@ -629,7 +631,22 @@ fn fit_best(
             Err(e) => failure = Some(e),
         }
     }
-    best.ok_or_else(|| error(failure.expect("at least one start")))
+    match best {
+        Some(fit) => Ok(fit),
+        None => {
+            // Name the row the model cannot evaluate, when it is one row.
+            evaluator.set(starts[0]);
+            if let Err(e) = evaluator.predict(train) {
+                return Err(e.into());
+            }
+            Err(DiscoverError::Calibration {
+                data: train
+                    .first()
+                    .map_or_else(String::new, |r| r.file.to_string()),
+                error: failure.expect("at least one start"),
+            })
+        }
+    }
 }
 
 /// Whether the candidate's own parameters' Jacobian columns lie in the span of the base
@@ -700,8 +717,11 @@ fn spans_bounds(fit: &Fit, j: usize, (a, b): (f64, f64)) -> bool {
     })
 }
 
-/// Residuals (model minus measured) by regime and by factor.
-fn residuals(
+/// Residuals (model minus measured) of observed column `column` by regime and along each
+/// condition column.
+pub(crate) fn residuals(
+    experiment: &Experiment,
+    column: usize,
     rows: &[Measurement],
     predictions: &[f64],
     regimes: &[String],
@@ -713,7 +733,7 @@ fn residuals(
             names.push(regime);
         }
     }
-    let residual = |i: usize| predictions[i] - rows[i].tip_velocity_mm_s;
+    let residual = |i: usize| predictions[i] - rows[i].observed[column];
     let settled = |i: &usize| predictions[*i].is_finite();
     let by_regime = names
         .iter()
@@ -728,19 +748,15 @@ fn residuals(
             RegimeResiduals {
                 regime: name.clone(),
                 rows: members.len(),
-                mean_mm_s: mean,
-                rmse_mm_s: rmse,
+                mean,
+                rmse,
                 stands_out: mean.abs() > 3.0 * noise / n.sqrt(),
             }
         })
         // A regime whose every row failed to settle has no residuals.
         .filter(|r| r.rows > 0)
         .collect();
-    let factors: [(&str, Factor); 3] = [
-        ("P_s_kPa", |r| Some(r.pressure_kpa)),
-        ("v_ac_mm_s", |r| Some(r.channel_velocity_mm_s)),
-        ("v_ct_mm_s", |r| r.catheter_velocity_mm_s),
-    ];
+    let columns = experiment.condition_columns();
     let mut by_factor = Vec::new();
     let groups = std::iter::once((
         "all".to_string(),
@@ -756,10 +772,10 @@ fn residuals(
         )
     }));
     for (group, members) in groups {
-        for (factor, value) in &factors {
+        for (k, condition) in columns.iter().enumerate() {
             let points: Vec<(f64, f64)> = members
                 .iter()
-                .filter_map(|&i| value(&rows[i]).map(|x| (x, residual(i))))
+                .filter_map(|&i| rows[i].conditions[k].map(|x| (x, residual(i))))
                 .collect();
             if points.len() < 4 {
                 continue;
@@ -767,7 +783,7 @@ fn residuals(
             let (x, y): (Vec<f64>, Vec<f64>) = points.into_iter().unzip();
             if let Some((slope, se)) = stats::slope(&x, &y) {
                 by_factor.push(FactorTrend {
-                    factor: (*factor).to_string(),
+                    condition: (*condition).to_string(),
                     regime: group.clone(),
                     slope,
                     std_error: se,
@@ -778,7 +794,7 @@ fn residuals(
     }
     Residuals {
         by_regime,
-        by_factor,
+        by_condition: by_factor,
     }
 }
 
@@ -796,74 +812,19 @@ impl Fitted<'_> {
         experiment: &Experiment,
         rows: &[Measurement],
     ) -> Result<Vec<f64>, DiscoverError> {
-        let predictor =
-            Predictor::new(self.model.clone(), self.source, experiment).map_err(error)?;
-        let mut evaluator = predictor.evaluator(self.names).map_err(error)?;
+        let predictor = Predictor::new(self.model.clone(), self.source, experiment)?;
+        let mut evaluator = predictor.evaluator(self.names)?;
         evaluator.set_max_time(SETTLE_WITHIN_S);
         evaluator.set(self.values);
         Ok(evaluator
             .predict_each(rows)
             .into_iter()
-            .map(|p| p.map_or(f64::NAN, |p| p.tip_velocity_mm_s))
+            .map(|p| p.map_or(f64::NAN, |p| p.observed[0]))
             .collect())
     }
 }
 
-/// Conditions wider than the data's: pressures from half the lowest to 1.5 times the
-/// highest, channel speeds from a third of the slowest to twice the fastest, and the data's
-/// catheter speeds (and a wider set) where it has a catheter.
-fn probe_conditions(rows: &[Measurement]) -> Vec<Measurement> {
-    let range = |f: &dyn Fn(&Measurement) -> f64| {
-        rows.iter()
-            .map(f)
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                (a.min(v), b.max(v))
-            })
-    };
-    let (p_lo, p_hi) = range(&|r| r.pressure_kpa);
-    let (v_lo, v_hi) = range(&|r| r.channel_velocity_mm_s);
-    let catheters: Vec<Option<f64>> = if rows.iter().any(|r| r.catheter_velocity_mm_s.is_some()) {
-        let top = rows
-            .iter()
-            .filter_map(|r| r.catheter_velocity_mm_s)
-            .fold(0.0, f64::max);
-        (0..=8)
-            .map(|k| Some(top * 2.0 * f64::from(k) / 8.0))
-            .collect()
-    } else {
-        vec![None]
-    };
-    let mut conditions = Vec::new();
-    for k in 0..=12 {
-        let p = 0.5 * p_lo + (1.5 * p_hi - 0.5 * p_lo) * f64::from(k) / 12.0;
-        for m in 0..=5 {
-            let v = v_lo / 3.0 + (2.0 * v_hi - v_lo / 3.0) * f64::from(m) / 5.0;
-            for &c in &catheters {
-                conditions.push(Measurement {
-                    pressure_kpa: p,
-                    channel_velocity_mm_s: v,
-                    catheter_velocity_mm_s: c,
-                    tip_velocity_mm_s: 0.0,
-                    row: 0,
-                });
-            }
-        }
-    }
-    conditions
-}
-
-fn describe(row: &Measurement) -> String {
-    let mut s = format!(
-        "P_s = {:.0} kPa, v_ac = {:.1} mm/s",
-        row.pressure_kpa, row.channel_velocity_mm_s
-    );
-    if let Some(v) = row.catheter_velocity_mm_s {
-        s.push_str(&format!(", v_ct = {v:.1} mm/s"));
-    }
-    s
-}
-
-/// Runs the whole procedure.
+/// Runs the whole procedure on `data` (read against `experiment`).
 ///
 /// # Errors
 /// When the base model or a candidate cannot be simulated on the data, or a fitted
@@ -871,20 +832,11 @@ fn describe(row: &Measurement) -> String {
 pub fn discover(
     base: &Arc<SourceFile>,
     experiment: &Experiment,
-    data_name: &str,
-    rows: &[Measurement],
+    data: &Dataset,
     candidates: &[Candidate],
     settings: &Settings,
 ) -> Result<Discovery, DiscoverError> {
-    discover_with_progress(
-        base,
-        experiment,
-        data_name,
-        rows,
-        candidates,
-        settings,
-        &|| {},
-    )
+    discover_with_progress(base, experiment, data, candidates, settings, &|| {})
 }
 
 /// [`discover`], calling `done` each time a model (the base or a candidate, in any order)
@@ -895,19 +847,24 @@ pub fn discover(
 pub fn discover_with_progress(
     base: &Arc<SourceFile>,
     experiment: &Experiment,
-    data_name: &str,
-    rows: &[Measurement],
+    data: &Dataset,
     candidates: &[Candidate],
     settings: &Settings,
     done: &(dyn Fn() + Sync),
 ) -> Result<Discovery, DiscoverError> {
-    if rows.len() < 8 {
-        return Err(DiscoverError(format!(
-            "{data_name}: {} rows; discovery needs at least 8 to fit and hold some out",
-            rows.len()
-        )));
+    let (data_name, rows) = (data.name.as_str(), data.rows.as_slice());
+    if experiment.observed.len() != 1 {
+        return Err(DiscoverError::ObservedColumns(experiment.observed.len()));
     }
-    let base_model = model::load_source(base).map_err(error)?;
+    if rows.len() < 8 {
+        return Err(DiscoverError::TooFewRows {
+            data: data_name.to_string(),
+            rows: rows.len(),
+            needed: 8,
+        });
+    }
+    let base_model = model::load_source(base)?;
+    let observed = experiment.observed[0].column.as_str();
     let n = rows.len() as f64;
     let mut base_fitted = fit_on_all(&base_model, base, experiment, rows, &[], None, settings)?;
     // The base model's cross-validation runs beside the candidates' fits, which only need
@@ -1018,7 +975,7 @@ pub fn discover_with_progress(
     };
 
     // What would separate them.
-    let probes = probe_conditions(rows);
+    let probes = crate::probes::grid(experiment, rows);
     let reference = match selected {
         Some(s) => Fitted {
             model: &candidates[s].model,
@@ -1057,8 +1014,8 @@ pub fn discover_with_progress(
         });
         let measurement = if difference > 3.0 * noise {
             format!(
-                "the steady tip velocity at {}: '{}' predicts {:.2} mm/s, {against} {:.2} mm/s ({:.1} noise levels apart)",
-                describe(&probes[k]),
+                "`{observed}` at {}: '{}' predicts {:.4}, {against} {:.4} ({:.1} noise levels apart)",
+                crate::probes::describe(experiment, &probes[k]),
                 candidates[i].id,
                 predictions[k],
                 reference_predictions[k],
@@ -1066,7 +1023,7 @@ pub fn discover_with_progress(
             )
         } else {
             format!(
-                "no steady tip velocity tells '{}' from {against} (they differ by at most {:.3} mm/s); {}",
+                "no steady `{observed}` tells '{}' from {against} (they differ by at most {:.4}); {}",
                 candidates[i].id,
                 difference,
                 candidates[i]
@@ -1107,8 +1064,8 @@ pub fn discover_with_progress(
             Ranked {
                 id: candidates[i].id.clone(),
                 params: assessed[i].estimates(),
-                rmse_fit_mm_s: assessed[i].rmse_fit(),
-                rmse_heldout_mm_s: assessed[i].rmse_heldout(),
+                rmse_fit: assessed[i].rmse_fit(),
+                rmse_heldout: assessed[i].rmse_heldout(),
                 score: assessed[i].aicc() - baseline.aicc(),
                 p_value: p_values[i],
                 verdict: verdict.to_string(),
@@ -1121,25 +1078,35 @@ pub fn discover_with_progress(
         .iter()
         .map(|m| experiment.regime(m))
         .collect();
-    let residuals_before = residuals(rows, &baseline.predictions, &regimes, noise);
+    let residuals_before = residuals(experiment, 0, rows, &baseline.predictions, &regimes, noise);
     let residuals_after = selected.map(|s| {
         let regimes: Vec<String> = assessed[s]
             .modes
             .iter()
             .map(|m| experiment.regime(m))
             .collect();
-        residuals(rows, &assessed[s].predictions, &regimes, noise)
+        residuals(
+            experiment,
+            0,
+            rows,
+            &assessed[s].predictions,
+            &regimes,
+            noise,
+        )
     });
     let table = rows
         .iter()
         .enumerate()
         .map(|(i, r)| RowResult {
-            P_s_kPa: r.pressure_kpa,
-            v_ac_mm_s: r.channel_velocity_mm_s,
-            v_ct_mm_s: r.catheter_velocity_mm_s,
-            measured_mm_s: r.tip_velocity_mm_s,
-            baseline_mm_s: baseline.predictions[i],
-            selected_mm_s: selected.map(|s| assessed[s].predictions[i]),
+            conditions: data
+                .conditions
+                .iter()
+                .cloned()
+                .zip(r.conditions.iter().copied())
+                .collect(),
+            measured: r.observed[0],
+            baseline: baseline.predictions[i],
+            selected: selected.map(|s| assessed[s].predictions[i]),
             regime: regimes[i].clone(),
         })
         .collect();
@@ -1155,8 +1122,7 @@ pub fn discover_with_progress(
                     .collect(),
             };
             Some(
-                edit::apply(&candidates[s].source, &edit)
-                    .map_err(error)?
+                edit::apply(&candidates[s].source, &edit)?
                     .text()
                     .to_string(),
             )
@@ -1166,10 +1132,11 @@ pub fn discover_with_progress(
     Ok(Discovery {
         data: data_name.to_string(),
         rows: rows.len(),
-        noise_mm_s: noise,
+        observed: observed.to_string(),
+        noise,
         baseline: Baseline {
-            rmse_fit_mm_s: baseline.rmse_fit(),
-            rmse_heldout_mm_s: baseline.rmse_heldout(),
+            rmse_fit: baseline.rmse_fit(),
+            rmse_heldout: baseline.rmse_heldout(),
             params: baseline.estimates(),
         },
         ranking,
@@ -1185,8 +1152,8 @@ pub fn discover_with_progress(
             .map(|i| candidates[i].id.clone())
             .collect(),
         gain: Gain {
-            rmse_heldout_before_mm_s: baseline.rmse_heldout(),
-            rmse_heldout_after_mm_s: best.rmse_heldout(),
+            rmse_heldout_before: baseline.rmse_heldout(),
+            rmse_heldout_after: best.rmse_heldout(),
         },
         residuals_before,
         residuals_after,
@@ -1203,16 +1170,17 @@ impl Discovery {
         let mut s = String::new();
         let _ = writeln!(
             s,
-            "{}: {} rows; noise estimated at {:.3} mm/s (RMS residual of the best model)",
-            self.data, self.rows, self.noise_mm_s
+            "{}: {} rows, observed `{}` (every RMSE and residual below is in its units); \
+             noise estimated at {:.3} (RMS residual of the best model)",
+            self.data, self.rows, self.observed, self.noise
         );
         let _ = writeln!(
             s,
-            "\nbase model, refitted: RMSE {:.3} mm/s on the fit, {:.3} mm/s held out",
-            self.baseline.rmse_fit_mm_s, self.baseline.rmse_heldout_mm_s
+            "\nbase model, refitted: RMSE {:.3} on the fit, {:.3} held out",
+            self.baseline.rmse_fit, self.baseline.rmse_heldout
         );
         for (name, e) in &self.baseline.params {
-            let _ = writeln!(s, "  {name} = {}", estimate(e));
+            let _ = writeln!(s, "  {name} = {}", estimate_text(e));
         }
         let _ = writeln!(s, "\nwhat it gets wrong (model minus measured):");
         write_residuals(&mut s, &self.residuals_before);
@@ -1226,7 +1194,7 @@ impl Discovery {
             let _ = writeln!(
                 s,
                 "  {:<30} {:>9.3} {:>9.3} {:>8.1} {:>9.2e}  {}",
-                r.id, r.rmse_fit_mm_s, r.rmse_heldout_mm_s, r.score, r.p_value, r.verdict
+                r.id, r.rmse_fit, r.rmse_heldout, r.score, r.p_value, r.verdict
             );
         }
         match &self.selected {
@@ -1238,7 +1206,7 @@ impl Discovery {
                 );
                 if let Some(r) = self.ranking.iter().find(|r| &r.id == id) {
                     for (name, e) in &r.params {
-                        let _ = writeln!(s, "  {name} = {}", estimate(e));
+                        let _ = writeln!(s, "  {name} = {}", estimate_text(e));
                     }
                 }
                 if let Some(after) = &self.residuals_after {
@@ -1255,8 +1223,8 @@ impl Discovery {
         }
         let _ = writeln!(
             s,
-            "held-out RMSE: {:.3} mm/s before, {:.3} mm/s after",
-            self.gain.rmse_heldout_before_mm_s, self.gain.rmse_heldout_after_mm_s
+            "held-out RMSE: {:.3} before, {:.3} after",
+            self.gain.rmse_heldout_before, self.gain.rmse_heldout_after
         );
         if !self.separation.is_empty() {
             let against = self.selected.as_deref().unwrap_or("the base model");
@@ -1276,7 +1244,8 @@ impl Discovery {
     }
 }
 
-fn estimate(e: &Estimate) -> String {
+/// An estimate as text: the value, `± SE`, the interval of a threshold, `(at its bound)`.
+pub fn estimate_text(e: &Estimate) -> String {
     let mut s = number(e.value, 6);
     if let Some(se) = e.std_error {
         s.push_str(&format!(" ± {se:.3e}"));
@@ -1304,16 +1273,17 @@ fn number(value: f64, decimals: usize) -> String {
     }
 }
 
-fn write_residuals(s: &mut String, residuals: &Residuals) {
+/// Residuals as text, one line per regime and per trend beyond the noise.
+pub fn write_residuals(s: &mut String, residuals: &Residuals) {
     use std::fmt::Write;
     for r in &residuals.by_regime {
         let _ = writeln!(
             s,
-            "  {:<18} {:>2} rows: mean {:+.3} mm/s, RMS {:.3} mm/s{}",
+            "  {:<18} {:>2} rows: mean {:+.3}, RMS {:.3}{}",
             r.regime,
             r.rows,
-            r.mean_mm_s,
-            r.rmse_mm_s,
+            r.mean,
+            r.rmse,
             if r.stands_out {
                 "  <- beyond the noise"
             } else {
@@ -1321,11 +1291,11 @@ fn write_residuals(s: &mut String, residuals: &Residuals) {
             }
         );
     }
-    for t in residuals.by_factor.iter().filter(|t| t.stands_out) {
+    for t in residuals.by_condition.iter().filter(|t| t.stands_out) {
         let _ = writeln!(
             s,
-            "  trend along {} ({}): {:+.4} ± {:.4} mm/s per unit  <- beyond the noise",
-            t.factor, t.regime, t.slope, t.std_error
+            "  trend along {} ({}): {:+.4} ± {:.4} per unit  <- beyond the noise",
+            t.condition, t.regime, t.slope, t.std_error
         );
     }
 }

@@ -1,72 +1,301 @@
-//! How a row of measured data becomes a simulation: the experimental protocol, as data.
+//! How measured data meets a model: the experiment file, as data.
 //!
-//! A measurement says "at this pressure, channel speed and catheter speed, the tip settled at
-//! this velocity". To predict it, a model must know which of its inputs those conditions set,
-//! in which units, which output is the tip velocity, what "no catheter in the lumen" means for
-//! its structure, and where each run starts. That knowledge belongs to the model, not to the
-//! program, so it lives in a small RON file next to the model (for the flagship,
-//! `models/eversion/experiment.ron`):
+//! A CSV of measurements says "with these conditions set, this was observed". To predict a
+//! row, a program must know which model input each condition column sets and in which units,
+//! which model output each observed column measures, which elements an empty cell removes
+//! from the model, where each run starts and what a calibration refits. That knowledge belongs
+//! to the model, not to the program, so it lives in a small RON file beside the model
+//! (`experiment.ron`), in the form `DESIGN.md` fixes:
 //!
-//! ```ron
-//! Experiment(
-//!     pressure: "P_s",                 // the model input set by P_s_kPa (in Pa)
-//!     channel_velocity: "v_ac",        // set by v_ac_mm_s (in m/s)
-//!     catheter_velocity: "v_ct_des",   // set by v_ct_mm_s (in m/s)
-//!     tip_velocity: "flow:pressure",   // the output compared with v_ge_mm_s
-//!     without_catheter: ["rubbing", "fr_ct", "catheter", "ct", "servo_force", "servo", "servo_command"],
-//!     initial_mode: "fr_ge=stuck,k=taut,fr_ct=stuck",
-//! )
+//! ```
+//! use bondgraph_fit::experiment::{Experiment, Kind};
+//!
+//! let text = r#"Experiment(
+//!     kind: Steady,
+//!     conditions: [("u_V", "u", 1.0), ("tau_mNm", "tau_load", 0.001)],
+//!     observed: [("w_rad_s", "flow:shaft", 1.0)],
+//!     fitted: ["R_a", "b_m"],
+//! )"#;
+//! let experiment = Experiment::parse("motor/experiment.ron", text).unwrap();
+//! assert_eq!(experiment.kind, Kind::Steady);
+//! assert_eq!(experiment.conditions[1].factor, 0.001);
+//! assert_eq!(experiment.observed[0].output, "flow:shaft");
+//!
+//! // A mistake is reported at its line and field.
+//! let error = Experiment::parse("e.ron", "Experiment(\n  kind: Steady,\n  conditons: [],\n)")
+//!     .unwrap_err();
+//! assert!(error.to_string().starts_with("e.ron:3:"), "{error}");
+//! assert!(error.to_string().contains("conditons"), "{error}");
 //! ```
 //!
-//! Each row is predicted as the steady state reached from rest (every storage element empty)
-//! in `initial_mode`, with the row's conditions held constant: the experiments set the
-//! pressure, then moved the channel at constant speed and filmed the tip once steady.
+//! Every later problem with what the file names (an input the model does not have, a removal
+//! that leaves the model invalid) is reported at the entry that names it: the experiment keeps
+//! its [`SourceFile`] for that ([`Experiment::locate`]).
 
 use std::sync::Arc;
 
-use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::linear::Var;
-use bondgraph_core::model::edit::{self, Edit};
-use bondgraph_core::model::{self, ElementKind, Model};
-use bondgraph_core::modes::Mode;
-use bondgraph_core::source::SourceFile;
-use bondgraph_solver::steady::{SteadySettings, steady_state};
-use bondgraph_solver::{Output, Simulator};
+use bondgraph_core::diagnostics::Diagnostics;
+use bondgraph_core::source::{Location, SourceFile, Span};
+use bondgraph_core::{Diagnostic, DiagnosticKind};
 use serde::Deserialize;
 
-use crate::data::Measurement;
-
-/// The experimental protocol of a model.
+/// What each row (or each file) of the data is.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
+pub enum Kind {
+    /// Each row is the steady state reached from `initial_mode`, every storage element empty,
+    /// with the row's conditions held constant.
+    Steady,
+    /// Each CSV file is one run of `scenario` (a scenario file, relative to the experiment
+    /// file), sampled at the times of the column `time.0` (`time.1` seconds per unit).
+    TimeSeries {
+        /// The scenario file that gives every input the data does not.
+        scenario: String,
+        /// The time column and its factor to seconds.
+        time: (String, f64),
+    },
+}
+
+/// A condition column: the model input it sets, `input = factor * cell` in SI units.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(from = "(String, String, f64)")]
+pub struct Condition {
+    /// The CSV column.
+    pub column: String,
+    /// The model input.
+    pub input: String,
+    /// SI units per unit of the column.
+    pub factor: f64,
+}
+
+impl From<(String, String, f64)> for Condition {
+    fn from((column, input, factor): (String, String, f64)) -> Self {
+        Self {
+            column,
+            input,
+            factor,
+        }
+    }
+}
+
+/// An observed column: the model output it measures, `output = factor * cell` in SI units.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(from = "(String, String, f64)")]
+pub struct Observed {
+    /// The CSV column.
+    pub column: String,
+    /// The model output (`flow:ELEMENT`, `effort:ELEMENT`, `across:BRANCH`, ...).
+    pub output: String,
+    /// SI units per unit of the column.
+    pub factor: f64,
+}
+
+impl From<(String, String, f64)> for Observed {
+    fn from((column, output, factor): (String, String, f64)) -> Self {
+        Self {
+            column,
+            output,
+            factor,
+        }
+    }
+}
+
+/// A removal: a row whose cell in `column` is empty is simulated without `elements`.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(from = "(String, Vec<String>)")]
+pub struct Absent {
+    /// The CSV column.
+    pub column: String,
+    /// The elements (or branches) removed, with every bond that touches them.
+    pub elements: Vec<String>,
+}
+
+impl From<(String, Vec<String>)> for Absent {
+    fn from((column, elements): (String, Vec<String>)) -> Self {
+        Self { column, elements }
+    }
+}
+
+/// The serde form of the file.
+#[derive(Deserialize)]
 #[serde(rename = "Experiment", deny_unknown_fields)]
+struct Raw {
+    kind: Kind,
+    conditions: Vec<Condition>,
+    #[serde(default)]
+    absent: Vec<Absent>,
+    observed: Vec<Observed>,
+    #[serde(default)]
+    initial_mode: Option<String>,
+    #[serde(default)]
+    fitted: Vec<String>,
+    #[serde(default)]
+    fitted_when_present: Vec<(String, Vec<String>)>,
+    #[serde(default)]
+    regimes: Vec<(String, String)>,
+    #[serde(default)]
+    noise: Option<f64>,
+}
+
+/// How the rows of a CSV become simulations of a model, and what is compared.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Experiment {
-    /// The model input set by the supply pressure.
-    pub pressure: String,
-    /// The model input set by the active-channel velocity.
-    pub channel_velocity: String,
-    /// The model input set by the catheter velocity.
-    pub catheter_velocity: String,
-    /// The output compared with the measured tip velocity (`flow:pressure`).
-    pub tip_velocity: String,
-    /// The elements removed when a row has no catheter.
-    pub without_catheter: Vec<String>,
-    /// The mode every run starts in; assignments to removed elements are dropped.
-    pub initial_mode: String,
-    /// The parameters a calibration refits on any data (the ones the model's authors
-    /// estimated from measurements rather than measured directly).
-    #[serde(default)]
+    /// Steady states or time series.
+    pub kind: Kind,
+    /// The condition columns, in file order.
+    pub conditions: Vec<Condition>,
+    /// The removals an empty cell makes.
+    pub absent: Vec<Absent>,
+    /// The observed columns.
+    pub observed: Vec<Observed>,
+    /// The mode every run starts in (assignments to removed elements are dropped); the
+    /// model's initial mode when not given.
+    pub initial_mode: Option<String>,
+    /// The parameters a calibration refits (with the bounds in the model file).
     pub fitted: Vec<String>,
-    /// The parameters refitted in addition when the data has catheter rows.
-    #[serde(default)]
-    pub fitted_with_catheter: Vec<String>,
-    /// Operating regimes, named physically, each by the switching elements' modes that
-    /// define it (`("static", "fr_ge=stuck")`): the first whose every assignment holds in
-    /// the mode a row settles in names the row's regime.
-    #[serde(default)]
+    /// Parameters refitted too when the column has values in the data.
+    pub fitted_when_present: Vec<(String, Vec<String>)>,
+    /// Operating regimes, named physically, each by the switching elements' modes that define
+    /// it: the first whose every assignment holds in the mode a row settles in names it.
     pub regimes: Vec<(String, String)>,
+    /// The measurement's known noise (standard deviation), in the observed column's units.
+    pub noise: Option<f64>,
+    source: Arc<SourceFile>,
+}
+
+/// Why an experiment cannot be used: located diagnostics (the experiment file's, and the
+/// model's where a removal breaks it), or a data row the model cannot evaluate.
+#[derive(Clone, Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ExperimentError {
+    /// The experiment file or what it names, located in the files concerned.
+    #[error("{0}")]
+    Diagnostics(Diagnostics),
+    /// A row of the data the model cannot predict.
+    #[error("{file}:{row}: {cells}: {reason}")]
+    Row {
+        /// The data file.
+        file: String,
+        /// Its line.
+        row: usize,
+        /// The row's condition cells, `column = value`.
+        cells: String,
+        /// Why (a simulation that does not settle, a friction law violated).
+        reason: String,
+    },
+}
+
+impl From<Diagnostics> for ExperimentError {
+    fn from(diagnostics: Diagnostics) -> Self {
+        Self::Diagnostics(diagnostics)
+    }
+}
+
+impl From<Diagnostic> for ExperimentError {
+    fn from(diagnostic: Diagnostic) -> Self {
+        Self::Diagnostics(diagnostic.into())
+    }
 }
 
 impl Experiment {
+    /// Reads an experiment from RON text, naming `name` in errors.
+    ///
+    /// # Errors
+    /// Syntax errors and unknown or missing fields at their line and column; a column named
+    /// twice, a factor that is zero or not finite, a noise that is not positive, and a
+    /// `fitted_when_present` or `absent` column that names no condition, at the entry.
+    pub fn parse(name: &str, text: &str) -> Result<Self, ExperimentError> {
+        Self::from_source(&SourceFile::new(name, text))
+    }
+
+    /// [`Experiment::parse`] of an already read file.
+    ///
+    /// # Errors
+    /// As [`Experiment::parse`].
+    pub fn from_source(source: &Arc<SourceFile>) -> Result<Self, ExperimentError> {
+        // `initial_mode: "..."` and `noise: 0.1`, as DESIGN.md writes them, without `Some(...)`.
+        let raw: Raw = ron::Options::default()
+            .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+            .from_str(source.text())
+            .map_err(|e| {
+                let (line, column) = (e.span.start.line, e.span.start.col);
+                let offset = source.offset(line, column);
+                Diagnostic::new(DiagnosticKind::Syntax, format!("experiment: {}", e.code))
+                    .at(source, Span::new(offset, offset))
+            })?;
+        let experiment = Self {
+            kind: raw.kind,
+            conditions: raw.conditions,
+            absent: raw.absent,
+            observed: raw.observed,
+            initial_mode: raw.initial_mode,
+            fitted: raw.fitted,
+            fitted_when_present: raw.fitted_when_present,
+            regimes: raw.regimes,
+            noise: raw.noise,
+            source: source.clone(),
+        };
+        experiment.check()?;
+        Ok(experiment)
+    }
+
+    /// The experiment file.
+    pub fn source(&self) -> &Arc<SourceFile> {
+        &self.source
+    }
+
+    /// Where the string `"value"` is written in the entry `field` of the file (the first
+    /// occurrence after `field:`), or the field itself, or the file's start.
+    pub fn locate(&self, field: &str, value: &str) -> Location {
+        let text = self.source.text();
+        let start = field_offset(text, field);
+        let span = start
+            .and_then(|at| {
+                let quoted = format!("\"{value}\"");
+                text[at..]
+                    .find(&quoted)
+                    .map(|k| Span::new(at + k, at + k + quoted.len()))
+            })
+            .or_else(|| start.map(|at| Span::new(at, at + field.len())))
+            .unwrap_or(Span::new(0, 0));
+        self.source.locate(span)
+    }
+
+    /// A diagnostic of `kind` pointing at `value` in `field`.
+    pub fn error(
+        &self,
+        kind: DiagnosticKind,
+        field: &str,
+        value: &str,
+        message: String,
+    ) -> Diagnostic {
+        Diagnostic::new(kind, message).at_location(self.locate(field, value))
+    }
+
+    /// Every column the experiment reads besides the observed ones (and the time): the
+    /// condition columns, then the `absent` columns that set no input.
+    pub fn condition_columns(&self) -> Vec<&str> {
+        let mut columns: Vec<&str> = self.conditions.iter().map(|c| c.column.as_str()).collect();
+        for absent in &self.absent {
+            if !columns.contains(&absent.column.as_str()) {
+                columns.push(&absent.column);
+            }
+        }
+        columns
+    }
+
+    /// Whether an empty cell is allowed in `column` (it is an `absent` column).
+    pub fn may_be_empty(&self, column: &str) -> bool {
+        self.absent.iter().any(|a| a.column == column)
+    }
+
+    /// The time column and its factor to seconds, for a time series.
+    pub fn time(&self) -> Option<(&str, f64)> {
+        match &self.kind {
+            Kind::Steady => None,
+            Kind::TimeSeries { time, .. } => Some((time.0.as_str(), time.1)),
+        }
+    }
+
     /// The physical name of the regime a row that settled in `mode` is in, or the mode
     /// itself when no regime matches.
     pub fn regime(&self, mode: &str) -> String {
@@ -81,409 +310,203 @@ impl Experiment {
             })
             .map_or_else(|| mode.to_string(), |(name, _)| name.clone())
     }
-}
 
-/// Why a prediction failed.
-#[derive(Clone, Debug)]
-pub struct ExperimentError(pub String);
-
-impl std::fmt::Display for ExperimentError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for ExperimentError {}
-
-impl Experiment {
-    /// Reads an experiment description from RON text, naming `name` in errors.
-    ///
-    /// # Errors
-    /// Syntax errors and unknown or missing fields, with the line and column.
-    pub fn parse(name: &str, text: &str) -> Result<Self, ExperimentError> {
-        ron::Options::default().from_str(text).map_err(|e| {
-            ExperimentError(format!(
-                "{name}:{}:{}: {}",
-                e.span.start.line, e.span.start.col, e.code
-            ))
-        })
-    }
-}
-
-/// One model variant ready to predict rows: the model and its simulator's setup.
-struct Variant {
-    model: Model,
-    pressure: usize,
-    channel: usize,
-    catheter: Option<usize>,
-    output: OutputSpec,
-    initial: Mode,
-}
-
-/// A model prepared to predict measurements: the model as is for rows with a catheter, and
-/// without the catheter's elements for rows without one.
-///
-/// A `Predictor` owns the models; [`Predictor::evaluator`] makes an [`Evaluator`], which keeps
-/// the simulators (and so every mode derived symbolically) between predictions and takes new
-/// parameter values without deriving anything again: what a calibration needs.
-pub struct Predictor {
-    with_catheter: Variant,
-    without_catheter: Option<Variant>,
-    settings: SteadySettings,
-}
-
-/// The prediction of one row.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Prediction {
-    /// The steady tip velocity, mm/s.
-    pub tip_velocity_mm_s: f64,
-    /// The mode the model settles in (`fr_ge=slip+,k=slack`).
-    pub mode: String,
-}
-
-impl Predictor {
-    /// Prepares `model` (read from `source`) for `experiment`: the model as is for rows with a
-    /// catheter, and without the catheter's elements for rows without one.
-    ///
-    /// # Errors
-    /// When the experiment names inputs, outputs or elements the model does not have, or the
-    /// model without its catheter is not valid.
-    pub fn new(
-        model: Model,
-        source: &Arc<SourceFile>,
-        experiment: &Experiment,
-    ) -> Result<Self, ExperimentError> {
-        let without = if experiment.without_catheter.is_empty() {
-            None
-        } else {
-            let edit = Edit {
-                remove: experiment.without_catheter.clone(),
-                parameters: Vec::new(),
-            };
-            let edited = edit::apply(source, &edit).map_err(|d| ExperimentError(d.to_string()))?;
-            let reduced =
-                model::load_source(&edited).map_err(|d| ExperimentError(d.to_string()))?;
-            Some(Variant::new(
-                with_values(reduced, &model),
-                experiment,
-                false,
-            )?)
-        };
-        Ok(Self {
-            with_catheter: Variant::new(model, experiment, true)?,
-            without_catheter: without,
-            settings: SteadySettings::default(),
-        })
-    }
-
-    /// The model used for rows with a catheter.
-    pub fn model(&self) -> &Model {
-        &self.with_catheter.model
-    }
-
-    /// Sets parameter values (by name) in every variant; the structure and so the symbolic
-    /// equations do not change. (An [`Evaluator`] does the same without touching the models.)
-    ///
-    /// # Errors
-    /// When a name is not a parameter of the model.
-    pub fn set_parameters(&mut self, values: &[(String, f64)]) -> Result<(), ExperimentError> {
-        for variant in
-            std::iter::once(&mut self.with_catheter).chain(self.without_catheter.as_mut())
-        {
-            for (name, value) in values {
-                let index = variant.parameter_index(name)?;
-                variant.model.values[index] = *value;
-                if let Some(parameter) = variant
-                    .model
-                    .parameters
-                    .iter_mut()
-                    .find(|p| &p.name == name)
-                {
-                    parameter.value = *value;
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// The predicted steady tip velocity of each row, in mm/s.
-    ///
-    /// # Errors
-    /// When a simulation fails or does not settle.
-    pub fn predict(&self, rows: &[Measurement]) -> Result<Vec<f64>, ExperimentError> {
-        Ok(self
-            .evaluator(&[])?
-            .predict(rows)?
-            .into_iter()
-            .map(|p| p.tip_velocity_mm_s)
-            .collect())
-    }
-
-    /// An evaluator whose [`Evaluator::set`] takes values of the parameters `names`, in order.
-    ///
-    /// # Errors
-    /// When a name is not a parameter of the model.
-    pub fn evaluator(&self, names: &[String]) -> Result<Evaluator<'_>, ExperimentError> {
-        let slots = |variant: &Variant| {
-            names
-                .iter()
-                .map(|name| variant.parameter_index(name))
-                .collect::<Result<Vec<_>, _>>()
-        };
-        let with = Session::new(&self.with_catheter, slots(&self.with_catheter)?);
-        let without = match &self.without_catheter {
-            Some(variant) => Some(Session::new(variant, slots(variant)?)),
-            None => None,
-        };
-        Ok(Evaluator {
-            sessions: [Some(with), without],
-            settings: self.settings,
-        })
-    }
-}
-
-/// Predicts rows with changing parameter values, keeping every mode derived so far.
-pub struct Evaluator<'p> {
-    /// With the catheter, and without it.
-    sessions: [Option<Session<'p>>; 2],
-    settings: SteadySettings,
-}
-
-/// One variant's simulator and where the evaluator's parameters sit in its values.
-struct Session<'p> {
-    variant: &'p Variant,
-    simulator: Simulator<'p>,
-    slots: Vec<usize>,
-    values: Vec<f64>,
-}
-
-impl<'p> Session<'p> {
-    fn new(variant: &'p Variant, slots: Vec<usize>) -> Self {
-        let outputs = vec![Output {
-            name: "tip".into(),
-            spec: variant.output.clone(),
-            integral: false,
-        }];
-        Self {
-            variant,
-            simulator: Simulator::new(&variant.model, outputs),
-            slots,
-            values: variant.model.values.clone(),
-        }
-    }
-}
-
-impl Evaluator<'_> {
-    /// Sets the values of the evaluator's parameters (in the order they were named).
-    ///
-    /// # Panics
-    /// When `values` does not have one value per parameter named.
-    pub fn set(&mut self, values: &[f64]) {
-        for session in self.sessions.iter_mut().flatten() {
-            assert_eq!(values.len(), session.slots.len(), "one value per parameter");
-            for (&slot, &value) in session.slots.iter().zip(values) {
-                session.values[slot] = value;
-            }
-            session
-                .simulator
-                .set_parameter_values(&session.values)
-                .expect("values indexed like the model's");
-        }
-    }
-
-    /// The predicted steady state of each row.
-    ///
-    /// # Errors
-    /// When a simulation fails or does not settle, naming the row.
-    pub fn predict(&mut self, rows: &[Measurement]) -> Result<Vec<Prediction>, ExperimentError> {
-        self.predict_each(rows).into_iter().collect()
-    }
-
-    /// The predicted steady state of each row, or why that row has none (a simulation that
-    /// does not settle, as in a stick-slip cycle), row by row.
-    pub fn predict_each(
-        &mut self,
-        rows: &[Measurement],
-    ) -> Vec<Result<Prediction, ExperimentError>> {
-        let mut predictions: Vec<Option<Result<Prediction, ExperimentError>>> =
-            (0..rows.len()).map(|_| None).collect();
-        for (k, with) in [(0, true), (1, false)] {
-            let indices: Vec<usize> = (0..rows.len())
-                .filter(|&i| rows[i].catheter_velocity_mm_s.is_some() == with)
-                .collect();
-            let Some(session) = self.sessions[k].as_mut() else {
-                for i in indices {
-                    predictions[i] = Some(Err(ExperimentError(
-                        "rows without a catheter, but the experiment names no catheter elements to remove".into(),
-                    )));
-                }
-                continue;
-            };
-            let variant = session.variant;
-            let storage = session.simulator.storage().len();
-            for i in indices {
-                let row = &rows[i];
-                let mut inputs = vec![0.0; variant.model.inputs.len()];
-                inputs[variant.pressure] = row.pressure_kpa * 1e3;
-                inputs[variant.channel] = row.channel_velocity_mm_s * 1e-3;
-                if let (Some(k), Some(v)) = (variant.catheter, row.catheter_velocity_mm_s) {
-                    inputs[k] = v * 1e-3;
-                }
-                let located = |e: String| {
-                    ExperimentError(format!("row {} ({}): {e}", row.row, describe(row)))
-                };
-                let prediction = check_friction_levels(&variant.model, &session.values, &inputs)
-                    .map_err(located)
-                    .and_then(|()| {
-                        steady_state(
-                            &mut session.simulator,
-                            &inputs,
-                            variant.initial.clone(),
-                            vec![0.0; storage],
-                            &self.settings,
-                        )
-                        .map_err(|e| located(e.to_string()))
-                    })
-                    .map(|steady| Prediction {
-                        tip_velocity_mm_s: steady.outputs[0] * 1e3,
-                        mode: steady.mode,
-                    });
-                predictions[i] = Some(prediction);
-            }
-        }
-        predictions
-            .into_iter()
-            .map(|p| p.expect("every row predicted"))
-            .collect()
-    }
-
-    /// Gives up on rows that have not settled after `seconds` of simulated time (a
-    /// calibration tries values where the model oscillates forever).
-    pub fn set_max_time(&mut self, seconds: f64) {
-        self.settings.max_time = seconds;
-    }
-}
-
-/// A friction contact must break away at or above its Coulomb force, and neither may be
-/// negative: parameter values a calibration tries can violate this where the model file's
-/// values did not, and the contact then has no consistent mode.
-fn check_friction_levels(model: &Model, values: &[f64], inputs: &[f64]) -> Result<(), String> {
-    let level = |form: &bondgraph_core::linear::LinearForm| -> f64 {
-        form.terms()
+    /// Checks what can be checked without the model.
+    fn check(&self) -> Result<(), Diagnostics> {
+        let mut problems = Vec::new();
+        let mut seen: Vec<&str> = Vec::new();
+        let columns = self
+            .conditions
             .iter()
-            .map(|(var, coefficient)| {
-                let c = coefficient.eval(values);
-                match var {
-                    Var::Constant => c,
-                    Var::Input(i) => c * inputs[*i as usize],
-                    _ => 0.0,
-                }
-            })
-            .sum()
-    };
-    for id in model.element_ids() {
-        let element = model.element(id);
-        if let ElementKind::Friction(friction) = &element.kind {
-            let (f_s, f_c) = (
-                level(&friction.breakaway.value),
-                level(&friction.coulomb.value),
-            );
-            if f_c < 0.0 || f_s < f_c {
-                return Err(format!(
-                    "friction contact '{}': breakaway {f_s} N and Coulomb {f_c} N, but F_S >= F_C >= 0",
-                    element.name
+            .map(|c| ("conditions", c.column.as_str(), c.factor))
+            .chain(
+                self.observed
+                    .iter()
+                    .map(|o| ("observed", o.column.as_str(), o.factor)),
+            )
+            .chain(self.time().map(|(column, factor)| ("time", column, factor)));
+        for (field, column, factor) in columns {
+            if seen.contains(&column) {
+                problems.push(self.error(
+                    DiagnosticKind::DuplicateName,
+                    field,
+                    column,
+                    format!("experiment: column `{column}` is named twice"),
+                ));
+            }
+            seen.push(column);
+            if !(factor.is_finite() && factor != 0.0) {
+                problems.push(self.error(
+                    DiagnosticKind::InvalidValue,
+                    field,
+                    column,
+                    format!("experiment: the factor of column `{column}` is {factor}; it must be a finite, non-zero number of SI units per unit of the column"),
                 ));
             }
         }
-    }
-    Ok(())
-}
-
-/// `reduced` with the parameter values of `original` (the edit keeps the file's values; a
-/// calibrated model may have others).
-fn with_values(mut reduced: Model, original: &Model) -> Model {
-    for parameter in &mut reduced.parameters {
-        if let Some(source) = original
-            .parameters
-            .iter()
-            .find(|p| p.name == parameter.name)
+        if self.observed.is_empty() {
+            problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::MissingField,
+                    "experiment: `observed` is empty; name at least one observed column",
+                )
+                .at_location(self.locate("observed", "")),
+            );
+        }
+        let observed: Vec<&str> = self.observed.iter().map(|o| o.column.as_str()).collect();
+        for absent in &self.absent {
+            if observed.contains(&absent.column.as_str()) {
+                problems.push(self.error(
+                    DiagnosticKind::ConflictingFields,
+                    "absent",
+                    &absent.column,
+                    format!(
+                        "experiment: `absent` column `{}` is an observed column",
+                        absent.column
+                    ),
+                ));
+            }
+        }
+        let readable = self.condition_columns();
+        for (column, _) in &self.fitted_when_present {
+            if !readable.contains(&column.as_str()) {
+                problems.push(self.error(
+                    DiagnosticKind::UnknownName,
+                    "fitted_when_present",
+                    column,
+                    format!("experiment: `fitted_when_present` names column `{column}`, which is neither a condition nor an `absent` column"),
+                ));
+            }
+        }
+        if let Some(noise) = self.noise
+            && !(noise.is_finite() && noise > 0.0)
         {
-            parameter.value = source.value;
-            reduced.values[parameter.symbol.index()] = source.value;
+            problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::InvalidValue,
+                    format!("experiment: noise {noise} must be a positive standard deviation"),
+                )
+                .at_location(self.locate("noise", "")),
+            );
+        }
+        if problems.is_empty() {
+            Ok(())
+        } else {
+            Err(Diagnostics(problems))
         }
     }
-    reduced
 }
 
-fn describe(row: &Measurement) -> String {
-    match row.catheter_velocity_mm_s {
-        Some(v) => format!(
-            "P_s = {} kPa, v_ac = {} mm/s, v_ct = {v} mm/s",
-            row.pressure_kpa, row.channel_velocity_mm_s
-        ),
-        None => format!(
-            "P_s = {} kPa, v_ac = {} mm/s, no catheter",
-            row.pressure_kpa, row.channel_velocity_mm_s
-        ),
+/// The byte offset of `field:` written as a field name (not in a comment), if any.
+fn field_offset(text: &str, field: &str) -> Option<usize> {
+    let mut offset = 0;
+    for line in text.split_inclusive('\n') {
+        let code = line.split("//").next().unwrap_or("");
+        let mut from = 0;
+        while let Some(k) = code[from..].find(field) {
+            let at = from + k;
+            let before = code[..at].chars().next_back();
+            let after = code[at + field.len()..].trim_start();
+            if !before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == '"')
+                && after.starts_with(':')
+            {
+                return Some(offset + at);
+            }
+            from = at + field.len();
+        }
+        offset += line.len();
     }
+    None
 }
 
-impl Variant {
-    /// Where the parameter `name` sits in the model's values.
-    fn parameter_index(&self, name: &str) -> Result<usize, ExperimentError> {
-        self.model
-            .parameters
-            .iter()
-            .find(|p| p.name == name)
-            .map(|p| p.symbol.index())
-            .ok_or_else(|| {
-                ExperimentError(format!(
-                    "'{name}' is not a parameter of model '{}'",
-                    self.model.name
-                ))
-            })
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MOTOR: &str = r#"Experiment(
+    kind: Steady,
+    conditions: [("u_V", "u", 1.0), ("tau_mNm", "tau_load", 0.001)],
+    absent: [("tau_mNm", ["load"])],
+    observed: [("w_rad_s", "flow:shaft", 1.0)],
+    fitted: ["R_a"],
+    fitted_when_present: [("tau_mNm", ["b_load"])],
+    noise: 0.05,
+)"#;
+
+    fn message(text: &str) -> String {
+        Experiment::parse("e.ron", text).unwrap_err().to_string()
     }
 
-    fn new(
-        model: Model,
-        experiment: &Experiment,
-        with_catheter: bool,
-    ) -> Result<Self, ExperimentError> {
-        let input = |name: &str| {
-            model.input_named(name).map(|i| i.index()).ok_or_else(|| {
-                ExperimentError(format!(
-                    "the experiment's input '{name}' is not an input of model '{}'",
-                    model.name
-                ))
-            })
-        };
-        let pressure = input(&experiment.pressure)?;
-        let channel = input(&experiment.channel_velocity)?;
-        let catheter = if with_catheter {
-            Some(input(&experiment.catheter_velocity)?)
-        } else {
-            None
-        };
-        let output = OutputSpec::parse(&model, &experiment.tip_velocity)
-            .map_err(|d| ExperimentError(d.to_string()))?;
-        // Keep the assignments to elements this variant has.
-        let spec: Vec<&str> = experiment
-            .initial_mode
-            .split(',')
-            .filter(|part| {
-                part.split_once('=')
-                    .is_some_and(|(name, _)| model.element_named(name.trim()).is_some())
-            })
-            .collect();
-        let initial =
-            Mode::parse(&model, &spec.join(",")).map_err(|d| ExperimentError(d.to_string()))?;
-        Ok(Self {
-            model,
-            pressure,
-            channel,
-            catheter,
-            output,
-            initial,
-        })
+    #[test]
+    fn every_field_is_read() {
+        let e = Experiment::parse("e.ron", MOTOR).unwrap();
+        assert_eq!(e.condition_columns(), ["u_V", "tau_mNm"]);
+        assert!(e.may_be_empty("tau_mNm") && !e.may_be_empty("u_V"));
+        assert_eq!(e.absent[0].elements, ["load"]);
+        assert_eq!(e.fitted_when_present[0].1, ["b_load"]);
+        assert_eq!(e.noise, Some(0.05));
+        assert_eq!(e.initial_mode, None);
+        assert_eq!(e.time(), None);
+    }
+
+    #[test]
+    fn a_time_series_names_its_scenario_and_time_column() {
+        let text = MOTOR.replace(
+            "kind: Steady",
+            r#"kind: TimeSeries(scenario: "step.ron", time: ("t_ms", 0.001))"#,
+        );
+        let e = Experiment::parse("e.ron", &text).unwrap();
+        assert_eq!(e.time(), Some(("t_ms", 0.001)));
+    }
+
+    #[test]
+    fn unknown_and_missing_fields_at_their_line() {
+        let m = message(&MOTOR.replace("    fitted: [", "    fited: ["));
+        assert!(m.starts_with("e.ron:6:5: error: experiment: "), "{m}");
+        assert!(m.contains("fited"), "{m}");
+        let m = message("Experiment(\n    kind: Steady,\n    conditions: [],\n)");
+        assert!(m.contains("observed"), "{m}");
+    }
+
+    #[test]
+    fn bad_entries_at_the_entry() {
+        let m = message(&MOTOR.replace("\"tau_load\", 0.001", "\"tau_load\", 0.0"));
+        assert_eq!(
+            m,
+            "e.ron:3:38: error: experiment: the factor of column `tau_mNm` is 0; it must be a \
+             finite, non-zero number of SI units per unit of the column"
+        );
+        let m =
+            message(&MOTOR.replace("(\"tau_mNm\", [\"b_load\"])", "(\"tau_Nm\", [\"b_load\"])"));
+        assert!(
+            m.starts_with(
+                "e.ron:7:28: error: experiment: `fitted_when_present` names column `tau_Nm`"
+            ),
+            "{m}"
+        );
+        let m = message(&MOTOR.replace("noise: 0.05", "noise: -1.0"));
+        assert!(
+            m.starts_with("e.ron:8:5: error: experiment: noise -1"),
+            "{m}"
+        );
+        let m = message(&MOTOR.replace("(\"w_rad_s\"", "(\"u_V\""));
+        assert!(m.contains("column `u_V` is named twice"), "{m}");
+    }
+
+    #[test]
+    fn field_names_in_comments_or_strings_are_not_fields() {
+        let text = "// fitted: no\nExperiment(x: \"fitted: \", fitted: [])";
+        assert_eq!(field_offset(text, "fitted"), Some(40));
+    }
+
+    #[test]
+    fn regimes_by_the_first_matching_pattern() {
+        let text = MOTOR.replace(
+            "noise: 0.05,",
+            r#"regimes: [("held", "fr=stuck"), ("moving", "")],"#,
+        );
+        let e = Experiment::parse("e.ron", &text).unwrap();
+        assert_eq!(e.regime("fr=stuck,k=taut"), "held");
+        assert_eq!(e.regime("fr=slip+"), "fr=slip+");
     }
 }

@@ -1,23 +1,32 @@
-//! Measured data against bond-graph models.
+//! Measured data against models: experiments, calibration, residuals, candidate extensions,
+//! selection, for any model.
 //!
-//! A model derived from first principles is only as good as its agreement with the robot it
-//! describes. This crate is where the two meet: it reads measured steady states, calibrates a
-//! model's parameters on them, computes residuals, tries candidate extensions (small bond-graph
-//! fragments with a physical cause) that could explain what the model gets wrong, and selects
-//! among them on held-out data, saying when the data cannot tell candidates apart.
+//! A model derived from first principles is only as good as its agreement with the system it
+//! describes. This crate is where the two meet: it reads measurements (the conditions that
+//! were set and what was observed, in the columns an experiment file names), calibrates a
+//! model's parameters on them, computes residuals by regime and by condition, tries candidate
+//! extensions (small bond-graph fragments with a physical cause) that could explain what the
+//! model gets wrong, and selects among them on held-out data, saying when the data cannot
+//! tell candidates apart. It knows nothing of any particular system: the flagship study
+//! (`studies/eversion`) uses it like any other user.
 //!
-//! - [`data`]: the CSV format of measured data, its reader (which refuses bad rows and says
-//!   where they are) and its writer (for synthetic data);
-//! - [`experiment`]: the protocol that turns a row of data into a simulation, and the
-//!   prediction of rows as steady states;
-//! - [`reproduce`]: the main job, the flagship against the paper's tables and figure, and
-//!   [`report`], its report.
+//! - [`experiment`]: the experiment file (which columns set which inputs, what is observed,
+//!   what an empty cell removes, what is refitted);
+//! - [`data`]: the CSV reader (which refuses bad rows and says where they are) and writer;
+//! - [`predict`]: a model prepared once for an experiment, predicting rows as steady states;
+//! - [`calibrate`]: bounded least squares for piecewise-smooth steady states;
+//! - [`calibration`]: a model calibrated on data, with residuals by regime and condition;
+//! - [`folds`] and [`probes`]: held-out folds, and conditions that separate two models;
+//! - [`discover`]: which candidate extension explains the misfit;
+//! - [`synthetic`]: data made from a model with known values, for tests.
 
 pub mod calibrate;
+pub mod calibration;
 pub mod data;
 pub mod discover;
 pub mod experiment;
-pub mod report;
-pub mod reproduce;
+pub mod folds;
+pub mod predict;
+pub mod probes;
 pub mod stats;
 pub mod synthetic;

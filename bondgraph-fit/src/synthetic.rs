@@ -1,11 +1,10 @@
 //! Synthetic measurements: a model (possibly extended with a hidden effect) simulated on an
 //! experimental design, with measurement noise.
 //!
-//! This is how `discover` is tested: data made from the flagship with one extension hidden
-//! in it, handed over as CSV, must lead back to that extension; data with nothing hidden
-//! must give nothing. The noise is Gaussian (SplitMix64 seeds, Box–Muller), and a velocity
-//! cannot be measured below zero (a tip held by the nozzle is filmed standing still), so
-//! noisy values are clipped at zero as the data format requires.
+//! This is how `calibrate` and `discover` are tested: data made from a model with known
+//! parameter values (or with one extension hidden in it), handed over as CSV, must lead back
+//! to those values (or that extension); data with nothing hidden must give nothing. The
+//! noise is Gaussian (SplitMix64 seeds, Box–Muller), deterministic for a seed.
 
 use std::sync::Arc;
 
@@ -13,63 +12,8 @@ use bondgraph_core::model::Model;
 use bondgraph_core::source::SourceFile;
 
 use crate::data::Measurement;
-use crate::experiment::{Experiment, ExperimentError, Predictor};
-
-/// The design of the paper's Table III: tank pressures 110 to 150 kPa in steps of 5, at
-/// active-channel speeds 5.8, 8.7 and 11.6 mm/s, without a catheter.
-pub fn table3_design() -> Vec<Measurement> {
-    let mut rows = Vec::new();
-    for v_ac in [5.8, 8.7, 11.6] {
-        for k in 0..9 {
-            rows.push(Measurement {
-                pressure_kpa: 110.0 + 5.0 * f64::from(k),
-                channel_velocity_mm_s: v_ac,
-                catheter_velocity_mm_s: None,
-                tip_velocity_mm_s: 0.0,
-                row: rows.len() + 2,
-            });
-        }
-    }
-    rows
-}
-
-/// A catheter sweep that shows the catheter's friction: the robot without a catheter at
-/// 110 to 150 kPa (steps of 10) at Table III's active-channel speeds, then with the
-/// catheter driven at 0 to 60 mm/s at 110, 130 and 150 kPa while the channel pays out at
-/// 50 mm/s.
-///
-/// The paper's own sweep (Table VI: one pressure, catheter speeds up to 6.3 mm/s) cannot
-/// show the catheter's friction: stuck to the inner structure, the catheter can pull the tip
-/// with up to `2 F_S_ct` = 12.1 N, and at those speeds the tip needs at most a few newtons,
-/// so every row is catheter-locked at `v_ct/2` whatever the friction. The sheath stops
-/// following the catheter once `b v_ct/2 > 2 F_S_ct + A P_s - F_C_ge`, at 22 to 29 mm/s for
-/// the paper's values; beyond that the tip slides at `(A P_s - F_C_ge + 2 F_C_ct)/b`, and
-/// the sweep goes on well past that (to 60 mm/s) so that several rows at every pressure
-/// show where the tip slides. The channel pays out fast enough (50 mm/s, more than twice
-/// any tip speed here) for the inner structure to stay slack, so the catheter alone decides.
-pub fn catheter_sweep_design() -> Vec<Measurement> {
-    let mut rows = Vec::new();
-    let mut push = |pressure: f64, channel: f64, catheter: Option<f64>| {
-        rows.push(Measurement {
-            pressure_kpa: pressure,
-            channel_velocity_mm_s: channel,
-            catheter_velocity_mm_s: catheter,
-            tip_velocity_mm_s: 0.0,
-            row: rows.len() + 2,
-        });
-    };
-    for channel in [5.8, 8.7, 11.6] {
-        for k in 0..5 {
-            push(110.0 + 10.0 * f64::from(k), channel, None);
-        }
-    }
-    for pressure in [110.0, 130.0, 150.0] {
-        for catheter in [0.0, 10.0, 20.0, 25.0, 30.0, 35.0, 40.0, 50.0, 60.0] {
-            push(pressure, 50.0, Some(catheter));
-        }
-    }
-    rows
-}
+use crate::experiment::{Experiment, ExperimentError};
+use crate::predict::Predictor;
 
 /// A deterministic source of normal deviates.
 #[derive(Clone, Debug)]
@@ -110,18 +54,22 @@ impl Noise {
     }
 }
 
-/// The steady tip velocities `model` (with `values` set, by parameter name) predicts on
-/// `design`, plus Gaussian noise of standard deviation `noise_mm_s`, clipped at zero.
+/// What `model` (with `values` set, by parameter name) predicts on `design` for every
+/// observed column, plus Gaussian noise of standard deviation `noise_sd` (in each column's
+/// units), optionally clipped from below at `floor` (a velocity filmed standing still cannot
+/// be negative).
 ///
 /// # Errors
 /// When a parameter is unknown or a row does not settle.
+#[allow(clippy::too_many_arguments)]
 pub fn measure(
     model: &Model,
     source: &Arc<SourceFile>,
     experiment: &Experiment,
     values: &[(String, f64)],
     design: &[Measurement],
-    noise_mm_s: f64,
+    noise_sd: f64,
+    floor: Option<f64>,
     noise: &mut Noise,
 ) -> Result<Vec<Measurement>, ExperimentError> {
     let mut predictor = Predictor::new(model.clone(), source, experiment)?;
@@ -130,8 +78,14 @@ pub fn measure(
     Ok(design
         .iter()
         .zip(truth)
-        .map(|(row, v)| Measurement {
-            tip_velocity_mm_s: (v + noise_mm_s * noise.normal()).max(0.0),
+        .map(|(row, observed)| Measurement {
+            observed: observed
+                .iter()
+                .map(|v| {
+                    let noisy = v + noise_sd * noise.normal();
+                    floor.map_or(noisy, |f| noisy.max(f))
+                })
+                .collect(),
             ..row.clone()
         })
         .collect())
@@ -154,13 +108,5 @@ mod tests {
         assert!(mean.abs() < 0.01, "{mean}");
         assert!((variance - 1.0).abs() < 0.015, "{variance}");
         assert!((beyond_2 - 0.0455).abs() < 0.003, "{beyond_2}");
-    }
-
-    #[test]
-    fn the_table3_design_has_27_cells() {
-        let design = table3_design();
-        assert_eq!(design.len(), 27);
-        assert_eq!(design[26].pressure_kpa, 150.0);
-        assert_eq!(design[26].channel_velocity_mm_s, 11.6);
     }
 }

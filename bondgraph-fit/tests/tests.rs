@@ -1,7 +1,5 @@
-//! Whole-crate tests of the fit crate on the bundled models and data.
+//! Whole-crate tests of the fit crate on models of the repository other than the flagship
+//! (which has its own study, `studies/eversion`).
 
-mod hidden;
-mod reproduce;
-mod stalls;
-mod support;
-mod tables;
+mod calibration;
+mod experiments;

@@ -1,6 +1,6 @@
 //! The main job on the bundled models and data.
 
-use bondgraph_fit::reproduce::reproduce;
+use bondgraph_eversion::reproduce::reproduce;
 
 use crate::support::Files;
 
@@ -42,4 +42,30 @@ fn the_paper_simulated_column_implies_other_friction_than_table_four() {
         "{}",
         line.implied_coulomb
     );
+}
+
+#[test]
+fn fig6_events_with_the_pressure_held_at_110_kpa() {
+    // By hand (studies/eversion/scripts/fig6_events.py): the tip breaks away when
+    // A 1e6 t + 2 F_C_ct = F_S_ge, t1 = (11.7 - 11)/100 = 0.007 s; it slides at
+    // v_ge = (100 t + 11 - 9.125)/1250 until 2 v_ge = 6.3e-3 - 5.5/5e4 - 1e-6 (the catheter
+    // sticks), t2 = (3.868125 - 1.875)/100 = 0.01993125 s. The inner structure is taut again
+    // at 0.130417 s and the catheter slips at 0.154085 s (the script's integrals, with the
+    // ramp held at 110 kPa from 0.11 s; without that ceiling the last event is at 0.166097 s).
+    let files = Files::read();
+    let r = reproduce(&files.bundle()).unwrap();
+    let times: Vec<f64> = r.fig6.robot.events.iter().map(|e| e.t).collect();
+    let expected = [0.007, 0.01993125, 0.130417, 0.154085];
+    assert_eq!(times.len(), expected.len(), "{times:?}");
+    for (t, e) in times.iter().zip(expected) {
+        assert!((t - e).abs() < 1e-5, "{times:?}");
+    }
+    let elements: Vec<&str> = r
+        .fig6
+        .robot
+        .events
+        .iter()
+        .map(|e| e.element.as_str())
+        .collect();
+    assert_eq!(elements, ["fr_ge", "fr_ct", "k", "fr_ct"]);
 }

@@ -6,11 +6,12 @@ use std::sync::Arc;
 use bondgraph_core::model::{self, Model};
 use bondgraph_core::source::SourceFile;
 use bondgraph_fit::data::{self, Dataset};
-use bondgraph_fit::experiment::{Experiment, Predictor};
+use bondgraph_fit::experiment::Experiment;
+use bondgraph_fit::predict::Predictor;
 
 /// The repository root.
 pub fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
 /// A model and its source, by path relative to the root.
@@ -32,7 +33,11 @@ pub fn experiment() -> Experiment {
 
 /// A bundled dataset.
 pub fn dataset(name: &str) -> Dataset {
-    data::read_file(&root().join("models/eversion/data").join(name)).expect("valid data")
+    data::read_file(
+        &root().join("models/eversion/data").join(name),
+        &experiment(),
+    )
+    .expect("valid data")
 }
 
 /// A predictor of a model file with the flagship's experiment.
@@ -68,8 +73,8 @@ impl Files {
     }
 
     /// The bundle the main job reads.
-    pub fn bundle(&self) -> bondgraph_fit::reproduce::Bundle<'_> {
-        use bondgraph_fit::reproduce::{Bundle, Named};
+    pub fn bundle(&self) -> bondgraph_eversion::reproduce::Bundle<'_> {
+        use bondgraph_eversion::reproduce::{Bundle, Named};
         let n = |i: usize| Named {
             name: &self.0[i].0,
             text: &self.0[i].1,

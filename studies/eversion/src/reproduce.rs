@@ -19,8 +19,11 @@ use bondgraph_solver::parasitic::{self, Parasitic};
 use bondgraph_solver::{Simulator, Trajectory};
 use serde::Serialize;
 
-use crate::data::{self, Dataset, Measurement};
-use crate::experiment::{Experiment, Predictor};
+use bondgraph_fit::data::{self, Dataset, Measurement};
+use bondgraph_fit::experiment::Experiment;
+use bondgraph_fit::predict::Predictor;
+
+use crate::columns::{self, catheter, channel, pressure, tip};
 
 /// A named text: a file's name and contents (the binary embeds them).
 #[derive(Clone, Copy, Debug)]
@@ -171,19 +174,28 @@ pub struct Reproduction {
 }
 
 /// Why the main job failed.
-#[derive(Clone, Debug)]
-pub struct ReproduceError(pub String);
-
-impl std::fmt::Display for ReproduceError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ReproduceError {
+    /// A bundled model or scenario that does not load: core's located diagnostics.
+    #[error("{0}")]
+    Model(#[from] bondgraph_core::diagnostics::Diagnostics),
+    /// The experiment does not fit a model, or a row cannot be predicted.
+    #[error("{0}")]
+    Experiment(#[from] bondgraph_fit::experiment::ExperimentError),
+    /// A bundled data file that does not read.
+    #[error("{0}")]
+    Data(#[from] bondgraph_fit::data::DataError),
+    /// A simulation that fails.
+    #[error("{0}")]
+    Simulation(String),
+    /// The bundled files do not fit together.
+    #[error("{0}")]
+    Bundle(String),
 }
 
-impl std::error::Error for ReproduceError {}
-
 fn error(e: impl std::fmt::Display) -> ReproduceError {
-    ReproduceError(e.to_string())
+    ReproduceError::Simulation(e.to_string())
 }
 
 /// Runs the main job.
@@ -193,38 +205,44 @@ fn error(e: impl std::fmt::Display) -> ReproduceError {
 pub fn reproduce(bundle: &Bundle<'_>) -> Result<Reproduction, ReproduceError> {
     let load = |named: Named<'_>| -> Result<(Model, Arc<SourceFile>), ReproduceError> {
         let source = SourceFile::new(named.name, named.text);
-        Ok((model::load_source(&source).map_err(error)?, source))
+        Ok((model::load_source(&source)?, source))
     };
-    let read = |named: Named<'_>| data::read(named.name, named.text).map_err(error);
-    let experiment =
-        Experiment::parse(bundle.experiment.name, bundle.experiment.text).map_err(error)?;
+    let experiment = Experiment::parse(bundle.experiment.name, bundle.experiment.text)?;
+    if !columns::matches(&experiment) {
+        return Err(ReproduceError::Bundle(format!(
+            "{}: the main job needs the columns {:?} and `{}`",
+            bundle.experiment.name,
+            columns::CONDITIONS,
+            columns::TIP
+        )));
+    }
+    let read = |named: Named<'_>| data::read(named.name, named.text, &experiment);
     let (robot, robot_source) = load(bundle.robot)?;
     let (paper, paper_source) = load(bundle.paper)?;
-    let robot_predictor =
-        Predictor::new(robot.clone(), &robot_source, &experiment).map_err(error)?;
-    let paper_predictor = Predictor::new(paper, &paper_source, &experiment).map_err(error)?;
+    let robot_predictor = Predictor::new(robot.clone(), &robot_source, &experiment)?;
+    let paper_predictor = Predictor::new(paper, &paper_source, &experiment)?;
 
     let table = |exp: &Dataset, sim: &Dataset| -> Result<Vec<TableRow>, ReproduceError> {
-        let model = robot_predictor.predict(&exp.rows).map_err(error)?;
-        let structure = paper_predictor.predict(&exp.rows).map_err(error)?;
+        let model = robot_predictor.predict(&exp.rows)?;
+        let structure = paper_predictor.predict(&exp.rows)?;
         exp.rows
             .iter()
             .enumerate()
             .map(|(i, row)| {
                 let simulated = matching(sim, row).ok_or_else(|| {
-                    ReproduceError(format!(
+                    ReproduceError::Bundle(format!(
                         "{}: no simulated value for row {}",
                         sim.name, row.row
                     ))
                 })?;
                 Ok(TableRow {
-                    P_s_kPa: row.pressure_kpa,
-                    v_ac_mm_s: row.channel_velocity_mm_s,
-                    v_ct_mm_s: row.catheter_velocity_mm_s,
-                    exp_mm_s: row.tip_velocity_mm_s,
+                    P_s_kPa: pressure(row),
+                    v_ac_mm_s: channel(row),
+                    v_ct_mm_s: catheter(row),
+                    exp_mm_s: tip(row),
                     paper_sim_mm_s: simulated,
-                    model_mm_s: model[i],
-                    paper_model_mm_s: structure[i],
+                    model_mm_s: model[i][0],
+                    paper_model_mm_s: structure[i][0],
                 })
             })
             .collect()
@@ -270,12 +288,8 @@ pub fn reproduce(bundle: &Bundle<'_>) -> Result<Reproduction, ReproduceError> {
 fn matching(sim: &Dataset, row: &Measurement) -> Option<f64> {
     sim.rows
         .iter()
-        .find(|s| {
-            s.pressure_kpa == row.pressure_kpa
-                && s.channel_velocity_mm_s == row.channel_velocity_mm_s
-                && s.catheter_velocity_mm_s == row.catheter_velocity_mm_s
-        })
-        .map(|s| s.tip_velocity_mm_s)
+        .find(|s| s.conditions == row.conditions)
+        .map(tip)
 }
 
 fn rmse(pairs: impl Iterator<Item = (f64, f64)>) -> f64 {
@@ -302,7 +316,7 @@ fn errors_of(table: &str, rows: &[TableRow]) -> Errors {
 fn run_fig6(bundle: &Bundle<'_>, model: Named<'_>) -> Result<Trajectory, ReproduceError> {
     let scenario_source = SourceFile::new(bundle.fig6.name, bundle.fig6.text);
     let model_source = SourceFile::new(model.name, model.text);
-    let loaded = scenario::load(&scenario_source, &model_source).map_err(error)?;
+    let loaded = scenario::load(&scenario_source, &model_source)?;
     bondgraph_solver::scenario::run(&loaded, false).map_err(error)
 }
 
@@ -324,15 +338,15 @@ fn reduction_check(
             cells: 0,
         });
     }
-    let reduced = reduction::without_storage(robot, source, &names).map_err(error)?;
-    let predictor = Predictor::new(reduced.model, &reduced.source, experiment).map_err(error)?;
+    let reduced = reduction::without_storage(robot, source, &names)?;
+    let predictor = Predictor::new(reduced.model, &reduced.source, experiment)?;
     let mut largest: f64 = 0.0;
     let mut cells = 0;
     for (named, rows) in [(bundle.table3, table3), (bundle.table6, table6)] {
-        let dataset = data::read(named.name, named.text).map_err(error)?;
-        let predicted = predictor.predict(&dataset.rows).map_err(error)?;
+        let dataset = data::read(named.name, named.text, experiment)?;
+        let predicted = predictor.predict(&dataset.rows)?;
         for (p, row) in predicted.iter().zip(rows) {
-            largest = largest.max((p - row.model_mm_s).abs());
+            largest = largest.max((p[0] - row.model_mm_s).abs());
             cells += 1;
         }
     }

@@ -316,6 +316,18 @@ impl Reproduction {
              the catheter running ahead at 6.3 mm/s, from its State 2 (tip static, catheter \
              sliding), and describes these events:\n"
         );
+        let _ = writeln!(
+            out,
+            "Which pressure: the caption gives P_s = 110 kPa, the text a ramp of 10^6 t. Read \
+             together, the pressure rises at 1 MPa/s and stops at 110 kPa, at t = 0.11 s, and \
+             `models/eversion/fig6.ron` ramps to that ceiling. Read as a ramp without end it \
+             would reach 200 kPa by the end of the run, which the paper never mentions; the \
+             first three events are the same either way (the ceiling comes after the catheter \
+             sticks), and only the last one, the catheter slipping again once the inner \
+             structure is taut, moves (from about 0.154 s with the ceiling to about 0.166 s \
+             without). A quasi-static hand computation of the four events \
+             (`studies/eversion/scripts/fig6_events.py`) agrees with the flagship's to 1e-6 s.\n"
+        );
         for (t, what) in PAPER_FIG6 {
             let _ = writeln!(out, "- t = {t} s: {what}");
         }

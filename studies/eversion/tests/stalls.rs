@@ -6,10 +6,10 @@ use crate::support::*;
 use bondgraph_core::model::Model;
 use bondgraph_core::model::extension::{self, Extension};
 use bondgraph_core::source::SourceFile;
-use bondgraph_fit::data::Measurement;
+use bondgraph_eversion::columns::{self, catheter, channel};
 
 /// A predictor of the flagship extended with `id`.
-fn extended(id: &str) -> bondgraph_fit::experiment::Predictor {
+fn extended(id: &str) -> bondgraph_fit::predict::Predictor {
     let base = SourceFile::new(
         "models/eversion/robot.ron",
         std::fs::read_to_string(root().join("models/eversion/robot.ron")).unwrap(),
@@ -22,7 +22,7 @@ fn extended(id: &str) -> bondgraph_fit::experiment::Predictor {
     .unwrap();
     let extended = extension::merge(&base, &[fragment]).unwrap();
     let model: Model = extended.load().unwrap();
-    bondgraph_fit::experiment::Predictor::new(model, &extended.file, &experiment()).unwrap()
+    bondgraph_fit::predict::Predictor::new(model, &extended.file, &experiment()).unwrap()
 }
 
 #[test]
@@ -50,12 +50,12 @@ fn a_catheter_that_once_stalled_the_stepper_slips_behind_and_settles() {
         0.25,
     ]);
     let row = dataset("table6.csv").rows[5].clone();
-    assert_eq!(row.catheter_velocity_mm_s, Some(6.3));
-    assert_eq!(row.channel_velocity_mm_s, 5.8);
+    assert_eq!(catheter(&row), Some(6.3));
+    assert_eq!(channel(&row), 5.8);
     let prediction = evaluator.predict(&[row]).unwrap().remove(0);
     assert_eq!(prediction.mode, "fr_ge=slip+,k=taut,fr_ct=slip-");
     assert!(
-        (prediction.tip_velocity_mm_s - 2.9).abs() < 1e-9,
+        (prediction.observed[0] - 2.9).abs() < 1e-9,
         "{prediction:?}"
     );
 }
@@ -70,16 +70,10 @@ fn a_stribeck_contact_held_at_its_stribeck_velocity_settles() {
     let predictor = extended("velocity-weakening-friction");
     let mut evaluator = predictor.evaluator(&["v_st".to_string()]).unwrap();
     evaluator.set(&[0.0032762323403969455]);
-    let row = Measurement {
-        pressure_kpa: 150.0,
-        channel_velocity_mm_s: 5.8,
-        catheter_velocity_mm_s: None,
-        tip_velocity_mm_s: 0.0,
-        row: 2,
-    };
+    let row = columns::row(&"stribeck".into(), 2, 150.0, 5.8, None, 0.0);
     let prediction = evaluator.predict(&[row]).unwrap().remove(0);
     assert!(
-        (prediction.tip_velocity_mm_s - 2.9).abs() < 1e-9,
+        (prediction.observed[0] - 2.9).abs() < 1e-9,
         "{prediction:?}"
     );
     assert_eq!(prediction.mode, "fr_ge=creep+,k=taut");

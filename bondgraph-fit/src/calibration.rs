@@ -1,0 +1,207 @@
+//! Calibration of a model on measured data: the experiment's fitted parameters, their
+//! standard errors (or, for a threshold, the interval of equally good values), and the
+//! residuals by regime and along each condition (what `bondgraph calibrate` prints).
+//!
+//! The fit starts from the model file's values and from the middle of the bounds and keeps
+//! the better ([`crate::calibrate::least_squares`] from each); every observed column the
+//! experiment names enters the sum of squares in its own units.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use bondgraph_core::model;
+use bondgraph_core::source::SourceFile;
+use serde::Serialize;
+
+use crate::data::Dataset;
+use crate::discover::{
+    self, DiscoverError, Estimate, Residuals, SETTLE_WITHIN_S, Settings, fit_best,
+    fitted_parameters,
+};
+use crate::experiment::Experiment;
+use crate::predict::Predictor;
+
+/// One row with its prediction.
+#[derive(Clone, Debug, Serialize)]
+pub struct CalibratedRow {
+    /// The data file and line.
+    pub file: String,
+    /// Its line.
+    pub row: usize,
+    /// The condition cells, by column (`None`: empty).
+    pub conditions: BTreeMap<String, Option<f64>>,
+    /// The measured values, by observed column.
+    pub measured: BTreeMap<String, f64>,
+    /// The calibrated model's, by observed column.
+    pub predicted: BTreeMap<String, f64>,
+    /// The regime the row settles in.
+    pub regime: String,
+}
+
+/// What a calibration finds.
+#[derive(Clone, Debug, Serialize)]
+pub struct Calibration {
+    /// The data's name.
+    pub data: String,
+    /// The model's name.
+    pub model: String,
+    /// Rows fitted.
+    pub rows: usize,
+    /// The fitted parameters.
+    pub params: BTreeMap<String, Estimate>,
+    /// The root-mean-square residual of each observed column, in its units.
+    pub rmse: BTreeMap<String, f64>,
+    /// The noise the residuals are judged against, per observed column: the experiment's
+    /// declared `noise`, or the residuals' own standard deviation (`SSE/(n - p)`).
+    pub noise: BTreeMap<String, f64>,
+    /// Whether `noise` is the experiment's declared one.
+    pub noise_declared: bool,
+    /// Residuals by regime and along each condition, per observed column.
+    pub residuals: BTreeMap<String, Residuals>,
+    /// Every row.
+    pub table: Vec<CalibratedRow>,
+    /// Forward-model evaluations used.
+    pub evaluations: usize,
+}
+
+/// Calibrates the model in `source` on `data` (read against `experiment`).
+///
+/// # Errors
+/// When the model or the experiment does not load or fit together (located diagnostics), a
+/// fitted parameter is unknown or unbounded, or the model cannot be evaluated at the start
+/// (naming the row).
+pub fn calibrate(
+    source: &Arc<SourceFile>,
+    experiment: &Experiment,
+    data: &Dataset,
+    settings: &Settings,
+) -> Result<Calibration, DiscoverError> {
+    let model = model::load_source(source)?;
+    let rows = &data.rows;
+    let (names, bounds, file_start) = fitted_parameters(&model, experiment, rows, &[])?;
+    let predictor = Predictor::new(model.clone(), source, experiment)?;
+    let mut evaluator = predictor.evaluator(&names)?;
+    evaluator.set_max_time(SETTLE_WITHIN_S);
+    let middle: Vec<f64> = bounds.iter().map(|(lo, hi)| 0.5 * (lo + hi)).collect();
+    let starts: [&[f64]; 2] = [&file_start, &middle];
+    let fit = fit_best(&mut evaluator, rows, &starts, &bounds, settings)?;
+    evaluator.set(&fit.values);
+    let predictions = evaluator.predict(rows)?;
+    let observed = &experiment.observed;
+    let m = observed.len();
+    let n = rows.len();
+    let free = fit
+        .intervals
+        .iter()
+        .zip(&fit.at_bound)
+        .filter(|(i, b)| i.is_none() && !**b)
+        .count();
+    let regimes: Vec<String> = predictions
+        .iter()
+        .map(|p| experiment.regime(&p.mode))
+        .collect();
+    let mut rmse = BTreeMap::new();
+    let mut noise = BTreeMap::new();
+    let mut residuals = BTreeMap::new();
+    for (k, column) in observed.iter().enumerate() {
+        let predicted: Vec<f64> = predictions.iter().map(|p| p.observed[k]).collect();
+        let sse: f64 = predicted
+            .iter()
+            .zip(rows)
+            .map(|(p, r)| (p - r.observed[k]).powi(2))
+            .sum();
+        let sd = experiment
+            .noise
+            .unwrap_or_else(|| (sse / (n as f64 - free as f64 / m as f64).max(1.0)).sqrt());
+        rmse.insert(column.column.clone(), (sse / n as f64).sqrt());
+        noise.insert(column.column.clone(), sd);
+        residuals.insert(
+            column.column.clone(),
+            discover::residuals(experiment, k, rows, &predicted, &regimes, sd),
+        );
+    }
+    let table = rows
+        .iter()
+        .zip(&predictions)
+        .zip(&regimes)
+        .map(|((r, p), regime)| CalibratedRow {
+            file: r.file.to_string(),
+            row: r.row,
+            conditions: data
+                .conditions
+                .iter()
+                .cloned()
+                .zip(r.conditions.iter().copied())
+                .collect(),
+            measured: observed
+                .iter()
+                .map(|o| o.column.clone())
+                .zip(r.observed.iter().copied())
+                .collect(),
+            predicted: observed
+                .iter()
+                .map(|o| o.column.clone())
+                .zip(p.observed.iter().copied())
+                .collect(),
+            regime: regime.clone(),
+        })
+        .collect();
+    let params = names
+        .iter()
+        .enumerate()
+        .map(|(j, name)| {
+            (
+                name.clone(),
+                Estimate {
+                    value: fit.values[j],
+                    std_error: fit.std_errors[j],
+                    interval: fit.intervals[j],
+                    at_bound: fit.at_bound[j],
+                },
+            )
+        })
+        .collect();
+    Ok(Calibration {
+        data: data.name.clone(),
+        model: model.name.clone(),
+        rows: n,
+        params,
+        rmse,
+        noise,
+        noise_declared: experiment.noise.is_some(),
+        residuals,
+        table,
+        evaluations: fit.evaluations,
+    })
+}
+
+impl Calibration {
+    /// A readable report: the values, the fit, and the residuals.
+    pub fn summary(&self) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "{}: model '{}' calibrated on {} rows ({} evaluations)",
+            self.data, self.model, self.rows, self.evaluations
+        );
+        for (name, e) in &self.params {
+            let _ = writeln!(s, "  {name} = {}", discover::estimate_text(e));
+        }
+        for (column, rmse) in &self.rmse {
+            let _ = writeln!(
+                s,
+                "\n`{column}`: RMSE {rmse:.4}; noise {:.4} ({})",
+                self.noise[column],
+                if self.noise_declared {
+                    "declared in the experiment"
+                } else {
+                    "the residuals' standard deviation"
+                }
+            );
+            let _ = writeln!(s, "residuals (model minus measured):");
+            discover::write_residuals(&mut s, &self.residuals[column]);
+        }
+        s
+    }
+}

@@ -1,0 +1,539 @@
+//! Predicting rows of measured data: a model prepared once for an experiment, then asked for
+//! the steady state of each row with changing parameter values.
+//!
+//! An experiment's `absent` entries make several variants of one model (for each set of
+//! empty columns, the model without their elements). Each variant is validated once, and its
+//! simulator keeps every mode it has derived between predictions, so a calibration that
+//! tries thousands of parameter values derives nothing twice.
+
+use std::sync::Arc;
+
+use bondgraph_core::equations::OutputSpec;
+use bondgraph_core::linear::Var;
+use bondgraph_core::model::edit::{self, Edit};
+use bondgraph_core::model::{self, ElementKind, Model};
+use bondgraph_core::modes::Mode;
+use bondgraph_core::source::SourceFile;
+use bondgraph_core::{Diagnostic, DiagnosticKind, diagnostics::Diagnostics};
+use bondgraph_solver::steady::{SteadySettings, steady_state};
+use bondgraph_solver::{Output, Simulator};
+
+use crate::data::Measurement;
+use crate::experiment::{Experiment, ExperimentError};
+
+/// Removals combined into variants, at most: 2^6 models to validate.
+const MAX_ABSENT: usize = 6;
+
+/// One model variant: the model without the elements of some `absent` entries.
+struct Variant {
+    model: Model,
+    /// For each condition, the model input it sets (`None`: its column is empty here).
+    inputs: Vec<Option<usize>>,
+    outputs: Vec<OutputSpec>,
+    initial: Mode,
+}
+
+/// A model prepared to predict an experiment's rows, one variant per combination of empty
+/// `absent` columns.
+///
+/// A `Predictor` owns the models; [`Predictor::evaluator`] makes an [`Evaluator`], which keeps
+/// the simulators between predictions and takes new parameter values without deriving
+/// anything again: what a calibration needs.
+pub struct Predictor {
+    experiment: Experiment,
+    /// Indexed by the mask of empty `absent` columns.
+    variants: Vec<Variant>,
+    /// Where each `absent` entry's column is among the experiment's condition columns.
+    absent_columns: Vec<usize>,
+    settings: SteadySettings,
+}
+
+/// The prediction of one row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Prediction {
+    /// The predicted value of each observed column, in the column's units.
+    pub observed: Vec<f64>,
+    /// The mode the model settles in (`fr=slip+,k=slack`).
+    pub mode: String,
+}
+
+impl Predictor {
+    /// Prepares `model` (read from `source`) for `experiment`.
+    ///
+    /// # Errors
+    /// Located diagnostics when the experiment names inputs, outputs, modes or elements the
+    /// model does not have, or a removal leaves the model invalid (pointing at the `absent`
+    /// entry, with the model's own diagnostics after it).
+    pub fn new(
+        model: Model,
+        source: &Arc<SourceFile>,
+        experiment: &Experiment,
+    ) -> Result<Self, ExperimentError> {
+        if experiment.absent.len() > MAX_ABSENT {
+            return Err(experiment
+                .error(
+                    DiagnosticKind::InvalidValue,
+                    "absent",
+                    &experiment.absent[MAX_ABSENT].column,
+                    format!(
+                        "experiment: {} `absent` entries; at most {MAX_ABSENT} can be combined",
+                        experiment.absent.len()
+                    ),
+                )
+                .into());
+        }
+        let columns = experiment.condition_columns();
+        let absent_columns = experiment
+            .absent
+            .iter()
+            .map(|a| {
+                columns
+                    .iter()
+                    .position(|c| *c == a.column)
+                    .expect("absent columns are condition columns")
+            })
+            .collect();
+        let mut variants = Vec::new();
+        for mask in 0..1usize << experiment.absent.len() {
+            let removed: Vec<usize> = (0..experiment.absent.len())
+                .filter(|j| mask & (1 << j) != 0)
+                .collect();
+            let variant_model = if removed.is_empty() {
+                model.clone()
+            } else {
+                reduced(&model, source, experiment, &removed)?
+            };
+            let empty: Vec<&str> = removed
+                .iter()
+                .map(|&j| experiment.absent[j].column.as_str())
+                .collect();
+            variants.push(Variant::new(variant_model, experiment, &empty)?);
+        }
+        Ok(Self {
+            experiment: experiment.clone(),
+            variants,
+            absent_columns,
+            settings: SteadySettings::default(),
+        })
+    }
+
+    /// The model used for rows with every column filled.
+    pub fn model(&self) -> &Model {
+        &self.variants[0].model
+    }
+
+    /// The experiment.
+    pub fn experiment(&self) -> &Experiment {
+        &self.experiment
+    }
+
+    /// Sets parameter values (by name) in every variant; the structure and so the symbolic
+    /// equations do not change. (An [`Evaluator`] does the same without touching the models.)
+    ///
+    /// # Errors
+    /// When a name is not a parameter of the model.
+    pub fn set_parameters(&mut self, values: &[(String, f64)]) -> Result<(), ExperimentError> {
+        for variant in &mut self.variants {
+            for (name, value) in values {
+                let index = parameter_index(&variant.model, name)?;
+                variant.model.values[index] = *value;
+                if let Some(parameter) = variant
+                    .model
+                    .parameters
+                    .iter_mut()
+                    .find(|p| &p.name == name)
+                {
+                    parameter.value = *value;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The predicted observed values of each row (one per observed column), in the columns'
+    /// units.
+    ///
+    /// # Errors
+    /// When a simulation fails or does not settle, naming the row.
+    pub fn predict(&self, rows: &[Measurement]) -> Result<Vec<Vec<f64>>, ExperimentError> {
+        Ok(self
+            .evaluator(&[])?
+            .predict(rows)?
+            .into_iter()
+            .map(|p| p.observed)
+            .collect())
+    }
+
+    /// An evaluator whose [`Evaluator::set`] takes values of the parameters `names`, in order.
+    ///
+    /// # Errors
+    /// When a name is not a parameter of the model.
+    pub fn evaluator(&self, names: &[String]) -> Result<Evaluator<'_>, ExperimentError> {
+        let sessions = self
+            .variants
+            .iter()
+            .map(|variant| {
+                let slots = names
+                    .iter()
+                    .map(|name| parameter_index(&variant.model, name))
+                    .collect::<Result<Vec<_>, _>>()?;
+                Ok(Session::new(variant, slots))
+            })
+            .collect::<Result<Vec<_>, ExperimentError>>()?;
+        Ok(Evaluator {
+            predictor: self,
+            sessions,
+            settings: self.settings,
+        })
+    }
+
+    /// The variant a row is predicted by: the mask of its empty `absent` columns.
+    fn mask(&self, row: &Measurement) -> usize {
+        self.absent_columns
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| row.conditions[**c].is_none())
+            .fold(0, |mask, (j, _)| mask | (1 << j))
+    }
+}
+
+/// The model without the elements of the `absent` entries `removed`, with the values of
+/// `model` (which a calibration may have changed from the file's).
+fn reduced(
+    model: &Model,
+    source: &Arc<SourceFile>,
+    experiment: &Experiment,
+    removed: &[usize],
+) -> Result<Model, ExperimentError> {
+    let mut remove: Vec<String> = Vec::new();
+    for &j in removed {
+        for name in &experiment.absent[j].elements {
+            if !remove.contains(name) {
+                remove.push(name.clone());
+            }
+        }
+    }
+    let columns: Vec<&str> = removed
+        .iter()
+        .map(|&j| experiment.absent[j].column.as_str())
+        .collect();
+    // The entry to blame: the last removal combined (each single one is tried first).
+    let blamed = &experiment.absent[*removed.last().expect("something removed")];
+    let located = |diagnostics: Diagnostics, edited: Option<&edit::Edited>| {
+        let what = if columns.len() == 1 {
+            format!("a row with an empty `{}`", columns[0])
+        } else {
+            format!("a row with `{}` empty", columns.join("`, `"))
+        };
+        let mut all = vec![experiment.error(
+            DiagnosticKind::UnknownName,
+            "absent",
+            &blamed.column,
+            format!(
+                "experiment: the `absent` entry for `{}` removes {} from model '{}', and {what} cannot be simulated: {}",
+                blamed.column,
+                remove
+                    .iter()
+                    .map(|n| format!("'{n}'"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                model.name,
+                diagnostics.first().message
+            ),
+        )];
+        all.extend(diagnostics.0.into_iter().map(|d| match edited {
+            Some(edited) => edited.relocate(d, source),
+            None => d,
+        }));
+        ExperimentError::Diagnostics(Diagnostics(all))
+    };
+    let edit = Edit {
+        remove: remove.clone(),
+        parameters: Vec::new(),
+    };
+    let edited = edit::apply_traced(source, &edit).map_err(|d| located(d, None))?;
+    let mut reduced = model::load_source(&edited.file).map_err(|d| located(d, Some(&edited)))?;
+    for parameter in &mut reduced.parameters {
+        if let Some(original) = model.parameters.iter().find(|p| p.name == parameter.name) {
+            parameter.value = original.value;
+            reduced.values[parameter.symbol.index()] = original.value;
+        }
+    }
+    Ok(reduced)
+}
+
+/// Predicts rows with changing parameter values, keeping every mode derived so far.
+pub struct Evaluator<'p> {
+    predictor: &'p Predictor,
+    /// One per variant.
+    sessions: Vec<Session<'p>>,
+    settings: SteadySettings,
+}
+
+/// One variant's simulator and where the evaluator's parameters sit in its values.
+struct Session<'p> {
+    variant: &'p Variant,
+    simulator: Simulator<'p>,
+    slots: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl<'p> Session<'p> {
+    fn new(variant: &'p Variant, slots: Vec<usize>) -> Self {
+        let outputs = variant
+            .outputs
+            .iter()
+            .enumerate()
+            .map(|(k, spec)| Output {
+                name: format!("observed{k}"),
+                spec: spec.clone(),
+                integral: false,
+            })
+            .collect();
+        Self {
+            variant,
+            simulator: Simulator::new(&variant.model, outputs),
+            slots,
+            values: variant.model.values.clone(),
+        }
+    }
+}
+
+impl Evaluator<'_> {
+    /// Sets the values of the evaluator's parameters (in the order they were named).
+    ///
+    /// # Panics
+    /// When `values` does not have one value per parameter named.
+    pub fn set(&mut self, values: &[f64]) {
+        for session in &mut self.sessions {
+            assert_eq!(values.len(), session.slots.len(), "one value per parameter");
+            for (&slot, &value) in session.slots.iter().zip(values) {
+                session.values[slot] = value;
+            }
+            session
+                .simulator
+                .set_parameter_values(&session.values)
+                .expect("values indexed like the model's");
+        }
+    }
+
+    /// The predicted steady state of each row.
+    ///
+    /// # Errors
+    /// When a simulation fails or does not settle, naming the row.
+    pub fn predict(&mut self, rows: &[Measurement]) -> Result<Vec<Prediction>, ExperimentError> {
+        self.predict_each(rows).into_iter().collect()
+    }
+
+    /// The predicted steady state of each row, or why that row has none (a simulation that
+    /// does not settle, as in a stick-slip cycle), row by row.
+    pub fn predict_each(
+        &mut self,
+        rows: &[Measurement],
+    ) -> Vec<Result<Prediction, ExperimentError>> {
+        let experiment = &self.predictor.experiment;
+        rows.iter()
+            .map(|row| {
+                let session = &mut self.sessions[self.predictor.mask(row)];
+                let variant = session.variant;
+                let mut inputs = vec![0.0; variant.model.inputs.len()];
+                for (k, condition) in experiment.conditions.iter().enumerate() {
+                    if let (Some(input), Some(cell)) = (variant.inputs[k], row.conditions[k]) {
+                        inputs[input] = condition.factor * cell;
+                    }
+                }
+                let located = |reason: String| ExperimentError::Row {
+                    file: row.file.to_string(),
+                    row: row.row,
+                    cells: describe(experiment, row),
+                    reason,
+                };
+                check_friction_levels(&variant.model, &session.values, &inputs).map_err(located)?;
+                let storage = session.simulator.storage().len();
+                let steady = steady_state(
+                    &mut session.simulator,
+                    &inputs,
+                    variant.initial.clone(),
+                    vec![0.0; storage],
+                    &self.settings,
+                )
+                .map_err(|e| located(e.to_string()))?;
+                let observed: Vec<f64> = steady
+                    .outputs
+                    .iter()
+                    .zip(&experiment.observed)
+                    .map(|(y, o)| y / o.factor)
+                    .collect();
+                if let Some(k) = observed.iter().position(|v| !v.is_finite()) {
+                    return Err(located(format!(
+                        "the predicted `{}` is not a finite number",
+                        experiment.observed[k].column
+                    )));
+                }
+                Ok(Prediction {
+                    observed,
+                    mode: steady.mode,
+                })
+            })
+            .collect()
+    }
+
+    /// Gives up on rows that have not settled after `seconds` of simulated time (a
+    /// calibration tries values where the model oscillates forever).
+    pub fn set_max_time(&mut self, seconds: f64) {
+        self.settings.max_time = seconds;
+    }
+}
+
+/// `column = value, ...` of a row's condition cells, `column empty` for an empty one.
+pub fn describe(experiment: &Experiment, row: &Measurement) -> String {
+    experiment
+        .condition_columns()
+        .iter()
+        .zip(&row.conditions)
+        .map(|(column, value)| match value {
+            Some(v) => format!("{column} = {v}"),
+            None => format!("{column} empty"),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// A friction contact must break away at or above its Coulomb force, and neither may be
+/// negative: parameter values a calibration tries can violate this where the model file's
+/// values did not, and the contact then has no consistent mode.
+fn check_friction_levels(model: &Model, values: &[f64], inputs: &[f64]) -> Result<(), String> {
+    let level = |form: &bondgraph_core::linear::LinearForm| -> f64 {
+        form.terms()
+            .iter()
+            .map(|(var, coefficient)| {
+                let c = coefficient.eval(values);
+                match var {
+                    Var::Constant => c,
+                    Var::Input(i) => c * inputs[*i as usize],
+                    _ => 0.0,
+                }
+            })
+            .sum()
+    };
+    for id in model.element_ids() {
+        let element = model.element(id);
+        if let ElementKind::Friction(friction) = &element.kind {
+            let (f_s, f_c) = (
+                level(&friction.breakaway.value),
+                level(&friction.coulomb.value),
+            );
+            if f_c < 0.0 || f_s < f_c {
+                return Err(format!(
+                    "friction contact '{}': breakaway {f_s} N and Coulomb {f_c} N, but F_S >= F_C >= 0",
+                    element.name
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Where the parameter `name` sits in the model's values.
+fn parameter_index(model: &Model, name: &str) -> Result<usize, ExperimentError> {
+    model
+        .parameters
+        .iter()
+        .find(|p| p.name == name)
+        .map(|p| p.symbol.index())
+        .ok_or_else(|| {
+            Diagnostic::new(
+                DiagnosticKind::UnknownName,
+                format!("'{name}' is not a parameter of model '{}'", model.name),
+            )
+            .into()
+        })
+}
+
+impl Variant {
+    /// The variant `model` of `experiment` in which the columns `empty` are empty.
+    fn new(model: Model, experiment: &Experiment, empty: &[&str]) -> Result<Self, ExperimentError> {
+        let mut problems = Vec::new();
+        let inputs = experiment
+            .conditions
+            .iter()
+            .map(|condition| {
+                if empty.contains(&condition.column.as_str()) {
+                    return None;
+                }
+                let input = model.input_named(&condition.input).map(|i| i.index());
+                if input.is_none() {
+                    let inputs: Vec<String> =
+                        model.inputs.iter().map(|i| format!("'{}'", i.name)).collect();
+                    problems.push(
+                        experiment
+                            .error(
+                                DiagnosticKind::UnknownName,
+                                "conditions",
+                                &condition.input,
+                                format!(
+                                    "experiment: column `{}` sets input '{}', which model '{}' does not have",
+                                    condition.column, condition.input, model.name
+                                ),
+                            )
+                            .note(format!("its inputs are {}", inputs.join(", "))),
+                    );
+                }
+                input
+            })
+            .collect();
+        let outputs = experiment
+            .observed
+            .iter()
+            .filter_map(
+                |observed| match OutputSpec::parse(&model, &observed.output) {
+                    Ok(spec) => Some(spec),
+                    Err(d) => {
+                        problems.push(experiment.error(
+                            DiagnosticKind::BadOutput,
+                            "observed",
+                            &observed.output,
+                            format!(
+                                "experiment: column `{}`: {}",
+                                observed.column,
+                                d.first().message
+                            ),
+                        ));
+                        None
+                    }
+                },
+            )
+            .collect();
+        // Keep the assignments to elements this variant has.
+        let written = experiment.initial_mode.clone().unwrap_or_default();
+        let spec: Vec<&str> = written
+            .split(',')
+            .filter(|part| {
+                part.split_once('=')
+                    .is_some_and(|(name, _)| model.element_named(name.trim()).is_some())
+                    || (empty.is_empty() && !part.trim().is_empty())
+            })
+            .collect();
+        let initial = match Mode::parse(&model, &spec.join(",")) {
+            Ok(mode) => Some(mode),
+            Err(d) => {
+                problems.push(experiment.error(
+                    DiagnosticKind::BadMode,
+                    "initial_mode",
+                    &written,
+                    format!("experiment: initial_mode: {}", d.first().message),
+                ));
+                None
+            }
+        };
+        if !problems.is_empty() {
+            return Err(Diagnostics(problems).into());
+        }
+        Ok(Self {
+            model,
+            inputs,
+            outputs,
+            initial: initial.expect("no problems"),
+        })
+    }
+}

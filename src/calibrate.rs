@@ -1,0 +1,81 @@
+//! `bondgraph calibrate`: fit an experiment's parameters to measured data.
+
+use std::path::{Path, PathBuf};
+
+use bondgraph_core::DiagnosticKind;
+use bondgraph_core::source::SourceFile;
+use bondgraph_fit::calibration;
+use bondgraph_fit::data;
+use bondgraph_fit::discover::Settings;
+use bondgraph_fit::experiment::Experiment;
+
+use crate::discover::{discover_failure, experiment_failure};
+use crate::{Failure, json, print, read_source};
+
+/// The command line of `calibrate`.
+pub struct Args {
+    pub model: PathBuf,
+    pub data: Vec<PathBuf>,
+    pub experiment: Option<PathBuf>,
+    pub json: bool,
+}
+
+/// Reads the model, its experiment (given, or `experiment.ron` beside the model) and the
+/// data files, read against the experiment and joined.
+pub fn inputs(
+    model: &Path,
+    experiment: Option<&Path>,
+    data: &[PathBuf],
+) -> Result<
+    (
+        std::sync::Arc<SourceFile>,
+        std::sync::Arc<SourceFile>,
+        Experiment,
+        data::Dataset,
+    ),
+    Failure,
+> {
+    let base = read_source(model)?;
+    let folder = model.parent().unwrap_or(Path::new("."));
+    let experiment_path =
+        experiment.map_or_else(|| folder.join("experiment.ron"), Path::to_path_buf);
+    let text = std::fs::read_to_string(&experiment_path).map_err(|e| {
+        Failure::message(
+            DiagnosticKind::Io,
+            format!(
+                "cannot read the experiment file '{}': {e} (give one with --experiment)",
+                experiment_path.display()
+            ),
+        )
+    })?;
+    let experiment_source = SourceFile::new(experiment_path.display().to_string(), text);
+    let experiment = Experiment::from_source(&experiment_source)
+        .map_err(|e| experiment_failure(e, &[&experiment_source, &base]))?;
+    let mut parts = Vec::new();
+    for path in data {
+        parts.push(
+            data::read_file(path, &experiment)
+                .map_err(|e| Failure::message(DiagnosticKind::Syntax, e.to_string()))?,
+        );
+    }
+    Ok((
+        base,
+        experiment_source,
+        experiment,
+        data::Dataset::join(parts),
+    ))
+}
+
+/// Runs `calibrate`.
+pub fn run(args: &Args) -> Result<(), Failure> {
+    let (base, experiment_source, experiment, dataset) =
+        inputs(&args.model, args.experiment.as_deref(), &args.data)?;
+    let result = calibration::calibrate(&base, &experiment, &dataset, &Settings::default())
+        .map_err(|e| discover_failure(e, &[&experiment_source, &base]))?;
+    if args.json {
+        print(&json(&result)?);
+    } else {
+        print(&result.summary());
+    }
+    Ok(())
+}

@@ -1,0 +1,7 @@
+//! Whole-crate tests of the fit crate on the bundled models and data.
+
+mod hidden;
+mod reproduce;
+mod stalls;
+mod support;
+mod tables;
