@@ -204,6 +204,16 @@ pub enum SimError {
         /// The mode.
         mode: String,
     },
+    /// A recorded output became infinite or not a number, the states still finite (a
+    /// velocity near the largest double times a gain).
+    NonFiniteOutput {
+        /// When.
+        t: f64,
+        /// The mode.
+        mode: String,
+        /// The outputs concerned.
+        outputs: Vec<String>,
+    },
     /// A state became infinite or not a number.
     NonFinite {
         /// When.
@@ -243,6 +253,11 @@ impl fmt::Display for SimError {
             SimError::TooManyEvents { t, limit } => {
                 write!(f, "more than {limit} events by t = {t} s")
             }
+            SimError::NonFiniteOutput { t, mode, outputs } => write!(
+                f,
+                "at t = {t} s in mode {mode} the outputs {} are no longer finite",
+                quoted(outputs)
+            ),
             SimError::NonFinite { t, mode, states } => write!(
                 f,
                 "at t = {t} s in mode {mode} the states {} are no longer finite",
@@ -598,7 +613,16 @@ impl<'m> Simulator<'m> {
         if value > tolerance {
             return true;
         }
-        value >= -tolerance && mode.row_rate(&guard.row, x, u, rate) > 0.0
+        if value < -tolerance {
+            return false;
+        }
+        let first = mode.row_rate(&guard.row, x, u, rate);
+        if first != 0.0 {
+            return first > 0.0;
+        }
+        // On the threshold and level: a string at zero extension with its mass at rest. The
+        // second derivative (the rate an instant later) decides.
+        second_rate(mode, &guard.row, x, u, rate) > 0.0
     }
 
     /// Whether the element of a `requires_hold` guard can hold in the mode the guard leads
@@ -831,7 +855,9 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 .copied()
                 .find(|&b| b > self.t)
                 .map_or(until, |b| b.min(until));
-            if self.segment(end)? {
+            let switched = self.segment(end)?;
+            self.check_outputs()?;
+            if switched {
                 return Ok(true);
             }
             if self.t <= before {
@@ -845,6 +871,21 @@ impl<'s, 'm> Stepper<'s, 'm> {
             }
         }
         Ok(false)
+    }
+
+    /// An error when a sample recorded so far holds an output that is not finite.
+    fn check_outputs(&self) -> Result<(), SimError> {
+        match &self.recorder.non_finite {
+            None => Ok(()),
+            Some((t, mode, outputs)) => Err(SimError::NonFiniteOutput {
+                t: *t,
+                mode: self.recorder.modes[*mode].clone(),
+                outputs: outputs
+                    .iter()
+                    .map(|&k| self.recorder.output_names[k].clone())
+                    .collect(),
+            }),
+        }
     }
 
     /// Propagates the current mode to `end` or to its first event; true at an event.
@@ -1095,6 +1136,17 @@ impl<'s, 'm> Stepper<'s, 'm> {
     }
 }
 
+/// The second time derivative of a guard row along the mode's flow, inputs moving at
+/// `rate`: the difference of its first derivative over a step along `dx/dt`, exact for a
+/// linear mode (where the first derivative is affine) whatever the step.
+fn second_rate(mode: &NumericMode, row: &crate::numeric::Row, x: &[f64], u: &[f64], rate: &[f64]) -> f64 {
+    let dx = mode.derivative(x, u);
+    let step = if mode.nonlinear.is_some() { 1e-6 } else { 1.0 };
+    let later: Vec<f64> = x.iter().zip(&dx).map(|(x, d)| x + step * d).collect();
+    let u_later: Vec<f64> = u.iter().zip(rate).map(|(u, r)| u + step * r).collect();
+    (mode.row_rate(row, &later, &u_later, rate) - mode.row_rate(row, x, u, rate)) / step
+}
+
 fn values_at(inputs: &[&dyn Signal], t: f64) -> (Vec<f64>, Vec<f64>) {
     (
         inputs.iter().map(|s| s.value(t)).collect(),
@@ -1155,6 +1207,9 @@ struct Recorder {
     modes: Vec<String>,
     intervals: Vec<(f64, f64, usize)>,
     events: Vec<Event>,
+    /// The first sample with an output that is not finite: its time, mode index and the
+    /// outputs concerned.
+    non_finite: Option<(f64, usize, Vec<usize>)>,
 }
 
 impl Recorder {
@@ -1167,6 +1222,7 @@ impl Recorder {
             modes: Vec::new(),
             intervals: Vec::new(),
             events: Vec::new(),
+            non_finite: None,
         }
     }
 
@@ -1198,9 +1254,16 @@ impl Recorder {
 
     /// A sample in the mode of index `mode` (see [`Recorder::mode_index`]).
     fn sample_in(&mut self, t: f64, mode: usize, values: impl IntoIterator<Item = f64>) {
+        let start = self.values.len();
         self.times.push(t);
         self.values.extend(values);
         self.sample_modes.push(mode);
+        if self.non_finite.is_none() && self.values[start..].iter().any(|v| !v.is_finite()) {
+            let bad = (0..self.values.len() - start)
+                .filter(|&k| !self.values[start + k].is_finite())
+                .collect();
+            self.non_finite = Some((t, mode, bad));
+        }
     }
 
     fn event(&mut self, t: f64, from: String, to: String, element: String, reason: String) {

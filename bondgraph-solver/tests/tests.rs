@@ -2,6 +2,7 @@
 
 mod energy;
 mod fig6;
+mod hardening;
 mod flagship;
 mod flow_limit;
 mod input_rates;
