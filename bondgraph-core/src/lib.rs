@@ -55,6 +55,7 @@ pub mod expr;
 pub mod graph;
 pub mod guards;
 pub mod laws;
+pub mod limits;
 pub mod linear;
 pub mod model;
 pub mod modes;

@@ -3,6 +3,7 @@
 //! One test binary with modules (rather than one binary per file) keeps link times down.
 
 mod jacobian;
+mod limits;
 mod nonlinear;
 mod random_graph;
 mod regressions;

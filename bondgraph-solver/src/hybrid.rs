@@ -393,6 +393,15 @@ impl<'m> Simulator<'m> {
             .sample
             .filter(|s| *s > 0.0 && s.is_finite())
             .unwrap_or(run.duration / 1000.0);
+        let count = bondgraph_core::limits::sample_count(run.duration, sample);
+        if count > bondgraph_core::limits::MAX_SAMPLES as f64 {
+            return Err(SimError::Inputs(format!(
+                "{} s sampled every {sample} s is {} samples, over the limit of {}",
+                run.duration,
+                bondgraph_core::limits::count_in_words(count),
+                bondgraph_core::limits::MAX_SAMPLES
+            )));
+        }
         let mut stepper = Stepper::new(
             self,
             run.inputs,
