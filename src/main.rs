@@ -10,6 +10,7 @@ mod explain_lg;
 mod lg_graph;
 mod lg_svg;
 mod nonlinear;
+mod output;
 mod plot;
 mod reproduce;
 mod residual_plot;
@@ -229,7 +230,9 @@ impl Failure {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match run(cli) {
+    match run(cli).and_then(|()| {
+        output::finish().map_err(|message| Failure::message(DiagnosticKind::Io, message))
+    }) {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {
             let mut stderr = std::io::stderr().lock();
@@ -283,8 +286,8 @@ fn run(cli: Cli) -> Result<(), Failure> {
                     ],
                 ),
             };
-            println!(
-                "{}: ok: {kind} '{}' with {}, {}, {}, {} and {}{mode_count}",
+            print(&format!(
+                "{}: ok: {kind} '{}' with {}, {}, {}, {} and {}{mode_count}\n",
                 source.name(),
                 model.name,
                 count(parts[0].0, parts[0].1),
@@ -292,7 +295,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 count(model.parameters.len(), "parameter"),
                 count(model.inputs.len(), "input"),
                 count(initial.state_count(), "state"),
-            );
+            ));
             Ok(())
         }
         Command::Graph {
@@ -654,7 +657,4 @@ pub(crate) fn count(n: usize, noun: &str) -> String {
     format!("{n} {noun}{plural}")
 }
 
-/// Writes to stdout, ignoring a closed pipe (`bondgraph ... | head`).
-pub(crate) fn print(text: &str) {
-    let _ = std::io::stdout().lock().write_all(text.as_bytes());
-}
+pub(crate) use output::print;

@@ -5,6 +5,7 @@
 mod cli;
 mod diagnostics;
 mod examples;
+mod hardening;
 mod linear_graph_diagnostics;
 mod linear_graphs;
 mod nonlinear;

@@ -1148,7 +1148,13 @@ impl<'s, 'm> Stepper<'s, 'm> {
 /// The second time derivative of a guard row along the mode's flow, inputs moving at
 /// `rate`: the difference of its first derivative over a step along `dx/dt`, exact for a
 /// linear mode (where the first derivative is affine) whatever the step.
-fn second_rate(mode: &NumericMode, row: &crate::numeric::Row, x: &[f64], u: &[f64], rate: &[f64]) -> f64 {
+fn second_rate(
+    mode: &NumericMode,
+    row: &crate::numeric::Row,
+    x: &[f64],
+    u: &[f64],
+    rate: &[f64],
+) -> f64 {
     let dx = mode.derivative(x, u);
     let step = if mode.nonlinear.is_some() { 1e-6 } else { 1.0 };
     let later: Vec<f64> = x.iter().zip(&dx).map(|(x, d)| x + step * d).collect();

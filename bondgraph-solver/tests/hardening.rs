@@ -64,7 +64,10 @@ fn a_string_pulled_from_slack_at_zero_extension_goes_taut_at_once() {
     for (k, t) in trajectory.times.iter().enumerate() {
         let tension = trajectory.value(k, 0).unwrap();
         let expected = 1.0 - (10.0 * t).cos();
-        assert!((tension - expected).abs() < 1e-9, "t = {t}: {tension} against {expected}");
+        assert!(
+            (tension - expected).abs() < 1e-9,
+            "t = {t}: {tension} against {expected}"
+        );
     }
 }
 

@@ -2,9 +2,9 @@
 
 mod energy;
 mod fig6;
-mod hardening;
 mod flagship;
 mod flow_limit;
+mod hardening;
 mod input_rates;
 mod nonlinear;
 mod stick_slip;

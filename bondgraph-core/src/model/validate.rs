@@ -1119,10 +1119,7 @@ fn to_affine(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<LinearForm, 
     Ok(form)
 }
 
-fn to_affine_unbounded(
-    expr: &Expr,
-    scope: &Scope<'_>,
-) -> std::result::Result<LinearForm, Failure> {
+fn to_affine_unbounded(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<LinearForm, Failure> {
     let constant_of = |form: &LinearForm| -> Option<RatFunc> {
         if form.mentions(|v| v != Var::Constant) {
             None

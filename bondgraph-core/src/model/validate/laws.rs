@@ -526,9 +526,8 @@ fn lower(expr: &Expr, scope: &Scope<'_>, allowed: Allowed) -> Result<Sym, (Strin
                 ));
             }
         }
-        base.powi(i64::from(*n)).ok_or_else(|| {
-            ("raises zero to a negative power".to_string(), expr.span)
-        })?
+        base.powi(i64::from(*n))
+            .ok_or_else(|| ("raises zero to a negative power".to_string(), expr.span))?
     } else {
         lower_unbounded(expr, scope, allowed)?
     };
