@@ -560,9 +560,8 @@ fn extend(model: &Path, extensions: &[PathBuf], out: Option<&Path>) -> Result<()
 /// Reads a file into a [`SourceFile`].
 fn read_source(path: &Path) -> Result<Arc<SourceFile>, Failure> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|error| {
-        Failure::message(DiagnosticKind::Io, format!("cannot read '{name}': {error}"))
-    })?;
+    let text = bondgraph_core::read::read_text(path, "")
+        .map_err(|message| Failure::message(DiagnosticKind::Io, message))?;
     Ok(SourceFile::new(name, text))
 }
 
@@ -615,12 +614,8 @@ fn parse_mode(
 /// ([`model::load_source`]).
 pub(crate) fn load(path: &Path) -> Result<(Model, Arc<SourceFile>), Failure> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|error| {
-        Failure::message(
-            DiagnosticKind::Io,
-            format!("cannot read model file '{name}': {error}"),
-        )
-    })?;
+    let text = bondgraph_core::read::read_text(path, "model file")
+        .map_err(|message| Failure::message(DiagnosticKind::Io, message))?;
     let source = SourceFile::new(name, text);
     let model = model::load_source(&source).map_err(|d| with_source(d, &source))?;
     Ok((model, source))

@@ -60,6 +60,7 @@ pub mod linear;
 pub mod model;
 pub mod modes;
 pub mod normal_tree;
+pub mod read;
 pub mod scenario;
 pub mod source;
 pub mod symbolic;

@@ -12,6 +12,7 @@
 //! | total degree of a law's expanded parameter expression (numerator or denominator) | [`MAX_EXPRESSION_DEGREE`] |
 //! | terms of a law's expanded parameter expression (numerator or denominator) | [`MAX_EXPRESSION_TERMS`] |
 //! | samples a simulation records | [`MAX_SAMPLES`] |
+//! | size of a model, scenario, experiment or extension file | [`MAX_FILE_BYTES`] |
 //!
 //! ```
 //! use bondgraph_core::{limits, model};
@@ -34,6 +35,9 @@ pub const MAX_EXPRESSION_TERMS: usize = 1000;
 /// The most samples one simulation records (outputs times samples is what takes memory:
 /// a million samples of a few outputs is tens of megabytes).
 pub const MAX_SAMPLES: u64 = 1_000_000;
+
+/// The largest input file read as text, in bytes (16 MiB: the flagship is 12 kB).
+pub const MAX_FILE_BYTES: u64 = 16 << 20;
 
 /// Why an expanded expression is over the limits, in words; `None` when it is within them.
 pub fn expression_too_large(value: &RatFunc) -> Option<String> {
