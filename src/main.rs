@@ -311,6 +311,12 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let laws = laws::for_mode(&model, &mode);
             let causality =
                 causality::assign(&model, &laws).map_err(|d| with_source(d, &source))?;
+            // A graph of a mode whose equations cannot be derived (a zero resistance in
+            // conductance causality) would be a drawing of a model `check` rejects.
+            if !model.is_nonlinear() {
+                equations::derive(&model, &laws, &equations::Options::default())
+                    .map_err(|d| with_source(d, &source))?;
+            }
             let text = match format {
                 GraphFormat::Text => format!(
                     "{}\n{}",

@@ -82,3 +82,78 @@ fn a_file_over_the_size_limit_is_refused() {
         "{stderr}"
     );
 }
+
+/// `graph` once drew a model that `check` rejects: a zero resistance in conductance
+/// causality (the effort source sets the resistor's effort, which must then set its flow).
+#[test]
+fn graph_refuses_a_model_that_check_rejects() {
+    let path = temporary(
+        "zero_resistance.ron",
+        br#"Model(
+    name: "zero_resistance",
+    parameters: { "R": (value: 0.0), "C": (value: 1.0) },
+    inputs: { "E": () },
+    elements: { "push": Se(effort: "E"), "node": Zero, "damper": R(resistance: "R"), "tank": C(compliance: "C") },
+    bonds: [("push", "node"), ("node", "damper"), ("node", "tank")],
+)"#,
+    );
+    for command in ["check", "graph"] {
+        let output = crate::cli::run(&[command, path.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{command}: {stderr}");
+        assert!(
+            stderr.contains("its resistance is zero") && stderr.contains(":5:56"),
+            "{command}: {stderr}"
+        );
+    }
+}
+
+/// A flow source `v` driving a mass `m` and a damper `b` on one 1-junction: the source's
+/// effort is `b v + m dv/dt` (by hand: the damper's `b v` plus the mass's `m dv/dt`). The
+/// JSON once dropped the `m dv/dt` term and LaTeX the whole output equation.
+#[test]
+fn outputs_keep_their_terms_in_input_derivatives_in_json_and_latex() {
+    let path = temporary(
+        "driven_mass.ron",
+        br#"Model(
+    name: "driven_mass",
+    parameters: { "m": (value: 2.0), "b": (value: 3.0) },
+    inputs: { "v": () },
+    elements: { "drive": Sf(flow: "v"), "node": One, "mass": I(inertance: "m"), "damper": R(resistance: "b") },
+    bonds: [("drive", "node"), ("node", "mass"), ("node", "damper")],
+)"#,
+    );
+    let path = path.to_str().unwrap();
+    let output = crate::cli::run(&[
+        "equations",
+        path,
+        "--output",
+        "effort:drive",
+        "--format",
+        "json",
+    ]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let equation = &json["outputs"][0];
+    assert_eq!(equation["D"], serde_json::json!(["b"]));
+    assert_eq!(equation["F"], serde_json::json!(["m"]));
+    assert_eq!(equation["D_value"], serde_json::json!([3.0]));
+    assert_eq!(equation["F_value"], serde_json::json!([2.0]));
+    let output = crate::cli::run(&[
+        "equations",
+        path,
+        "--output",
+        "effort:drive",
+        "--format",
+        "latex",
+    ]);
+    let latex = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        latex.contains(r"\mathrm{effort}(\mathrm{drive}) = b v + m \frac{dv}{dt}"),
+        "{latex}"
+    );
+}
