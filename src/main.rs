@@ -15,6 +15,7 @@ mod explain_bg;
 mod explain_lg;
 mod lg_graph;
 mod nonlinear;
+mod output;
 mod reproduce;
 mod residual_plot;
 
@@ -316,7 +317,12 @@ fn main() -> ExitCode {
             answer,
             mode.as_deref(),
             *format == ReproduceFormat::Json,
-        ) {
+        )
+        .and_then(|same| {
+            output::finish()
+                .map(|()| same)
+                .map_err(|message| Failure::message(DiagnosticKind::Io, message))
+        }) {
             Ok(true) => ExitCode::SUCCESS,
             Ok(false) => ExitCode::from(1),
             Err(failure) => {
@@ -325,7 +331,9 @@ fn main() -> ExitCode {
             }
         };
     }
-    match run(cli) {
+    match run(cli).and_then(|()| {
+        output::finish().map_err(|message| Failure::message(DiagnosticKind::Io, message))
+    }) {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {
             report(failure);
@@ -388,8 +396,8 @@ fn run(cli: Cli) -> Result<(), Failure> {
                     ],
                 ),
             };
-            println!(
-                "{}: ok: {kind} '{}' with {}, {}, {}, {} and {}{mode_count}",
+            print(&format!(
+                "{}: ok: {kind} '{}' with {}, {}, {}, {} and {}{mode_count}\n",
                 source.name(),
                 model.name,
                 count(parts[0].0, parts[0].1),
@@ -397,7 +405,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 count(model.parameters.len(), "parameter"),
                 count(model.inputs.len(), "input"),
                 count(initial.state_count(), "state"),
-            );
+            ));
             Ok(())
         }
         Command::Graph {
@@ -413,6 +421,12 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let laws = laws::for_mode(&model, &mode);
             let causality =
                 causality::assign(&model, &laws).map_err(|d| with_source(d, &source))?;
+            // A graph of a mode whose equations cannot be derived (a zero resistance in
+            // conductance causality) would be a drawing of a model `check` rejects.
+            if !model.is_nonlinear() {
+                equations::derive(&model, &laws, &equations::Options::default())
+                    .map_err(|d| with_source(d, &source))?;
+            }
             let text = match format {
                 GraphFormat::Text => format!(
                     "{}\n{}",
@@ -719,9 +733,8 @@ fn extend(model: &Path, extensions: &[PathBuf], out: Option<&Path>) -> Result<()
 /// Reads a file into a [`SourceFile`].
 fn read_source(path: &Path) -> Result<Arc<SourceFile>, Failure> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|error| {
-        Failure::message(DiagnosticKind::Io, format!("cannot read '{name}': {error}"))
-    })?;
+    let text = bondgraph_core::read::read_text(path, "")
+        .map_err(|message| Failure::message(DiagnosticKind::Io, message))?;
     Ok(SourceFile::new(name, text))
 }
 
@@ -774,12 +787,8 @@ fn parse_mode(
 /// ([`model::load_source`]).
 pub(crate) fn load(path: &Path) -> Result<(Model, Arc<SourceFile>), Failure> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|error| {
-        Failure::message(
-            DiagnosticKind::Io,
-            format!("cannot read model file '{name}': {error}"),
-        )
-    })?;
+    let text = bondgraph_core::read::read_text(path, "model file")
+        .map_err(|message| Failure::message(DiagnosticKind::Io, message))?;
     let source = SourceFile::new(name, text);
     let model = model::load_source(&source).map_err(|d| with_source(d, &source))?;
     Ok((model, source))
@@ -816,7 +825,4 @@ pub(crate) fn count(n: usize, noun: &str) -> String {
     format!("{n} {noun}{plural}")
 }
 
-/// Writes to stdout, ignoring a closed pipe (`bondgraph ... | head`).
-pub(crate) fn print(text: &str) {
-    let _ = std::io::stdout().lock().write_all(text.as_bytes());
-}
+pub(crate) use output::print;

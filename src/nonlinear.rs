@@ -135,8 +135,8 @@ pub(crate) fn check(model: &Model, source: &Arc<SourceFile>) -> Result<(), Failu
     } else {
         format!(", {}", count(reachable.modes.len(), "reachable mode"))
     };
-    println!(
-        "{}: ok: nonlinear model '{}' with {}, {}, {}, {} and {}{mode_count}",
+    print(&format!(
+        "{}: ok: nonlinear model '{}' with {}, {}, {}, {} and {}{mode_count}\n",
         source.name(),
         model.name,
         count(model.elements.len(), "element"),
@@ -144,6 +144,6 @@ pub(crate) fn check(model: &Model, source: &Arc<SourceFile>) -> Result<(), Failu
         count(model.parameters.len(), "parameter"),
         count(model.inputs.len(), "input"),
         count(states, "state"),
-    );
+    ));
     Ok(())
 }

@@ -7,6 +7,7 @@ mod bond_graph_views;
 mod cli;
 mod diagnostics;
 mod examples;
+mod hardening;
 mod linear_graph_diagnostics;
 mod linear_graphs;
 mod nonlinear;

@@ -89,6 +89,9 @@ pub enum DiagnosticKind {
     /// Through sources (force, current, flow) that form a cut-set: their through variables
     /// must sum to zero at the cut, so they contradict each other.
     ThroughSourceCutSet,
+    /// An input beyond one of the documented limits of [`crate::limits`]: an expression
+    /// that expands too far, a simulation that would record too many samples.
+    TooLarge,
 }
 
 /// One problem found in a model, with where it is and what it concerns.

@@ -522,6 +522,25 @@ pub fn load(scenario: &Arc<SourceFile>, model: &Arc<SourceFile>) -> Result<Scena
             );
         }
     }
+    let interval = raw.sample.unwrap_or(raw.duration / 1000.0);
+    if raw.duration > 0.0 && raw.duration.is_finite() && interval > 0.0 && interval.is_finite() {
+        let count = crate::limits::sample_count(raw.duration, interval);
+        if count > crate::limits::MAX_SAMPLES as f64 {
+            let span = checker.number_in(checker.field_value_span("sample"));
+            checker.problem(
+                DiagnosticKind::TooLarge,
+                format!(
+                    "{} s sampled every {} s is {} samples, over the limit of {}; give a longer sample interval",
+                    checker.written(duration_span, raw.duration),
+                    checker.written(span, interval),
+                    crate::limits::count_in_words(count),
+                    crate::limits::MAX_SAMPLES,
+                ),
+                span,
+                None,
+            );
+        }
+    }
     let signals: Vec<Option<Signal>> = raw
         .inputs
         .iter()
@@ -1545,6 +1564,37 @@ Scenario(
             only(&with("at: 0.5", "at: NaN")).1,
             "input 'G': step time NaN is not a finite number"
         );
+    }
+
+    #[test]
+    fn plans_over_the_sample_limit_are_refused_with_their_count() {
+        assert_eq!(
+            only(&with("sample: 1e-2", "sample: 1e-8")),
+            (
+                DiagnosticKind::TooLarge,
+                "4.0 s sampled every 1e-8 s is 400000001 samples, over the limit of 1000000; \
+                 give a longer sample interval"
+                    .into(),
+                16,
+                13,
+                vec![],
+                "1e-8".into()
+            )
+        );
+        assert_eq!(
+            only(&with("sample: 1e-2", "sample: 5e-324")).1,
+            "4.0 s sampled every 5e-324 s is inf samples, over the limit of 1000000; \
+             give a longer sample interval"
+        );
+        // At the limit exactly: 4 s every 4e-6 s is 1 000 001 samples, one over.
+        assert_eq!(
+            only(&with("sample: 1e-2", "sample: 4e-6")).1,
+            "4.0 s sampled every 4e-6 s is 1000001 samples, over the limit of 1000000; \
+             give a longer sample interval"
+        );
+        if let Err(e) = load_text(&with("sample: 1e-2", "sample: 4.000001e-6")) {
+            panic!("{e}");
+        }
     }
 
     #[test]

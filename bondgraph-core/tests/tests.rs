@@ -4,6 +4,7 @@
 
 mod causality_trace;
 mod jacobian;
+mod limits;
 mod nonlinear;
 mod random_graph;
 mod regressions;

@@ -205,6 +205,16 @@ pub enum SimError {
         /// The mode.
         mode: String,
     },
+    /// A recorded output became infinite or not a number, the states still finite (a
+    /// velocity near the largest double times a gain).
+    NonFiniteOutput {
+        /// When.
+        t: f64,
+        /// The mode.
+        mode: String,
+        /// The outputs concerned.
+        outputs: Vec<String>,
+    },
     /// A state became infinite or not a number.
     NonFinite {
         /// When.
@@ -244,6 +254,11 @@ impl fmt::Display for SimError {
             SimError::TooManyEvents { t, limit } => {
                 write!(f, "more than {limit} events by t = {t} s")
             }
+            SimError::NonFiniteOutput { t, mode, outputs } => write!(
+                f,
+                "at t = {t} s in mode {mode} the outputs {} are no longer finite",
+                quoted(outputs)
+            ),
             SimError::NonFinite { t, mode, states } => write!(
                 f,
                 "at t = {t} s in mode {mode} the states {} are no longer finite",
@@ -418,6 +433,15 @@ impl<'m> Simulator<'m> {
             .filter(|s| *s > 0.0 && s.is_finite())
             .unwrap_or(run.duration / 1000.0);
         let books = self.energy_columns.iter().any(|(_, c)| c.needs_books());
+        let count = bondgraph_core::limits::sample_count(run.duration, sample);
+        if count > bondgraph_core::limits::MAX_SAMPLES as f64 {
+            return Err(SimError::Inputs(format!(
+                "{} s sampled every {sample} s is {} samples, over the limit of {}",
+                run.duration,
+                bondgraph_core::limits::count_in_words(count),
+                bondgraph_core::limits::MAX_SAMPLES
+            )));
+        }
         let mut stepper = Stepper::new(
             self,
             run.inputs,
@@ -642,7 +666,16 @@ impl<'m> Simulator<'m> {
         if value > tolerance {
             return true;
         }
-        value >= -tolerance && mode.row_rate(&guard.row, x, u, rate) > 0.0
+        if value < -tolerance {
+            return false;
+        }
+        let first = mode.row_rate(&guard.row, x, u, rate);
+        if first != 0.0 {
+            return first > 0.0;
+        }
+        // On the threshold and level: a string at zero extension with its mass at rest. The
+        // second derivative (the rate an instant later) decides.
+        second_rate(mode, &guard.row, x, u, rate) > 0.0
     }
 
     /// Whether the element of a `requires_hold` guard can hold in the mode the guard leads
@@ -889,7 +922,9 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 .copied()
                 .find(|&b| b > self.t)
                 .map_or(until, |b| b.min(until));
-            if self.segment(end)? {
+            let switched = self.segment(end)?;
+            self.check_outputs()?;
+            if switched {
                 return Ok(true);
             }
             if self.t <= before {
@@ -903,6 +938,21 @@ impl<'s, 'm> Stepper<'s, 'm> {
             }
         }
         Ok(false)
+    }
+
+    /// An error when a sample recorded so far holds an output that is not finite.
+    fn check_outputs(&self) -> Result<(), SimError> {
+        match &self.recorder.non_finite {
+            None => Ok(()),
+            Some((t, mode, outputs)) => Err(SimError::NonFiniteOutput {
+                t: *t,
+                mode: self.recorder.modes[*mode].clone(),
+                outputs: outputs
+                    .iter()
+                    .map(|&k| self.recorder.output_names[k].clone())
+                    .collect(),
+            }),
+        }
     }
 
     /// Propagates the current mode to `end` or to its first event; true at an event.
@@ -1179,6 +1229,23 @@ impl<'s, 'm> Stepper<'s, 'm> {
     }
 }
 
+/// The second time derivative of a guard row along the mode's flow, inputs moving at
+/// `rate`: the difference of its first derivative over a step along `dx/dt`, exact for a
+/// linear mode (where the first derivative is affine) whatever the step.
+fn second_rate(
+    mode: &NumericMode,
+    row: &crate::numeric::Row,
+    x: &[f64],
+    u: &[f64],
+    rate: &[f64],
+) -> f64 {
+    let dx = mode.derivative(x, u);
+    let step = if mode.nonlinear.is_some() { 1e-6 } else { 1.0 };
+    let later: Vec<f64> = x.iter().zip(&dx).map(|(x, d)| x + step * d).collect();
+    let u_later: Vec<f64> = u.iter().zip(rate).map(|(u, r)| u + step * r).collect();
+    (mode.row_rate(row, &later, &u_later, rate) - mode.row_rate(row, x, u, rate)) / step
+}
+
 fn values_at(inputs: &[&dyn Signal], t: f64) -> (Vec<f64>, Vec<f64>) {
     (
         inputs.iter().map(|s| s.value(t)).collect(),
@@ -1239,6 +1306,9 @@ struct Recorder {
     modes: Vec<String>,
     intervals: Vec<(f64, f64, usize)>,
     events: Vec<Event>,
+    /// The first sample with an output that is not finite: its time, mode index and the
+    /// outputs concerned.
+    non_finite: Option<(f64, usize, Vec<usize>)>,
 }
 
 impl Recorder {
@@ -1251,6 +1321,7 @@ impl Recorder {
             modes: Vec::new(),
             intervals: Vec::new(),
             events: Vec::new(),
+            non_finite: None,
         }
     }
 
@@ -1282,9 +1353,16 @@ impl Recorder {
 
     /// A sample in the mode of index `mode` (see [`Recorder::mode_index`]).
     fn sample_in(&mut self, t: f64, mode: usize, values: impl IntoIterator<Item = f64>) {
+        let start = self.values.len();
         self.times.push(t);
         self.values.extend(values);
         self.sample_modes.push(mode);
+        if self.non_finite.is_none() && self.values[start..].iter().any(|v| !v.is_finite()) {
+            let bad = (0..self.values.len() - start)
+                .filter(|&k| !self.values[start + k].is_finite())
+                .collect();
+            self.non_finite = Some((t, mode, bad));
+        }
     }
 
     fn event(&mut self, t: f64, from: String, to: String, element: String, reason: String) {

@@ -40,7 +40,8 @@ pub struct Eigen {
     pub vectors: DMatrix<Complex64>,
     /// `V⁻¹`.
     pub inverse: DMatrix<Complex64>,
-    /// The 1-norm condition number of `V`.
+    /// The 1-norm condition number of the eigenvectors of the balanced matrix (`V` up to
+    /// the exact diagonal scaling of the balancing).
     pub condition: f64,
 }
 
@@ -119,10 +120,38 @@ pub fn eigen(a: &DMatrix<f64>) -> Result<Eigen, EigenError> {
         }
         i = j;
     }
-    // Undo the balancing: A = D B D⁻¹, so the eigenvectors of A are D times those of B.
+    // Judge the eigenvectors in the balanced coordinates: the balancing is an exact
+    // similarity by powers of two, so the grading it removes (a momentum of order 1 beside a
+    // displacement of order 1e-10 in a stiff oscillator) costs no precision, and must not
+    // count as near-dependence (it once sent such oscillators to the exponential, which
+    // turned a rotation into growth).
+    for c in 0..n {
+        let column_norm = vectors
+            .column(c)
+            .iter()
+            .map(|z| z.norm())
+            .fold(0.0, f64::max);
+        if column_norm == 0.0 || !column_norm.is_finite() {
+            return Err(EigenError::Defective(f64::INFINITY));
+        }
+        let mut column = vectors.column_mut(c);
+        column /= Complex64::new(column_norm, 0.0);
+    }
+    let balanced_inverse = vectors
+        .clone()
+        .try_inverse()
+        .ok_or(EigenError::Defective(f64::INFINITY))?;
+    let condition = complex_one_norm(&vectors) * complex_one_norm(&balanced_inverse);
+    if condition.is_nan() || condition > MAX_CONDITION {
+        return Err(EigenError::Defective(condition));
+    }
+    // Undo the balancing exactly: A = D B D⁻¹, so V = D W and V⁻¹ = W⁻¹ D⁻¹; then scale each
+    // eigenvector to a largest component of 1 (and the matching row of V⁻¹ inversely).
+    let mut inverse = balanced_inverse;
     for r in 0..n {
         for c in 0..n {
             vectors[(r, c)] *= scale[r];
+            inverse[(c, r)] /= scale[r];
         }
     }
     for c in 0..n {
@@ -136,14 +165,8 @@ pub fn eigen(a: &DMatrix<f64>) -> Result<Eigen, EigenError> {
         }
         let mut column = vectors.column_mut(c);
         column /= Complex64::new(column_norm, 0.0);
-    }
-    let inverse = vectors
-        .clone()
-        .try_inverse()
-        .ok_or(EigenError::Defective(f64::INFINITY))?;
-    let condition = complex_one_norm(&vectors) * complex_one_norm(&inverse);
-    if condition.is_nan() || condition > MAX_CONDITION {
-        return Err(EigenError::Defective(condition));
+        let mut row = inverse.row_mut(c);
+        row *= Complex64::new(column_norm, 0.0);
     }
     Ok(Eigen {
         values,

@@ -6,6 +6,7 @@ mod energy_records;
 mod fig6;
 mod flagship;
 mod flow_limit;
+mod hardening;
 mod input_rates;
 mod nonlinear;
 mod stick_slip;

@@ -177,12 +177,8 @@ impl Extension {
     /// # Errors
     /// An unreadable file, and everything [`Extension::load`] reports.
     pub fn read(path: &std::path::Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            Diagnostic::new(
-                DiagnosticKind::Io,
-                format!("cannot read extension '{}': {e}", path.display()),
-            )
-        })?;
+        let text = crate::read::read_text(path, "extension")
+            .map_err(|message| Diagnostic::new(DiagnosticKind::Io, message))?;
         Self::load(&SourceFile::new(path.display().to_string(), text))
     }
 

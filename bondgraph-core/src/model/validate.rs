@@ -1107,8 +1107,19 @@ fn reciprocal(c: Coefficient) -> Coefficient {
 
 type Failure = (DiagnosticKind, String, Span);
 
-/// Turns an expression into an affine form of the inputs with parameter coefficients.
+/// Turns an expression into an affine form of the inputs with parameter coefficients,
+/// refusing any part of it that expands beyond [`crate::limits`].
 fn to_affine(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<LinearForm, Failure> {
+    let form = to_affine_unbounded(expr, scope)?;
+    for (_, coefficient) in form.terms() {
+        if let Some(why) = crate::limits::expression_too_large(coefficient) {
+            return Err((DiagnosticKind::TooLarge, why, expr.span));
+        }
+    }
+    Ok(form)
+}
+
+fn to_affine_unbounded(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<LinearForm, Failure> {
     let constant_of = |form: &LinearForm| -> Option<RatFunc> {
         if form.mentions(|v| v != Var::Constant) {
             None
@@ -1204,12 +1215,30 @@ fn to_affine(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<LinearForm, 
                         expr.span,
                     ));
                 };
-                let Some(power) = value.powi(*exponent) else {
+                let degree = value.numerator().degree().max(value.denominator().degree());
+                let expanded = u64::from(degree) * u64::from(exponent.unsigned_abs());
+                if expanded > u64::from(crate::limits::MAX_EXPRESSION_DEGREE) {
                     return Err((
-                        DiagnosticKind::InvalidValue,
-                        "raises zero to a negative power".into(),
+                        DiagnosticKind::TooLarge,
+                        format!(
+                            "expands to degree {expanded}, over the limit of {}",
+                            crate::limits::MAX_EXPRESSION_DEGREE
+                        ),
                         expr.span,
                     ));
+                }
+                let Some(power) = value.powi(*exponent) else {
+                    let why = if value.is_zero() {
+                        "raises zero to a negative power".to_string()
+                    } else {
+                        "expands beyond the size exact algebra can hold".to_string()
+                    };
+                    let kind = if value.is_zero() {
+                        DiagnosticKind::InvalidValue
+                    } else {
+                        DiagnosticKind::TooLarge
+                    };
+                    return Err((kind, why, expr.span));
                 };
                 LinearForm::constant(power)
             }

@@ -508,8 +508,43 @@ fn linear_slope(law: &Sym, x: Atom) -> Option<RatFunc> {
     }
 }
 
-/// The expression with its names resolved (checked beforehand).
+/// The expression with its names resolved (checked beforehand), its parameter-only parts
+/// within [`crate::limits`].
 fn lower(expr: &Expr, scope: &Scope<'_>, allowed: Allowed) -> Result<Sym, (String, Span)> {
+    let value = if let ExprKind::Pow(a, n) = &expr.kind {
+        let base = lower(a, scope, allowed)?;
+        if let Some(c) = base.as_coefficient() {
+            let degree = c.numerator().degree().max(c.denominator().degree());
+            let expanded = u64::from(degree) * u64::from(n.unsigned_abs());
+            if expanded > u64::from(crate::limits::MAX_EXPRESSION_DEGREE) {
+                return Err((
+                    format!(
+                        "expands to degree {expanded}, over the limit of {}",
+                        crate::limits::MAX_EXPRESSION_DEGREE
+                    ),
+                    expr.span,
+                ));
+            }
+        }
+        base.powi(i64::from(*n))
+            .ok_or_else(|| ("raises zero to a negative power".to_string(), expr.span))?
+    } else {
+        lower_unbounded(expr, scope, allowed)?
+    };
+    if let Some(why) = value
+        .as_coefficient()
+        .and_then(crate::limits::expression_too_large)
+    {
+        return Err((why, expr.span));
+    }
+    Ok(value)
+}
+
+fn lower_unbounded(
+    expr: &Expr,
+    scope: &Scope<'_>,
+    allowed: Allowed,
+) -> Result<Sym, (String, Span)> {
     let zero_power = || ("raises zero to a negative power".to_string(), expr.span);
     Ok(match &expr.kind {
         ExprKind::Number(text) => {

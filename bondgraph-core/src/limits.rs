@@ -1,0 +1,78 @@
+//! Documented limits on the size of inputs, so that every input is bounded in time and
+//! memory and a file beyond them gets a clear error instead of exhausting the machine.
+//!
+//! Exact rational algebra is what makes equal entries print equally, but it has a price:
+//! `(m + k + b)^300` expands into 45 451 terms with 480-bit coefficients, and the
+//! derivation's greatest common divisors over such polynomials once took 3.9 GB before the
+//! allocator gave up. No physical law needs anything near these limits; the textbook
+//! models and the flagship stay below a tenth of them.
+//!
+//! | what | limit |
+//! |---|---|
+//! | total degree of a law's expanded parameter expression (numerator or denominator) | [`MAX_EXPRESSION_DEGREE`] |
+//! | terms of a law's expanded parameter expression (numerator or denominator) | [`MAX_EXPRESSION_TERMS`] |
+//! | samples a simulation records | [`MAX_SAMPLES`] |
+//! | size of a model, scenario, experiment or extension file | [`MAX_FILE_BYTES`] |
+//!
+//! ```
+//! use bondgraph_core::{limits, model};
+//! let text = r#"Model(name: "m", parameters: { "m": (value: 1.0), "k": (value: 1.0) },
+//!     inputs: {}, elements: { "v": One, "mass": I(inertance: "(m + k)^1000"),
+//!     "spring": C(stiffness: "k") }, bonds: [("v", "mass"), ("v", "spring")])"#;
+//! let error = model::load_str("m.ron", text).unwrap_err();
+//! assert!(error.to_string().contains(&limits::MAX_EXPRESSION_DEGREE.to_string()));
+//! ```
+
+use crate::symbolic::RatFunc;
+
+/// The largest total degree of a parameter expression's numerator or denominator, once
+/// expanded.
+pub const MAX_EXPRESSION_DEGREE: u32 = 32;
+
+/// The most terms in a parameter expression's numerator or denominator, once expanded.
+pub const MAX_EXPRESSION_TERMS: usize = 1000;
+
+/// The most samples one simulation records (outputs times samples is what takes memory:
+/// a million samples of a few outputs is tens of megabytes).
+pub const MAX_SAMPLES: u64 = 1_000_000;
+
+/// The largest input file read as text, in bytes (16 MiB: the flagship is 12 kB).
+pub const MAX_FILE_BYTES: u64 = 16 << 20;
+
+/// Why an expanded expression is over the limits, in words; `None` when it is within them.
+pub fn expression_too_large(value: &RatFunc) -> Option<String> {
+    for (part, poly) in [
+        ("numerator", value.numerator()),
+        ("denominator", value.denominator()),
+    ] {
+        if poly.degree() > MAX_EXPRESSION_DEGREE {
+            return Some(format!(
+                "expands to a {part} of degree {}, over the limit of {MAX_EXPRESSION_DEGREE}",
+                poly.degree()
+            ));
+        }
+        if poly.term_count() > MAX_EXPRESSION_TERMS {
+            return Some(format!(
+                "expands to a {part} of {} terms, over the limit of {MAX_EXPRESSION_TERMS}",
+                poly.term_count()
+            ));
+        }
+    }
+    None
+}
+
+/// The number of samples a run of `duration` seconds records every `interval` seconds
+/// (both ends included), as a float so that `1e308 / 5e-324` is infinite rather than a
+/// wrapped integer.
+pub fn sample_count(duration: f64, interval: f64) -> f64 {
+    (duration / interval).floor() + 1.0
+}
+
+/// A count as an integer while it is one exactly, else in exponent form (`1e308`).
+pub fn count_in_words(count: f64) -> String {
+    if count < 9.007_199_254_740_992e15 {
+        format!("{count:.0}")
+    } else {
+        format!("{count:e}")
+    }
+}

@@ -1,0 +1,207 @@
+//! Regressions from the hardening issue (12): answers that were once wrong with exit 0.
+
+use bondgraph_core::equations::OutputSpec;
+use bondgraph_core::model::{self, Model};
+use bondgraph_core::modes::Mode;
+use bondgraph_solver::{Output, Run, Signal, Simulator, Trajectory};
+
+use crate::support::Constant;
+
+/// A mass `m = 1 kg` pushed by a force `F`, tied to a wall by a string of stiffness
+/// `k = 100 N/m` that starts in `initial` at zero extension, the mass at rest.
+fn tethered_mass(initial: &str) -> Model {
+    let text = format!(
+        r#"Model(
+    name: "tethered_mass",
+    parameters: {{ "m": (value: 1.0), "k": (value: 100.0) }},
+    inputs: {{ "F": () }},
+    elements: {{
+        "push": Se(effort: "F"),
+        "v_mass": One,
+        "mass": I(inertance: "m"),
+        "string": TensionOnly(stiffness: "k", initial: "{initial}"),
+    }},
+    bonds: [("push", "v_mass"), ("v_mass", "mass"), ("v_mass", "string")],
+)"#
+    );
+    model::load_str("tethered_mass.ron", &text).unwrap()
+}
+
+fn run_tethered(model: &Model, force: f64, duration: f64) -> Trajectory {
+    let outputs = ["effort:string", "flow:mass"]
+        .iter()
+        .map(|name| Output {
+            name: (*name).into(),
+            spec: OutputSpec::parse(model, name).unwrap(),
+            integral: false,
+        })
+        .collect();
+    let mut simulator = Simulator::new(model, outputs);
+    let push = Constant(force);
+    let inputs: [&dyn Signal; 1] = [&push];
+    simulator
+        .run(&Run {
+            inputs: &inputs,
+            initial_mode: Mode::initial(model),
+            initial_state: vec![0.0, 0.0],
+            duration,
+            sample: Some(0.01),
+            audit_energy: false,
+        })
+        .unwrap()
+}
+
+/// Pulled from slack at zero extension, the string is taut at once: the mass and string are
+/// then a spring-mass under a constant pull, `q(t) = F/k (1 - cos ωt)` with ω = 10 rad/s, so
+/// the tension `k q` at t = π/20 s (a half period) is `2F`, and never negative.
+#[test]
+fn a_string_pulled_from_slack_at_zero_extension_goes_taut_at_once() {
+    let model = tethered_mass("slack");
+    let trajectory = run_tethered(&model, 1.0, 0.5);
+    assert_eq!(trajectory.events.len(), 1, "{:#?}", trajectory.events);
+    assert_eq!(trajectory.events[0].t, 0.0);
+    assert_eq!(trajectory.events[0].to, "string=taut");
+    for (k, t) in trajectory.times.iter().enumerate() {
+        let tension = trajectory.value(k, 0).unwrap();
+        let expected = 1.0 - (10.0 * t).cos();
+        assert!(
+            (tension - expected).abs() < 1e-9,
+            "t = {t}: {tension} against {expected}"
+        );
+    }
+}
+
+/// Pushed from taut at zero extension, the string goes slack at once and carries no force:
+/// the mass accelerates at `F/m`, `v(t) = F t / m`.
+#[test]
+fn a_string_pushed_from_taut_at_zero_extension_goes_slack_at_once() {
+    let model = tethered_mass("taut");
+    let trajectory = run_tethered(&model, -1.0, 0.5);
+    assert_eq!(trajectory.events.len(), 1, "{:#?}", trajectory.events);
+    assert_eq!(trajectory.events[0].t, 0.0);
+    assert_eq!(trajectory.events[0].to, "string=slack");
+    for (k, t) in trajectory.times.iter().enumerate() {
+        assert_eq!(trajectory.value(k, 0).unwrap(), 0.0, "tension at t = {t}");
+        let v = trajectory.value(k, 1).unwrap();
+        assert!((v + t).abs() < 1e-12, "t = {t}: v = {v}");
+    }
+}
+
+/// A spring stretched by a flow source at 1e308 m/s: its extension `q = V t` stays finite
+/// (2e306 m at t = 0.02 s) but its force `k q` with k = 100 N/m passes the largest double
+/// (1.8e308) at t = 0.018 s. The sample at 0.02 s cannot be written; the run says so and
+/// names the output, instead of recording `inf`.
+#[test]
+fn an_output_that_overflows_is_an_error_naming_it() {
+    let model = model::load_str(
+        "fast_spring.ron",
+        r#"Model(
+    name: "fast_spring",
+    parameters: { "k": (value: 100.0) },
+    inputs: { "V": () },
+    elements: { "drive": Sf(flow: "V"), "node": Zero, "spring": C(stiffness: "k") },
+    bonds: [("drive", "node"), ("node", "spring")],
+)"#,
+    )
+    .unwrap();
+    let outputs = vec![Output {
+        name: "effort:spring".into(),
+        spec: OutputSpec::parse(&model, "effort:spring").unwrap(),
+        integral: false,
+    }];
+    let mut simulator = Simulator::new(&model, outputs);
+    let drive = Constant(1e308);
+    let inputs: [&dyn Signal; 1] = [&drive];
+    let error = simulator
+        .run(&Run {
+            inputs: &inputs,
+            initial_mode: Mode::initial(&model),
+            initial_state: vec![0.0],
+            duration: 0.05,
+            sample: Some(0.01),
+            audit_energy: false,
+        })
+        .unwrap_err();
+    match &error {
+        bondgraph_solver::SimError::NonFiniteOutput { t, outputs, .. } => {
+            assert_eq!(*t, 0.02);
+            assert_eq!(outputs, &["effort:spring"]);
+        }
+        other => panic!("expected a non-finite output, got {other}"),
+    }
+    assert!(error.to_string().contains("'effort:spring'"), "{error}");
+}
+
+/// An undamped mass-spring `m`, `k` released with momentum `p₀ = 1 N s` and the spring
+/// relaxed: `q(t) = sin(ωt)/(m ω)` with ω = √(k/m), so the spring force is
+/// `k q = ω sin(ωt)` and the mass's velocity `cos(ωt)/m`; the energy `1/(2m)` stays.
+fn check_oscillator(m: f64, k: f64, duration: f64, sample: f64) {
+    let model = model::load_str(
+        "oscillator.ron",
+        &format!(
+            r#"Model(
+    name: "oscillator",
+    parameters: {{ "m": (value: {m:e}), "k": (value: {k:e}) }},
+    inputs: {{}},
+    elements: {{ "v": One, "mass": I(inertance: "m"), "spring": C(stiffness: "k") }},
+    bonds: [("v", "mass"), ("v", "spring")],
+)"#
+        ),
+    )
+    .unwrap();
+    let outputs = ["effort:spring", "flow:mass"]
+        .iter()
+        .map(|name| Output {
+            name: (*name).into(),
+            spec: OutputSpec::parse(&model, name).unwrap(),
+            integral: false,
+        })
+        .collect();
+    let mut simulator = Simulator::new(&model, outputs);
+    let trajectory = simulator
+        .run(&Run {
+            inputs: &[],
+            initial_mode: Mode::initial(&model),
+            initial_state: vec![1.0, 0.0],
+            duration,
+            sample: Some(sample),
+            audit_energy: true,
+        })
+        .unwrap();
+    let omega = (k / m).sqrt();
+    let force_amplitude = omega;
+    for (i, t) in trajectory.times.iter().enumerate() {
+        let force = trajectory.value(i, 0).unwrap();
+        let velocity = trajectory.value(i, 1).unwrap();
+        let expected_force = force_amplitude * (omega * t).sin();
+        let expected_velocity = (omega * t).cos() / m;
+        // The phase ωt is known to about ε ωt; allow ten times that.
+        let phase = 10.0 * f64::EPSILON * (omega * t).max(1.0);
+        assert!(
+            (force - expected_force).abs() <= phase * force_amplitude,
+            "m = {m}, k = {k}, t = {t}: force {force} against {expected_force}"
+        );
+        assert!(
+            (velocity - expected_velocity).abs() <= phase / m,
+            "m = {m}, k = {k}, t = {t}: velocity {velocity} against {expected_velocity}"
+        );
+    }
+    let energy = trajectory.energy.unwrap();
+    let initial = 0.5 / m;
+    assert!(
+        (energy.final_stored - initial).abs() <= 1e-12 * initial,
+        "m = {m}, k = {k}: {energy:?}"
+    );
+    assert_eq!(energy.supplied, 0.0);
+    assert_eq!(energy.dissipated, 0.0);
+}
+
+/// With `k m = 1e20` the mode matrix `[[0, -k], [1/m, 0]]` is badly graded; its eigenvectors
+/// looked dependent before balancing was undone, and the exponential it fell back on turned
+/// ω = 1e10 rad/s into growth (to 1e276 N in 10 s) and ω = 1 rad/s into a phase error.
+#[test]
+fn a_badly_scaled_undamped_oscillator_keeps_its_phase_and_energy() {
+    check_oscillator(1.0, 1.0, 1000.0, 100.0);
+    check_oscillator(1e10, 1e10, 1000.0, 100.0);
+    check_oscillator(1.0, 1e20, 1e-8, 1e-10);
+}

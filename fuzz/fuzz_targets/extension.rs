@@ -1,0 +1,32 @@
+//! Extension text merged into a fixed base model (the flagship robot), then checked:
+//! diagnostics pointing into the extension, or a model, never a panic.
+#![no_main]
+
+use std::sync::{Arc, OnceLock};
+
+use bondgraph_core::model::extension::{Extension, merge};
+use bondgraph_core::source::SourceFile;
+use libfuzzer_sys::fuzz_target;
+
+fn base() -> &'static Arc<SourceFile> {
+    static BASE: OnceLock<Arc<SourceFile>> = OnceLock::new();
+    BASE.get_or_init(|| {
+        SourceFile::new(
+            "models/eversion/robot.ron".into(),
+            include_str!("../../models/eversion/robot.ron").into(),
+        )
+    })
+}
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    let source = SourceFile::new("fuzz.ron".into(), text.into());
+    let Ok(extension) = Extension::load(&source) else {
+        return;
+    };
+    if let Ok(extended) = merge(base(), &[extension]) {
+        let _ = extended.load();
+    }
+});

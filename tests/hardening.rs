@@ -1,0 +1,159 @@
+//! Regressions from the hardening issue (12) at the level of the program: exit codes and
+//! messages on inputs and environments that once gave exit 0 or a panic.
+
+use std::fs::File;
+use std::process::{Command, Stdio};
+
+use crate::support::root;
+
+/// Runs `bondgraph ARGS` with its standard output going to `/dev/full`, where every write
+/// fails with "no space left on device".
+fn run_into_full_disk(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_bondgraph"))
+        .args(args)
+        .current_dir(root())
+        .stdout(Stdio::from(
+            File::create("/dev/full").expect("/dev/full exists"),
+        ))
+        .stderr(Stdio::piped())
+        .output()
+        .expect("the program runs")
+}
+
+#[test]
+fn a_failed_write_on_standard_output_is_an_error() {
+    for args in [
+        &["equations", "models/examples/mass_spring_damper.ron"][..],
+        &["check", "models/examples/mass_spring_damper.ron"],
+        &["check", "models/examples/nonlinear/pendulum.ron"],
+    ] {
+        let output = run_into_full_disk(args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("could not write to standard output"),
+            "{args:?}: {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
+}
+
+/// Writes `bytes` to a fresh file in the temporary folder and returns its path.
+fn temporary(name: &str, bytes: &[u8]) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("bondgraph-hardening-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+/// A byte that is not UTF-8 once said only "stream did not contain valid UTF-8".
+#[test]
+fn a_byte_that_is_not_utf8_is_located() {
+    let text =
+        std::fs::read_to_string(root().join("models/examples/mass_spring_damper.ron")).unwrap();
+    // Break the first letter of line 3.
+    let line_start: usize = text.split_inclusive('\n').take(2).map(str::len).sum();
+    let mut bytes = text.into_bytes();
+    bytes[line_start] = 0xff;
+    let path = temporary("not_utf8.ron", &bytes);
+    let output = crate::cli::run(&["check", path.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "{}:3:1: byte 0xff is not valid UTF-8",
+            path.display()
+        )),
+        "{stderr}"
+    );
+}
+
+/// A file over the size limit is refused before it is parsed.
+#[test]
+fn a_file_over_the_size_limit_is_refused() {
+    let size = usize::try_from(bondgraph_core::limits::MAX_FILE_BYTES).unwrap() + 1;
+    let path = temporary("huge.ron", &vec![b' '; size]);
+    let output = crate::cli::run(&["check", path.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("larger than the limit of 16777216 bytes"),
+        "{stderr}"
+    );
+}
+
+/// `graph` once drew a model that `check` rejects: a zero resistance in conductance
+/// causality (the effort source sets the resistor's effort, which must then set its flow).
+#[test]
+fn graph_refuses_a_model_that_check_rejects() {
+    let path = temporary(
+        "zero_resistance.ron",
+        br#"Model(
+    name: "zero_resistance",
+    parameters: { "R": (value: 0.0), "C": (value: 1.0) },
+    inputs: { "E": () },
+    elements: { "push": Se(effort: "E"), "node": Zero, "damper": R(resistance: "R"), "tank": C(compliance: "C") },
+    bonds: [("push", "node"), ("node", "damper"), ("node", "tank")],
+)"#,
+    );
+    for command in ["check", "graph"] {
+        let output = crate::cli::run(&[command, path.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{command}: {stderr}");
+        assert!(
+            stderr.contains("its resistance is zero") && stderr.contains(":5:56"),
+            "{command}: {stderr}"
+        );
+    }
+}
+
+/// A flow source `v` driving a mass `m` and a damper `b` on one 1-junction: the source's
+/// effort is `b v + m dv/dt` (by hand: the damper's `b v` plus the mass's `m dv/dt`). The
+/// JSON once dropped the `m dv/dt` term and LaTeX the whole output equation.
+#[test]
+fn outputs_keep_their_terms_in_input_derivatives_in_json_and_latex() {
+    let path = temporary(
+        "driven_mass.ron",
+        br#"Model(
+    name: "driven_mass",
+    parameters: { "m": (value: 2.0), "b": (value: 3.0) },
+    inputs: { "v": () },
+    elements: { "drive": Sf(flow: "v"), "node": One, "mass": I(inertance: "m"), "damper": R(resistance: "b") },
+    bonds: [("drive", "node"), ("node", "mass"), ("node", "damper")],
+)"#,
+    );
+    let path = path.to_str().unwrap();
+    let output = crate::cli::run(&[
+        "equations",
+        path,
+        "--output",
+        "effort:drive",
+        "--format",
+        "json",
+    ]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let equation = &json["outputs"][0];
+    assert_eq!(equation["D"], serde_json::json!(["b"]));
+    assert_eq!(equation["F"], serde_json::json!(["m"]));
+    assert_eq!(equation["D_value"], serde_json::json!([3.0]));
+    assert_eq!(equation["F_value"], serde_json::json!([2.0]));
+    let output = crate::cli::run(&[
+        "equations",
+        path,
+        "--output",
+        "effort:drive",
+        "--format",
+        "latex",
+    ]);
+    let latex = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        latex.contains(r"\mathrm{effort}(\mathrm{drive}) = b v + m \frac{dv}{dt}"),
+        "{latex}"
+    );
+}
