@@ -163,8 +163,9 @@ pub(crate) fn run(args: &Args) -> Result<(), Failure> {
                 false,
             ),
             None => {
-                let record = Record::parse(&model, spec).map_err(|d| with_source(d, &source))?;
-                let row = eq.output(record.spec()).row;
+                let (record, spec) =
+                    Record::parse_output(&model, spec).map_err(|d| with_source(d, &source))?;
+                let row = eq.output(&spec).row;
                 (record.name(), row, matches!(record, Record::Integral(_)))
             }
         }),

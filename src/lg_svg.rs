@@ -199,7 +199,7 @@ pub fn draw(model: &Model, graph: &LinearGraph, tree: &NormalTree, spec: &str) -
 }
 
 /// `text` with the characters XML reserves escaped.
-pub(crate) fn escape(text: &str) -> String {
+pub fn escape(text: &str) -> String {
     text.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")

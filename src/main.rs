@@ -7,9 +7,9 @@
 mod analyze;
 mod analyze_plot;
 mod bg_svg;
+mod calibrate;
 mod compare;
 mod conventions;
-mod calibrate;
 mod discover;
 mod explain_bg;
 mod explain_lg;

@@ -459,7 +459,7 @@ impl Legend {
 ///
 /// # Errors
 /// A message naming an output the trajectory does not record, or an empty panel.
-pub(crate) fn panels(trajectory: &Trajectory, texts: &[String]) -> Result<Vec<Vec<usize>>, String> {
+pub fn panels(trajectory: &Trajectory, texts: &[String]) -> Result<Vec<Vec<usize>>, String> {
     texts
         .iter()
         .enumerate()

@@ -69,30 +69,29 @@ fn run_discover(
             ),
         )
     })?;
-    let experiment = Experiment::parse(&experiment_path.display().to_string(), &experiment_text)
-        .map_err(|e| fail(DiagnosticKind::Syntax, e))?;
+    let experiment_source = SourceFile::new(experiment_path.display().to_string(), experiment_text);
+    let experiment =
+        Experiment::from_source(&experiment_source).map_err(|e| fail(DiagnosticKind::Syntax, e))?;
     if data_files.is_empty() {
         return Err(fail(
             DiagnosticKind::Io,
             "discover needs at least one data file",
         ));
     }
-    let mut names = Vec::new();
-    let mut rows = Vec::new();
+    let mut parts = Vec::new();
     for path in data_files {
-        let dataset =
-            data::read_file(Path::new(path)).map_err(|e| fail(DiagnosticKind::Syntax, e))?;
-        names.push(dataset.name);
-        rows.extend(dataset.rows);
+        parts.push(
+            data::read_file(Path::new(path), &experiment)
+                .map_err(|e| fail(DiagnosticKind::Syntax, e))?,
+        );
     }
-    let name = names.join(" + ");
+    let dataset = data::Dataset::join(parts);
     let extensions = extensions.map_or_else(|| folder.join("extensions"), PathBuf::from);
     let candidates = library(&base, &extensions)?;
     let discovery = bondgraph_fit::discover::discover(
         &base,
         &experiment,
-        &name,
-        &rows,
+        &dataset,
         &candidates,
         &Settings::default(),
     )

@@ -197,10 +197,10 @@ impl PyModel {
             let outputs = outputs
                 .iter()
                 .map(|spec| {
-                    Record::parse(model, spec).map(|record| NonlinearOutput {
+                    Record::parse_output(model, spec).map(|(record, output)| NonlinearOutput {
                         integral: matches!(record, Record::Integral(_)),
                         name: record.name(),
-                        ..eq.output(record.spec())
+                        ..eq.output(&output)
                     })
                 })
                 .collect::<Result<Vec<_>, _>>()
@@ -226,8 +226,8 @@ impl PyModel {
         let outputs = outputs
             .iter()
             .map(|spec| {
-                Record::parse(model, spec).map(|record| {
-                    let mut output = eq.output(record.spec());
+                Record::parse_output(model, spec).map(|(record, spec)| {
+                    let mut output = eq.output(&spec);
                     output.integral = matches!(record, Record::Integral(_));
                     output.name = record.name();
                     output
