@@ -512,7 +512,7 @@ const SAME_PREDICTION_MM_S: f64 = 1e-3;
 /// takes the base model's held-out errors instead: when its fit predicts every row as the
 /// base model's fit does (`base_predictions`, within [`SAME_PREDICTION_MM_S`]). At its best
 /// it is then the base model on this data: its own parameters change no prediction
-/// (catheter friction without a catheter, a supply ceiling above every row), or only as a
+/// (friction at a contact the data never has, a ceiling above every row), or only as a
 /// refit of the base's parameters would (an alias), so its folds would refit the base model.
 fn assess_candidate(
     candidate: &Candidate,

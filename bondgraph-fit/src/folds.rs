@@ -9,7 +9,7 @@
 //!   fewest levels: the condition set at a few discrete settings (a drive speed, a load)
 //!   rather than swept (a pressure in nine steps), whose neighbouring levels k-fold already
 //!   holds out. Leaving every level of every sweep out as well multiplies the refits (27 on
-//!   the flagship's catheter sweep instead of 9) and scores mostly extrapolation beyond the
+//!   a three-factor sweep of nine levels instead of 9) and scores mostly extrapolation beyond the
 //!   ends of a sweep, where a threshold-shaped effect cannot be checked;
 //! - **k-fold**, always: rows in the order of their conditions dealt round-robin into `k`
 //!   folds, so that the rows at one setting fall into different folds and no fold holds out a

@@ -8,7 +8,7 @@
 //! extensions (small bond-graph fragments with a physical cause) that could explain what the
 //! model gets wrong, and selects among them on held-out data, saying when the data cannot
 //! tell candidates apart. It knows nothing of any particular system: the flagship study
-//! (`studies/eversion`) uses it like any other user.
+//! in `studies/` uses it like any other user.
 //!
 //! - [`experiment`]: the experiment file (which columns set which inputs, what is observed,
 //!   what an empty cell removes, what is refitted);
