@@ -670,11 +670,15 @@ impl<'m> Simulator<'m> {
             return false;
         }
         let first = mode.row_rate(&guard.row, x, u, rate);
-        if first != 0.0 {
+        let rate_tolerance = 1e-9 * mode.row_rate_magnitude(&guard.row, x, u, rate);
+        if first.abs() > rate_tolerance {
             return first > 0.0;
         }
-        // On the threshold and level: a string at zero extension with its mass at rest. The
-        // second derivative (the rate an instant later) decides.
+        // On the threshold and level: a string at zero extension with its mass at rest, or a
+        // contact whose breakaway force equals its Coulomb force slipping at the instant the
+        // force it would have to hold is the breakaway force (its acceleration is then zero
+        // up to rounding, whose sign must not decide). The second derivative (the rate an
+        // instant later) decides.
         second_rate(mode, &guard.row, x, u, rate) > 0.0
     }
 

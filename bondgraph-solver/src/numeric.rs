@@ -491,6 +491,33 @@ impl NumericMode {
         }
         dot(&row.state, &self.derivative(x, u)) + dot(&row.input, rate)
     }
+
+    /// The size of the terms of [`NumericMode::row_rate`] before they cancel, the scale
+    /// against which a rate `≈ 0` is judged: `Σ|gᵢ| (Σ|Aᵢⱼ xⱼ| + Σ|Bᵢₖ uₖ| + |cᵢ|) + Σ|hₖ u̇ₖ|`.
+    /// Zero for a nonlinear mode, whose rate is then judged exactly.
+    pub fn row_rate_magnitude(&self, row: &Row, x: &[f64], u: &[f64], rate: &[f64]) -> f64 {
+        if row.program.is_some() || self.nonlinear.is_some() {
+            return 0.0;
+        }
+        let mut sum = 0.0;
+        for (i, g) in row.state.iter().enumerate() {
+            if *g == 0.0 {
+                continue;
+            }
+            let terms = (0..x.len())
+                .map(|j| (self.a[(i, j)] * x[j]).abs())
+                .chain((0..u.len()).map(|k| (self.b[(i, k)] * u[k]).abs()))
+                .sum::<f64>()
+                + self.c[i].abs();
+            sum += g.abs() * terms;
+        }
+        sum + row
+            .input
+            .iter()
+            .zip(rate)
+            .map(|(h, r)| (h * r).abs())
+            .sum::<f64>()
+    }
 }
 
 /// `R`, `S`, `s` and the projection `(Rᵀ W R)⁻¹ Rᵀ W` of a mode's storage energy forms.

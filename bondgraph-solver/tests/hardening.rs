@@ -205,3 +205,87 @@ fn a_badly_scaled_undamped_oscillator_keeps_its_phase_and_energy() {
     check_oscillator(1e10, 1e10, 1000.0, 100.0);
     check_oscillator(1.0, 1e20, 1e-8, 1e-10);
 }
+
+/// The belt example (`models/examples/belt_friction.ron`: m = 1 kg, k = 100 N/m, belt at
+/// 0.1 m/s) with its breakaway force lowered to the Coulomb force, `F_S = F_C = 6 N`.
+///
+/// By hand: stuck from rest, the spring stretches at 0.1 m/s until `k x = F_S`, at
+/// x = 0.06 m and t = 0.6 s. Slipping, the friction force is `F_C`, equal to the spring's
+/// at that instant, so the block starts slipping with zero acceleration and then swings
+/// about `x = F_C/k = 0.06 m` at ω = 10 rad/s: `x = 0.06 + 0.01 sin ωτ`, spring force
+/// `6 + sin ωτ` N and block velocity `0.1 cos ωτ` m/s, τ = t - 0.6 s, so that the belt's
+/// velocity relative to the block, `0.1 (1 - cos ωτ)`, is positive (`slip+`) and touches
+/// zero again at τ = 2π/ω = 0.628 s. There the state is the breakaway state again: sticking
+/// would have to hold `k x = F_S` with the spring still stretching, so the contact breaks
+/// away at once and the same swing repeats, every 2π/ω: a periodic slip, touching the
+/// belt's speed once a period. Any event is one of those touches.
+#[test]
+fn a_contact_whose_breakaway_equals_its_coulomb_force_slips_at_breakaway() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../models/examples/belt_friction.ron"
+    );
+    let text = std::fs::read_to_string(path)
+        .unwrap()
+        .replace(r#""F_S": (value: 10.0"#, r#""F_S": (value: 6.0"#);
+    assert!(text.contains(r#""F_S": (value: 6.0"#));
+    let model = model::load_str("belt_equal_levels.ron", &text).unwrap();
+    let outputs = ["effort:spring", "flow:block"]
+        .iter()
+        .map(|name| Output {
+            name: (*name).into(),
+            spec: OutputSpec::parse(&model, name).unwrap(),
+            integral: false,
+        })
+        .collect();
+    let mut simulator = Simulator::new(&model, outputs);
+    let belt = Constant(0.1);
+    let inputs: [&dyn Signal; 1] = [&belt];
+    let trajectory = simulator
+        .run(&Run {
+            inputs: &inputs,
+            initial_mode: Mode::initial(&model),
+            initial_state: vec![0.0, 0.0],
+            duration: 2.0,
+            sample: Some(0.01),
+            audit_energy: true,
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    let event = &trajectory.events[0];
+    assert!((event.t - 0.6).abs() < 1e-12, "{event:?}");
+    assert_eq!(event.to, "friction=slip+");
+    let period = 2.0 * std::f64::consts::PI / 10.0;
+    for event in &trajectory.events[1..] {
+        let periods = (event.t - 0.6) / period;
+        assert!(
+            (periods - periods.round()).abs() < 1e-6 && periods.round() >= 1.0,
+            "an event away from a touch: {event:?}"
+        );
+    }
+    assert_eq!(trajectory.final_mode, "friction=slip+");
+    for (i, &t) in trajectory.times.iter().enumerate() {
+        let (force, velocity) = if t <= 0.6 {
+            (100.0 * 0.1 * t, 0.1)
+        } else {
+            let tau = t - 0.6;
+            (6.0 + (10.0 * tau).sin(), 0.1 * (10.0 * tau).cos())
+        };
+        let (f, v) = (
+            trajectory.value(i, 0).unwrap(),
+            trajectory.value(i, 1).unwrap(),
+        );
+        assert!(
+            (f - force).abs() < 1e-9,
+            "t = {t}: force {f} against {force}"
+        );
+        assert!(
+            (v - velocity).abs() < 1e-10,
+            "t = {t}: velocity {v} against {velocity}"
+        );
+    }
+    let energy = trajectory.energy.unwrap();
+    assert!(
+        energy.residual().abs() <= 1e-9 * energy.scale(),
+        "{energy:?}"
+    );
+}
