@@ -338,7 +338,31 @@ fn complex_one_norm(a: &DMatrix<Complex64>) -> f64 {
 /// Accurate to near machine precision for matrices whose eigenvalues span a few orders of
 /// magnitude; not for stiff ones (see the module documentation). `None` if `A` has
 /// non-finite entries or the Padé denominator is singular.
+///
+/// `A` is balanced first ([`balance`], an exact similarity by powers of two) and the
+/// balancing undone on the result. A badly graded defective matrix needs it: the slack mode
+/// of a 1e-30 kg mass, `[[0, 0], [1/m, 0]]` over 1e-10 s, has a norm of 1e20 and would take 65
+/// squarings, which grow the rounding error of the Padé step's pivoting (a 1e-30 entry where
+/// the exact exponential has zero, making the Jordan block's double eigenvalue 1 split into
+/// `1 ± 1e-15`) by `2^65` in the exponent, to infinity. Balanced, the same matrix has a norm
+/// near 1e5 and needs 15 squarings.
 pub fn expm(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+    if a.iter().any(|x| !x.is_finite()) {
+        return None;
+    }
+    let (balanced, scale) = balance(a);
+    let mut result = expm_unbalanced(&balanced)?;
+    // A = D B D⁻¹, so e^A = D e^B D⁻¹.
+    let n = a.nrows();
+    for r in 0..n {
+        for c in 0..n {
+            result[(r, c)] *= scale[r] / scale[c];
+        }
+    }
+    result.iter().all(|x| x.is_finite()).then_some(result)
+}
+
+fn expm_unbalanced(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     const B: [f64; 14] = [
         64764752532480000.0,
         32382376266240000.0,

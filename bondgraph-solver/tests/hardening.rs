@@ -289,3 +289,61 @@ fn a_contact_whose_breakaway_equals_its_coulomb_force_slips_at_breakaway() {
         "{energy:?}"
     );
 }
+
+/// A very light mass, `m = 1e-30 kg`, pushed by `F = -1 N` towards the wall it is tied to
+/// by a string that starts slack at zero extension: the string slackens further and carries
+/// nothing, so the mass is free, `p = F t` and its extension `q = F t²/(2m)`: at
+/// t = 1e-10 s, `p = -1e-10 N s` and `q = -5e9 m`, with the velocity `p/m = -1e20 m/s`.
+/// The slack mode's matrix `[[0, 0], [1/m, 0]]` is a Jordan block whose entry is 1e30.
+#[test]
+fn a_very_light_mass_on_a_slack_string_moves_freely() {
+    let text = r#"Model(
+    name: "light_tethered_mass",
+    parameters: { "m": (value: 1e-30), "k": (value: 100.0) },
+    inputs: { "F": () },
+    elements: {
+        "push": Se(effort: "F"),
+        "v_mass": One,
+        "mass": I(inertance: "m"),
+        "string": TensionOnly(stiffness: "k", initial: "slack"),
+    },
+    bonds: [("push", "v_mass"), ("v_mass", "mass"), ("v_mass", "string")],
+)"#;
+    let model = model::load_str("light_tethered_mass.ron", text).unwrap();
+    let outputs = ["flow:mass", "effort:string"]
+        .iter()
+        .map(|name| Output {
+            name: (*name).into(),
+            spec: OutputSpec::parse(&model, name).unwrap(),
+            integral: false,
+        })
+        .collect();
+    let mut simulator = Simulator::new(&model, outputs);
+    let push = Constant(-1.0);
+    let inputs: [&dyn Signal; 1] = [&push];
+    let trajectory = simulator
+        .run(&Run {
+            inputs: &inputs,
+            initial_mode: Mode::initial(&model),
+            initial_state: vec![0.0, 0.0],
+            duration: 1e-9,
+            sample: Some(1e-10),
+            audit_energy: false,
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(trajectory.events.is_empty(), "{:#?}", trajectory.events);
+    assert_eq!(trajectory.times.len(), 11);
+    for (i, &t) in trajectory.times.iter().enumerate() {
+        let velocity = trajectory.value(i, 0).unwrap();
+        let expected = -t / 1e-30;
+        assert!(
+            (velocity - expected).abs() <= 1e-12 * expected.abs(),
+            "t = {t}: velocity {velocity} against {expected}"
+        );
+        assert_eq!(trajectory.value(i, 1).unwrap(), 0.0, "tension at t = {t}");
+    }
+    let state: Vec<f64> = trajectory.final_state.iter().map(|(_, v)| *v).collect();
+    let (p, q) = (-1e-9, -1e-18 / 2e-30);
+    assert!((state[0] - p).abs() <= 1e-12 * p.abs(), "{state:?}");
+    assert!((state[1] - q).abs() <= 1e-12 * q.abs(), "{state:?}");
+}

@@ -12,8 +12,8 @@ fn base() -> &'static Arc<SourceFile> {
     static BASE: OnceLock<Arc<SourceFile>> = OnceLock::new();
     BASE.get_or_init(|| {
         SourceFile::new(
-            "models/eversion/robot.ron".into(),
-            include_str!("../../models/eversion/robot.ron").into(),
+            "models/eversion/robot.ron",
+            include_str!("../../models/eversion/robot.ron"),
         )
     })
 }
@@ -22,7 +22,7 @@ fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
-    let source = SourceFile::new("fuzz.ron".into(), text.into());
+    let source = SourceFile::new("fuzz.ron", text);
     let Ok(extension) = Extension::load(&source) else {
         return;
     };

@@ -12,8 +12,8 @@ fn model() -> &'static Arc<SourceFile> {
     static MODEL: OnceLock<Arc<SourceFile>> = OnceLock::new();
     MODEL.get_or_init(|| {
         SourceFile::new(
-            "models/examples/belt_friction.ron".into(),
-            include_str!("../../models/examples/belt_friction.ron").into(),
+            "models/examples/belt_friction.ron",
+            include_str!("../../models/examples/belt_friction.ron"),
         )
     })
 }
@@ -22,7 +22,7 @@ fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
-    let source = SourceFile::new("fuzz.ron".into(), text.into());
+    let source = SourceFile::new("fuzz.ron", text);
     let Ok(scenario) = scenario::load(&source, model()) else {
         return;
     };
