@@ -5,32 +5,61 @@
 //! The symbolic work is `bondgraph_core::analysis`, the numbers
 //! `bondgraph_solver::analysis`; this module picks the channel, formats and plots.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+use std::sync::Arc;
 
 use bondgraph_core::DiagnosticKind;
 use bondgraph_core::analysis::{Analysis, Channel, TransferFunction};
 use bondgraph_core::equations::nonlinear::OperatingPoint;
 use bondgraph_core::equations::{self, StateEquations};
 use bondgraph_core::linear::{LinearForm, Var};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes;
 use bondgraph_core::scenario::Record;
+use bondgraph_core::source::SourceFile;
 use bondgraph_core::symbolic::RatFunc;
 use bondgraph_solver::analysis::{self as numbers, Complex64, Scale, StepMetrics, StepSystem};
 use serde_json::{Value, json};
 
 use crate::{Failure, json as to_json, load, parse_mode, print, with_source, write_file};
 
-/// What `bondgraph analyze` was asked.
-pub(crate) struct Args {
-    pub model: PathBuf,
+/// What to analyse: the mode, the channel and, for a nonlinear model, the operating point.
+#[derive(Clone, Debug, Default)]
+pub struct Request {
+    /// The mode (`fr=stuck,string=taut`); the initial mode if `None`.
     pub mode: Option<String>,
+    /// The input of the transfer function; the first input if `None`.
     pub input: Option<String>,
+    /// The output (a state name, `flow:ELEMENT`, ...); the first state if `None`.
     pub output: Option<String>,
-    pub json: bool,
-    pub bode: Option<PathBuf>,
-    pub step: Option<PathBuf>,
+    /// A nonlinear model's operating point, `NAME=VALUE,...`.
     pub at: Option<String>,
+    /// Search the equilibrium (from `at`, or from all zeros) and linearise there.
     pub equilibrium: bool,
+}
+
+/// What `bondgraph analyze` was asked.
+pub struct Args {
+    /// The model file.
+    pub model: PathBuf,
+    /// The mode, channel and operating point.
+    pub request: Request,
+    /// JSON rather than text.
+    pub json: bool,
+    /// Where to write the Bode plot (SVG), if anywhere.
+    pub bode: Option<PathBuf>,
+    /// Where to write the step-response plot (SVG), if anywhere.
+    pub step: Option<PathBuf>,
+}
+
+/// One mode analysed: its eigenvalues and, when it has a channel, the transfer function and
+/// step response. [`Analyzed::json`] is the command's JSON document, [`Analyzed::text`] its text.
+pub struct Analyzed {
+    prepared: Prepared,
+    analysis: Analysis,
+    eigenvalues: Vec<Complex64>,
+    transfer: Option<Transfer>,
+    notes: Vec<String>,
 }
 
 /// The mode's equations, linearised if need be, and what was done to get them.
@@ -42,23 +71,45 @@ struct Prepared {
     notes: Vec<String>,
 }
 
-/// `bondgraph analyze`.
-pub(crate) fn run(args: &Args) -> Result<(), Failure> {
+/// `bondgraph analyze`: the analysis printed, its plots written.
+pub fn run(args: &Args) -> Result<(), Failure> {
     let (model, source) = load(&args.model)?;
-    let mode = parse_mode(&model, args.mode.as_deref(), &source)?;
+    let analyzed = analyze(&model, &source, &args.request)?;
+    if let Some(path) = &args.bode {
+        write_file(path, &analyzed.bode_svg()?)?;
+    }
+    if let Some(path) = &args.step {
+        write_file(path, &analyzed.step_svg()?)?;
+    }
+    let text = if args.json {
+        to_json(&analyzed.json())?
+    } else {
+        analyzed.text()
+    };
+    print(&text);
+    Ok(())
+}
+
+/// Analyses one mode of `model` (read from `source`, which its diagnostics point into).
+pub fn analyze(
+    model: &Model,
+    source: &Arc<SourceFile>,
+    args: &Request,
+) -> Result<Analyzed, Failure> {
+    let mode = parse_mode(model, args.mode.as_deref(), source)?;
     let options = equations::Options {
-        variables: equations::Variables::preferred(&model),
+        variables: equations::Variables::preferred(model),
     };
     let mut notes = Vec::new();
     let prepared = if model.is_nonlinear() {
-        let derived = modes::derive_nonlinear(&model, &mode, &options)
-            .map_err(|d| with_source(d, &source))?;
+        let derived =
+            modes::derive_nonlinear(model, &mode, &options).map_err(|d| with_source(d, source))?;
         let eq = &derived.equations;
         let names: Vec<String> = eq.states.iter().map(|s| s.name.clone()).collect();
         let given = match &args.at {
             Some(text) => Some(
                 OperatingPoint::parse(&names, &eq.inputs, text)
-                    .map_err(|d| with_source(d, &source))?,
+                    .map_err(|d| with_source(d, source))?,
             ),
             None => None,
         };
@@ -92,7 +143,7 @@ pub(crate) fn run(args: &Args) -> Result<(), Failure> {
         Prepared {
             linearised_at: Some(eq.point_text(&point)),
             equations: eq.linearise(&point),
-            mode: mode.spec(&model),
+            mode: mode.spec(model),
             notes,
         }
     } else {
@@ -102,8 +153,7 @@ pub(crate) fn run(args: &Args) -> Result<(), Failure> {
                 "--equilibrium is for nonlinear models; a linear mode's matrices do not depend on the operating point",
             ));
         }
-        let derived =
-            modes::derive(&model, &mode, &options).map_err(|d| with_source(d, &source))?;
+        let derived = modes::derive(model, &mode, &options).map_err(|d| with_source(d, source))?;
         if let Some(at) = &args.at {
             let names: Vec<String> = derived
                 .equations
@@ -112,12 +162,12 @@ pub(crate) fn run(args: &Args) -> Result<(), Failure> {
                 .map(|s| s.name.clone())
                 .collect();
             OperatingPoint::parse(&names, &derived.equations.inputs, at)
-                .map_err(|d| with_source(d, &source))?;
+                .map_err(|d| with_source(d, source))?;
             notes.push("a linear mode's matrices do not depend on --at".to_string());
         }
         Prepared {
             equations: derived.equations,
-            mode: mode.spec(&model),
+            mode: mode.spec(model),
             linearised_at: None,
             notes,
         }
@@ -164,7 +214,7 @@ pub(crate) fn run(args: &Args) -> Result<(), Failure> {
             ),
             None => {
                 let (record, spec) =
-                    Record::parse_output(&model, spec).map_err(|d| with_source(d, &source))?;
+                    Record::parse_output(model, spec).map_err(|d| with_source(d, source))?;
                 let row = eq.output(&spec).row;
                 (record.name(), row, matches!(record, Record::Integral(_)))
             }
@@ -202,38 +252,65 @@ pub(crate) fn run(args: &Args) -> Result<(), Failure> {
         let tf = analysis.transfer(channel);
         Transfer::new(eq, &analysis, input, output, channel, tf)
     });
-    let report = Report {
-        prepared: &prepared,
-        analysis: &analysis,
-        eigenvalues: &eigenvalues,
-        transfer: transfer.as_ref(),
-        notes: &notes,
-    };
-    if let Some(path) = &args.bode {
-        let Some(t) = &transfer else {
+    let analysis_eigen = eigenvalues;
+    Ok(Analyzed {
+        prepared,
+        analysis,
+        eigenvalues: analysis_eigen,
+        transfer,
+        notes,
+    })
+}
+
+impl Analyzed {
+    fn report(&self) -> Report<'_> {
+        Report {
+            prepared: &self.prepared,
+            analysis: &self.analysis,
+            eigenvalues: &self.eigenvalues,
+            transfer: self.transfer.as_ref(),
+            notes: &self.notes,
+        }
+    }
+
+    /// The command's JSON document (DESIGN.md's `analyze` fields and more).
+    pub fn json(&self) -> Value {
+        self.report().to_json()
+    }
+
+    /// The command's text.
+    pub fn text(&self) -> String {
+        self.report().to_text()
+    }
+
+    /// Whether the mode has a transfer function (an input and an output to relate).
+    pub fn has_transfer_function(&self) -> bool {
+        self.transfer.is_some()
+    }
+
+    /// The Bode plot of the transfer function (SVG).
+    pub fn bode_svg(&self) -> Result<String, Failure> {
+        let Some(t) = &self.transfer else {
             return Err(no_channel("--bode"));
         };
         let mut singular = t.poles.clone();
         singular.extend(&t.zeros);
         let points = numbers::bode(&t.numerator, &t.denominator, &singular);
-        let title = format!("{}: {} from {}", eq.model, t.output, t.input);
-        let svg = crate::analyze_plot::bode_svg(&points, &title)
-            .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot: {e}")))?;
-        write_file(path, &svg)?;
+        let title = format!(
+            "{}: {} from {}",
+            self.prepared.equations.model, t.output, t.input
+        );
+        crate::analyze_plot::bode_svg(&points, &title)
+            .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot: {e}")))
     }
-    if let Some(path) = &args.step {
-        let Some(t) = &transfer else {
+
+    /// The exact step response of the transfer function's channel (SVG).
+    pub fn step_svg(&self) -> Result<String, Failure> {
+        let Some(t) = &self.transfer else {
             return Err(no_channel("--step"));
         };
-        step_plot(path, eq, t)?;
+        step_plot(&self.prepared.equations, t)
     }
-    let text = if args.json {
-        to_json(&report.to_json())?
-    } else {
-        report.to_text()
-    };
-    print(&text);
-    Ok(())
 }
 
 fn no_channel(flag: &str) -> Failure {
@@ -323,16 +400,15 @@ impl Transfer {
     }
 }
 
-/// Writes the step plot.
-fn step_plot(path: &Path, eq: &StateEquations, t: &Transfer) -> Result<(), Failure> {
+/// The step plot.
+fn step_plot(eq: &StateEquations, t: &Transfer) -> Result<String, Failure> {
     let horizon = t.metrics.horizon;
     let times: Vec<f64> = (0..=1000).map(|i| horizon * i as f64 / 1000.0).collect();
     let values = t.system.response().at(&times);
     let points: Vec<(f64, f64)> = times.into_iter().zip(values).collect();
     let title = format!("{}: unit step in {}", eq.model, t.input);
-    let svg = crate::analyze_plot::step_svg(&points, t.metrics.final_value, &title, &t.output)
-        .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot: {e}")))?;
-    write_file(path, &svg)
+    crate::analyze_plot::step_svg(&points, t.metrics.final_value, &title, &t.output)
+        .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot: {e}")))
 }
 
 struct Report<'a> {

@@ -18,7 +18,7 @@ const INK: &str = "#1b1b1b";
 const DERIVATIVE: &str = "#c62828";
 
 /// The title of a drawing of `model` in the mode `spec` (empty for the only mode).
-pub(crate) fn title(model: &Model, spec: &str) -> String {
+pub fn title(model: &Model, spec: &str) -> String {
     if spec.is_empty() {
         format!("bond graph '{}'", model.name)
     } else {
@@ -27,7 +27,7 @@ pub(crate) fn title(model: &Model, spec: &str) -> String {
 }
 
 /// The SVG document of `model` with its causal strokes in `mode`.
-pub(crate) fn draw(model: &Model, mode: &Mode, causality: &Causality) -> String {
+pub fn draw(model: &Model, mode: &Mode, causality: &Causality) -> String {
     let drawing = diagram::layout(model, mode, causality, &title(model, &mode.spec(model)));
     write(model, &drawing)
 }

@@ -14,9 +14,13 @@ use crate::{Failure, json, print, read_source};
 
 /// The command line of `calibrate`.
 pub struct Args {
+    /// The model file.
     pub model: PathBuf,
+    /// The measured data files, joined.
     pub data: Vec<PathBuf>,
+    /// The experiment file; `experiment.ron` beside the model if `None`.
     pub experiment: Option<PathBuf>,
+    /// JSON rather than text.
     pub json: bool,
 }
 

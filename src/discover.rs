@@ -14,11 +14,17 @@ use crate::{Failure, json, print, read_source, residual_plot, write_file};
 
 /// The command line of `discover`.
 pub struct Args {
+    /// The model file.
     pub model: PathBuf,
+    /// The measured data files, joined.
     pub data: Vec<PathBuf>,
+    /// The experiment file; `experiment.ron` beside the model if `None`.
     pub experiment: Option<PathBuf>,
+    /// The folder of candidate extensions; `extensions/` beside the model if `None`.
     pub extensions: Option<PathBuf>,
+    /// JSON rather than text.
     pub json: bool,
+    /// A folder for the report, the JSON, the extended model and the residual plots.
     pub out: Option<PathBuf>,
 }
 

@@ -1,8 +1,10 @@
 //! The `bondgraph` library: what the command line prints, for other front ends.
 //!
 //! The `bondgraph` binary renders the libraries' results as text, JSON, CSV and SVG; the
-//! modules here are the renderers that another front end (the Python bindings in
-//! `python/`) needs too, so that both print the same documents from the same code.
+//! modules here are the renderers and the commands' documents that another front end (the
+//! Python bindings in `python/`) needs too, so that both print the same documents from the
+//! same code: `analyze`, `calibrate`, `discover` and `reproduce` each build their result
+//! here, and the binary only parses arguments and prints.
 //!
 //! ```
 //! use bondgraph_core::model;
@@ -19,7 +21,21 @@
 //! assert!(svg.starts_with("<svg"));
 //! ```
 
+pub mod analyze;
+pub mod analyze_plot;
+pub mod bg_svg;
+pub mod calibrate;
 pub mod diagnostics;
+pub mod discover;
+pub mod failure;
+pub mod files;
 pub mod lg_svg;
+pub mod output;
 pub mod plot;
+pub mod reproduce;
+pub mod residual_plot;
 pub mod trajectory;
+
+pub use failure::{Failure, with_source};
+pub use files::{count, json, load, parse_mode, read_source, write_file};
+pub use output::print;

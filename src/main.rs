@@ -4,34 +4,26 @@
 //! requested format; diagnostics from the libraries are rendered here with a snippet of the
 //! model file, and any failure exits non-zero.
 
-mod analyze;
-mod analyze_plot;
-mod bg_svg;
-mod calibrate;
 mod compare;
 mod conventions;
-mod discover;
 mod explain_bg;
 mod explain_lg;
 mod lg_graph;
 mod nonlinear;
-mod output;
-mod reproduce;
-mod residual_plot;
 
-use bondgraph::{diagnostics, lg_svg, plot, trajectory};
+use bondgraph::{
+    Failure, analyze, bg_svg, calibrate, count, diagnostics, discover, json, lg_svg, load, output,
+    parse_mode, plot, print, read_source, reproduce, trajectory, with_source, write_file,
+};
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Arc;
 
-use bondgraph_core::diagnostics::Diagnostics;
 use bondgraph_core::equations::{self, Variables};
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::scenario::Record;
-use bondgraph_core::source::SourceFile;
-use bondgraph_core::{Diagnostic, DiagnosticKind, causality, graph, laws, modes};
+use bondgraph_core::{DiagnosticKind, causality, graph, laws, modes};
 use clap::{Parser, Subcommand, ValueEnum};
 
 /// Bond-graph models in, state equations out.
@@ -279,29 +271,6 @@ pub(crate) enum Format {
     Json,
 }
 
-/// A failure to report: diagnostics, and the source they point into when there is one.
-pub(crate) struct Failure {
-    diagnostics: Diagnostics,
-    /// The files the diagnostics may point into.
-    sources: Vec<Arc<SourceFile>>,
-}
-
-impl From<Diagnostics> for Failure {
-    fn from(diagnostics: Diagnostics) -> Self {
-        Self {
-            diagnostics,
-            sources: Vec::new(),
-        }
-    }
-}
-
-impl Failure {
-    /// A failure with a plain message (no file to point into).
-    pub(crate) fn message(kind: DiagnosticKind, message: impl Into<String>) -> Self {
-        Self::from(Diagnostics::from(Diagnostic::new(kind, message)))
-    }
-}
-
 fn main() -> ExitCode {
     let cli = Cli::parse();
     if let Command::Compare {
@@ -436,7 +405,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 GraphFormat::Dot => graph::to_dot_titled(
                     &model,
                     Some(&causality),
-                    Some(&crate::bg_svg::title(&model, &mode.spec(&model))),
+                    Some(&bg_svg::title(&model, &mode.spec(&model))),
                 ),
                 GraphFormat::Svg => bg_svg::draw(&model, &mode, &causality),
             };
@@ -573,14 +542,16 @@ fn run(cli: Cli) -> Result<(), Failure> {
             equilibrium,
         } => analyze::run(&analyze::Args {
             model,
-            mode,
-            input,
-            output,
+            request: analyze::Request {
+                mode,
+                input,
+                output,
+                at,
+                equilibrium,
+            },
             json: format == ReproduceFormat::Json,
             bode,
             step,
-            at,
-            equilibrium,
         }),
         // Dispatched in `main`, for its exit codes.
         Command::Compare { .. } => Ok(()),
@@ -730,32 +701,6 @@ fn extend(model: &Path, extensions: &[PathBuf], out: Option<&Path>) -> Result<()
     Ok(())
 }
 
-/// Reads a file into a [`SourceFile`].
-fn read_source(path: &Path) -> Result<Arc<SourceFile>, Failure> {
-    let name = path.display().to_string();
-    let text = bondgraph_core::read::read_text(path, "")
-        .map_err(|message| Failure::message(DiagnosticKind::Io, message))?;
-    Ok(SourceFile::new(name, text))
-}
-
-/// Writes `text` to `path`, creating its directory.
-pub(crate) fn write_file(path: &Path, text: &str) -> Result<(), Failure> {
-    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent).map_err(|e| {
-            Failure::message(
-                DiagnosticKind::Io,
-                format!("cannot create '{}': {e}", parent.display()),
-            )
-        })?;
-    }
-    std::fs::write(path, text).map_err(|e| {
-        Failure::message(
-            DiagnosticKind::Io,
-            format!("cannot write '{}': {e}", path.display()),
-        )
-    })
-}
-
 impl StatesArg {
     fn variables(self) -> Variables {
         match self {
@@ -770,59 +715,3 @@ impl StatesArg {
 fn variables(states: Option<StatesArg>, model: &Model) -> Variables {
     states.map_or_else(|| Variables::preferred(model), StatesArg::variables)
 }
-
-/// The mode given on the command line, or the model's initial mode.
-fn parse_mode(
-    model: &Model,
-    spec: Option<&str>,
-    source: &Arc<SourceFile>,
-) -> Result<modes::Mode, Failure> {
-    match spec {
-        Some(spec) => modes::Mode::parse(model, spec).map_err(|d| with_source(d, source)),
-        None => Ok(modes::Mode::initial(model)),
-    }
-}
-
-/// Reads and validates a model file, a bond graph or a linear graph
-/// ([`model::load_source`]).
-pub(crate) fn load(path: &Path) -> Result<(Model, Arc<SourceFile>), Failure> {
-    let name = path.display().to_string();
-    let text = bondgraph_core::read::read_text(path, "model file")
-        .map_err(|message| Failure::message(DiagnosticKind::Io, message))?;
-    let source = SourceFile::new(name, text);
-    let model = model::load_source(&source).map_err(|d| with_source(d, &source))?;
-    Ok((model, source))
-}
-
-pub(crate) fn with_source(diagnostics: Diagnostics, source: &Arc<SourceFile>) -> Failure {
-    Failure {
-        diagnostics,
-        sources: vec![source.clone()],
-    }
-}
-
-pub(crate) fn json(value: &impl serde::Serialize) -> Result<String, Failure> {
-    serde_json::to_string_pretty(value)
-        .map(|mut s| {
-            s.push('\n');
-            s
-        })
-        .map_err(|error| {
-            Failure::from(Diagnostics::from(Diagnostic::new(
-                DiagnosticKind::Io,
-                format!("cannot write JSON: {error}"),
-            )))
-        })
-}
-
-/// `1 bond`, `2 bonds`, `3 branches`.
-pub(crate) fn count(n: usize, noun: &str) -> String {
-    let plural = match (n, noun.ends_with(['s', 'h'])) {
-        (1, _) => "",
-        (_, true) => "es",
-        _ => "s",
-    };
-    format!("{n} {noun}{plural}")
-}
-
-pub(crate) use output::print;

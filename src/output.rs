@@ -23,14 +23,14 @@ fn remember(error: &std::io::Error) {
 }
 
 /// Writes `text` to standard output; a failure is kept for [`finish`].
-pub(crate) fn print(text: &str) {
+pub fn print(text: &str) {
     if let Err(error) = std::io::stdout().lock().write_all(text.as_bytes()) {
         remember(&error);
     }
 }
 
 /// Flushes standard output; the first write error since the start, if any.
-pub(crate) fn finish() -> Result<(), String> {
+pub fn finish() -> Result<(), String> {
     if let Err(error) = std::io::stdout().lock().flush() {
         remember(&error);
     }

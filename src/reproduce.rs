@@ -77,16 +77,41 @@ fn discrepancy() -> Result<Discovery, Failure> {
     discovery
 }
 
-/// Runs the main job and writes its results under `out`.
-pub fn run(out: &Path, as_json: bool) -> Result<(), Failure> {
-    let started = std::time::Instant::now();
+/// The main job's results: the paper's tables and Fig. 6 reproduced, and what the refitted
+/// model still gets wrong on Table III.
+pub struct Reproduced {
+    /// The tables, Fig. 6 and the reduction, as the study computes them.
+    pub result: Reproduction,
+    /// `discover` on Table III.
+    pub discovery: Discovery,
+    /// The command's JSON document (DESIGN.md's `reproduce` fields and more).
+    pub document: serde_json::Value,
+}
+
+/// Runs the main job on the bundled files, writing nothing.
+pub fn reproduce_all() -> Result<Reproduced, Failure> {
     let result = reproduce(&BUNDLE)
         .map_err(|e| Failure::message(DiagnosticKind::Simulation, e.to_string()))?;
     let discovery = discrepancy()?;
-    let elapsed = started.elapsed();
     let mut document = to_json(&result);
     document["discrepancy"] = serde_json::to_value(&discovery)
         .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot write JSON: {e}")))?;
+    Ok(Reproduced {
+        result,
+        discovery,
+        document,
+    })
+}
+
+/// Runs the main job and writes its results under `out`.
+pub fn run(out: &Path, as_json: bool) -> Result<(), Failure> {
+    let started = std::time::Instant::now();
+    let Reproduced {
+        result,
+        discovery,
+        document,
+    } = reproduce_all()?;
+    let elapsed = started.elapsed();
     let text = json(&document)?;
     let report = format!(
         "{}\n## What the refitted model still gets wrong on Table III (`bondgraph discover`)\n\n\

@@ -30,6 +30,7 @@ from . import _native
 from ._native import BondGraphError, Diagnostic
 
 __all__ = [
+    "Analysis",
     "BondGraphError",
     "Diagnostic",
     "Document",
@@ -37,9 +38,11 @@ __all__ = [
     "Model",
     "Simulation",
     "Svg",
+    "calibrate",
     "discover",
     "load",
     "loads",
+    "reproduce",
 ]
 
 __version__ = _native.__version__
@@ -229,10 +232,77 @@ class Simulation:
         )
 
 
+class Analysis:
+    """One linear mode analysed, ``bondgraph analyze --format json``.
+
+    The document's fields read as attributes: ``eigenvalues`` (``[{re, im, time_constant,
+    natural_frequency, damping_ratio}]``), ``characteristic``, ``transfer_function``
+    (``{input, output, numerator, denominator}``, coefficients highest power of ``s``
+    first, denominator monic), ``poles``, ``zeros``, ``dc_gain`` (``None`` for an
+    integrator), ``step`` (rise and settling time, overshoot, final value, from the exact
+    modal solution) and ``notes``. ``poles_complex`` and friends give numpy arrays.
+    A notebook shows the step response; ``bode()`` and ``step()`` give the plots.
+    """
+
+    def __init__(self, native: Any) -> None:
+        self._native = native
+        self.document: Document = _parse(native.json)
+        self.text: str = native.text
+
+    def __getattr__(self, name: str) -> Any:
+        document = self.__dict__.get("document", {})
+        if name not in document:
+            raise AttributeError(name)
+        return document[name]
+
+    @staticmethod
+    def _complex(values: List[Any]) -> np.ndarray:
+        return np.array([complex(v["re"], v["im"]) for v in values], dtype=complex)
+
+    @property
+    def eigenvalues_complex(self) -> np.ndarray:
+        """The eigenvalues of ``A`` as a complex array."""
+        return self._complex(self.document["eigenvalues"])
+
+    @property
+    def poles_complex(self) -> np.ndarray:
+        """The transfer function's poles as a complex array."""
+        return self._complex(self.document["poles"])
+
+    @property
+    def zeros_complex(self) -> np.ndarray:
+        """The transfer function's zeros as a complex array."""
+        return self._complex(self.document["zeros"])
+
+    def bode(self) -> Optional[Svg]:
+        """The Bode plot (``analyze --bode``), or ``None`` without a transfer function."""
+        svg = self._native.bode_svg
+        return None if svg is None else Svg(svg)
+
+    def step(self) -> Optional[Svg]:
+        """The exact step response (``analyze --step``), or ``None`` without a transfer
+        function."""
+        svg = self._native.step_svg
+        return None if svg is None else Svg(svg)
+
+    def _repr_svg_(self) -> Optional[str]:
+        return self._native.step_svg
+
+    def __str__(self) -> str:
+        return self.text
+
+    def __repr__(self) -> str:
+        return (
+            f"<Analysis of {self.document.get('model', '?')}: "
+            f"{len(self.document.get('eigenvalues', []))} eigenvalues>"
+        )
+
+
 class Model:
     """A checked model: a bond graph or a linear graph (use :func:`load` or :func:`loads`).
 
-    In a notebook a linear graph shows its drawing with the normal tree (``_repr_svg_``).
+    In a notebook it shows its drawing (``_repr_svg_``): a bond graph with its causal
+    strokes, a linear graph with its normal tree.
     """
 
     def __init__(self, native: Any) -> None:
@@ -293,11 +363,35 @@ class Model:
             at = ",".join(f"{k}={v!r}" for k, v in at.items())
         return Equations(self._native.equations(mode, states, list(outputs), at))
 
-    def diagram(self, mode: Optional[str] = None) -> Optional[Svg]:
-        """``bondgraph graph --format svg``: a linear graph's drawing with its normal tree,
-        or ``None`` for a bond graph (see :meth:`dot`)."""
-        svg = self._native.graph_svg(mode)
-        return None if svg is None else Svg(svg)
+    def diagram(self, mode: Optional[str] = None) -> Svg:
+        """``bondgraph graph --format svg``: a bond graph with its half-arrows, causal
+        strokes and bond numbers, or a linear graph with its normal tree."""
+        return Svg(self._native.graph_svg(mode))
+
+    def analyze(
+        self,
+        mode: Optional[str] = None,
+        input: Optional[str] = None,
+        output: Optional[str] = None,
+        at: Optional[Union[str, Dict[str, float]]] = None,
+        equilibrium: bool = False,
+    ) -> Analysis:
+        """``bondgraph analyze``: eigenvalues and time scales of one linear mode, the
+        transfer function from ``input`` to ``output`` (default: the first input and the
+        first state), its poles, zeros, DC gain and step metrics.
+
+        Args:
+            mode: as for :meth:`equations`.
+            input: an input's name.
+            output: a state's name or an output, ``"flow:mass"``, ``"effort:damper"``, ...
+            at: a nonlinear model's operating point (``"x=1,F=2"`` or a dict): it is
+                linearised there.
+            equilibrium: search the equilibrium (from ``at``, or from zero) and linearise
+                there.
+        """
+        if isinstance(at, dict):
+            at = ",".join(f"{k}={v!r}" for k, v in at.items())
+        return Analysis(self._native.analyze(mode, input, output, at, equilibrium))
 
     def dot(self, mode: Optional[str] = None) -> Optional[str]:
         """``bondgraph graph --format dot`` of a bond graph, with its causal strokes."""
@@ -332,6 +426,37 @@ def loads(text: str, name: str = "<string>") -> Model:
     return Model(_native.NativeModel.loads(text, name))
 
 
+def _paths(data: Union[PathLike, Iterable[PathLike]]) -> List[str]:
+    if isinstance(data, (str, os.PathLike)):
+        data = [data]
+    return [os.fspath(d) for d in data]
+
+
+def calibrate(
+    model: PathLike,
+    data: Union[PathLike, Iterable[PathLike]],
+    experiment: Optional[PathLike] = None,
+) -> Document:
+    """``bondgraph calibrate --format json``: the experiment's ``fitted`` parameters fitted
+    to the measured ``data`` (one CSV file or several), with their standard errors, the
+    residuals by regime and by condition. ``experiment`` defaults to ``experiment.ron``
+    beside the model."""
+    return _parse(
+        _native.calibrate(
+            os.fspath(model),
+            _paths(data),
+            None if experiment is None else os.fspath(experiment),
+        )
+    )
+
+
+def reproduce() -> Document:
+    """``bondgraph reproduce --format json``: the flagship's tables (``table3``,
+    ``table6``), Fig. 6 (``fig6``) and what the refitted model still gets wrong on Table III
+    (``discrepancy``, as :func:`discover`). Nothing is written."""
+    return _parse(_native.reproduce())
+
+
 def discover(
     model: PathLike,
     data: Union[PathLike, Iterable[PathLike]],
@@ -346,12 +471,10 @@ def discover(
     ``baseline``, ``ranking`` (best first), ``selected``, ``indistinguishable`` and
     ``gain``, as the command line prints them.
     """
-    if isinstance(data, (str, os.PathLike)):
-        data = [data]
     return _parse(
         _native.discover(
             os.fspath(model),
-            [os.fspath(d) for d in data],
+            _paths(data),
             None if experiment is None else os.fspath(experiment),
             None if extensions is None else os.fspath(extensions),
         )

@@ -37,6 +37,12 @@ class NativeTrajectory:
     sample_modes: List[int]
     def plot_svg(self) -> str: ...
 
+class NativeAnalysis:
+    json: str
+    text: str
+    bode_svg: Optional[str]
+    step_svg: Optional[str]
+
 class NativeModel:
     file: str
     name: str
@@ -56,6 +62,14 @@ class NativeModel:
         outputs: List[str] = ...,
         at: Optional[str] = None,
     ) -> NativeEquations: ...
+    def analyze(
+        self,
+        mode: Optional[str] = None,
+        input: Optional[str] = None,
+        output: Optional[str] = None,
+        at: Optional[str] = None,
+        equilibrium: bool = False,
+    ) -> NativeAnalysis: ...
     def graph_svg(self, mode: Optional[str] = None) -> Optional[str]: ...
     def graph_dot(self, mode: Optional[str] = None) -> Optional[str]: ...
     def simulate_file(self, path: str) -> NativeTrajectory: ...
@@ -67,3 +81,10 @@ def discover(
     experiment: Optional[str] = None,
     extensions: Optional[str] = None,
 ) -> str: ...
+
+def calibrate(
+    model: str,
+    data: List[str],
+    experiment: Optional[str] = None,
+) -> str: ...
+def reproduce() -> str: ...

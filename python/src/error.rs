@@ -11,10 +11,8 @@
 //! `PanicException`, which `except Exception` would not catch.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::Arc;
 
-use bondgraph_core::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics};
-use bondgraph_core::source::SourceFile;
+use bondgraph_core::diagnostics::{Diagnostic, DiagnosticKind};
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use pyo3::types::PyList;
@@ -75,31 +73,16 @@ impl From<&Diagnostic> for PyDiagnostic {
     }
 }
 
-/// A failure of the bindings: diagnostics and the files they may point into.
-#[derive(Debug)]
-pub struct Failure {
-    /// The problems.
-    pub diagnostics: Diagnostics,
-    /// The files the diagnostics may point into, for the rendered snippets.
-    pub sources: Vec<Arc<SourceFile>>,
+pub use bondgraph::Failure;
+
+/// A [`Failure`] raised in Python.
+pub trait IntoPyErr {
+    /// The exception: the rendered diagnostics as message, the fields as `.diagnostics`.
+    fn into_pyerr(self, py: Python<'_>) -> PyErr;
 }
 
-impl Failure {
-    /// A failure with one message and no place.
-    pub fn message(kind: DiagnosticKind, message: impl Into<String>) -> Self {
-        Diagnostics::from(Diagnostic::new(kind, message)).into()
-    }
-
-    /// Diagnostics that point into `sources`.
-    pub fn with_sources(diagnostics: Diagnostics, sources: &[&Arc<SourceFile>]) -> Self {
-        Self {
-            diagnostics,
-            sources: sources.iter().map(|s| Arc::clone(s)).collect(),
-        }
-    }
-
-    /// The exception: the rendered diagnostics as message, the fields as `.diagnostics`.
-    pub fn into_pyerr(self, py: Python<'_>) -> PyErr {
+impl IntoPyErr for Failure {
+    fn into_pyerr(self, py: Python<'_>) -> PyErr {
         let text = self
             .diagnostics
             .iter()
@@ -121,15 +104,6 @@ impl Failure {
         match attached {
             Ok(()) => error,
             Err(other) => other,
-        }
-    }
-}
-
-impl From<Diagnostics> for Failure {
-    fn from(diagnostics: Diagnostics) -> Self {
-        Self {
-            diagnostics,
-            sources: Vec::new(),
         }
     }
 }

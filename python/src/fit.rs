@@ -1,91 +1,56 @@
-//! Models against measured data: `discover`.
+//! Models against measured data and the main job: `calibrate`, `discover`, `reproduce`.
 //!
-//! The same steps as `bondgraph discover`: the experiment beside the model (or the one
-//! given), the data files joined, every extension of the library checked against the base
-//! model and fitted; the result is the command's JSON document, the fit crate's
-//! `Discovery` serialised.
+//! The same steps as the command line, by the same code (the `bondgraph` library's
+//! `calibrate::inputs`, `discover::library` and `reproduce::reproduce_all`): the experiment
+//! beside the model (or the one given), the data files joined, every extension of the
+//! library checked against the base model; the result is the command's JSON document.
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
+use bondgraph::calibrate::inputs;
+use bondgraph::discover::{discover_failure, library};
 use bondgraph_core::diagnostics::DiagnosticKind;
-use bondgraph_core::model::extension::{self, Extension};
-use bondgraph_core::source::SourceFile;
-use bondgraph_fit::data;
-use bondgraph_fit::discover::{Candidate, Settings};
-use bondgraph_fit::experiment::Experiment;
+use bondgraph_fit::calibration;
+use bondgraph_fit::discover::Settings;
 use pyo3::prelude::*;
 
 use crate::error::{Failure, guard};
-use crate::model::{json, read_source};
+use crate::model::json;
 
-fn fail(kind: DiagnosticKind, message: impl std::fmt::Display) -> Failure {
-    Failure::message(kind, message.to_string())
+/// The data files, at least one.
+fn data_paths(command: &str, data: &[String]) -> Result<Vec<PathBuf>, Failure> {
+    if data.is_empty() {
+        return Err(Failure::message(
+            DiagnosticKind::Io,
+            format!("{command} needs at least one data file"),
+        ));
+    }
+    Ok(data.iter().map(PathBuf::from).collect())
 }
 
-/// Every `*.ron` in `dir`, in name order, checked against `base` and made a candidate.
-fn library(base: &Arc<SourceFile>, dir: &Path) -> Result<Vec<Candidate>, Failure> {
-    let entries = std::fs::read_dir(dir).map_err(|e| {
-        fail(
-            DiagnosticKind::Io,
-            format!("cannot read the extensions folder '{}': {e}", dir.display()),
-        )
-    })?;
-    let mut paths: Vec<PathBuf> = entries
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "ron"))
-        .collect();
-    paths.sort();
-    let mut candidates = Vec::new();
-    for path in paths {
-        let source = read_source(&path.display().to_string())?;
-        let extension =
-            Extension::load(&source).map_err(|d| Failure::with_sources(d, &[&source]))?;
-        extension::merge(base, std::slice::from_ref(&extension))
-            .and_then(|extended| extended.load())
-            .map_err(|d| Failure::with_sources(d, &[base, &source]))?;
-        candidates.push(
-            Candidate::new(base, &extension).map_err(|e| fail(DiagnosticKind::Simulation, e))?,
-        );
-    }
-    Ok(candidates)
+fn run_calibrate(
+    model: &str,
+    data: &[String],
+    experiment: Option<&str>,
+) -> Result<String, Failure> {
+    let data = data_paths("calibrate", data)?;
+    let (base, experiment_source, experiment, dataset) =
+        inputs(Path::new(model), experiment.map(Path::new), &data)?;
+    let result = calibration::calibrate(&base, &experiment, &dataset, &Settings::default())
+        .map_err(|e| discover_failure(e, &[&experiment_source, &base]))?;
+    json(&result)
 }
 
 fn run_discover(
     model: &str,
-    data_files: &[String],
+    data: &[String],
     experiment: Option<&str>,
     extensions: Option<&str>,
 ) -> Result<String, Failure> {
-    let base = read_source(model)?;
+    let data = data_paths("discover", data)?;
+    let (base, experiment_source, experiment, dataset) =
+        inputs(Path::new(model), experiment.map(Path::new), &data)?;
     let folder = Path::new(model).parent().unwrap_or(Path::new("."));
-    let experiment_path = experiment.map_or_else(|| folder.join("experiment.ron"), PathBuf::from);
-    let experiment_text = std::fs::read_to_string(&experiment_path).map_err(|e| {
-        fail(
-            DiagnosticKind::Io,
-            format!(
-                "cannot read the experiment file '{}': {e}",
-                experiment_path.display()
-            ),
-        )
-    })?;
-    let experiment_source = SourceFile::new(experiment_path.display().to_string(), experiment_text);
-    let experiment =
-        Experiment::from_source(&experiment_source).map_err(|e| fail(DiagnosticKind::Syntax, e))?;
-    if data_files.is_empty() {
-        return Err(fail(
-            DiagnosticKind::Io,
-            "discover needs at least one data file",
-        ));
-    }
-    let mut parts = Vec::new();
-    for path in data_files {
-        parts.push(
-            data::read_file(Path::new(path), &experiment)
-                .map_err(|e| fail(DiagnosticKind::Syntax, e))?,
-        );
-    }
-    let dataset = data::Dataset::join(parts);
     let extensions = extensions.map_or_else(|| folder.join("extensions"), PathBuf::from);
     let candidates = library(&base, &extensions)?;
     let discovery = bondgraph_fit::discover::discover(
@@ -95,8 +60,20 @@ fn run_discover(
         &candidates,
         &Settings::default(),
     )
-    .map_err(|e| fail(DiagnosticKind::Simulation, e))?;
+    .map_err(|e| discover_failure(e, &[&experiment_source, &base]))?;
     json(&discovery)
+}
+
+/// `bondgraph calibrate --format json`.
+#[pyfunction]
+#[pyo3(signature = (model, data, experiment=None))]
+pub fn calibrate(
+    py: Python<'_>,
+    model: String,
+    data: Vec<String>,
+    experiment: Option<String>,
+) -> PyResult<String> {
+    guard(py, || run_calibrate(&model, &data, experiment.as_deref()))
 }
 
 /// `bondgraph discover --format json`.
@@ -111,5 +88,13 @@ pub fn discover(
 ) -> PyResult<String> {
     guard(py, || {
         run_discover(&model, &data, experiment.as_deref(), extensions.as_deref())
+    })
+}
+
+/// `bondgraph reproduce --format json` (the bundled flagship; nothing is written).
+#[pyfunction]
+pub fn reproduce(py: Python<'_>) -> PyResult<String> {
+    guard(py, || {
+        json(&bondgraph::reproduce::reproduce_all()?.document)
     })
 }

@@ -27,7 +27,10 @@ fn bondgraph_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_class::<model::PyModel>()?;
     module.add_class::<model::PyEquations>()?;
     module.add_class::<model::PyTrajectory>()?;
+    module.add_class::<model::PyAnalysis>()?;
+    module.add_function(wrap_pyfunction!(fit::calibrate, module)?)?;
     module.add_function(wrap_pyfunction!(fit::discover, module)?)?;
+    module.add_function(wrap_pyfunction!(fit::reproduce, module)?)?;
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

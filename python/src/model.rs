@@ -45,6 +45,20 @@ pub struct PyEquations {
     text: String,
 }
 
+/// One mode analysed (`bondgraph analyze`): its JSON document, its text and, when it has a
+/// transfer function, its Bode and step plots.
+#[pyclass(name = "NativeAnalysis", module = "bondgraph._native", frozen, get_all)]
+pub struct PyAnalysis {
+    /// The command line's `--format json` document.
+    json: String,
+    /// Its text.
+    text: String,
+    /// `--bode` (SVG), if there is a transfer function.
+    bode_svg: Option<String>,
+    /// `--step` (SVG), if there is a transfer function.
+    step_svg: Option<String>,
+}
+
 /// A simulated trajectory: its arrays, its JSON document (without the samples, which the
 /// arrays carry) and, on demand, its plot.
 #[pyclass(name = "NativeTrajectory", module = "bondgraph._native", frozen)]
@@ -54,19 +68,12 @@ pub struct PyTrajectory {
     title: String,
 }
 
-/// Reads `path` as text.
+/// Reads `path` as text (with the command line's size limit and UTF-8 check).
 pub fn read_source(path: &str) -> Result<Arc<SourceFile>, Failure> {
-    let text = std::fs::read_to_string(path).map_err(|error| {
-        Failure::message(DiagnosticKind::Io, format!("cannot read '{path}': {error}"))
-    })?;
-    Ok(SourceFile::new(path, text))
+    bondgraph::read_source(std::path::Path::new(path))
 }
 
-/// Serialises `value` as the command line prints it.
-pub fn json(value: &impl serde::Serialize) -> Result<String, Failure> {
-    serde_json::to_string(value)
-        .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot write JSON: {e}")))
-}
+pub use bondgraph::json;
 
 fn variables(model: &Model, states: Option<&str>) -> Result<Variables, Failure> {
     match states {
@@ -80,14 +87,7 @@ fn variables(model: &Model, states: Option<&str>) -> Result<Variables, Failure> 
     }
 }
 
-fn count(n: usize, noun: &str) -> String {
-    let plural = match (n, noun.ends_with(['s', 'h'])) {
-        (1, _) => "",
-        (_, true) => "es",
-        _ => "s",
-    };
-    format!("{n} {noun}{plural}")
-}
+use bondgraph::count;
 
 impl PyModel {
     fn from_source(source: Arc<SourceFile>) -> Result<Self, Failure> {
@@ -247,7 +247,8 @@ impl PyModel {
         let mode = self.mode(mode)?;
         let laws = laws::for_mode(model, &mode);
         let Some(graph) = &model.linear_graph else {
-            return Ok(None);
+            let causality = causality::assign(model, &laws).map_err(|d| self.fail(d))?;
+            return Ok(Some(bondgraph::bg_svg::draw(model, &mode, &causality)));
         };
         causality::assign(model, &laws)
             .map_err(|d| self.fail(bondgraph_core::model::linear_graph::reword(model, d)))?;
@@ -365,7 +366,38 @@ impl PyModel {
         })
     }
 
-    /// `bondgraph graph --format svg` of a linear graph (`None` for a bond graph).
+    /// `bondgraph analyze`: eigenvalues, transfer function, step metrics and the plots.
+    #[pyo3(signature = (mode=None, input=None, output=None, at=None, equilibrium=false))]
+    fn analyze(
+        &self,
+        py: Python<'_>,
+        mode: Option<String>,
+        input: Option<String>,
+        output: Option<String>,
+        at: Option<String>,
+        equilibrium: bool,
+    ) -> PyResult<PyAnalysis> {
+        let request = bondgraph::analyze::Request {
+            mode,
+            input,
+            output,
+            at,
+            equilibrium,
+        };
+        guard(py, || {
+            let analyzed = bondgraph::analyze::analyze(&self.model, &self.source, &request)?;
+            let has_channel = analyzed.has_transfer_function();
+            Ok(PyAnalysis {
+                json: json(&analyzed.json())?,
+                text: analyzed.text(),
+                bode_svg: has_channel.then(|| analyzed.bode_svg()).transpose()?,
+                step_svg: has_channel.then(|| analyzed.step_svg()).transpose()?,
+            })
+        })
+    }
+
+    /// `bondgraph graph --format svg`: a bond graph with its causal strokes, or a linear graph
+    /// with its normal tree.
     #[pyo3(signature = (mode=None))]
     fn graph_svg(&self, py: Python<'_>, mode: Option<String>) -> PyResult<Option<String>> {
         guard(py, || self.svg_of(mode.as_deref()))

@@ -1,0 +1,68 @@
+"""analyze: the bindings against the command line's JSON, and against closed forms."""
+
+import math
+
+import numpy as np
+import pytest
+
+import bondgraph
+from conftest import EXAMPLES, ROOT, rel
+
+LINEAR = [p for p in sorted(EXAMPLES.glob("*.ron")) if "belt_friction" not in p.name]
+
+
+@pytest.mark.parametrize("path", LINEAR, ids=lambda p: p.name)
+def test_analysis_document_is_the_command_lines(cli, path):
+    ours = bondgraph.load(rel(path)).analyze()
+    assert ours.document == cli.json("analyze", rel(path))
+
+
+def test_mass_spring_damper_against_its_closed_form(cli):
+    # m = 2 kg, k = 200 N/m, b = 4 N s/m: s^2 + (b/m) s + k/m = s^2 + 2 s + 100, so
+    # wn = 10 rad/s, zeta = 0.1, poles -1 +- j sqrt(99); F -> q_spring is 1/(m s^2 + b s + k),
+    # DC gain 1/k = 0.005 m/N.
+    path = rel(EXAMPLES / "mass_spring_damper.ron")
+    ours = bondgraph.load(path).analyze(input="F", output="q_spring")
+    poles = np.sort_complex(ours.poles_complex)
+    np.testing.assert_allclose(poles, [complex(-1, -math.sqrt(99)), complex(-1, math.sqrt(99))], rtol=1e-12)
+    np.testing.assert_allclose(ours.transfer_function["denominator"], [1, 2, 100], rtol=1e-12)
+    assert ours.dc_gain == pytest.approx(1 / 200, rel=1e-12)
+    for e in ours.eigenvalues:
+        assert e["natural_frequency"] == pytest.approx(10, rel=1e-12)
+        assert e["damping_ratio"] == pytest.approx(0.1, rel=1e-12)
+    assert ours.document == cli.json(
+        "analyze", path, "--input", "F", "--output", "q_spring"
+    )
+
+
+def test_plots_are_the_command_lines(cli, tmp_path):
+    path = rel(EXAMPLES / "mass_spring_damper.ron")
+    ours = bondgraph.load(path).analyze()
+    bode, step = tmp_path / "bode.svg", tmp_path / "step.svg"
+    cli.run("analyze", path, "--bode", str(bode), "--step", str(step))
+    assert ours.bode().text == bode.read_text()
+    assert ours.step().text == step.read_text()
+    assert ours._repr_svg_() == ours.step().text
+    assert str(ours) == cli.run("analyze", path).stdout
+
+
+def test_a_nonlinear_model_is_linearised_at_its_equilibrium(cli):
+    path = rel(EXAMPLES / "nonlinear" / "pendulum.ron")
+    ours = bondgraph.load(path).analyze(equilibrium=True)
+    assert ours.document == cli.json("analyze", path, "--equilibrium")
+    assert ours.linearised_at is not None
+
+
+def test_an_unknown_input_is_a_diagnostic():
+    model = bondgraph.load(rel(EXAMPLES / "mass_spring_damper.ron"))
+    with pytest.raises(bondgraph.BondGraphError) as error:
+        model.analyze(input="nope")
+    assert "--input 'nope' is not an input" in str(error.value)
+    assert error.value.diagnostics[0].kind == "UnknownName"
+
+
+def test_a_bond_graph_draws_itself(cli):
+    path = rel(EXAMPLES / "mass_spring_damper.ron")
+    model = bondgraph.load(path)
+    assert model.diagram().text == cli.run("graph", path, "--format", "svg").stdout
+    assert model._repr_svg_() == model.diagram().text

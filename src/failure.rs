@@ -1,0 +1,49 @@
+//! What the commands (and the Python bindings) fail with: the libraries' diagnostics plus
+//! the files they point into, so that the edge that renders them (the command line's
+//! stderr, a Python exception) can show each problem with its line.
+//!
+//! The libraries keep their own typed errors; this is the one type they are turned into
+//! at the edge, shared by the binary and the bindings so that both say the same thing.
+
+use std::sync::Arc;
+
+use bondgraph_core::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics};
+use bondgraph_core::source::SourceFile;
+
+/// A failure to report: diagnostics, and the sources they point into when there are some.
+#[derive(Debug)]
+pub struct Failure {
+    /// The problems, each with its place when it has one.
+    pub diagnostics: Diagnostics,
+    /// The files the diagnostics may point into.
+    pub sources: Vec<Arc<SourceFile>>,
+}
+
+impl From<Diagnostics> for Failure {
+    fn from(diagnostics: Diagnostics) -> Self {
+        Self {
+            diagnostics,
+            sources: Vec::new(),
+        }
+    }
+}
+
+impl Failure {
+    /// A failure with a plain message (no file to point into).
+    pub fn message(kind: DiagnosticKind, message: impl Into<String>) -> Self {
+        Self::from(Diagnostics::from(Diagnostic::new(kind, message)))
+    }
+
+    /// Diagnostics that point into `sources`.
+    pub fn with_sources(diagnostics: Diagnostics, sources: &[&Arc<SourceFile>]) -> Self {
+        Self {
+            diagnostics,
+            sources: sources.iter().map(|s| Arc::clone(s)).collect(),
+        }
+    }
+}
+
+/// Diagnostics that point into one source.
+pub fn with_source(diagnostics: Diagnostics, source: &Arc<SourceFile>) -> Failure {
+    Failure::with_sources(diagnostics, &[source])
+}
