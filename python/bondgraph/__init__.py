@@ -236,7 +236,7 @@ class Analysis:
     """One linear mode analysed, ``bondgraph analyze --format json``.
 
     The document's fields read as attributes: ``eigenvalues`` (``[{re, im, time_constant,
-    natural_frequency, damping_ratio}]``), ``characteristic``, ``transfer_function``
+    natural_frequency, damping_ratio}]`` in ``eigen_scales``), ``characteristic_polynomial``, ``transfer_function``
     (``{input, output, numerator, denominator}``, coefficients highest power of ``s``
     first, denominator monic), ``poles``, ``zeros``, ``dc_gain`` (``None`` for an
     integrator), ``step`` (rise and settling time, overshoot, final value, from the exact

@@ -27,7 +27,7 @@ def test_mass_spring_damper_against_its_closed_form(cli):
     np.testing.assert_allclose(poles, [complex(-1, -math.sqrt(99)), complex(-1, math.sqrt(99))], rtol=1e-12)
     np.testing.assert_allclose(ours.transfer_function["denominator"], [1, 2, 100], rtol=1e-12)
     assert ours.dc_gain == pytest.approx(1 / 200, rel=1e-12)
-    for e in ours.eigenvalues:
+    for e in ours.eigen_scales:
         assert e["natural_frequency"] == pytest.approx(10, rel=1e-12)
         assert e["damping_ratio"] == pytest.approx(0.1, rel=1e-12)
     assert ours.document == cli.json(
