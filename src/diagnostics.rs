@@ -227,13 +227,14 @@ mod tests {
     #[test]
     fn a_line_at_the_window_width_is_whole_and_one_past_it_is_cut() {
         let file = SourceFile::new("m.ron", format!("{}\n", "a".repeat(120)));
-        let diagnostic =
-            Diagnostic::new(DiagnosticKind::Syntax, "bad").at(&file, Span::new(0, 1));
+        let diagnostic = Diagnostic::new(DiagnosticKind::Syntax, "bad").at(&file, Span::new(0, 1));
         let rendered = render(&diagnostic, Some(file.as_ref()));
-        assert!(rendered.contains(&format!("1 | {}\n", "a".repeat(120))), "{rendered}");
+        assert!(
+            rendered.contains(&format!("1 | {}\n", "a".repeat(120))),
+            "{rendered}"
+        );
         let file = SourceFile::new("m.ron", format!("{}\n", "a".repeat(121)));
-        let diagnostic =
-            Diagnostic::new(DiagnosticKind::Syntax, "bad").at(&file, Span::new(0, 1));
+        let diagnostic = Diagnostic::new(DiagnosticKind::Syntax, "bad").at(&file, Span::new(0, 1));
         let rendered = render(&diagnostic, Some(file.as_ref()));
         assert!(
             rendered.contains(&format!("1 | {}...\n  | ^", "a".repeat(120))),

@@ -264,3 +264,64 @@ fn a_diagnostic_on_a_very_long_line_echoes_a_window_of_it() {
     let longest = stderr.lines().map(str::len).max().unwrap();
     assert!(longest < 300, "a line of {longest} bytes in:\n{stderr}");
 }
+
+/// A flow source on a 1-junction whose flow a flow source already sets: each file alone is
+/// fine, the merged model is a causal conflict. `extend` once printed it with exit 0.
+#[test]
+fn extend_refuses_a_fragment_that_makes_the_model_inconsistent() {
+    let base = temporary(
+        "driven.ron",
+        br#"Model(
+    name: "driven",
+    parameters: { "m": (value: 2.0), "b": (value: 4.0) },
+    inputs: { "F": () },
+    elements: { "push": Sf(flow: "F"), "v": One, "mass": I(inertance: "m"), "damper": R(resistance: "b") },
+    bonds: [("push", "v"), ("v", "mass"), ("v", "damper")],
+)"#,
+    );
+    let conflict = temporary(
+        "second_drive.ron",
+        br#"Extension(
+    id: "second-drive",
+    cause: "a second motor drives the same velocity",
+    inputs: { "V": () },
+    elements: { "drive": Sf(flow: "V") },
+    bonds: [("drive", "v")],
+)"#,
+    );
+    let (base, conflict) = (base.to_str().unwrap(), conflict.to_str().unwrap());
+    let output = crate::cli::run(&["extend", base, conflict]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(output.stdout.is_empty(), "{stderr}");
+    assert!(
+        stderr.contains("causal conflict at 1-junction 'v'") && stderr.contains("'drive'"),
+        "{stderr}"
+    );
+    // At the extension's element (line 5, column 17), with the junction's place in a note.
+    assert!(stderr.contains(&format!("--> {conflict}:5:17")), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "'drive' comes from the extension {conflict}; the problem shows at {base}:5:40"
+        )),
+        "{stderr}"
+    );
+    // A consistent fragment (a damper in parallel) still merges.
+    let drag = temporary(
+        "drag.ron",
+        br#"Extension(
+    id: "drag",
+    cause: "the air resists the mass in proportion to its speed",
+    parameters: { "b_air": (value: 1.0) },
+    elements: { "air": R(resistance: "b_air") },
+    bonds: [("v", "air")],
+)"#,
+    );
+    let output = crate::cli::run(&["extend", base, drag.to_str().unwrap()]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(String::from_utf8_lossy(&output.stdout).contains("\"air\": R(resistance: \"b_air\")"));
+}
