@@ -49,25 +49,46 @@ pub fn render(diagnostic: &Diagnostic, source: Option<&SourceFile>) -> String {
     out
 }
 
+/// Widest part of a source line echoed under a diagnostic, in characters: a longer line is
+/// cut to this window around the column, with `...` where it is cut.
+const SNIPPET_WIDTH: usize = 120;
+
+/// Characters of a cut line kept before the column.
+const SNIPPET_BEFORE: usize = 40;
+
 /// The text of the location's line and the marker line under it (the indentation before
-/// the carets copies the line's tabs, so that the carets line up in a terminal).
+/// the carets copies the line's tabs, so that the carets line up in a terminal). A line
+/// longer than [`SNIPPET_WIDTH`] is cut to a window around the column.
 fn snippet(source: &SourceFile, location: &Location) -> (String, String) {
     let line = source.line(location.line);
     let line_start = source.offset(location.line, 1);
     let line_end = line_start + line.len();
-    let before: String = line
-        .chars()
-        .take(location.column.saturating_sub(1))
-        .map(|c| if c == '\t' { '\t' } else { ' ' })
-        .collect();
+    let chars: Vec<char> = line.chars().collect();
+    let column = location.column.saturating_sub(1).min(chars.len());
     let start = location.span.start.clamp(line_start, line_end);
     let end = location.span.end.clamp(start, line_end);
     let count = source
         .text()
         .get(start..end)
         .map_or(0, |s| s.chars().count());
-    let carets = "^".repeat(count.max(1));
-    (line.to_string(), format!("{before}{carets}"))
+    let (first, last) = if chars.len() <= SNIPPET_WIDTH {
+        (0, chars.len())
+    } else {
+        let last = (column.saturating_sub(SNIPPET_BEFORE) + SNIPPET_WIDTH).min(chars.len());
+        (last - SNIPPET_WIDTH, last)
+    };
+    let cut_before = if first > 0 { "..." } else { "" };
+    let cut_after = if last < chars.len() { "..." } else { "" };
+    let text: String = chars[first..last].iter().collect();
+    let before: String = chars[first..column]
+        .iter()
+        .map(|c| if *c == '\t' { '\t' } else { ' ' })
+        .collect();
+    let carets = "^".repeat(count.min(last.saturating_sub(column)).max(1));
+    (
+        format!("{cut_before}{text}{cut_after}"),
+        format!("{}{before}{carets}", " ".repeat(cut_before.len())),
+    )
 }
 
 #[cfg(test)]
@@ -174,6 +195,50 @@ mod tests {
              |\n\
              1 | \t\"µ€\": Q,\n  \
              | \t      ^"
+        );
+    }
+
+    /// A 20,000-character line is not echoed whole: a window around the column, with an
+    /// ellipsis on each side that is cut, and the carets still under the marked text.
+    #[test]
+    fn a_long_line_is_cut_to_a_window_around_the_column() {
+        let mut line = "x".repeat(10_000);
+        line.push_str("\"mass\"");
+        line.push_str(&"y".repeat(20_000 - line.len()));
+        let file = SourceFile::new("m.ron", format!("{line}\n"));
+        let diagnostic = Diagnostic::new(DiagnosticKind::UnknownElementKind, "bad")
+            .at(&file, at(&file, "\"mass\""));
+        // 40 characters before the marked text, then 120 - 40 from it on.
+        let expected = format!(
+            "error: bad\n \
+             --> m.ron:1:10001\n  \
+             |\n\
+             1 | ...{}\"mass\"{}...\n  \
+             | {}^^^^^^",
+            "x".repeat(40),
+            "y".repeat(120 - 40 - 6),
+            " ".repeat(3 + 40)
+        );
+        assert_eq!(render(&diagnostic, Some(file.as_ref())), expected);
+    }
+
+    /// A line of exactly the window's width is shown whole; one character more is cut at
+    /// the end only when the marked text is at its start.
+    #[test]
+    fn a_line_at_the_window_width_is_whole_and_one_past_it_is_cut() {
+        let file = SourceFile::new("m.ron", format!("{}\n", "a".repeat(120)));
+        let diagnostic = Diagnostic::new(DiagnosticKind::Syntax, "bad").at(&file, Span::new(0, 1));
+        let rendered = render(&diagnostic, Some(file.as_ref()));
+        assert!(
+            rendered.contains(&format!("1 | {}\n", "a".repeat(120))),
+            "{rendered}"
+        );
+        let file = SourceFile::new("m.ron", format!("{}\n", "a".repeat(121)));
+        let diagnostic = Diagnostic::new(DiagnosticKind::Syntax, "bad").at(&file, Span::new(0, 1));
+        let rendered = render(&diagnostic, Some(file.as_ref()));
+        assert!(
+            rendered.contains(&format!("1 | {}...\n  | ^", "a".repeat(120))),
+            "{rendered}"
         );
     }
 

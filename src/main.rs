@@ -684,7 +684,7 @@ fn extend(model: &Path, extensions: &[PathBuf], out: Option<&Path>) -> Result<()
         sources: sources.clone(),
     };
     let extended = extension::merge(&base, &fragments).map_err(failure)?;
-    let merged = extended.load().map_err(failure)?;
+    let merged = extended.check().map_err(failure)?;
     match out {
         Some(path) => {
             write_file(path, extended.file.text())?;

@@ -146,10 +146,11 @@ pub fn run(out: &Path, as_json: bool) -> Result<(), Failure> {
         print(&result.summary());
         print(&format!(
             "\nTable III, nozzle friction refitted, candidate extensions tried: selected {} \
-             (held-out RMSE {:.3} -> {:.3} mm/s); see out/report.md\n",
+             (held-out RMSE {:.3} -> {:.3} mm/s); see {}\n",
             discovery.selected.as_deref().unwrap_or("null"),
             discovery.gain.rmse_heldout_before,
-            discovery.gain.rmse_heldout_after
+            discovery.gain.rmse_heldout_after,
+            out.join("report.md").display()
         ));
         print(&format!(
             "\nwritten to {}/: report.md, table3.csv, table6.csv, fig6_robot.svg, fig6_paper.svg, \

@@ -366,6 +366,10 @@ fn reproduce_writes_its_results_and_the_json_contract() {
     let out = dir.to_string_lossy().to_string();
     let summary = succeed(&["reproduce", "--out", &out]);
     assert!(summary.contains("RMS error"), "{summary}");
+    assert!(
+        summary.contains(&format!("see {out}/report.md")),
+        "{summary}"
+    );
     for file in [
         "report.md",
         "reproduce.json",

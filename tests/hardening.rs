@@ -157,3 +157,171 @@ fn outputs_keep_their_terms_in_input_derivatives_in_json_and_latex() {
         "{latex}"
     );
 }
+
+/// A mass `"2^-100000"` (or `m^-30` with m = 1e300) is not zero, but its value in double
+/// precision is: the message once said `= 0 ... must be positive`, as if the file wrote 0.
+#[test]
+fn an_underflowing_coefficient_is_called_an_underflow() {
+    for (law, m) in [("2^-100000", "2.0"), ("m^-30", "1e300")] {
+        let text = format!(
+            r#"Model(
+    name: "tiny_mass",
+    parameters: {{ "m": (value: {m}) }},
+    inputs: {{ "F": () }},
+    elements: {{ "push": Se(effort: "F"), "v": One, "mass": I(inertance: "{law}") }},
+    bonds: [("push", "v"), ("v", "mass")],
+)"#
+        );
+        let path = temporary("tiny_mass.ron", text.as_bytes());
+        let output = crate::cli::run(&["check", path.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        assert!(
+            stderr.contains(&format!(
+                "element 'mass': inertance \"{law}\" is not zero but underflows to 0 in double \
+                 precision; it must be positive"
+            )),
+            "{stderr}"
+        );
+    }
+    // A true zero is still called zero.
+    let path = temporary(
+        "zero_mass.ron",
+        br#"Model(
+    name: "zero_mass",
+    parameters: { "m": (value: 0.0) },
+    inputs: { "F": () },
+    elements: { "push": Se(effort: "F"), "v": One, "mass": I(inertance: "m") },
+    bonds: [("push", "v"), ("v", "mass")],
+)"#,
+    );
+    let output = crate::cli::run(&["check", path.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("inertance \"m\" = 0 (with m = 0) must be positive"),
+        "{stderr}"
+    );
+}
+
+/// The junction 'v' has two bonds in the file, one of them to a rejected mass: only the
+/// mass is reported, not a follow-on `1-junction 'v' has 1 bond`.
+#[test]
+fn a_rejected_element_does_not_make_its_junction_look_short_of_bonds() {
+    let path = temporary(
+        "rejected_mass.ron",
+        br#"Model(
+    name: "rejected_mass",
+    parameters: { "m": (value: -1.0) },
+    inputs: { "F": () },
+    elements: { "push": Se(effort: "F"), "v": One, "mass": I(inertance: "m") },
+    bonds: [("push", "v"), ("v", "mass")],
+)"#,
+    );
+    let output = crate::cli::run(&["check", path.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("element 'mass': inertance"), "{stderr}");
+    assert!(!stderr.contains("1-junction 'v'"), "{stderr}");
+    // A junction that the file itself gives one bond is still reported.
+    let path = temporary(
+        "short_junction.ron",
+        br#"Model(
+    name: "short_junction",
+    parameters: { "m": (value: 1.0) },
+    inputs: { "F": () },
+    elements: { "push": Se(effort: "F"), "v": One, "w": One, "mass": I(inertance: "m") },
+    bonds: [("push", "v"), ("v", "mass"), ("push", "w")],
+)"#,
+    );
+    let output = crate::cli::run(&["check", path.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("1-junction 'w' has 1 bond; a junction joins two or more"),
+        "{stderr}"
+    );
+}
+
+/// An error on a 20,000-character line echoes a window of it, not the whole line.
+#[test]
+fn a_diagnostic_on_a_very_long_line_echoes_a_window_of_it() {
+    let padding = " ".repeat(20_000);
+    let text = format!(
+        r#"Model(
+    name: "long_line",
+    parameters: {{ "m": (value: 0.0) }},
+    inputs: {{ "F": () }},
+    elements: {{ {padding}"push": Se(effort: "F"), "v": One, "mass": I(inertance: "m") {padding}}},
+    bonds: [("push", "v"), ("v", "mass")],
+)"#
+    );
+    let path = temporary("long_line.ron", text.as_bytes());
+    let output = crate::cli::run(&["check", path.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("must be positive"), "{stderr}");
+    assert!(stderr.contains("\"mass\": I(inertance: \"m\")"), "{stderr}");
+    assert!(stderr.contains("..."), "{stderr}");
+    let longest = stderr.lines().map(str::len).max().unwrap();
+    assert!(longest < 300, "a line of {longest} bytes in:\n{stderr}");
+}
+
+/// A flow source on a 1-junction whose flow a flow source already sets: each file alone is
+/// fine, the merged model is a causal conflict. `extend` once printed it with exit 0.
+#[test]
+fn extend_refuses_a_fragment_that_makes_the_model_inconsistent() {
+    let base = temporary(
+        "driven.ron",
+        br#"Model(
+    name: "driven",
+    parameters: { "m": (value: 2.0), "b": (value: 4.0) },
+    inputs: { "F": () },
+    elements: { "push": Sf(flow: "F"), "v": One, "mass": I(inertance: "m"), "damper": R(resistance: "b") },
+    bonds: [("push", "v"), ("v", "mass"), ("v", "damper")],
+)"#,
+    );
+    let conflict = temporary(
+        "second_drive.ron",
+        br#"Extension(
+    id: "second-drive",
+    cause: "a second motor drives the same velocity",
+    inputs: { "V": () },
+    elements: { "drive": Sf(flow: "V") },
+    bonds: [("drive", "v")],
+)"#,
+    );
+    let (base, conflict) = (base.to_str().unwrap(), conflict.to_str().unwrap());
+    let output = crate::cli::run(&["extend", base, conflict]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(output.stdout.is_empty(), "{stderr}");
+    assert!(
+        stderr.contains("causal conflict at 1-junction 'v'") && stderr.contains("'drive'"),
+        "{stderr}"
+    );
+    // At the extension's element (line 5, column 17), with the junction's place in a note.
+    assert!(stderr.contains(&format!("--> {conflict}:5:17")), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "'drive' comes from the extension {conflict}; the problem shows at {base}:5:40"
+        )),
+        "{stderr}"
+    );
+    // A consistent fragment (a damper in parallel) still merges.
+    let drag = temporary(
+        "drag.ron",
+        br#"Extension(
+    id: "drag",
+    cause: "the air resists the mass in proportion to its speed",
+    parameters: { "b_air": (value: 1.0) },
+    elements: { "air": R(resistance: "b_air") },
+    bonds: [("v", "air")],
+)"#,
+    );
+    let output = crate::cli::run(&["extend", base, drag.to_str().unwrap()]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(String::from_utf8_lossy(&output.stdout).contains("\"air\": R(resistance: \"b_air\")"));
+}

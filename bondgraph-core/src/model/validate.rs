@@ -170,8 +170,11 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
         }
     }
 
-    // Bonds.
+    // Bonds. A bond dropped because one of its ends was already reported (a rejected or
+    // undefined element, a self bond) is counted at its other end, so that end is not
+    // blamed next for the bond count the file does give it.
     let mut bonds = Vec::new();
+    let mut dropped = vec![0usize; elements.len()];
     for (index, raw_bond) in raw.bonds.iter().enumerate() {
         let bond_spans = map.bonds.get(index);
         let span = bond_spans.map_or(map.root, |b| b.span);
@@ -205,9 +208,13 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
             }
         }
         if !ok {
+            for end in ends.iter().filter(|id| id.0 != u32::MAX) {
+                dropped[end.index()] += 1;
+            }
             continue;
         }
         if ends[0] == ends[1] {
+            dropped[ends[0].index()] += 1;
             v.problems.push(
                 Diagnostic::new(
                     DiagnosticKind::SelfBond,
@@ -244,7 +251,9 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
         linear_graph: None,
     };
     for element in model.element_ids() {
-        v.check_ports(&model, element);
+        if dropped[element.index()] == 0 {
+            v.check_ports(&model, element);
+        }
     }
     if v.problems.is_empty() {
         v.check_connected(&model);
@@ -950,6 +959,24 @@ impl Validator<'_> {
             Sign::NonZero if value.is_zero() || number == 0.0 => Some("non-zero"),
             _ => None,
         };
+        // Zero in f64 while the exact value is not: the expression underflows.
+        let underflows = number == 0.0
+            && !value.is_zero()
+            && value.numerator().vanishes_at(scope.values) == Some(false);
+        if let (Some(requirement), true) = (bad, underflows) {
+            self.problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::InvalidValue,
+                    format!(
+                        "element '{element}': {field} \"{text}\" is not zero but underflows to 0 in double precision; it must be {requirement}"
+                    ),
+                )
+                .at(&self.file, span)
+                .element(element)
+                .note("the smallest positive double is about 4.9e-324: choose units in which the value is nearer 1"),
+            );
+            return None;
+        }
         if let Some(requirement) = bad {
             let used: Vec<String> = value
                 .symbols()

@@ -12,6 +12,22 @@ use num_traits::{One, Signed, ToPrimitive, Zero};
 
 use super::{Monomial, Symbol};
 
+/// A finite `f64` as `(mantissa, exponent)` with `value = mantissa * 2^exponent` exactly.
+fn binary_fraction(value: f64) -> Option<(i64, i64)> {
+    if !value.is_finite() {
+        return None;
+    }
+    let bits = value.to_bits();
+    let sign = if bits >> 63 == 0 { 1 } else { -1 };
+    let biased = ((bits >> 52) & 0x7ff) as i64;
+    let fraction = (bits & ((1 << 52) - 1)) as i64;
+    Some(if biased == 0 {
+        (sign * fraction, -1074)
+    } else {
+        (sign * (fraction | (1 << 52)), biased - 1075)
+    })
+}
+
 /// Largest number of terms [`Poly::pow`] is willing to expand to (by an upper estimate).
 const MAX_POWER_TERMS: f64 = 200_000.0;
 
@@ -185,6 +201,32 @@ impl Poly {
             })
             // Not `.sum()`: an empty f64 sum is -0.0, and zero must print as 0.
             .fold(0.0, |sum, term| sum + term)
+    }
+
+    /// Whether the polynomial is exactly zero at `values[symbol.index()]`, each `f64` taken
+    /// as the exact binary fraction it is: where [`Poly::eval`] gives 0 by underflow, this
+    /// tells it from a true zero. `None` if a value is missing or not finite.
+    pub fn vanishes_at(&self, values: &[f64]) -> Option<bool> {
+        // Every term is c * M * 2^e with integers c, M and e; sum them at the lowest e.
+        let mut terms = Vec::with_capacity(self.terms.len());
+        for (m, c) in &self.terms {
+            let mut mantissa = c.clone();
+            let mut exponent: i64 = 0;
+            for (s, e) in m.iter() {
+                let (value_mantissa, value_exponent) = binary_fraction(*values.get(s.index())?)?;
+                mantissa *= num_traits::pow(BigInt::from(value_mantissa), e as usize);
+                exponent += value_exponent * i64::from(e);
+            }
+            terms.push((mantissa, exponent));
+        }
+        let Some(lowest) = terms.iter().map(|(_, e)| *e).min() else {
+            return Some(true);
+        };
+        let sum: BigInt = terms
+            .into_iter()
+            .map(|(mantissa, e)| mantissa << usize::try_from(e - lowest).unwrap_or(usize::MAX))
+            .sum();
+        Some(sum.is_zero())
     }
 
     /// The integer content: the positive gcd of all coefficients (0 for zero).
@@ -566,6 +608,26 @@ mod tests {
 
     fn k(n: i64) -> Poly {
         Poly::constant(BigInt::from(n))
+    }
+
+    /// 1e-200 * 1e-200 underflows to 0 in f64 but is not zero; 0.1 - 0.1, 3^2 - 2*4.5 and
+    /// 0 * 5 are; the smallest subnormal is not.
+    #[test]
+    fn vanishes_at_tells_underflow_from_zero() {
+        let product = s(A) * s(B);
+        assert_eq!(product.eval(&[1e-200, 1e-200]), 0.0);
+        assert_eq!(product.vanishes_at(&[1e-200, 1e-200]), Some(false));
+        assert_eq!(product.vanishes_at(&[0.0, 5.0]), Some(true));
+        let difference = s(A) - s(B);
+        assert_eq!(difference.vanishes_at(&[0.1, 0.1]), Some(true));
+        assert_eq!(difference.vanishes_at(&[0.1, 0.1 + 1.4e-17]), Some(false));
+        let square = s(A) * s(A) - k(2) * s(B);
+        assert_eq!(square.vanishes_at(&[3.0, 4.5]), Some(true));
+        assert_eq!(square.vanishes_at(&[-3.0, 4.5]), Some(true));
+        assert_eq!(s(A).vanishes_at(&[5e-324]), Some(false));
+        assert_eq!(s(A).vanishes_at(&[f64::INFINITY]), None);
+        assert_eq!(k(7).vanishes_at(&[]), Some(false));
+        assert_eq!(Poly::zero().vanishes_at(&[]), Some(true));
     }
 
     fn coefficients(p: &Poly) -> Vec<i64> {
