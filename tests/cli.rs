@@ -632,12 +632,20 @@ fn calibrate_and_discover_any_model_with_nothing_but_model_and_data() {
     let json: serde_json::Value = serde_json::from_str(&printed).unwrap();
     assert_eq!(json["observed"], "w_rad_s");
     assert_eq!(json["ranking"].as_array().unwrap().len(), 3);
-    // Nothing is hidden in the data: nothing may be selected, and the windage (an exact
-    // refit of b) is reported as indistinguishable from the base model.
+    // Nothing is hidden in the data: nothing may be selected. On steady speeds every
+    // candidate is a base refit in disguise, w = (alpha V - T_C - tau)/(b + beta) with
+    // alpha = N K/R_a and beta = N^2 K^2/R_a: windage adds to b; a brush drop U_b to T_C
+    // (T_C + alpha U_b); bearings loaded by the brake, (1 + mu_b) tau, are the base with
+    // K/(1 + mu_b), T_C/(1 + mu_b) and b + beta = (b_0 + beta_0)/(1 + mu_b). All three are
+    // reported as indistinguishable from the base model.
     assert!(json["selected"].is_null());
     assert_eq!(
         json["indistinguishable"],
-        serde_json::json!(["shaft-windage"])
+        serde_json::json!([
+            "brake-loaded-bearings",
+            "brush-voltage-drop",
+            "shaft-windage"
+        ])
     );
 }
 

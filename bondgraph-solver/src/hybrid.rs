@@ -27,8 +27,10 @@ use bondgraph_core::scenario::Book;
 use crate::energy::{EnergyBalance, EnergyColumn};
 use crate::events;
 
+mod crossing;
 mod integrate;
 use crate::numeric::{NumericGuard, NumericMode, Storage, dot};
+use crossing::{Crossed, Trigger};
 use num_complex::Complex64;
 
 /// A time-varying input, piecewise linear between its breakpoints.
@@ -500,20 +502,24 @@ impl<'m> Simulator<'m> {
         u: &[f64],
         rate: &[f64],
         t: f64,
-        trigger: Option<(&NumericMode, String, String)>,
+        trigger: Option<Trigger<'_>>,
         recorder: &mut Recorder,
     ) -> Result<Arc<NumericMode>, SimError> {
+        let crossed = trigger.as_ref().map(|trigger| trigger.crossed);
+        let crossed = crossed.as_ref();
         let mut tried: Vec<Mode> = Vec::new();
         let mut switched: Vec<String> = Vec::new();
         let mut previous: Option<(String, String, String)> =
-            trigger.map(|(mode, element, reason)| (mode.spec.clone(), element, reason));
+            trigger.map(|trigger| (trigger.mode.spec.clone(), trigger.element, trigger.reason));
         let mut mode = candidate;
         loop {
             if tried.contains(&mode) {
                 switched.sort();
                 switched.dedup();
                 let last = self.mode(tried.last().expect("a mode was tried"))?;
-                if let Some(found) = self.search_consistent(&tried[0], &switched, full, u, rate)? {
+                if let Some(found) =
+                    self.search_consistent(&tried[0], &switched, full, u, rate, crossed)?
+                {
                     recorder.event(
                         t,
                         last.spec.clone(),
@@ -538,7 +544,7 @@ impl<'m> Simulator<'m> {
             let x = numeric.project(full, u);
             let mut next = None;
             for guard in &numeric.guards {
-                if !self.entered(&numeric, guard, &x, u, rate) {
+                if !self.entered(&numeric, guard, &x, u, rate, crossed) {
                     continue;
                 }
                 if guard.requires_hold && !self.can_hold(&numeric, guard, full, u, rate)? {
@@ -582,6 +588,7 @@ impl<'m> Simulator<'m> {
         full: &[f64],
         u: &[f64],
         rate: &[f64],
+        crossed: Option<&Crossed>,
     ) -> Result<Option<Arc<NumericMode>>, SimError> {
         let mut choices: Vec<(ElementId, &[ElementMode])> = Vec::new();
         for name in elements {
@@ -607,7 +614,7 @@ impl<'m> Simulator<'m> {
                 Err(SimError::Derivation(_)) => continue,
                 Err(e) => return Err(e),
             };
-            if !self.consistent(&numeric, full, u, rate)? {
+            if !self.consistent(&numeric, full, u, rate, crossed)? {
                 continue;
             }
             let stuck = choices
@@ -634,10 +641,11 @@ impl<'m> Simulator<'m> {
         full: &[f64],
         u: &[f64],
         rate: &[f64],
+        crossed: Option<&Crossed>,
     ) -> Result<bool, SimError> {
         let x = mode.project(full, u);
         for guard in &mode.guards {
-            if !self.entered(mode, guard, &x, u, rate) {
+            if !self.entered(mode, guard, &x, u, rate, crossed) {
                 continue;
             }
             if guard.requires_hold {
@@ -660,14 +668,18 @@ impl<'m> Simulator<'m> {
         x: &[f64],
         u: &[f64],
         rate: &[f64],
+        crossed: Option<&Crossed>,
     ) -> bool {
         let value = guard.row.eval(x, u, rate);
         let tolerance = 1e-9 * guard.row.magnitude(x, u, rate) + f64::MIN_POSITIVE;
-        if value > tolerance {
-            return true;
-        }
-        if value < -tolerance {
-            return false;
+        let on_crossed_threshold = crossed.is_some_and(|c| c.watches_as(guard, value, tolerance));
+        if !on_crossed_threshold {
+            if value > tolerance {
+                return true;
+            }
+            if value < -tolerance {
+                return false;
+            }
         }
         let first = mode.row_rate(&guard.row, x, u, rate);
         let rate_tolerance = 1e-9 * mode.row_rate_magnitude(&guard.row, x, u, rate);
@@ -711,7 +723,7 @@ impl<'m> Simulator<'m> {
                     g.watched,
                     Watched::HoldingForce | Watched::RestrainingEffort
                 )
-                && self.entered(&target, g, &x, u, rate)
+                && self.entered(&target, g, &x, u, rate, None)
         }))
     }
 
@@ -1148,7 +1160,16 @@ impl<'s, 'm> Stepper<'s, 'm> {
             &u,
             &rate,
             t,
-            Some((&current, element, reason(guard, true))),
+            Some(Trigger {
+                mode: &current,
+                element,
+                reason: reason(guard, true),
+                crossed: Crossed {
+                    element: guard.element,
+                    watched: guard.watched,
+                    residue: guard.row.eval(&self.x, &u, &rate).abs(),
+                },
+            }),
             &mut self.recorder,
         )?;
         self.check_chattering(t)?;

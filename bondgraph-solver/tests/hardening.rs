@@ -347,3 +347,69 @@ fn a_very_light_mass_on_a_slack_string_moves_freely() {
     assert!((state[0] - p).abs() <= 1e-12 * p.abs(), "{state:?}");
     assert!((state[1] - q).abs() <= 1e-12 * q.abs(), "{state:?}");
 }
+
+/// The geared motor of `models/examples/geared_motor/` (R_a = 2 Ω, N = 20, J = 0.01 kg m²)
+/// with K = 0.050035 N m/A, b = 0.05086 N m s/rad, T_C = 0.1345 N m, T_S = 0.325 N m, driven
+/// at V = 12 V against a brake of 1 N m from rest. The brake breaks the shaft away backwards
+/// at once (no current flows yet), then the current builds and the shaft turns through zero
+/// velocity into forward slip, where it settles at the closed form
+///     w = (N K V/R_a - T_C - tau_load) / (b + N² K²/R_a) = 4.8697 / 0.551560245 rad/s.
+/// The reversal through zero leaves a velocity residue of a few 1e-17 rad/s on the old side;
+/// it must not be read as "the new slip already runs backwards" (which sent the contact
+/// back to backward slip for good, turning forward at 9.3167 rad/s with exit 0).
+#[test]
+fn a_contact_reversing_through_zero_velocity_keeps_the_new_direction() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../models/examples/geared_motor/geared_motor.ron"
+    );
+    let mut text = std::fs::read_to_string(path).unwrap();
+    for (from, to) in [
+        (r#""K": (value: 0.04,"#, r#""K": (value: 0.050035,"#),
+        (r#""b": (value: 0.02,"#, r#""b": (value: 0.05086,"#),
+        (r#""T_S": (value: 0.25,"#, r#""T_S": (value: 0.325,"#),
+        (r#""T_C": (value: 0.2,"#, r#""T_C": (value: 0.1345,"#),
+    ] {
+        assert!(text.contains(from), "{from}");
+        text = text.replace(from, to);
+    }
+    let model = model::load_str("geared_motor_reversing.ron", &text).unwrap();
+    let outputs = vec![Output {
+        name: "flow:load_inertia".into(),
+        spec: OutputSpec::parse(&model, "flow:load_inertia").unwrap(),
+        integral: false,
+    }];
+    let mut simulator = Simulator::new(&model, outputs);
+    let (voltage, brake) = (Constant(12.0), Constant(1.0));
+    let inputs: [&dyn Signal; 2] = [&voltage, &brake];
+    let trajectory = simulator
+        .run(&Run {
+            inputs: &inputs,
+            initial_mode: Mode::initial(&model),
+            initial_state: vec![0.0, 0.0],
+            duration: 3.0,
+            sample: Some(0.01),
+            audit_energy: true,
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    let to: Vec<&str> = trajectory.events.iter().map(|e| e.to.as_str()).collect();
+    assert_eq!(
+        to,
+        ["bearings=slip-", "bearings=slip+"],
+        "{:#?}",
+        trajectory.events
+    );
+    let (n, k, v, r_a) = (20.0, 0.050035, 12.0, 2.0);
+    let expected = (n * k * v / r_a - 0.1345 - 1.0) / (0.05086 + n * n * k * k / r_a);
+    let last = trajectory.times.len() - 1;
+    let speed = trajectory.value(last, 0).unwrap();
+    assert!(
+        (speed - expected).abs() < 1e-9 * expected,
+        "{speed} rad/s against {expected}"
+    );
+    let energy = trajectory.energy.unwrap();
+    assert!(
+        energy.residual().abs() <= 1e-9 * energy.scale(),
+        "{energy:?}"
+    );
+}
