@@ -472,11 +472,26 @@ enum RawSignal {
 /// edits cause (a junction left with one bond) point at the model file's text with a note
 /// naming the scenario's edits.
 pub fn load(scenario: &Arc<SourceFile>, model: &Arc<SourceFile>) -> Result<Scenario> {
+    load_measured(scenario, model, &[])
+}
+
+/// [`load`] for a scenario driven partly by measured signals (a time series fitted to
+/// data): the inputs named in `measured` need no signal in the file, and are held at
+/// `Constant(0.0)` where it gives none, for the caller to replace.
+///
+/// # Errors
+/// As [`load`].
+pub fn load_measured(
+    scenario: &Arc<SourceFile>,
+    model: &Arc<SourceFile>,
+    measured: &[&str],
+) -> Result<Scenario> {
     let (raw, map) = parse_file::<RawScenario>(scenario, FileKind::Scenario)?;
     let mut checker = Checker {
         file: scenario.clone(),
         map: &map,
         problems: Vec::new(),
+        measured,
     };
 
     // What needs no model.
@@ -602,6 +617,8 @@ struct Checker<'a> {
     file: Arc<SourceFile>,
     map: &'a SourceMap,
     problems: Vec<Diagnostic>,
+    /// Inputs the caller drives with measured signals: they need none in the file.
+    measured: &'a [&'a str],
 }
 
 impl Checker<'_> {
@@ -955,7 +972,9 @@ impl Checker<'_> {
         for (index, input) in model.inputs.iter().enumerate() {
             match given[index].take() {
                 Some(signal) => inputs.push(signal),
-                None if !used[index] => inputs.push(Signal::Constant(0.0)),
+                None if !used[index] || self.measured.contains(&input.name.as_str()) => {
+                    inputs.push(Signal::Constant(0.0));
+                }
                 None if seen.contains_key(input.name.as_str()) => {}
                 None => {
                     let unit = input

@@ -101,6 +101,15 @@ pub enum DiscoverError {
     /// A fitted parameter that is not in the model, or has no bounds.
     #[error("{0}")]
     Fitted(Diagnostics),
+    /// Discovery holds rows out, which a time series cannot yet do: a held-out block would
+    /// also leave a gap in the measured input signals the run is driven by.
+    #[error(
+        "{data}: discover compares candidates on steady data; time series are fitted by calibrate (holding out blocks of a run is not supported yet)"
+    )]
+    TimeSeries {
+        /// The data's name.
+        data: String,
+    },
 }
 
 /// A candidate extension, merged into the base model.
@@ -855,6 +864,11 @@ pub fn discover_with_progress(
     let (data_name, rows) = (data.name.as_str(), data.rows.as_slice());
     if experiment.observed.len() != 1 {
         return Err(DiscoverError::ObservedColumns(experiment.observed.len()));
+    }
+    if experiment.time().is_some() {
+        return Err(DiscoverError::TimeSeries {
+            data: data_name.to_string(),
+        });
     }
     if rows.len() < 8 {
         return Err(DiscoverError::TooFewRows {

@@ -13,7 +13,8 @@
 //! - [`experiment`]: the experiment file (which columns set which inputs, what is observed,
 //!   what an empty cell removes, what is refitted);
 //! - [`data`]: the CSV reader (which refuses bad rows and says where they are) and writer;
-//! - [`predict`]: a model prepared once for an experiment, predicting rows as steady states;
+//! - [`predict`]: a model prepared once for an experiment, predicting rows as steady states
+//!   or, for a time series, along a simulated run (`timeseries`);
 //! - [`calibrate`]: bounded least squares for piecewise-smooth steady states;
 //! - [`calibration`]: a model calibrated on data, with residuals by regime and condition;
 //! - [`folds`] and [`probes`]: held-out folds, and conditions that separate two models;
@@ -30,3 +31,4 @@ pub mod predict;
 pub mod probes;
 pub mod stats;
 pub mod synthetic;
+mod timeseries;

@@ -20,6 +20,7 @@ use bondgraph_solver::{Output, Simulator};
 
 use crate::data::Measurement;
 use crate::experiment::{Experiment, ExperimentError};
+use crate::timeseries::{Drive, RunSetup, predict_run};
 
 /// Removals combined into variants, at most: 2^6 models to validate.
 const MAX_ABSENT: usize = 6;
@@ -46,6 +47,8 @@ pub struct Predictor {
     /// Where each `absent` entry's column is among the experiment's condition columns.
     absent_columns: Vec<usize>,
     settings: SteadySettings,
+    /// For a time series: the scenario's signals and start.
+    drive: Option<Drive>,
 }
 
 /// The prediction of one row.
@@ -114,6 +117,7 @@ impl Predictor {
             variants,
             absent_columns,
             settings: SteadySettings::default(),
+            drive: Drive::load(experiment, source)?,
         })
     }
 
@@ -331,6 +335,9 @@ impl Evaluator<'_> {
         &mut self,
         rows: &[Measurement],
     ) -> Vec<Result<Prediction, ExperimentError>> {
+        if let Some(drive) = &self.predictor.drive {
+            return self.predict_runs(drive, rows);
+        }
         let experiment = &self.predictor.experiment;
         rows.iter()
             .map(|row| {
@@ -376,6 +383,42 @@ impl Evaluator<'_> {
                 })
             })
             .collect()
+    }
+
+    /// A time series' rows, run by run: each stretch of consecutive rows from one file with
+    /// the same empty `absent` columns is one simulation through its sample times.
+    fn predict_runs(
+        &mut self,
+        drive: &Drive,
+        rows: &[Measurement],
+    ) -> Vec<Result<Prediction, ExperimentError>> {
+        let experiment = &self.predictor.experiment;
+        let mut predictions = Vec::with_capacity(rows.len());
+        let mut start = 0;
+        while start < rows.len() {
+            let mask = self.predictor.mask(&rows[start]);
+            let end = (start..rows.len())
+                .find(|&k| {
+                    rows[k].file != rows[start].file || self.predictor.mask(&rows[k]) != mask
+                })
+                .unwrap_or(rows.len());
+            let session = &mut self.sessions[mask];
+            let variant = session.variant;
+            let setup = RunSetup {
+                model: &variant.model,
+                inputs: &variant.inputs,
+                initial: &variant.initial,
+            };
+            predictions.extend(predict_run(
+                drive,
+                experiment,
+                &mut session.simulator,
+                &setup,
+                &rows[start..end],
+            ));
+            start = end;
+        }
+        predictions
     }
 
     /// Gives up on rows that have not settled after `seconds` of simulated time (a

@@ -89,3 +89,143 @@ fn a_cell_the_model_cannot_evaluate_names_its_row_and_column() {
         "{error}"
     );
 }
+
+/// A file named by its full path, so that what it names relative to itself (an experiment's
+/// scenario) is found from any working folder.
+fn file_at(relative: &str) -> std::sync::Arc<SourceFile> {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join(relative);
+    let text = std::fs::read_to_string(&path).unwrap();
+    SourceFile::new(path.display().to_string(), text)
+}
+
+fn step_experiment() -> Experiment {
+    Experiment::from_source(&file_at("models/examples/geared_motor/experiment_step.ron")).unwrap()
+}
+
+fn step_data(experiment: &Experiment, name: &str) -> data::Dataset {
+    let csv = file_at(&format!("models/examples/geared_motor/data/{name}"));
+    data::read(csv.name(), csv.text(), experiment).unwrap()
+}
+
+/// The truth behind data/generate_step.py (an independent Runge-Kutta integration of the
+/// motor's two equations with its friction's switches located by bisection).
+const STEP_TRUTH: [(&str, f64); 5] = [
+    ("K", 0.05),
+    ("b", 0.05),
+    ("T_C", 0.15),
+    ("T_S", 0.3),
+    ("J", 0.01),
+];
+
+#[test]
+fn a_time_series_without_noise_is_calibrated_back_to_its_known_values() {
+    // The motor from rest, driven by a recorded voltage (0, 6, 12, 0, 9 V) against a
+    // recorded brake (1 N m from 0.7 s to 1 s, 0.5 N m from 1.8 s): it breaks away, settles,
+    // stops and sticks, and breaks away again. From the model file's values
+    // (K = 0.04, b = 0.02, T_C = 0.2, T_S = 0.25, J = 0.01) the fit must find the truth,
+    // the inertia and the breakaway torque included, which steady speeds cannot give: the
+    // data are rounded to 1e-6 rad/s, so the fit's RMSE is of that order, not more.
+    let model = file("models/examples/geared_motor/geared_motor.ron");
+    let experiment = step_experiment();
+    let dataset = step_data(&experiment, "step_exact.csv");
+    assert_eq!(dataset.rows.len(), 201);
+    let result = calibrate(&model, &experiment, &dataset, &Settings::default()).unwrap();
+    let report = result.summary();
+    for (name, truth) in STEP_TRUTH {
+        let value = result.params[name].value;
+        assert!(
+            (value - truth).abs() < 1e-4 * truth,
+            "{name} = {value} against {truth}\n{report}"
+        );
+    }
+    assert!(result.rmse["w_rad_s"] < 2e-6, "{report}");
+    // The regimes along the run: stuck before the first breakaway (t < 0.0421 s, five
+    // samples from 0 to 0.04 s) and while stopped (1.0558 s to 1.4917 s, the 44 samples
+    // from 1.06 to 1.49 s), turning otherwise.
+    let stuck = result.residuals["w_rad_s"]
+        .by_regime
+        .iter()
+        .find(|r| r.regime == "stuck")
+        .expect("a stuck regime");
+    assert_eq!(stuck.rows, 5 + 44, "{report}");
+}
+
+#[test]
+fn each_file_of_a_time_series_is_its_own_run() {
+    // The same record twice, as two files: two runs from rest, each restarting at t = 0. Read
+    // as one run its times would go back; read as two, the fit is the one-file fit.
+    let model = file("models/examples/geared_motor/geared_motor.ron");
+    let experiment = step_experiment();
+    let one = step_data(&experiment, "step_exact.csv");
+    let mut other = one.clone();
+    other.name = "again.csv".into();
+    let again: std::sync::Arc<str> = "again.csv".into();
+    for row in &mut other.rows {
+        row.file = again.clone();
+    }
+    let both = data::Dataset::join(vec![one, other]);
+    let result = calibrate(&model, &experiment, &both, &Settings::default()).unwrap();
+    assert_eq!(result.rows, 402);
+    for (name, truth) in STEP_TRUTH {
+        let value = result.params[name].value;
+        assert!((value - truth).abs() < 1e-4 * truth, "{name} = {value}");
+    }
+}
+
+#[test]
+fn a_time_series_whose_time_goes_back_names_the_row() {
+    let model = file("models/examples/geared_motor/geared_motor.ron");
+    let experiment = step_experiment();
+    let dataset = data::read(
+        "back.csv",
+        "t_s,V_V,tau_mNm,w_rad_s\n0,0,0,0\n0.02,6,0,0\n0.01,6,0,1\n",
+        &experiment,
+    )
+    .unwrap();
+    let error = calibrate(&model, &experiment, &dataset, &Settings::default())
+        .expect_err("time goes back")
+        .to_string();
+    assert!(
+        error.starts_with(
+            "back.csv:4: V_V = 6, tau_mNm = 0: time `t_s` must increase from row to row"
+        ),
+        "{error}"
+    );
+}
+
+#[test]
+fn a_time_series_scenario_that_edits_the_model_is_refused_at_the_experiment() {
+    let dir = std::env::temp_dir().join(format!("bondgraph-ts-edit-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("edited.ron"),
+        r#"Scenario(name: "edited", parameters: {"R_a": 3.0},
+    inputs: {"tau_load": Constant(0.0)}, duration: 1.0, record: ["flow:load_inertia"])"#,
+    )
+    .unwrap();
+    let path = dir.join("experiment.ron");
+    let text = step_experiment()
+        .source()
+        .text()
+        .replace("\"step.ron\"", "\"edited.ron\"");
+    std::fs::write(&path, &text).unwrap();
+    let experiment =
+        Experiment::from_source(&SourceFile::new(path.display().to_string(), text.clone()))
+            .unwrap();
+    let model = file("models/examples/geared_motor/geared_motor.ron");
+    let dataset = step_data(&experiment, "step_exact.csv");
+    let error = calibrate(&model, &experiment, &dataset, &Settings::default())
+        .expect_err("the scenario edits the model")
+        .to_string();
+    // At the experiment's `kind`, where the scenario is named.
+    let line = 1 + text
+        .lines()
+        .position(|l| l.contains("kind: TimeSeries"))
+        .unwrap();
+    assert!(
+        error.contains(&format!("experiment.ron:{line}:")) && error.contains("edits the model"),
+        "{error}"
+    );
+}
