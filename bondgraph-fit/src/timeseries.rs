@@ -133,7 +133,7 @@ pub(crate) fn predict_run(
     // Sample times must start at or after 0 and increase strictly: a measured signal is
     // piecewise linear through them, and the run passes through them in order.
     for (k, row) in run.iter().enumerate() {
-        let bad = if !(times[k] >= 0.0) {
+        let bad = if times[k].is_nan() || times[k] < 0.0 {
             Some(format!("time `{column}` must be 0 or later"))
         } else if k > 0 && times[k] <= times[k - 1] {
             Some(format!(
