@@ -87,6 +87,13 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
         if let Some(bounds) = raw_parameter.bounds {
             v.check_bounds(name, raw_parameter.value, bounds, index);
         }
+        v.check_unit(
+            "parameter",
+            name,
+            raw_parameter.unit.as_deref(),
+            &map.parameters,
+            index,
+        );
         parameters.push((name.clone(), raw_parameter.clone(), span));
     }
     let mut inputs = Vec::new();
@@ -95,6 +102,7 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
         if !v.check_name(name, "input", span) || !v.check_unique(&mut seen, name, "input", span) {
             continue;
         }
+        v.check_unit("input", name, raw_input.unit.as_deref(), &map.inputs, index);
         inputs.push(Input {
             name: name.clone(),
             unit: raw_input.unit.clone(),
@@ -317,6 +325,35 @@ impl Validator<'_> {
             Diagnostic::new(DiagnosticKind::InvalidValue, problem)
                 .at(&self.file, span)
                 .element(name),
+        );
+    }
+
+    /// A `unit` string must parse ([`crate::units::parse_unit`]).
+    fn check_unit(
+        &mut self,
+        what: &str,
+        name: &str,
+        unit: Option<&str>,
+        entries: &[EntrySpans],
+        index: usize,
+    ) {
+        let Some(unit) = unit else { return };
+        let Err(error) = crate::units::parse_unit(unit) else {
+            return;
+        };
+        let span = entries
+            .get(index)
+            .and_then(|e| e.fields.iter().find(|f| f.name == "unit"))
+            .map(|f| f.string_content.unwrap_or(f.value_span))
+            .unwrap_or_else(|| self.entry_span(entries, index));
+        self.problems.push(
+            Diagnostic::new(
+                DiagnosticKind::UnknownUnit,
+                format!("{what} '{name}' has unit \"{unit}\": {error}"),
+            )
+            .at(&self.file, span)
+            .element(name)
+            .note("write units with SI symbols and prefixes, '*', '/' and '^': \"N*s/m\", \"kg*m^2\", \"kPa\""),
         );
     }
 

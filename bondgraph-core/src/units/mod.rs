@@ -1,0 +1,22 @@
+//! Units: what a model file's `unit` strings mean, and whether its laws agree with them.
+//!
+//! Every parameter and input may carry a unit (`"N/m"`, `"Pa*s/m^3"`, `"V*s/rad"`). Nothing
+//! downstream computes with units (values are SI numbers), but a unit says what a
+//! parameter *is*, so a mass used as a stiffness or a velocity used as a force is a mistake
+//! the file itself shows. The modules, one job each:
+//!
+//! - [`dimension`]: a dimension as exponents of the SI base dimensions;
+//! - [`names`]: the unit symbols and SI prefixes;
+//! - [`parse`](mod@parse): unit strings to dimensions;
+//! - [`format`]: dimensions back to readable units.
+
+pub mod dimension;
+pub mod format;
+pub mod names;
+pub mod parse;
+
+pub use dimension::Dim;
+pub use parse::{UnitError, parse_unit};
+
+#[cfg(test)]
+mod tests;
