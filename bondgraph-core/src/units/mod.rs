@@ -12,6 +12,7 @@
 
 pub mod dimension;
 pub mod format;
+pub mod infer;
 pub mod names;
 pub mod parse;
 
