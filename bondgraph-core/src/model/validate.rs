@@ -22,6 +22,7 @@ use crate::model::raw::{RawElement, RawModel};
 use crate::model::source_map::{EntrySpans, SourceMap};
 use crate::source::{SourceFile, Span};
 use crate::symbolic::{RatFunc, SymbolTable};
+use crate::units::check::Convention;
 
 mod laws;
 
@@ -30,6 +31,21 @@ mod laws;
 /// # Errors
 /// Every problem found, each naming its element and line.
 pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Result<Model> {
+    validate_as(file, raw, map, Convention::BondGraph)
+}
+
+/// [`validate`], for a model whose efforts and flows follow `convention` (a linear graph
+/// translated into a bond graph has its through variables as efforts): the units check
+/// ([`crate::units`]) needs to know which is which.
+///
+/// # Errors
+/// As [`validate`].
+pub(crate) fn validate_as(
+    file: &Arc<SourceFile>,
+    raw: RawModel,
+    map: &SourceMap,
+    convention: Convention,
+) -> Result<Model> {
     let mut v = Validator {
         file: file.clone(),
         map,
@@ -247,8 +263,8 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
     }
 
     let model = Model {
-        name: raw.name,
-        description: raw.description,
+        name: raw.name.clone(),
+        description: raw.description.clone(),
         source: file.clone(),
         symbols,
         parameters,
@@ -265,6 +281,9 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
     }
     if v.problems.is_empty() {
         v.check_connected(&model);
+    }
+    if v.problems.is_empty() {
+        v.problems = crate::units::check::check(&model, &raw, map, convention);
     }
     if v.problems.is_empty() {
         Ok(model)

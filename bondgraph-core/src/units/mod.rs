@@ -8,13 +8,21 @@
 //! - [`dimension`]: a dimension as exponents of the SI base dimensions;
 //! - [`names`]: the unit symbols and SI prefixes;
 //! - [`parse`](mod@parse): unit strings to dimensions;
-//! - [`format`]: dimensions back to readable units.
+//! - [`format`]: dimensions back to readable units;
+//! - [`infer`]: the dimension of an expression, and sums of different quantities;
+//! - [`domain`]: which effort and flow make a bond mechanical, electrical, ...;
+//! - [`solve`]: the dimensions of every bond's effort and flow, by propagation;
+//! - `check`: the laws of every element against its bond, run by the model validator on
+//!   every model (bond graph, linear graph, extended), so `bondgraph check` reports it.
 
+pub(crate) mod check;
 pub mod dimension;
+pub mod domain;
 pub mod format;
 pub mod infer;
 pub mod names;
 pub mod parse;
+pub mod solve;
 
 pub use dimension::Dim;
 pub use parse::{UnitError, parse_unit};
