@@ -139,9 +139,7 @@ impl Symbols for Scope<'_, '_> {
         let id = model.element_named(element)?;
         let bond = model.element(id).bonds.first()?.index();
         match (letter, model.storage_name(id)) {
-            ("q", Some(state)) if state == name => {
-                solver.get(flow(bond)).map(|d| d.mul(Dim::TIME))
-            }
+            ("q", Some(state)) if state == name => solver.get(flow(bond)).map(|d| d.mul(Dim::TIME)),
             ("p", Some(state)) if state == name => {
                 solver.get(effort(bond)).map(|d| d.mul(Dim::TIME))
             }
@@ -167,7 +165,9 @@ impl Checker<'_> {
             let bonds: Vec<usize> = element.bonds.iter().map(|b| b.index()).collect();
             for pair in bonds.windows(2) {
                 // Fresh classes with no values: these cannot disagree.
-                let _ = self.solver.relate(effort(pair[1]), effort(pair[0]), Dim::NONE);
+                let _ = self
+                    .solver
+                    .relate(effort(pair[1]), effort(pair[0]), Dim::NONE);
                 let _ = self.solver.relate(flow(pair[1]), flow(pair[0]), Dim::NONE);
             }
         }
@@ -397,7 +397,10 @@ impl Checker<'_> {
                 {
                     return Some(self.diagnostic(c, c.span, message));
                 }
-                match self.solver.set(var, dim, format!("the {} of the {who}", c.field)) {
+                match self
+                    .solver
+                    .set(var, dim, format!("the {} of the {who}", c.field))
+                {
                     Ok(_) => None,
                     Err(Conflict::Value(known)) => {
                         let what = if is_effort { "effort" } else { "flow" };
@@ -447,30 +450,30 @@ impl Checker<'_> {
         let as_effort = domain::DOMAINS
             .iter()
             .find(|d| unit(d.file_effort(lg)) == dim);
-        let as_flow = domain::DOMAINS.iter().find(|d| unit(d.file_flow(lg)) == dim);
+        let as_flow = domain::DOMAINS
+            .iter()
+            .find(|d| unit(d.file_flow(lg)) == dim);
         let kw = self.model.element(c.element).kind.keyword();
-        let article = if kw.starts_with(['I', 'R', 'S', 'A', 'E', 'O', 'F']) {
+        let article = if kw.starts_with(['I', 'R', 'S', 'A', 'E', 'O']) {
             "an"
         } else {
             "a"
         };
         match (is_effort, as_effort, as_flow) {
             (true, None, Some(d)) => Some(format!(
-                "{} '{}' is in {}, a {}, but {article} {kw}'s {} is an effort: {}",
+                "{} '{}' is in {}, a {}, where {article} {kw} needs an effort: {}",
                 c.field,
                 c.text,
                 self.unit_of(c, dim),
                 d.file_flow(lg).1,
-                c.field,
                 domain::effort_list(lg)
             )),
             (false, Some(d), None) => Some(format!(
-                "{} '{}' is in {}, a {}, but {article} {kw}'s {} is a flow: {}",
+                "{} '{}' is in {}, a {}, where {article} {kw} needs a flow: {}",
                 c.field,
                 c.text,
                 self.unit_of(c, dim),
                 d.file_effort(lg).1,
-                c.field,
                 domain::flow_list(lg)
             )),
             _ => None,
@@ -495,10 +498,7 @@ impl Checker<'_> {
         }
         match self.domain(bond) {
             Some(d) => format!("{article} {kw} on a {} bond", d.name),
-            None => match (
-                self.solver.get(effort(bond)),
-                self.solver.get(flow(bond)),
-            ) {
+            None => match (self.solver.get(effort(bond)), self.solver.get(flow(bond))) {
                 (Some(e), Some(f)) => format!(
                     "{article} {kw} on a bond with effort in {} and flow in {}",
                     readable(e),
@@ -551,19 +551,18 @@ impl Checker<'_> {
             let (e, f) = (self.solver.get(effort(bond)), self.solver.get(flow(bond)));
             // In a pseudo bond graph (temperature and heat flow) the product is no power.
             let temperature = Dim::TEMPERATURE;
-            let (effort_is_t, flow_is_t) = if lg {
-                (false, true)
-            } else {
-                (true, false)
-            };
+            let (effort_is_t, flow_is_t) = if lg { (false, true) } else { (true, false) };
             let result = match (e, f) {
                 (Some(e), None) if !(effort_is_t && e == temperature) && !(lg && e == power) => {
                     self.solver
                         .set(flow(bond), power.div(e), "effort times flow being a power")
                 }
                 (None, Some(f)) if !(flow_is_t && f == temperature) && !(!lg && f == power) => {
-                    self.solver
-                        .set(effort(bond), power.div(f), "effort times flow being a power")
+                    self.solver.set(
+                        effort(bond),
+                        power.div(f),
+                        "effort times flow being a power",
+                    )
                 }
                 _ => Ok(false),
             };

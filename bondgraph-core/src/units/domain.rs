@@ -71,14 +71,7 @@ pub const DOMAINS: &[Domain] = &[
         flow: ("m^3/s", "volume flow"),
         displacement: "volume",
         momentum: "pressure momentum",
-        hints: &[
-            "Pa*s^2/m^3",
-            "Pa/m^3",
-            "m^3/Pa",
-            "Pa*s/m^3",
-            "m^3",
-            "Pa*s",
-        ],
+        hints: &["Pa*s^2/m^3", "Pa/m^3", "m^3/Pa", "Pa*s/m^3", "m^3", "Pa*s"],
         effort_is_through: false,
     },
     Domain {
@@ -201,9 +194,15 @@ mod tests {
         assert_eq!(Domain::of(n, v).unwrap().name, "mechanical translational");
         assert_eq!(Domain::of(v, n).unwrap().name, "mechanical translational");
         // rad/s and 1/s agree.
-        assert_eq!(Domain::of(dim("N*m"), dim("1/s")).unwrap().name, "mechanical rotational");
+        assert_eq!(
+            Domain::of(dim("N*m"), dim("1/s")).unwrap().name,
+            "mechanical rotational"
+        );
         assert_eq!(Domain::of(dim("A"), dim("V")).unwrap().name, "electrical");
-        assert_eq!(Domain::of(dim("Pa"), dim("m^3/s")).unwrap().name, "hydraulic");
+        assert_eq!(
+            Domain::of(dim("Pa"), dim("m^3/s")).unwrap().name,
+            "hydraulic"
+        );
         let thermal = Domain::of(dim("K"), dim("W")).unwrap();
         assert!(thermal.is_pseudo());
         assert!(!Domain::of(dim("K"), dim("W/K")).unwrap().is_pseudo());

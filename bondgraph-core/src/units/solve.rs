@@ -113,9 +113,7 @@ impl Solver {
         if let (Some(va), Some(vb)) = (&self.value[ra], &self.value[rb]) {
             let (da, db) = (va.dim.mul(fa), vb.dim.mul(fb));
             if da != db.mul(r) {
-                return Err(Conflict::Factor {
-                    needed: da.div(db),
-                });
+                return Err(Conflict::Factor { needed: da.div(db) });
             }
         }
         // dim(ra) = dim(a)/fa = dim(b)·r/fa = dim(rb)·fb·r/fa.
@@ -178,7 +176,9 @@ mod tests {
         );
         assert_eq!(solver.relate(2, 0, m.mul(s)), Ok(false));
         // Setting a known unknown to another value names what set it.
-        assert!(matches!(solver.set(1, s, "x"), Err(Conflict::Value(k)) if k.dim == m.mul(m).div(s)));
+        assert!(
+            matches!(solver.set(1, s, "x"), Err(Conflict::Value(k)) if k.dim == m.mul(m).div(s))
+        );
         // Joining a known class to an unknown one carries the value over.
         assert_eq!(solver.set(3, s, "y"), Ok(true));
         assert_eq!(solver.relate(0, 3, m.div(s.mul(s))), Ok(true));

@@ -104,7 +104,7 @@ pub fn load(source: &Arc<SourceFile>) -> Result<Model> {
         &translated.map,
         crate::units::check::Convention::LinearGraph,
     )
-        .map_err(|d| words.apply(d))?;
+    .map_err(|d| words.apply(d))?;
     model.linear_graph = Some(Arc::new(translated.graph));
     Ok(model)
 }
