@@ -262,7 +262,7 @@ pub(crate) fn validate_as(
         });
     }
 
-    let model = Model {
+    let mut model = Model {
         name: raw.name.clone(),
         description: raw.description.clone(),
         source: file.clone(),
@@ -273,6 +273,7 @@ pub(crate) fn validate_as(
         bonds,
         values,
         linear_graph: None,
+        bond_dimensions: Vec::new(),
     };
     for element in model.element_ids() {
         if dropped[element.index()] == 0 {
@@ -283,7 +284,9 @@ pub(crate) fn validate_as(
         v.check_connected(&model);
     }
     if v.problems.is_empty() {
-        v.problems = crate::units::check::check(&model, &raw, map, convention);
+        let (problems, dimensions) = crate::units::check::check(&model, &raw, map, convention);
+        v.problems = problems;
+        model.bond_dimensions = dimensions;
     }
     if v.problems.is_empty() {
         Ok(model)

@@ -72,15 +72,25 @@ struct Constraint {
     port: usize,
 }
 
+/// What the check found of one bond: the dimensions of its effort and flow, where known.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BondDimensions {
+    /// The effort's dimension.
+    pub effort: Option<Dim>,
+    /// The flow's dimension.
+    pub flow: Option<Dim>,
+}
+
 /// Every unit problem of `model` (built from `raw`, positions in `map`): mismatches inside
 /// expressions, laws whose parameters disagree with their bonds, and bonds whose effort
-/// times flow is not a power. Empty if the units agree (or are not given).
+/// times flow is not a power (empty if the units agree, or are not given); and the
+/// dimensions found for each bond.
 pub(crate) fn check(
     model: &Model,
     raw: &RawModel,
     map: &SourceMap,
     convention: Convention,
-) -> Vec<Diagnostic> {
+) -> (Vec<Diagnostic>, Vec<BondDimensions>) {
     let mut units: HashMap<&str, (Dim, &str)> = HashMap::new();
     for (name, unit) in raw
         .parameters
@@ -105,7 +115,13 @@ pub(crate) fn check(
     let mut constraints = checker.constraints(raw, map);
     checker.solve(&mut constraints);
     checker.powers();
-    checker.problems
+    let dimensions = (0..model.bonds.len())
+        .map(|b| BondDimensions {
+            effort: checker.solver.get(effort(b)),
+            flow: checker.solver.get(flow(b)),
+        })
+        .collect();
+    (checker.problems, dimensions)
 }
 
 struct Checker<'a> {

@@ -15,7 +15,7 @@
 //! - `check`: the laws of every element against its bond, run by the model validator on
 //!   every model (bond graph, linear graph, extended), so `bondgraph check` reports it.
 
-pub(crate) mod check;
+pub mod check;
 pub mod dimension;
 pub mod domain;
 pub mod format;
@@ -24,7 +24,9 @@ pub mod names;
 pub mod parse;
 pub mod solve;
 
+pub use check::BondDimensions;
 pub use dimension::Dim;
+pub use domain::Domain;
 pub use parse::{UnitError, parse_unit};
 
 #[cfg(test)]
