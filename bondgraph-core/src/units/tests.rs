@@ -341,3 +341,121 @@ fn every_shipped_model_and_extension_passes() {
     // 23 bond graphs, 13 linear graphs and 11 extensions at the time of writing.
     assert!(checked >= 47, "only {checked} files checked");
 }
+
+#[test]
+fn recorded_outputs_are_named_in_their_domain_with_units() {
+    use crate::scenario::Record;
+    use crate::units::label::axis_label;
+    let label =
+        |model: &model::Model, text: &str| axis_label(model, &Record::parse(model, text).unwrap());
+    let msd = model::load_str("msd.ron", &msd("F", "k")).unwrap();
+    assert_eq!(label(&msd, "flow:mass"), "flow:mass: velocity (m/s)");
+    assert_eq!(label(&msd, "effort:spring"), "effort:spring: force (N)");
+    assert_eq!(
+        label(&msd, "integral:flow:mass"),
+        "integral:flow:mass: displacement (m)"
+    );
+    assert_eq!(label(&msd, "energy:spring"), "energy:spring: energy (J)");
+    // The motor's armature is electrical: the integral of its current is a charge (A*s = C),
+    // the rotor's effort a torque.
+    let motor = model::load_str("motor.ron", &motor("kg*m^2", "N*m*s/rad")).unwrap();
+    assert_eq!(
+        label(&motor, "integral:flow:inductance"),
+        "integral:flow:inductance: charge (C)"
+    );
+    assert_eq!(
+        label(&motor, "effort:inertia"),
+        "effort:inertia: torque (N*m)"
+    );
+    assert_eq!(
+        label(&motor, "flow:inertia"),
+        "flow:inertia: angular velocity (rad/s)"
+    );
+    // No units, no label beyond the name.
+    let plain = msd_plain();
+    assert_eq!(label(&plain, "flow:mass"), "flow:mass");
+}
+
+fn msd_plain() -> model::Model {
+    let text = msd("1", "k")
+        .replace(r#", unit: "kg""#, "")
+        .replace(r#", unit: "N/m""#, "")
+        .replace(r#", unit: "N*s/m""#, "");
+    model::load_str("msd.ron", &text).unwrap()
+}
+
+#[test]
+fn states_are_described_in_their_domain_words() {
+    use crate::equations;
+    let describe = |model: &model::Model, variables| {
+        let options = equations::Options { variables };
+        let eq = equations::derive(model, &crate::laws::plain_laws(model), &options).unwrap();
+        eq.states
+            .iter()
+            .map(|s| {
+                format!(
+                    "{} {}",
+                    s.name,
+                    s.quantity
+                        .description_in(s.domain, model.linear_graph.is_some())
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    let motor = model::load_str("motor.ron", &motor("kg*m^2", "N*m*s/rad")).unwrap();
+    assert_eq!(
+        describe(&motor, equations::Variables::Energy),
+        ["p_inductance flux linkage", "p_inertia angular momentum"]
+    );
+    assert_eq!(
+        describe(&motor, equations::Variables::CoEnergy),
+        ["v_inductance current", "v_inertia angular velocity"]
+    );
+    let thermal = model::load_str(
+        "thermal.ron",
+        r#"Model(name: "thermal",
+    parameters: {"C_th": (value: 500.0, unit: "J/K"), "R_th": (value: 0.1, unit: "K/W")},
+    inputs: {"T_amb": (unit: "K"), "P": (unit: "W")},
+    elements: {"ambient": Se(effort: "T_amb"), "wall_drop": One, "wall": R(resistance: "R_th"),
+               "body_temperature": Zero, "body": C(compliance: "C_th"), "heater": Sf(flow: "P")},
+    bonds: [("ambient", "wall_drop"), ("wall_drop", "wall"), ("wall_drop", "body_temperature"),
+            ("body_temperature", "body"), ("heater", "body_temperature")])"#,
+    )
+    .unwrap();
+    assert_eq!(
+        describe(&thermal, equations::Variables::Energy),
+        ["q_body heat"]
+    );
+    assert_eq!(
+        describe(&thermal, equations::Variables::CoEnergy),
+        ["f_body temperature"]
+    );
+    // A linear-graph circuit: the capacitor (an A-type, the bond graph's inertia) holds a
+    // charge and its state is its voltage.
+    let rc = model::load_str(
+        "rc.lg.ron",
+        r#"LinearGraph(name: "rc",
+    parameters: {"R": (value: 1000.0, unit: "ohm"), "C": (value: 1e-6, unit: "F")},
+    inputs: {"u": (unit: "V")},
+    ground: "g",
+    branches: {
+        "supply": AcrossSource(value: "u", from: "a", to: "g"),
+        "resistor": D(resistance: "R", from: "a", to: "b"),
+        "capacitor": A(capacitance: "C", from: "b", to: "g"),
+    })"#,
+    )
+    .unwrap();
+    assert_eq!(
+        describe(&rc, equations::Variables::Energy),
+        ["p_capacitor charge"]
+    );
+    assert_eq!(
+        describe(&rc, equations::Variables::CoEnergy),
+        ["v_capacitor voltage"]
+    );
+    // Without units, the general words.
+    assert_eq!(
+        describe(&msd_plain(), equations::Variables::Energy),
+        ["p_mass momentum", "q_spring displacement"]
+    );
+}
