@@ -155,9 +155,11 @@ impl Symbols for Scope<'_, '_> {
         let id = model.element_named(element)?;
         let bond = model.element(id).bonds.first()?.index();
         match (letter, model.storage_name(id)) {
-            ("q", Some(state)) if state == name => solver.get(flow(bond)).map(|d| d.mul(Dim::TIME)),
+            ("q", Some(state)) if state == name => {
+                solver.get(flow(bond)).map(|d| d.times(Dim::TIME))
+            }
             ("p", Some(state)) if state == name => {
-                solver.get(effort(bond)).map(|d| d.mul(Dim::TIME))
+                solver.get(effort(bond)).map(|d| d.times(Dim::TIME))
             }
             _ => None,
         }
@@ -434,12 +436,12 @@ impl Checker<'_> {
                 }
             }
             Law::Ratio { a, b, power, k } => {
-                let r = dim.powi(power).mul(k);
+                let r = dim.powi(power).times(k);
                 match self.solver.relate(a, b, r) {
                     Ok(_) => None,
                     Err(Conflict::Factor { needed }) => {
                         // X^power·k = needed, so X = (needed/k)^power (power is ±1).
-                        let needed_dim = needed.div(k).powi(power);
+                        let needed_dim = needed.per(k).powi(power);
                         let bond = c.port;
                         let here = self.context(c, bond);
                         let hints = self.domain(bond).map_or(&[][..], |d| d.hints);
@@ -569,14 +571,13 @@ impl Checker<'_> {
             let temperature = Dim::TEMPERATURE;
             let (effort_is_t, flow_is_t) = if lg { (false, true) } else { (true, false) };
             let result = match (e, f) {
-                (Some(e), None) if !(effort_is_t && e == temperature) && !(lg && e == power) => {
-                    self.solver
-                        .set(flow(bond), power.div(e), "effort times flow being a power")
-                }
-                (None, Some(f)) if !(flow_is_t && f == temperature) && !(!lg && f == power) => {
+                (Some(e), None) if !(effort_is_t && e == temperature || lg && e == power) => self
+                    .solver
+                    .set(flow(bond), power.per(e), "effort times flow being a power"),
+                (None, Some(f)) if !(flow_is_t && f == temperature || !lg && f == power) => {
                     self.solver.set(
                         effort(bond),
-                        power.div(f),
+                        power.per(f),
                         "effort times flow being a power",
                     )
                 }
@@ -600,7 +601,7 @@ impl Checker<'_> {
             else {
                 continue;
             };
-            if e.mul(f) == power || Domain::of(e, f).is_some_and(Domain::is_pseudo) {
+            if e.times(f) == power || Domain::of(e, f).is_some_and(Domain::is_pseudo) {
                 continue;
             }
             let (from, to) = {
@@ -617,7 +618,7 @@ impl Checker<'_> {
                         "bond {from} -> {to} carries an effort in {} and a flow in {}, whose product {} is not a power (W)",
                         readable(e),
                         readable(f),
-                        readable(e.mul(f))
+                        readable(e.times(f))
                     ),
                 )
                 .at(&self.model.source, self.model.bond(id).span)

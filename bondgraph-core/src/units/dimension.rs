@@ -67,7 +67,7 @@ impl Dim {
     }
 
     /// The product of two dimensions (exponents add).
-    pub fn mul(self, other: Dim) -> Dim {
+    pub fn times(self, other: Dim) -> Dim {
         let mut out = self.0;
         for (o, x) in out.iter_mut().zip(other.0) {
             *o += x;
@@ -76,8 +76,8 @@ impl Dim {
     }
 
     /// The quotient of two dimensions (exponents subtract).
-    pub fn div(self, other: Dim) -> Dim {
-        self.mul(other.recip())
+    pub fn per(self, other: Dim) -> Dim {
+        self.times(other.recip())
     }
 
     /// The reciprocal (exponents negated).
@@ -180,9 +180,9 @@ mod tests {
     #[test]
     fn products_quotients_and_powers_add_exponents() {
         // N = kg*m/s^2, so N/m = kg/s^2.
-        let newton = Dim::MASS.mul(Dim::LENGTH).div(Dim::TIME.powi(2));
+        let newton = Dim::MASS.times(Dim::LENGTH).per(Dim::TIME.powi(2));
         assert_eq!(
-            newton.div(Dim::LENGTH),
+            newton.per(Dim::LENGTH),
             Dim::from_integers([1, 0, -2, 0, 0, 0, 0])
         );
         assert_eq!(newton.si(), "kg*m/s^2");

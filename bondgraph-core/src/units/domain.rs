@@ -132,7 +132,7 @@ impl Domain {
     /// Whether this is a pseudo bond graph domain, where effort times flow is not a power
     /// (temperature times heat flow).
     pub fn is_pseudo(&self) -> bool {
-        self.effort_dim().mul(self.flow_dim()) != power()
+        self.effort_dim().times(self.flow_dim()) != power()
     }
 }
 

@@ -48,10 +48,10 @@ pub fn readable(target: Dim) -> String {
     }
     for (a, da) in &units {
         for (b, db) in &units {
-            if da.mul(*db) == target {
+            if da.times(*db) == target {
                 return product(a, b);
             }
-            if da.div(*db) == target {
+            if da.per(*db) == target {
                 return format!("{a}/{b}");
             }
         }
@@ -59,7 +59,7 @@ pub fn readable(target: Dim) -> String {
     for (a, da) in &units {
         for (b, db) in &units {
             for (c, dc) in &units {
-                if da.mul(*db).div(*dc) == target {
+                if da.times(*db).per(*dc) == target {
                     return format!("{}/{c}", product(a, b));
                 }
             }

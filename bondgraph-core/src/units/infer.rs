@@ -95,11 +95,11 @@ impl Inference<'_> {
             ExprKind::Sub(a, b) => self.agree(expr, "subtracts", a, b)?,
             ExprKind::Mul(a, b) => {
                 let (da, db) = (self.dim(a)?, self.dim(b)?);
-                da.zip(db).map(|(x, y)| x.mul(y))
+                da.zip(db).map(|(x, y)| x.times(y))
             }
             ExprKind::Div(a, b) => {
                 let (da, db) = (self.dim(a)?, self.dim(b)?);
-                da.zip(db).map(|(x, y)| x.div(y))
+                da.zip(db).map(|(x, y)| x.per(y))
             }
             ExprKind::Pow(base, n) => self.dim(base)?.map(|d| d.powi(*n)),
             ExprKind::RealPow(base, exponent) => {

@@ -38,7 +38,7 @@ pub fn quantity(model: &Model, record: &Record) -> Option<(String, String)> {
                 (_, false) => d.displacement,
             });
             let dim = if matches!(record, Record::Integral(_)) {
-                dim.mul(Dim::TIME)
+                dim.times(Dim::TIME)
             } else {
                 dim
             };

@@ -104,14 +104,14 @@ impl Parser {
                 Some('*' | '·') => {
                     self.at += 1;
                     self.skip_spaces();
-                    dim = dim.mul(self.factor()?);
+                    dim = dim.times(self.factor()?);
                 }
                 Some('/') => {
                     self.at += 1;
                     self.skip_spaces();
-                    dim = dim.div(self.factor()?);
+                    dim = dim.per(self.factor()?);
                 }
-                Some(c) if spaced && c != ')' => dim = dim.mul(self.factor()?),
+                Some(c) if spaced && c != ')' => dim = dim.times(self.factor()?),
                 _ => return Ok(dim),
             }
         }

@@ -74,7 +74,7 @@ impl Solver {
     fn find(&self, mut v: Var) -> (Var, Dim) {
         let mut factor = Dim::NONE;
         while self.parent[v] != v {
-            factor = factor.mul(self.offset[v]);
+            factor = factor.times(self.offset[v]);
             v = self.parent[v];
         }
         (v, factor)
@@ -83,14 +83,14 @@ impl Solver {
     /// The dimension of `v`, if known.
     pub fn get(&self, v: Var) -> Option<Dim> {
         let (root, factor) = self.find(v);
-        self.value[root].as_ref().map(|k| k.dim.mul(factor))
+        self.value[root].as_ref().map(|k| k.dim.times(factor))
     }
 
     /// What made `v` known, if it is.
     pub fn known(&self, v: Var) -> Option<Known> {
         let (root, factor) = self.find(v);
         self.value[root].as_ref().map(|k| Known {
-            dim: k.dim.mul(factor),
+            dim: k.dim.times(factor),
             by: k.by.clone(),
         })
     }
@@ -103,7 +103,7 @@ impl Solver {
         let (ra, fa) = self.find(a);
         let (rb, fb) = self.find(b);
         if ra == rb {
-            let actual = fa.div(fb);
+            let actual = fa.per(fb);
             return if actual == r {
                 Ok(false)
             } else {
@@ -111,20 +111,20 @@ impl Solver {
             };
         }
         if let (Some(va), Some(vb)) = (&self.value[ra], &self.value[rb]) {
-            let (da, db) = (va.dim.mul(fa), vb.dim.mul(fb));
-            if da != db.mul(r) {
-                return Err(Conflict::Factor { needed: da.div(db) });
+            let (da, db) = (va.dim.times(fa), vb.dim.times(fb));
+            if da != db.times(r) {
+                return Err(Conflict::Factor { needed: da.per(db) });
             }
         }
         // dim(ra) = dim(a)/fa = dim(b)·r/fa = dim(rb)·fb·r/fa.
-        let link = fb.mul(r).div(fa);
+        let link = fb.times(r).per(fa);
         self.parent[ra] = rb;
         self.offset[ra] = link;
         if self.value[rb].is_none()
             && let Some(known) = self.value[ra].take()
         {
             self.value[rb] = Some(Known {
-                dim: known.dim.div(link),
+                dim: known.dim.per(link),
                 by: known.by,
             });
         }
@@ -139,14 +139,14 @@ impl Solver {
     pub fn set(&mut self, v: Var, dim: Dim, by: impl Into<String>) -> Result<bool, Conflict> {
         let (root, factor) = self.find(v);
         match &self.value[root] {
-            Some(known) if known.dim.mul(factor) == dim => Ok(false),
+            Some(known) if known.dim.times(factor) == dim => Ok(false),
             Some(known) => Err(Conflict::Value(Known {
-                dim: known.dim.mul(factor),
+                dim: known.dim.times(factor),
                 by: known.by.clone(),
             })),
             None => {
                 self.value[root] = Some(Known {
-                    dim: dim.div(factor),
+                    dim: dim.per(factor),
                     by: by.into(),
                 });
                 Ok(true)
@@ -166,22 +166,22 @@ mod tests {
         // x1 = x0·m, x2 = x1·s, then x0 = m/s.
         assert_eq!(solver.relate(1, 0, m), Ok(true));
         assert_eq!(solver.relate(2, 1, s), Ok(true));
-        assert_eq!(solver.set(0, m.div(s), "a source"), Ok(true));
-        assert_eq!(solver.get(2), Some(m.mul(m)));
+        assert_eq!(solver.set(0, m.per(s), "a source"), Ok(true));
+        assert_eq!(solver.get(2), Some(m.times(m)));
         assert_eq!(solver.known(2).unwrap().by, "a source");
         // A loop x2 = x0·m is inconsistent: the graph makes x2/x0 = m·s.
         assert_eq!(
             solver.relate(2, 0, m),
-            Err(Conflict::Factor { needed: m.mul(s) })
+            Err(Conflict::Factor { needed: m.times(s) })
         );
-        assert_eq!(solver.relate(2, 0, m.mul(s)), Ok(false));
+        assert_eq!(solver.relate(2, 0, m.times(s)), Ok(false));
         // Setting a known unknown to another value names what set it.
         assert!(
-            matches!(solver.set(1, s, "x"), Err(Conflict::Value(k)) if k.dim == m.mul(m).div(s))
+            matches!(solver.set(1, s, "x"), Err(Conflict::Value(k)) if k.dim == m.times(m).per(s))
         );
         // Joining a known class to an unknown one carries the value over.
         assert_eq!(solver.set(3, s, "y"), Ok(true));
-        assert_eq!(solver.relate(0, 3, m.div(s.mul(s))), Ok(true));
-        assert_eq!(solver.get(0), Some(m.div(s)));
+        assert_eq!(solver.relate(0, 3, m.per(s.times(s))), Ok(true));
+        assert_eq!(solver.get(0), Some(m.per(s)));
     }
 }
