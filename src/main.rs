@@ -648,7 +648,14 @@ fn simulate(
         let title = format!("{}: scenario {}", loaded.model.name, loaded.name);
         let panels = plot::panels(&trajectory, panels)
             .map_err(|e| Failure::message(DiagnosticKind::BadOutput, e))?;
-        let svg = plot::plot_svg(&trajectory, &title, &panels)
+        // Axes say what each output is and its unit, where the model's units tell them.
+        let mut labelled = trajectory.clone();
+        for name in &mut labelled.output_names {
+            if let Some(record) = loaded.record.iter().find(|r| r.name() == *name) {
+                *name = bondgraph_core::units::label::axis_label(&loaded.model, record);
+            }
+        }
+        let svg = plot::plot_svg(&labelled, &title, &panels)
             .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot: {e}")))?;
         write_file(path, &svg)?;
     }

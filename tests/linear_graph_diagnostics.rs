@@ -244,7 +244,7 @@ fn stuck_between_sources() {
             line: 17,
             column: 9,
             element: Some("contact"),
-            underlined: "\"contact\": Friction(breakaway: \"k\", coulomb: \"b\", from: \"v1\", to: \"v2\")",
+            underlined: "\"contact\": Friction(breakaway: \"F_S\", coulomb: \"F_C\", from: \"v1\", to: \"v2\")",
             message: "causal conflict at branch 'contact': across source 'drive' and stuck friction contact 'contact' both impose its causality",
         },
     );

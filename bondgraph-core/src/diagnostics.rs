@@ -92,6 +92,13 @@ pub enum DiagnosticKind {
     /// An input beyond one of the documented limits of [`crate::limits`]: an expression
     /// that expands too far, a simulation that would record too many samples.
     TooLarge,
+    /// A parameter's or input's `unit` string that names something that is not a unit
+    /// (`"N*s/furlong"`), or does not parse.
+    UnknownUnit,
+    /// Units that disagree: an expression that adds a force to a velocity, or an element
+    /// whose parameter does not have the unit its law needs on its bond (a mass used as a
+    /// stiffness), or a bond whose effort times flow is not a power.
+    UnitMismatch,
 }
 
 /// One problem found in a model, with where it is and what it concerns.

@@ -67,5 +67,6 @@ pub mod read;
 pub mod scenario;
 pub mod source;
 pub mod symbolic;
+pub mod units;
 
 pub use diagnostics::{Diagnostic, DiagnosticKind, Diagnostics};

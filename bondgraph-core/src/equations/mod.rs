@@ -101,6 +101,31 @@ impl Quantity {
         }
     }
 
+    /// A readable name of the quantity in the words of `domain` (a capacitor's charge, a
+    /// tank's volume, a body's heat), or the general words without one. `linear_graph`:
+    /// whether the state is a linear graph's, whose through variable is the bond graph's
+    /// effort (so an A-type capacitor's "momentum" is its charge).
+    pub fn description_in(
+        self,
+        domain: Option<&crate::units::Domain>,
+        linear_graph: bool,
+    ) -> &'static str {
+        let Some(d) = domain else {
+            return if linear_graph {
+                self.linear_graph_description()
+            } else {
+                self.description()
+            };
+        };
+        let swapped = linear_graph && !d.effort_is_through;
+        match (self, swapped) {
+            (Quantity::Momentum, false) | (Quantity::Displacement, true) => d.momentum,
+            (Quantity::Displacement, false) | (Quantity::Momentum, true) => d.displacement,
+            (Quantity::Velocity, _) => d.file_flow(linear_graph).1,
+            (Quantity::Force, _) => d.file_effort(linear_graph).1,
+        }
+    }
+
     /// A readable name of the quantity.
     pub fn description(self) -> &'static str {
         match self {
@@ -125,6 +150,8 @@ pub struct StateVariable {
     pub merged: Vec<String>,
     /// The state's (merged) inertance or compliance: `m1 + m2` for two merged masses.
     pub storage: RatFunc,
+    /// The energy domain of the element's bond, if the model's units tell it.
+    pub domain: Option<&'static crate::units::Domain>,
 }
 
 /// Something the derivation did that the reader should know.
@@ -347,6 +374,7 @@ pub(crate) fn derive_parts(
                     .map(|e| model.element(*e).name.clone())
                     .collect(),
                 storage: merged.blocks[block].matrix[position][position].clone(),
+                domain: model.element_domain(element),
             }
         })
         .collect();

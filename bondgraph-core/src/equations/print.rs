@@ -169,11 +169,9 @@ impl StateEquations {
                 out.push_str(&format!(
                     "  {:width$}  {} of '{}'{merged}\n",
                     state.name,
-                    if self.linear_graph {
-                        state.quantity.linear_graph_description()
-                    } else {
-                        state.quantity.description()
-                    },
+                    state
+                        .quantity
+                        .description_in(state.domain, self.linear_graph),
                     state.element
                 ));
             }

@@ -69,6 +69,9 @@ pub struct Model {
     /// The linear graph the model was translated from, if its file is a `LinearGraph(...)`:
     /// its nodes and branches, and where each branch is in this bond graph.
     pub linear_graph: Option<Arc<crate::model::linear_graph::LinearGraph>>,
+    /// The dimensions of each bond's effort and flow, where the units check could tell them
+    /// (indexed by [`BondId::index`]; see [`crate::units`]).
+    pub bond_dimensions: Vec<crate::units::BondDimensions>,
 }
 
 /// A named parameter with its value.
@@ -566,6 +569,14 @@ impl Model {
             _ => return None,
         };
         Some(format!("{letter}_{}", element.name))
+    }
+
+    /// The energy domain of element `id`'s (first) bond, if its units tell it: a capacitor's
+    /// bond is electrical, a spring's mechanical translational.
+    pub fn element_domain(&self, id: ElementId) -> Option<&'static crate::units::Domain> {
+        let bond = self.element(id).bonds.first()?;
+        let dims = self.bond_dimensions.get(bond.index())?;
+        crate::units::Domain::of(dims.effort?, dims.flow?)
     }
 
     /// Evaluates a symbolic coefficient with the model's parameter values.

@@ -22,6 +22,7 @@ use crate::model::raw::{RawElement, RawModel};
 use crate::model::source_map::{EntrySpans, SourceMap};
 use crate::source::{SourceFile, Span};
 use crate::symbolic::{RatFunc, SymbolTable};
+use crate::units::check::Convention;
 
 mod laws;
 
@@ -30,6 +31,21 @@ mod laws;
 /// # Errors
 /// Every problem found, each naming its element and line.
 pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Result<Model> {
+    validate_as(file, raw, map, Convention::BondGraph)
+}
+
+/// [`validate`], for a model whose efforts and flows follow `convention` (a linear graph
+/// translated into a bond graph has its through variables as efforts): the units check
+/// ([`crate::units`]) needs to know which is which.
+///
+/// # Errors
+/// As [`validate`].
+pub(crate) fn validate_as(
+    file: &Arc<SourceFile>,
+    raw: RawModel,
+    map: &SourceMap,
+    convention: Convention,
+) -> Result<Model> {
     let mut v = Validator {
         file: file.clone(),
         map,
@@ -87,6 +103,13 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
         if let Some(bounds) = raw_parameter.bounds {
             v.check_bounds(name, raw_parameter.value, bounds, index);
         }
+        v.check_unit(
+            "parameter",
+            name,
+            raw_parameter.unit.as_deref(),
+            &map.parameters,
+            index,
+        );
         parameters.push((name.clone(), raw_parameter.clone(), span));
     }
     let mut inputs = Vec::new();
@@ -95,6 +118,7 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
         if !v.check_name(name, "input", span) || !v.check_unique(&mut seen, name, "input", span) {
             continue;
         }
+        v.check_unit("input", name, raw_input.unit.as_deref(), &map.inputs, index);
         inputs.push(Input {
             name: name.clone(),
             unit: raw_input.unit.clone(),
@@ -238,9 +262,9 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
         });
     }
 
-    let model = Model {
-        name: raw.name,
-        description: raw.description,
+    let mut model = Model {
+        name: raw.name.clone(),
+        description: raw.description.clone(),
         source: file.clone(),
         symbols,
         parameters,
@@ -249,6 +273,7 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
         bonds,
         values,
         linear_graph: None,
+        bond_dimensions: Vec::new(),
     };
     for element in model.element_ids() {
         if dropped[element.index()] == 0 {
@@ -257,6 +282,11 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
     }
     if v.problems.is_empty() {
         v.check_connected(&model);
+    }
+    if v.problems.is_empty() {
+        let (problems, dimensions) = crate::units::check::check(&model, &raw, map, convention);
+        v.problems = problems;
+        model.bond_dimensions = dimensions;
     }
     if v.problems.is_empty() {
         Ok(model)
@@ -317,6 +347,35 @@ impl Validator<'_> {
             Diagnostic::new(DiagnosticKind::InvalidValue, problem)
                 .at(&self.file, span)
                 .element(name),
+        );
+    }
+
+    /// A `unit` string must parse ([`crate::units::parse_unit`]).
+    fn check_unit(
+        &mut self,
+        what: &str,
+        name: &str,
+        unit: Option<&str>,
+        entries: &[EntrySpans],
+        index: usize,
+    ) {
+        let Some(unit) = unit else { return };
+        let Err(error) = crate::units::parse_unit(unit) else {
+            return;
+        };
+        let span = entries
+            .get(index)
+            .and_then(|e| e.fields.iter().find(|f| f.name == "unit"))
+            .map(|f| f.string_content.unwrap_or(f.value_span))
+            .unwrap_or_else(|| self.entry_span(entries, index));
+        self.problems.push(
+            Diagnostic::new(
+                DiagnosticKind::UnknownUnit,
+                format!("{what} '{name}' has unit \"{unit}\": {error}"),
+            )
+            .at(&self.file, span)
+            .element(name)
+            .note("write units with SI symbols and prefixes, '*', '/' and '^': \"N*s/m\", \"kg*m^2\", \"kPa\""),
         );
     }
 

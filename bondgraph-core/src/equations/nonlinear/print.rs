@@ -156,7 +156,7 @@ impl NonlinearEquations {
                 out.push_str(&format!(
                     "  {:width$}  {} of '{}'{detail}\n",
                     state.name,
-                    state.quantity.description(),
+                    state.quantity.description_in(state.domain, false),
                     state.element
                 ));
             }

@@ -98,8 +98,13 @@ pub fn load(source: &Arc<SourceFile>) -> Result<Model> {
         })
         .collect();
     let words = Words::new(&translated.graph, &names, &bonds, &translated.fields);
-    let mut model = crate::model::validate::validate(source, translated.raw, &translated.map)
-        .map_err(|d| words.apply(d))?;
+    let mut model = crate::model::validate::validate_as(
+        source,
+        translated.raw,
+        &translated.map,
+        crate::units::check::Convention::LinearGraph,
+    )
+    .map_err(|d| words.apply(d))?;
     model.linear_graph = Some(Arc::new(translated.graph));
     Ok(model)
 }

@@ -1,0 +1,35 @@
+//! Units: what a model file's `unit` strings mean, and whether its laws agree with them.
+//!
+//! Every parameter and input may carry a unit (`"N/m"`, `"Pa*s/m^3"`, `"V*s/rad"`). Nothing
+//! downstream computes with units (values are SI numbers), but a unit says what a
+//! parameter *is*, so a mass used as a stiffness or a velocity used as a force is a mistake
+//! the file itself shows. The modules, one job each:
+//!
+//! - [`dimension`]: a dimension as exponents of the SI base dimensions;
+//! - [`names`]: the unit symbols and SI prefixes;
+//! - [`parse`](mod@parse): unit strings to dimensions;
+//! - [`format`]: dimensions back to readable units;
+//! - [`infer`]: the dimension of an expression, and sums of different quantities;
+//! - [`domain`]: which effort and flow make a bond mechanical, electrical, ...;
+//! - [`label`]: what a recorded output is, in its domain's words and units;
+//! - [`solve`]: the dimensions of every bond's effort and flow, by propagation;
+//! - `check`: the laws of every element against its bond, run by the model validator on
+//!   every model (bond graph, linear graph, extended), so `bondgraph check` reports it.
+
+pub mod check;
+pub mod dimension;
+pub mod domain;
+pub mod format;
+pub mod infer;
+pub mod label;
+pub mod names;
+pub mod parse;
+pub mod solve;
+
+pub use check::BondDimensions;
+pub use dimension::Dim;
+pub use domain::Domain;
+pub use parse::{UnitError, parse_unit};
+
+#[cfg(test)]
+mod tests;

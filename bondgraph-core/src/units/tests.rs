@@ -1,0 +1,461 @@
+//! Units checked on whole model files: each case is a small model whose expected verdict
+//! (and line, and the units named) is worked out by hand in its comment.
+
+use crate::diagnostics::{DiagnosticKind, Diagnostics};
+use crate::model;
+
+fn rejected(text: &str) -> Diagnostics {
+    match model::load_str("units.ron", text) {
+        Ok(_) => panic!("the model should be rejected"),
+        Err(error) => error,
+    }
+}
+
+#[test]
+fn an_unknown_unit_is_named_at_its_parameter_line() {
+    let error = rejected(
+        r#"Model(name: "u",
+    parameters: {
+        "m": (value: 1.0, unit: "kg"),
+        "b": (value: 1.0, unit: "N*s/furlong"),
+    },
+    elements: {"push": Se(effort: "1"), "j": One, "mass": I(inertance: "m"), "damper": R(resistance: "b")},
+    bonds: [("push", "j"), ("j", "mass"), ("j", "damper")])"#,
+    );
+    let first = error.first();
+    assert_eq!(first.kind, DiagnosticKind::UnknownUnit);
+    assert_eq!(first.location.as_ref().unwrap().line, 4);
+    assert_eq!(first.element.as_deref(), Some("b"));
+    assert_eq!(
+        first.message,
+        "parameter 'b' has unit \"N*s/furlong\": unknown unit 'furlong'"
+    );
+}
+
+/// A mass-spring-damper pushed by a force `F` (N): `spring` and `push` are filled in.
+fn msd(push: &str, spring: &str) -> String {
+    format!(
+        r#"Model(name: "msd",
+    parameters: {{
+        "m_s": (value: 2.0, unit: "kg"),
+        "k": (value: 200.0, unit: "N/m"),
+        "b": (value: 4.0, unit: "N*s/m"),
+    }},
+    inputs: {{"F": (unit: "N"), "v_r": (unit: "m/s")}},
+    elements: {{
+        "push": Se(effort: "{push}"),
+        "v": One,
+        "mass": I(inertance: "m_s"),
+        "spring": C(stiffness: "{spring}"),
+        "damper": R(resistance: "b"),
+    }},
+    bonds: [("push", "v"), ("v", "mass"), ("v", "spring"), ("v", "damper")])"#
+    )
+}
+
+#[test]
+fn the_mass_spring_damper_with_consistent_units_passes() {
+    model::load_str("msd.ron", &msd("F", "k")).unwrap();
+}
+
+#[test]
+fn a_mass_used_as_a_stiffness_is_named_at_its_line_with_both_units() {
+    // Se F in N, so the 1-junction's flow is W/N = m/s; m_s in kg fits the inertia
+    // (N*s/(m/s) = kg); a stiffness on that bond needs N/(m/s*s) = N/m.
+    let error = rejected(&msd("F", "m_s"));
+    assert_eq!(error.0.len(), 1, "{error}");
+    let first = error.first();
+    assert_eq!(first.kind, DiagnosticKind::UnitMismatch);
+    assert_eq!(first.location.as_ref().unwrap().line, 12);
+    assert_eq!(first.element.as_deref(), Some("spring"));
+    assert_eq!(
+        first.message,
+        "compliance 'spring': stiffness 'm_s' is in kg but a C on a mechanical translational bond needs N/m"
+    );
+}
+
+#[test]
+fn a_velocity_used_as_a_force_is_named_at_the_source() {
+    let error = rejected(&msd("v_r", "k"));
+    assert_eq!(error.0.len(), 1, "{error}");
+    let first = error.first();
+    assert_eq!(first.kind, DiagnosticKind::UnitMismatch);
+    assert_eq!(first.location.as_ref().unwrap().line, 9);
+    assert_eq!(first.element.as_deref(), Some("push"));
+    assert!(
+        first
+            .message
+            .starts_with("effort source 'push': effort 'v_r' is in m/s, a velocity, where an Se needs an effort: force (N)"),
+        "{}",
+        first.message
+    );
+}
+
+#[test]
+fn adding_a_force_to_a_velocity_in_a_law_is_named_at_the_sum() {
+    // b*v_r is N*s/m * m/s = N; adding v_r (m/s) to it is not.
+    let error = rejected(&msd("b*v_r + v_r", "k"));
+    let first = error.first();
+    assert_eq!(first.kind, DiagnosticKind::UnitMismatch);
+    assert_eq!(first.location.as_ref().unwrap().line, 9);
+    assert_eq!(
+        first.message,
+        "effort source 'push': 'b*v_r + v_r' adds N (b*v_r) and m/s (v_r), which are different quantities"
+    );
+    // The column is the sum's own (the expression starts after `Se(effort: "`).
+    assert_eq!(first.location.as_ref().unwrap().column, 29);
+}
+
+#[test]
+fn parameters_without_units_are_not_checked() {
+    // No unit on any parameter: nothing is known, nothing is rejected.
+    let text = msd("F", "k")
+        .replace(r#", unit: "kg""#, "")
+        .replace(r#", unit: "N/m""#, "");
+    model::load_str("msd.ron", &text).unwrap();
+    // A bare number in a source is a number without a unit, not a dimensionless effort.
+    model::load_str("msd.ron", &msd("1", "k")).unwrap();
+}
+
+/// A torque `tau` (N*m) on a pinion of radius `r` (m) driving a rack of mass `m`:
+/// `TF(ratio: "r")`, `e_in = r e_out`: the rack's force is torque/r (N), its velocity
+/// r times the pinion's angular velocity (m/s).
+fn rack(mass_unit: &str) -> String {
+    format!(
+        r#"Model(name: "rack",
+    parameters: {{"r": (value: 0.05, unit: "m"), "m": (value: 2.0, unit: "{mass_unit}"),
+                 "J": (value: 0.01, unit: "kg*m^2")}},
+    inputs: {{"tau": (unit: "N*m")}},
+    elements: {{
+        "motor": Se(effort: "tau"), "shaft": One, "pinion": I(inertance: "J"),
+        "gear": TF(ratio: "r"), "slide": One,
+        "rack": I(inertance: "m"),
+    }},
+    bonds: [("motor", "shaft"), ("shaft", "pinion"), ("shaft", "gear"), ("gear", "slide"), ("slide", "rack")])"#
+    )
+}
+
+#[test]
+fn a_transformer_carries_dimensions_from_rotation_to_translation() {
+    model::load_str("rack.ron", &rack("kg")).unwrap();
+    // The rack's bond is translational only through the TF: a rotational inertia there is
+    // wrong.
+    let error = rejected(&rack("kg*m^2"));
+    assert_eq!(error.0.len(), 1, "{error}");
+    assert_eq!(error.first().location.as_ref().unwrap().line, 8);
+    assert_eq!(
+        error.first().message,
+        "inertia 'rack': inertance 'm' is in kg*m^2 but an I on a mechanical translational bond needs kg"
+    );
+}
+
+/// A DC motor: a voltage `u` (V) through the armature resistance `R_a` (ohm) and a gyrator
+/// of motor constant `K_m` (N*m/A): `e_out = K_m f_in`, a torque N*m/A * A = N*m on the
+/// rotor of inertia `J`.
+fn motor(inertia_unit: &str, friction_unit: &str) -> String {
+    format!(
+        r#"Model(name: "motor",
+    parameters: {{"R_a": (value: 1.0, unit: "ohm"), "L_a": (value: 0.01, unit: "H"),
+                 "K_m": (value: 0.05, unit: "N*m/A"), "J": (value: 0.01, unit: "{inertia_unit}"),
+                 "b": (value: 0.001, unit: "{friction_unit}")}},
+    inputs: {{"u": (unit: "V")}},
+    elements: {{
+        "supply": Se(effort: "u"), "armature": One, "resistance": R(resistance: "R_a"),
+        "inductance": I(inertance: "L_a"), "motor": GY(ratio: "K_m"), "rotor": One,
+        "inertia": I(inertance: "J"), "bearing": R(resistance: "b"),
+    }},
+    bonds: [("supply", "armature"), ("armature", "resistance"), ("armature", "inductance"),
+            ("armature", "motor"), ("motor", "rotor"), ("rotor", "inertia"), ("rotor", "bearing")])"#
+    )
+}
+
+#[test]
+fn a_gyrator_carries_dimensions_from_the_circuit_to_the_shaft() {
+    model::load_str("motor.ron", &motor("kg*m^2", "N*m*s/rad")).unwrap();
+    let error = rejected(&motor("kg*m^2", "N*s/m"));
+    assert_eq!(error.0.len(), 1, "{error}");
+    assert_eq!(error.first().location.as_ref().unwrap().line, 9);
+    assert_eq!(
+        error.first().message,
+        "resistor 'bearing': resistance 'b' is in N*s/m but an R on a mechanical rotational bond needs N*m*s/rad"
+    );
+    let error = rejected(&motor("kg", "N*m*s/rad"));
+    assert_eq!(
+        error.first().message,
+        "inertia 'inertia': inertance 'J' is in kg but an I on a mechanical rotational bond needs kg*m^2"
+    );
+}
+
+#[test]
+fn a_bond_whose_effort_times_flow_is_no_power_is_named() {
+    // A force (N) and a current (A) on one 1-junction: N*A is no power.
+    let error = rejected(
+        r#"Model(name: "odd",
+    parameters: {"R": (value: 1.0)},
+    inputs: {"F": (unit: "N"), "i": (unit: "A")},
+    elements: {"push": Se(effort: "F"), "j": One, "pump": Sf(flow: "i"), "r": R(resistance: "R")},
+    bonds: [("push", "j"), ("pump", "j"), ("j", "r")])"#,
+    );
+    assert_eq!(error.first().kind, DiagnosticKind::UnitMismatch);
+    assert_eq!(error.first().location.as_ref().unwrap().line, 5);
+    assert!(
+        error
+            .first()
+            .message
+            .starts_with("bond push -> j carries an effort in N and a flow in A"),
+        "{}",
+        error.first().message
+    );
+}
+
+#[test]
+fn a_thermal_pseudo_bond_graph_passes_though_temperature_times_heat_flow_is_no_power() {
+    model::load_str(
+        "thermal.ron",
+        r#"Model(name: "thermal",
+    parameters: {"C_th": (value: 500.0, unit: "J/K"), "R_th": (value: 0.1, unit: "K/W")},
+    inputs: {"T_amb": (unit: "K"), "P": (unit: "W")},
+    elements: {"ambient": Se(effort: "T_amb"), "wall_drop": One, "wall": R(resistance: "R_th"),
+               "body_temperature": Zero, "body": C(compliance: "C_th"), "heater": Sf(flow: "P")},
+    bonds: [("ambient", "wall_drop"), ("wall_drop", "wall"), ("wall_drop", "body_temperature"),
+            ("body_temperature", "body"), ("heater", "body_temperature")])"#,
+    )
+    .unwrap();
+}
+
+/// A linear-graph mass-spring-damper; `spring` is the T-type's stiffness parameter.
+fn lg_msd(spring: &str) -> String {
+    format!(
+        r#"LinearGraph(name: "msd",
+    parameters: {{"m": (value: 2.0, unit: "kg"), "k": (value: 200.0, unit: "N/m"), "b": (value: 4.0, unit: "N*s/m")}},
+    inputs: {{"F": (unit: "N")}},
+    ground: "g",
+    branches: {{
+        "force": ThroughSource(value: "F", from: "g", to: "v1"),
+        "mass": A(capacitance: "m", from: "v1", to: "g"),
+        "spring": T(stiffness: "{spring}", from: "v1", to: "g"),
+        "damper": D(conductance: "b", from: "v1", to: "g"),
+    }})"#
+    )
+}
+
+#[test]
+fn a_linear_graph_is_checked_through_its_bond_graph() {
+    model::load_str("msd.lg.ron", &lg_msd("k")).unwrap();
+    let error = rejected(&lg_msd("m"));
+    assert_eq!(error.0.len(), 1, "{error}");
+    let first = error.first();
+    assert_eq!(first.kind, DiagnosticKind::UnitMismatch);
+    assert_eq!(first.location.as_ref().unwrap().line, 8);
+    assert!(
+        first.message.contains("stiffness 'm' is in kg but")
+            && first.message.ends_with("needs N/m"),
+        "{}",
+        first.message
+    );
+}
+
+/// An electrical linear graph: the through variable (current) is the bond graph's effort,
+/// so a current source is plausible and a voltage source's value must be a voltage.
+#[test]
+fn a_linear_graph_circuit_takes_currents_as_through_variables() {
+    let circuit = |source_unit: &str| {
+        format!(
+            r#"LinearGraph(name: "rc",
+    parameters: {{"R": (value: 1000.0, unit: "ohm"), "C": (value: 1e-6, unit: "F")}},
+    inputs: {{"u": (unit: "{source_unit}")}},
+    ground: "g",
+    branches: {{
+        "supply": AcrossSource(value: "u", from: "a", to: "g"),
+        "resistor": D(resistance: "R", from: "a", to: "b"),
+        "capacitor": A(capacitance: "C", from: "b", to: "g"),
+    }})"#
+        )
+    };
+    model::load_str("rc.lg.ron", &circuit("V")).unwrap();
+    let error = rejected(&circuit("A"));
+    let first = error.first();
+    assert_eq!(first.location.as_ref().unwrap().line, 6, "{error}");
+    assert!(
+        first.message.contains("'u' is in A, a current"),
+        "{}",
+        first.message
+    );
+}
+
+/// Every shipped model, and each with each of its extensions, passes the check.
+#[test]
+fn every_shipped_model_and_extension_passes() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models");
+    let mut files = Vec::new();
+    let mut folders = vec![root];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                folders.push(path);
+            } else if path.extension().is_some_and(|e| e == "ron") {
+                files.push(path);
+            }
+        }
+    }
+    let mut checked = 0;
+    for path in &files {
+        let text = std::fs::read_to_string(path).unwrap();
+        let first = text
+            .lines()
+            .map(str::trim)
+            .find(|l| !l.is_empty() && !l.starts_with("//"))
+            .unwrap_or("");
+        if first.starts_with("Model(") || first.starts_with("LinearGraph(") {
+            let source = crate::source::SourceFile::new(path.display().to_string(), text.clone());
+            if let Err(error) = model::load_source(&source) {
+                panic!("{}: {error}", path.display());
+            }
+            checked += 1;
+        }
+        if first.starts_with("Extension(") {
+            let folder = path.parent().unwrap().parent().unwrap();
+            let base = std::fs::read_dir(folder)
+                .unwrap()
+                .map(|e| e.unwrap().path())
+                .find(|p| {
+                    let name = p.file_name().unwrap().to_string_lossy();
+                    name.ends_with(".ron")
+                        && !name.contains(".lg.")
+                        && (name == "robot.ron" || name == "geared_motor.ron")
+                })
+                .unwrap();
+            let base = crate::source::SourceFile::new(
+                base.display().to_string(),
+                std::fs::read_to_string(&base).unwrap(),
+            );
+            let extension = model::extension::Extension::read(path).unwrap();
+            let merged = model::extension::merge(&base, &[extension]).unwrap();
+            if let Err(error) = merged.load() {
+                panic!("{} + {}: {error}", base.name(), path.display());
+            }
+            checked += 1;
+        }
+    }
+    // 23 bond graphs, 13 linear graphs and 11 extensions at the time of writing.
+    assert!(checked >= 47, "only {checked} files checked");
+}
+
+#[test]
+fn recorded_outputs_are_named_in_their_domain_with_units() {
+    use crate::scenario::Record;
+    use crate::units::label::axis_label;
+    let label =
+        |model: &model::Model, text: &str| axis_label(model, &Record::parse(model, text).unwrap());
+    let msd = model::load_str("msd.ron", &msd("F", "k")).unwrap();
+    assert_eq!(label(&msd, "flow:mass"), "flow:mass: velocity (m/s)");
+    assert_eq!(label(&msd, "effort:spring"), "effort:spring: force (N)");
+    assert_eq!(
+        label(&msd, "integral:flow:mass"),
+        "integral:flow:mass: displacement (m)"
+    );
+    assert_eq!(label(&msd, "energy:spring"), "energy:spring: energy (J)");
+    // The motor's armature is electrical: the integral of its current is a charge (A*s = C),
+    // the rotor's effort a torque.
+    let motor = model::load_str("motor.ron", &motor("kg*m^2", "N*m*s/rad")).unwrap();
+    assert_eq!(
+        label(&motor, "integral:flow:inductance"),
+        "integral:flow:inductance: charge (C)"
+    );
+    assert_eq!(
+        label(&motor, "effort:inertia"),
+        "effort:inertia: torque (N*m)"
+    );
+    assert_eq!(
+        label(&motor, "flow:inertia"),
+        "flow:inertia: angular velocity (rad/s)"
+    );
+    // No units, no label beyond the name.
+    let plain = msd_plain();
+    assert_eq!(label(&plain, "flow:mass"), "flow:mass");
+}
+
+fn msd_plain() -> model::Model {
+    let text = msd("1", "k")
+        .replace(r#", unit: "kg""#, "")
+        .replace(r#", unit: "N/m""#, "")
+        .replace(r#", unit: "N*s/m""#, "");
+    model::load_str("msd.ron", &text).unwrap()
+}
+
+#[test]
+fn states_are_described_in_their_domain_words() {
+    use crate::equations;
+    let describe = |model: &model::Model, variables| {
+        let options = equations::Options { variables };
+        let eq = equations::derive(model, &crate::laws::plain_laws(model), &options).unwrap();
+        eq.states
+            .iter()
+            .map(|s| {
+                format!(
+                    "{} {}",
+                    s.name,
+                    s.quantity
+                        .description_in(s.domain, model.linear_graph.is_some())
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    let motor = model::load_str("motor.ron", &motor("kg*m^2", "N*m*s/rad")).unwrap();
+    assert_eq!(
+        describe(&motor, equations::Variables::Energy),
+        ["p_inductance flux linkage", "p_inertia angular momentum"]
+    );
+    assert_eq!(
+        describe(&motor, equations::Variables::CoEnergy),
+        ["v_inductance current", "v_inertia angular velocity"]
+    );
+    let thermal = model::load_str(
+        "thermal.ron",
+        r#"Model(name: "thermal",
+    parameters: {"C_th": (value: 500.0, unit: "J/K"), "R_th": (value: 0.1, unit: "K/W")},
+    inputs: {"T_amb": (unit: "K"), "P": (unit: "W")},
+    elements: {"ambient": Se(effort: "T_amb"), "wall_drop": One, "wall": R(resistance: "R_th"),
+               "body_temperature": Zero, "body": C(compliance: "C_th"), "heater": Sf(flow: "P")},
+    bonds: [("ambient", "wall_drop"), ("wall_drop", "wall"), ("wall_drop", "body_temperature"),
+            ("body_temperature", "body"), ("heater", "body_temperature")])"#,
+    )
+    .unwrap();
+    assert_eq!(
+        describe(&thermal, equations::Variables::Energy),
+        ["q_body heat"]
+    );
+    assert_eq!(
+        describe(&thermal, equations::Variables::CoEnergy),
+        ["f_body temperature"]
+    );
+    // A linear-graph circuit: the capacitor (an A-type, the bond graph's inertia) holds a
+    // charge and its state is its voltage.
+    let rc = model::load_str(
+        "rc.lg.ron",
+        r#"LinearGraph(name: "rc",
+    parameters: {"R": (value: 1000.0, unit: "ohm"), "C": (value: 1e-6, unit: "F")},
+    inputs: {"u": (unit: "V")},
+    ground: "g",
+    branches: {
+        "supply": AcrossSource(value: "u", from: "a", to: "g"),
+        "resistor": D(resistance: "R", from: "a", to: "b"),
+        "capacitor": A(capacitance: "C", from: "b", to: "g"),
+    })"#,
+    )
+    .unwrap();
+    assert_eq!(
+        describe(&rc, equations::Variables::Energy),
+        ["p_capacitor charge"]
+    );
+    assert_eq!(
+        describe(&rc, equations::Variables::CoEnergy),
+        ["v_capacitor voltage"]
+    );
+    // Without units, the general words.
+    assert_eq!(
+        describe(&msd_plain(), equations::Variables::Energy),
+        ["p_mass momentum", "q_spring displacement"]
+    );
+}
