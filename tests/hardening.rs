@@ -408,3 +408,60 @@ fn an_input_where_it_may_not_be_is_named_as_such() {
         );
     }
 }
+
+/// Writes a sparse file of `length` zero bytes (no room on the disk) and returns its path.
+fn sparse(name: &str, length: u64) -> std::path::PathBuf {
+    let path = temporary(name, b"");
+    std::fs::File::options()
+        .write(true)
+        .open(&path)
+        .unwrap()
+        .set_len(length)
+        .unwrap();
+    path
+}
+
+/// Item 18: a data file and an experiment file beyond their limits are refused, naming the
+/// file and the limit, without being read into memory.
+#[test]
+fn data_and_experiment_files_over_their_limits_are_refused() {
+    use bondgraph_core::limits::{MAX_DATA_FILE_BYTES, MAX_FILE_BYTES};
+    let model = "models/examples/geared_motor/geared_motor.ron";
+    let huge = sparse("huge.csv", MAX_DATA_FILE_BYTES + 1);
+    let output = crate::cli::run(&[
+        "calibrate",
+        "--model",
+        model,
+        "--data",
+        huge.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "{}: the file is larger than the limit of {MAX_DATA_FILE_BYTES} bytes for a data file",
+            huge.display()
+        )),
+        "{stderr}"
+    );
+    let experiment = sparse("experiment.ron", MAX_FILE_BYTES + 1);
+    let output = crate::cli::run(&[
+        "calibrate",
+        "--model",
+        model,
+        "--experiment",
+        experiment.to_str().unwrap(),
+        "--data",
+        "models/examples/geared_motor/data/steady.csv",
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "cannot read the experiment file '{}': it is larger than the limit of \
+             {MAX_FILE_BYTES} bytes",
+            experiment.display()
+        )),
+        "{stderr}"
+    );
+}
