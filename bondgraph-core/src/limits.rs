@@ -12,6 +12,7 @@
 //! | total degree of a law's expanded parameter expression (numerator or denominator) | [`MAX_EXPRESSION_DEGREE`] |
 //! | terms of a law's expanded parameter expression (numerator or denominator) | [`MAX_EXPRESSION_TERMS`] |
 //! | samples a simulation records | [`MAX_SAMPLES`] |
+//! | events (mode changes) in one simulation | [`MAX_EVENTS`] |
 //! | size of a model, scenario, experiment or extension file | [`MAX_FILE_BYTES`] |
 //! | size of a CSV data file | [`MAX_DATA_FILE_BYTES`] |
 //! | measurements (rows) in a CSV data file | [`MAX_DATA_ROWS`] |
@@ -38,6 +39,12 @@ pub const MAX_EXPRESSION_TERMS: usize = 1000;
 /// The most samples one simulation records (outputs times samples is what takes memory:
 /// a million samples of a few outputs is tens of megabytes).
 pub const MAX_SAMPLES: u64 = 1_000_000;
+
+/// The most events (mode changes) one simulation may have, by default. Chattering (many
+/// events in a short time) is caught long before; this bounds a run that switches at a
+/// steady pace for a very long time (the belt's stick-slip, two events every 1.16 s, reaches
+/// it after 58 000 s simulated, in about ten seconds).
+pub const MAX_EVENTS: usize = 100_000;
 
 /// The largest input file read as text, in bytes (16 MiB: the flagship is 12 kB).
 pub const MAX_FILE_BYTES: u64 = 16 << 20;

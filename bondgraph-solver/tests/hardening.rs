@@ -347,3 +347,46 @@ fn a_very_light_mass_on_a_slack_string_moves_freely() {
     assert!((state[0] - p).abs() <= 1e-12 * p.abs(), "{state:?}");
     assert!((state[1] - q).abs() <= 1e-12 * q.abs(), "{state:?}");
 }
+
+/// Item 18: the number of events is bounded even where nothing chatters. The belt's
+/// stick-slip (`models/examples/belt_friction.ron` at 0.1 m/s, see `stick_slip.rs`) breaks
+/// away at 1 s and then alternates slips of `s = (π - atan 4)/5 s` with sticks of 0.8 s, so
+/// its events are at 1, 1 + s, 1.8 + s, 1.8 + 2s, 2.6 + 2s, ...: with a limit of 4 the run
+/// stops at the fifth, t = 2.6 + 2s, far from the chattering guard's 200 events in 1e-6 t.
+#[test]
+fn the_events_of_a_run_are_bounded() {
+    use bondgraph_solver::{Settings, SimError};
+    assert_eq!(
+        Settings::default().max_events,
+        bondgraph_core::limits::MAX_EVENTS
+    );
+    let model = crate::support::load("models/examples/belt_friction.ron");
+    let mut simulator = Simulator::new(&model, Vec::new()).with_settings(Settings {
+        max_events: 4,
+        ..Settings::default()
+    });
+    let belt = Constant(0.1);
+    let inputs: [&dyn Signal; 1] = [&belt];
+    let run = |simulator: &mut Simulator, duration| {
+        simulator.run(&Run {
+            inputs: &inputs,
+            initial_mode: Mode::initial(&model),
+            initial_state: vec![0.0, 0.0],
+            duration,
+            sample: None,
+            audit_energy: false,
+        })
+    };
+    let slip = (std::f64::consts::PI - 4f64.atan()) / 5.0;
+    // Four events by 2.6 s: within the limit.
+    let trajectory = run(&mut simulator, 2.6).unwrap();
+    assert_eq!(trajectory.events.len(), 4, "{:#?}", trajectory.events);
+    assert!((trajectory.events[3].t - (1.8 + 2.0 * slip)).abs() < 1e-9);
+    match run(&mut simulator, 10.0).unwrap_err() {
+        SimError::TooManyEvents { t, limit } => {
+            assert_eq!(limit, 4);
+            assert!((t - (2.6 + 2.0 * slip)).abs() < 1e-9, "{t}");
+        }
+        other => panic!("expected too many events, got {other}"),
+    }
+}
