@@ -137,16 +137,67 @@ pub fn first_crossing(
             armed[i] = true;
         }
     }
+    // The guards' rates of change at `tau`, for a guard that rises above zero and falls back
+    // between two samples (a contact's relative velocity touching zero for a few
+    // milliseconds of a long swing, when the belt is fast): negative at both samples, it has
+    // a maximum between them where its rate changes sign from rising to falling.
+    let mut x_rate = vec![0.0; n];
+    let mut u_rate = vec![0.0; u0.len()];
+    let mut slopes = |segment: &mut Segment<'_>, tau: f64, out: &mut Vec<f64>| {
+        out.clear();
+        segment.state_into(tau, &mut x_rate);
+        for (k, slot) in u_rate.iter_mut().enumerate() {
+            *slot = u0[k] + u1[k] * tau;
+        }
+        out.extend(
+            mode.guards
+                .iter()
+                .map(|g| mode.row_rate(&g.row, &x_rate, &u_rate, u1)),
+        );
+    };
     let times = sample_times(mode.propagator.eigenvalues(), length);
     let mut current = Vec::with_capacity(mode.guards.len());
+    let (mut previous_slopes, mut current_slopes) = (Vec::new(), Vec::new());
     let mut previous_tau = 0.0;
     for &tau in &times {
         evaluate(segment, tau, &mut current);
+        let dipping = (0..current.len()).any(|i| armed[i] && previous[i] < 0.0);
+        if dipping {
+            if previous_slopes.is_empty() {
+                slopes(segment, previous_tau, &mut previous_slopes);
+            }
+            slopes(segment, tau, &mut current_slopes);
+        } else {
+            current_slopes.clear();
+        }
         let mut best: Option<Crossing> = None;
         for i in 0..current.len() {
-            if armed[i] && previous[i] < 0.0 && current[i] >= 0.0 {
+            if !(armed[i] && previous[i] < 0.0) {
+                continue;
+            }
+            // Rising at the first sample and falling at the second, the guard peaks between
+            // them: its first zero, if any, is before the peak (a bracket that ends at or
+            // above zero would otherwise give Brent's method two roots to choose from).
+            let mut bracket = (current[i] >= 0.0).then_some((tau, current[i]));
+            if previous_slopes[i] > 0.0 && current_slopes[i] < 0.0 {
+                let mut rates = Vec::with_capacity(current.len());
+                let peak = refine(
+                    previous_tau,
+                    tau,
+                    -previous_slopes[i],
+                    -current_slopes[i],
+                    |t| {
+                        slopes(segment, t, &mut rates);
+                        -rates[i]
+                    },
+                );
                 let mut values = Vec::with_capacity(current.len());
-                let root = refine(previous_tau, tau, previous[i], current[i], |t| {
+                evaluate(segment, peak, &mut values);
+                bracket = (values[i] >= 0.0).then_some((peak, values[i]));
+            }
+            if let Some((end, value)) = bracket {
+                let mut values = Vec::with_capacity(current.len());
+                let root = refine(previous_tau, end, previous[i], value, |t| {
                     evaluate(segment, t, &mut values);
                     values[i]
                 });
@@ -161,6 +212,7 @@ pub fn first_crossing(
         if best.is_some() {
             return best;
         }
+        std::mem::swap(&mut previous_slopes, &mut current_slopes);
         for i in 0..current.len() {
             if current[i] < arm_below[i] {
                 armed[i] = true;
