@@ -158,6 +158,24 @@ pub fn first_crossing(
     let times = sample_times(mode.propagator.eigenvalues(), length);
     let mut current = Vec::with_capacity(mode.guards.len());
     let (mut previous_slopes, mut current_slopes) = (Vec::new(), Vec::new());
+    // A guard at zero (to rounding) that is falling is left at once: armed now, as if seen
+    // below zero, or a dip shorter than the first sample (a string that goes slack and is
+    // pulled taut again within milliseconds) would never arm it.
+    let mut from_zero = vec![false; previous.len()];
+    if (0..previous.len()).any(|i| !armed[i] && arm_below[i] >= 0.0) {
+        slopes(segment, 0.0, &mut previous_slopes);
+        let mut x0 = vec![0.0; n];
+        segment.state_into(0.0, &mut x0);
+        for i in 0..previous.len() {
+            let level = 1e-9 * mode.guards[i].row.magnitude(&x0, u0, u1);
+            if !armed[i] && arm_below[i] >= 0.0 && previous[i] <= level && previous_slopes[i] < 0.0
+            {
+                armed[i] = true;
+                from_zero[i] = true;
+                previous[i] = previous[i].min(-f64::MIN_POSITIVE);
+            }
+        }
+    }
     let mut previous_tau = 0.0;
     for &tau in &times {
         evaluate(segment, tau, &mut current);
@@ -197,7 +215,24 @@ pub fn first_crossing(
             }
             if let Some((end, value)) = bracket {
                 let mut values = Vec::with_capacity(current.len());
-                let root = refine(previous_tau, end, previous[i], value, |t| {
+                let (mut start, mut f_start) = (previous_tau, previous[i]);
+                if from_zero[i] && previous_tau == 0.0 {
+                    // Armed at zero: start the bracket where the guard is below zero, or
+                    // Brent's method would find the zero it starts from.
+                    let mut probe = end;
+                    loop {
+                        probe *= 0.5;
+                        evaluate(segment, probe, &mut values);
+                        if values[i] < 0.0 || probe < f64::MIN_POSITIVE {
+                            break;
+                        }
+                    }
+                    if values[i] >= 0.0 {
+                        continue;
+                    }
+                    (start, f_start) = (probe, values[i]);
+                }
+                let root = refine(start, end, f_start, value, |t| {
                     evaluate(segment, t, &mut values);
                     values[i]
                 });
