@@ -43,15 +43,14 @@ pub fn inputs(
     let folder = model.parent().unwrap_or(Path::new("."));
     let experiment_path =
         experiment.map_or_else(|| folder.join("experiment.ron"), Path::to_path_buf);
-    let text = std::fs::read_to_string(&experiment_path).map_err(|e| {
-        Failure::message(
-            DiagnosticKind::Io,
-            format!(
-                "cannot read the experiment file '{}': {e} (give one with --experiment)",
-                experiment_path.display()
-            ),
-        )
-    })?;
+    // Within the size limit of every input file, with invalid UTF-8 located.
+    let text =
+        bondgraph_core::read::read_text(&experiment_path, "the experiment file").map_err(|e| {
+            Failure::message(
+                DiagnosticKind::Io,
+                format!("{e} (give one with --experiment)"),
+            )
+        })?;
     let experiment_source = SourceFile::new(experiment_path.display().to_string(), text);
     let experiment = Experiment::from_source(&experiment_source)
         .map_err(|e| experiment_failure(e, &[&experiment_source, &base]))?;

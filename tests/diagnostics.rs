@@ -527,8 +527,9 @@ fn product_of_inputs() {
             column: 40,
             element: Some("relief"),
             underlined: "A*gain*P_s",
-            message: "element 'relief': max_flow \"A*gain*P_s\": multiplies two inputs; sources \
-                      must be linear in the inputs",
+            message: "element 'relief': max_flow \"A*gain*P_s\": multiplies two inputs; \
+                      max_flow must be linear in the inputs, with rational functions of the \
+                      parameters as coefficients",
         },
     );
 }

@@ -325,3 +325,143 @@ fn extend_refuses_a_fragment_that_makes_the_model_inconsistent() {
     );
     assert!(String::from_utf8_lossy(&output.stdout).contains("\"air\": R(resistance: \"b_air\")"));
 }
+
+/// Item 14: a ratio that divides by an input once read `sources must be linear in the
+/// inputs`. A transformer's or gyrator's ratio may depend on inputs and states (a modulated
+/// two-port); a linear graph's `Gyrator` now is one too, like its `Transformer`. The piston
+/// of `tests/fixtures/linear_graph/piston.lg.ron` with its ratio `G` written `1/a`, `a` an
+/// input, is at `a = 1/500` the fixture by hand: `dv/dt = -(B + R/G²)/M v - P_s/(G M)`, so
+/// `A = -(30 + 3e8/500²)/4 = -307.5` and `B = -1/(500·4) = -5e-4`.
+#[test]
+fn a_linear_graph_gyrator_may_be_modulated_by_an_input() {
+    let text = std::fs::read_to_string(root().join("tests/fixtures/linear_graph/piston.lg.ron"))
+        .unwrap()
+        .replace(
+            r#"inputs: { "P_s": (unit: "Pa") },"#,
+            r#"inputs: { "P_s": (unit: "Pa"), "a": (unit: "m^2") },"#,
+        )
+        .replace(r#"Gyrator(ratio: "G""#, r#"Gyrator(ratio: "1/a""#);
+    assert!(text.contains(r#"ratio: "1/a""#));
+    let path = temporary("modulated_piston.lg.ron", text.as_bytes());
+    let output = crate::cli::run(&[
+        "equations",
+        path.to_str().unwrap(),
+        "--at",
+        "a=0.002",
+        "--format",
+        "json",
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let a = json["A_value"][0][0].as_f64().unwrap();
+    let b = json["B_value"][0][0].as_f64().unwrap();
+    assert!((a + 307.5).abs() < 1e-12, "{a}");
+    assert!((b + 5e-4).abs() < 1e-18, "{b}");
+}
+
+/// Item 14: a coefficient that may use parameters only says that an input enters it, however
+/// it enters (`m/u` once said `divides by an input; sources must be linear in the inputs`);
+/// a friction level, linear in the inputs, names its own field rather than "sources", at the
+/// divisor.
+#[test]
+fn an_input_where_it_may_not_be_is_named_as_such() {
+    let model = |element: &str| {
+        format!(
+            r#"Model(
+    name: "pushed",
+    parameters: {{ "m": (value: 1.0) }},
+    inputs: {{ "F": (), "u": () }},
+    elements: {{ "push": Se(effort: "F"), "v": One, "mass": {element} }},
+    bonds: [("push", "v"), ("v", "mass")],
+)"#
+        )
+    };
+    for (element, column, message) in [
+        (
+            r#"I(inertance: "m/u")"#,
+            74,
+            "element 'mass': inertance \"m/u\" depends on input 'u'; it may use parameters only",
+        ),
+        (
+            r#"I(inertance: "m*u*u")"#,
+            74,
+            "element 'mass': inertance \"m*u*u\" depends on input 'u'; it may use parameters \
+             only",
+        ),
+        (
+            r#"Friction(breakaway: "m/u", coulomb: "m")"#,
+            83,
+            "element 'mass': breakaway \"m/u\": divides by an input; breakaway must be linear \
+             in the inputs, with rational functions of the parameters as coefficients",
+        ),
+    ] {
+        let path = temporary("pushed.ron", model(element).as_bytes());
+        let output = crate::cli::run(&["check", path.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains(message), "{element}: {stderr}");
+        assert!(!stderr.contains("sources"), "{element}: {stderr}");
+        assert!(
+            stderr.contains(&format!("{}:5:{column}", path.display())),
+            "{element}: {stderr}"
+        );
+    }
+}
+
+/// Writes a sparse file of `length` zero bytes (no room on the disk) and returns its path.
+fn sparse(name: &str, length: u64) -> std::path::PathBuf {
+    let path = temporary(name, b"");
+    std::fs::File::options()
+        .write(true)
+        .open(&path)
+        .unwrap()
+        .set_len(length)
+        .unwrap();
+    path
+}
+
+/// Item 18: a data file and an experiment file beyond their limits are refused, naming the
+/// file and the limit, without being read into memory.
+#[test]
+fn data_and_experiment_files_over_their_limits_are_refused() {
+    use bondgraph_core::limits::{MAX_DATA_FILE_BYTES, MAX_FILE_BYTES};
+    let model = "models/examples/geared_motor/geared_motor.ron";
+    let huge = sparse("huge.csv", MAX_DATA_FILE_BYTES + 1);
+    let output = crate::cli::run(&[
+        "calibrate",
+        "--model",
+        model,
+        "--data",
+        huge.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "{}: the file is larger than the limit of {MAX_DATA_FILE_BYTES} bytes for a data file",
+            huge.display()
+        )),
+        "{stderr}"
+    );
+    let experiment = sparse("experiment.ron", MAX_FILE_BYTES + 1);
+    let output = crate::cli::run(&[
+        "calibrate",
+        "--model",
+        model,
+        "--experiment",
+        experiment.to_str().unwrap(),
+        "--data",
+        "models/examples/geared_motor/data/steady.csv",
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "cannot read the experiment file '{}': it is larger than the limit of \
+             {MAX_FILE_BYTES} bytes",
+            experiment.display()
+        )),
+        "{stderr}"
+    );
+}

@@ -12,7 +12,11 @@
 //! | total degree of a law's expanded parameter expression (numerator or denominator) | [`MAX_EXPRESSION_DEGREE`] |
 //! | terms of a law's expanded parameter expression (numerator or denominator) | [`MAX_EXPRESSION_TERMS`] |
 //! | samples a simulation records | [`MAX_SAMPLES`] |
+//! | events (mode changes) in one simulation | [`MAX_EVENTS`] |
 //! | size of a model, scenario, experiment or extension file | [`MAX_FILE_BYTES`] |
+//! | size of a CSV data file | [`MAX_DATA_FILE_BYTES`] |
+//! | measurements (rows) in a CSV data file | [`MAX_DATA_ROWS`] |
+//! | bytes in one cell or column name of a CSV data file | [`MAX_CELL_BYTES`] |
 //!
 //! ```
 //! use bondgraph_core::{limits, model};
@@ -36,8 +40,26 @@ pub const MAX_EXPRESSION_TERMS: usize = 1000;
 /// a million samples of a few outputs is tens of megabytes).
 pub const MAX_SAMPLES: u64 = 1_000_000;
 
+/// The most events (mode changes) one simulation may have, by default. Chattering (many
+/// events in a short time) is caught long before; this bounds a run that switches at a
+/// steady pace for a very long time (the belt's stick-slip, two events every 1.16 s, reaches
+/// it after 58 000 s simulated, in about ten seconds).
+pub const MAX_EVENTS: usize = 100_000;
+
 /// The largest input file read as text, in bytes (16 MiB: the flagship is 12 kB).
 pub const MAX_FILE_BYTES: u64 = 16 << 20;
+
+/// The largest CSV data file read, in bytes (256 MiB: a million rows of ten columns of
+/// full-precision numbers is about 250 MB; the flagship's tables are a few kilobytes).
+pub const MAX_DATA_FILE_BYTES: u64 = 256 << 20;
+
+/// The most measurements (rows) in one CSV data file: as many as the samples of a
+/// simulation ([`MAX_SAMPLES`]), since each row of a time series is compared with one.
+pub const MAX_DATA_ROWS: usize = 1_000_000;
+
+/// The longest cell or column name in a CSV data file, in bytes. A double needs at most 24
+/// characters (`-2.2250738585072014e-308`); the rest is room for padding and long names.
+pub const MAX_CELL_BYTES: usize = 256;
 
 /// Why an expanded expression is over the limits, in words; `None` when it is within them.
 pub fn expression_too_large(value: &RatFunc) -> Option<String> {

@@ -42,8 +42,11 @@
 //! ```
 
 use std::fmt;
+use std::io::Read;
 use std::path::Path;
 use std::sync::Arc;
+
+use bondgraph_core::limits::{MAX_CELL_BYTES, MAX_DATA_FILE_BYTES, MAX_DATA_ROWS};
 
 use crate::experiment::Experiment;
 
@@ -167,6 +170,32 @@ pub enum DataErrorKind {
         /// The text found.
         text: String,
     },
+    /// The file is larger than [`bondgraph_core::limits::MAX_DATA_FILE_BYTES`]; it was not
+    /// read.
+    TooLarge {
+        /// The limit, in bytes.
+        limit: u64,
+    },
+    /// More rows than [`bondgraph_core::limits::MAX_DATA_ROWS`]; the error's line is the
+    /// first one past the limit.
+    TooManyRows {
+        /// The limit.
+        limit: usize,
+    },
+    /// A cell longer than [`bondgraph_core::limits::MAX_CELL_BYTES`].
+    CellTooLong {
+        /// Its length, in bytes.
+        length: usize,
+        /// The limit.
+        limit: usize,
+    },
+    /// A column name in the header longer than [`bondgraph_core::limits::MAX_CELL_BYTES`].
+    NameTooLong {
+        /// Its length, in bytes.
+        length: usize,
+        /// The limit.
+        limit: usize,
+    },
     /// A value whose SI value (the experiment's factor times it) is not finite.
     OutOfRange {
         /// The text found.
@@ -272,6 +301,21 @@ impl fmt::Display for DataErrorKind {
             Self::MissingValue => write!(f, "no value"),
             Self::NotANumber { text } => write!(f, "`{text}` is not a number"),
             Self::NotFinite { text } => write!(f, "`{text}` is not a finite number"),
+            Self::TooLarge { limit } => write!(
+                f,
+                "the file is larger than the limit of {limit} bytes for a data file"
+            ),
+            Self::TooManyRows { limit } => write!(
+                f,
+                "more measurements than the limit of {limit} rows of a data file"
+            ),
+            Self::CellTooLong { length, limit } => {
+                write!(f, "a cell of {length} bytes, over the limit of {limit}")
+            }
+            Self::NameTooLong { length, limit } => write!(
+                f,
+                "a column name of {length} bytes in the header, over the limit of {limit}"
+            ),
             Self::OutOfRange { text, factor } => write!(
                 f,
                 "`{text}` times the experiment's factor {factor} is not a finite number in SI units"
@@ -376,6 +420,16 @@ pub fn read(name: &str, text: &str, experiment: &Experiment) -> Result<Dataset, 
         if record.len() == 1 && record.get(0).is_some_and(str::is_empty) && layout.width > 1 {
             continue;
         }
+        if rows.len() == MAX_DATA_ROWS {
+            return Err(DataError::new(
+                name,
+                Some(line),
+                None,
+                DataErrorKind::TooManyRows {
+                    limit: MAX_DATA_ROWS,
+                },
+            ));
+        }
         rows.push(row(name, &file, line, &layout, &record)?);
     }
     if rows.is_empty() {
@@ -410,8 +464,32 @@ pub fn read(name: &str, text: &str, experiment: &Experiment) -> Result<Dataset, 
 /// As [`read`], and [`DataErrorKind::Io`] when the file cannot be read.
 pub fn read_file(path: &Path, experiment: &Experiment) -> Result<Dataset, DataError> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|error| DataError::new(&name, None, None, DataErrorKind::Io(error)))?;
+    let io = |error| DataError::new(&name, None, None, DataErrorKind::Io(error));
+    let too_large = || {
+        DataError::new(
+            &name,
+            None,
+            None,
+            DataErrorKind::TooLarge {
+                limit: MAX_DATA_FILE_BYTES,
+            },
+        )
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    // A regular file's length is known before it is read; a pipe's is not, so the read
+    // itself stops one byte past the limit.
+    if file.metadata().map_err(io)?.len() > MAX_DATA_FILE_BYTES {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::new();
+    file.take(MAX_DATA_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(io)?;
+    if bytes.len() as u64 > MAX_DATA_FILE_BYTES {
+        return Err(too_large());
+    }
+    let text = String::from_utf8(bytes)
+        .map_err(|error| io(std::io::Error::new(std::io::ErrorKind::InvalidData, error)))?;
     read(&name, &text, experiment)
 }
 
@@ -519,6 +597,17 @@ fn layout(
             DataErrorKind::Comment,
         ));
     }
+    if let Some(long) = header.iter().find(|name| name.len() > MAX_CELL_BYTES) {
+        return Err(DataError::new(
+            name,
+            Some(line),
+            None,
+            DataErrorKind::NameTooLong {
+                length: long.len(),
+                limit: MAX_CELL_BYTES,
+            },
+        ));
+    }
     let names: Vec<String> = header.iter().map(str::to_owned).collect();
     let known: Vec<String> = expected.iter().map(|c| c.0.clone()).collect();
     let mut roles = Vec::new();
@@ -596,6 +685,15 @@ fn row(
     for (index, (column, role, optional)) in layout.roles.iter().enumerate() {
         let text = record.get(index).unwrap_or_default();
         let column = Some(column.as_str());
+        if text.len() > MAX_CELL_BYTES {
+            return Err(error(
+                column,
+                DataErrorKind::CellTooLong {
+                    length: text.len(),
+                    limit: MAX_CELL_BYTES,
+                },
+            ));
+        }
         let value = if text.is_empty() {
             if *optional {
                 None
@@ -847,6 +945,85 @@ mod tests {
                 .starts_with("/nonexistent/d.csv: cannot read the file: "),
             "{error}"
         );
+    }
+
+    /// Item 18 of the hardening issue: a file of more rows than the limit is refused at the
+    /// first row past it, while reading, naming the limit.
+    #[test]
+    fn more_rows_than_the_limit_are_refused() {
+        use bondgraph_core::limits::MAX_DATA_ROWS;
+        let mut text = String::from(HEADER);
+        for _ in 0..MAX_DATA_ROWS {
+            text.push_str("1,,2\n");
+        }
+        assert_eq!(read("t.csv", &text).unwrap().rows.len(), MAX_DATA_ROWS);
+        text.push_str("1,,2\n");
+        let line = MAX_DATA_ROWS + 2;
+        assert_eq!(
+            error(&text),
+            (
+                format!(
+                    "t.csv:{line}: more measurements than the limit of {MAX_DATA_ROWS} rows \
+                     of a data file"
+                ),
+                Some(line),
+                None
+            )
+        );
+    }
+
+    /// A cell (or a header name) longer than the limit is refused with its length, and not
+    /// echoed whole.
+    #[test]
+    fn a_cell_longer_than_the_limit_is_refused() {
+        use bondgraph_core::limits::MAX_CELL_BYTES;
+        let long = "1".repeat(MAX_CELL_BYTES + 1);
+        let (message, line, column) = row_error(&format!("{long},,100\n"));
+        assert_eq!(
+            message,
+            format!(
+                "t.csv:3: column `u_V`: a cell of {} bytes, over the limit of {MAX_CELL_BYTES}",
+                MAX_CELL_BYTES + 1
+            )
+        );
+        assert_eq!((line, column.as_deref()), (Some(3), Some("u_V")));
+        let name = "x".repeat(100_000);
+        let message = error(&format!("u_V,w_rad_s,{name}\n1,2,3\n")).0;
+        assert_eq!(
+            message,
+            "t.csv:1: a column name of 100000 bytes in the header, over the limit of \
+             256"
+            .replace("256", &MAX_CELL_BYTES.to_string())
+        );
+        // At the limit, a cell is read (a number padded with zeros).
+        let padded = format!("1.{}", "0".repeat(MAX_CELL_BYTES - 2));
+        assert!(read("t.csv", &format!("{HEADER}{padded},,100\n")).is_ok());
+    }
+
+    /// A file larger than the limit is refused before it is read: this one is sparse, so it
+    /// takes no room on the disk, and reading it would take the limit in memory.
+    #[test]
+    fn a_file_larger_than_the_limit_is_refused_unread() {
+        use bondgraph_core::limits::MAX_DATA_FILE_BYTES;
+        let dir = std::env::temp_dir().join(format!("bondgraph-data-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("huge.csv");
+        let file = std::fs::File::create(&path).unwrap();
+        file.set_len(MAX_DATA_FILE_BYTES + 1).unwrap();
+        let error = read_file(&path, &experiment()).expect_err("too large");
+        assert!(
+            matches!(error.kind(), DataErrorKind::TooLarge { limit } if *limit == MAX_DATA_FILE_BYTES),
+            "{error}"
+        );
+        assert_eq!(
+            error.to_string(),
+            format!(
+                "{}: the file is larger than the limit of {MAX_DATA_FILE_BYTES} bytes for a \
+                 data file",
+                path.display()
+            )
+        );
+        std::fs::remove_file(&path).unwrap();
     }
 
     mod properties {

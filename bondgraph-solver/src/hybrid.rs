@@ -57,7 +57,8 @@ pub struct Output {
 /// Limits that turn numerical trouble into errors.
 #[derive(Clone, Copy, Debug)]
 pub struct Settings {
-    /// The most events a run may have.
+    /// The most events a run may have (by default
+    /// [`bondgraph_core::limits::MAX_EVENTS`]).
     pub max_events: usize,
     /// This many events within `chatter_window` times the current time (at least one
     /// second) is chattering.
@@ -69,7 +70,7 @@ pub struct Settings {
 impl Default for Settings {
     fn default() -> Self {
         Self {
-            max_events: 100_000,
+            max_events: bondgraph_core::limits::MAX_EVENTS,
             chatter_events: 200,
             chatter_window: 1e-6,
         }

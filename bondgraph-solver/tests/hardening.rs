@@ -348,6 +348,158 @@ fn a_very_light_mass_on_a_slack_string_moves_freely() {
     assert!((state[1] - q).abs() <= 1e-12 * q.abs(), "{state:?}");
 }
 
+/// Item 18: the number of events is bounded even where nothing chatters. The belt's
+/// stick-slip (`models/examples/belt_friction.ron` at 0.1 m/s, see `stick_slip.rs`) breaks
+/// away at 1 s and then alternates slips of `s = (π - atan 4)/5 s` with sticks of 0.8 s, so
+/// its events are at 1, 1 + s, 1.8 + s, 1.8 + 2s, 2.6 + 2s, ...: with a limit of 4 the run
+/// stops at the fifth, t = 2.6 + 2s, far from the chattering guard's 200 events in 1e-6 t.
+#[test]
+fn the_events_of_a_run_are_bounded() {
+    use bondgraph_solver::{Settings, SimError};
+    assert_eq!(
+        Settings::default().max_events,
+        bondgraph_core::limits::MAX_EVENTS
+    );
+    let model = crate::support::load("models/examples/belt_friction.ron");
+    let mut simulator = Simulator::new(&model, Vec::new()).with_settings(Settings {
+        max_events: 4,
+        ..Settings::default()
+    });
+    let belt = Constant(0.1);
+    let inputs: [&dyn Signal; 1] = [&belt];
+    let run = |simulator: &mut Simulator, duration| {
+        simulator.run(&Run {
+            inputs: &inputs,
+            initial_mode: Mode::initial(&model),
+            initial_state: vec![0.0, 0.0],
+            duration,
+            sample: None,
+            audit_energy: false,
+        })
+    };
+    let slip = (std::f64::consts::PI - 4f64.atan()) / 5.0;
+    // Four events by 2.6 s: within the limit.
+    let trajectory = run(&mut simulator, 2.6).unwrap();
+    assert_eq!(trajectory.events.len(), 4, "{:#?}", trajectory.events);
+    assert!((trajectory.events[3].t - (1.8 + 2.0 * slip)).abs() < 1e-9);
+    match run(&mut simulator, 10.0).unwrap_err() {
+        SimError::TooManyEvents { t, limit } => {
+            assert_eq!(limit, 4);
+            assert!((t - (2.6 + 2.0 * slip)).abs() < 1e-9, "{t}");
+        }
+        other => panic!("expected too many events, got {other}"),
+    }
+}
+
+/// Item 7: the belt example driven fast. Stuck from rest, the block rides with the belt
+/// (speed `v`) until the spring holds `F_S = 10 N`, at x = 0.1 m and t = 0.1/v. Slipping, it
+/// swings about `F_C/k = 0.06 m` at ω = 10 rad/s, `x = 0.06 + 0.04 cos θ + (v/ω) sin θ`,
+/// θ = ωτ, and its velocity relative to the belt, `v (1 - cos θ) + 0.4 sin θ`, is zero
+/// again at `tan(θ/2) = -0.4/v`, θ = 2π - 2 atan(0.4/v): there x = 0.02 m, the spring's 2 N
+/// is held, and the block sticks for 0.08/v s. For a fast belt that zero is a brief dip of
+/// the guard just before the end of the period (8 ms of 628 ms at v = 10 m/s): it fell
+/// between two bracketing samples, the second of them at the period's end where the guard
+/// is zero again, and the block never stuck (`slip+ -> slip- -> slip+` at θ = 2π instead).
+#[test]
+#[ignore = "fixed in commit 'events: find a guard's first zero before its peak', reverted: it changes the geared motor's discover result (see the README)"]
+fn a_fast_belt_still_sticks_where_the_block_catches_up_with_it() {
+    let model = crate::support::load("models/examples/belt_friction.ron");
+    for v in [10.0, 100.0, 1.0e4] {
+        let mut simulator = Simulator::new(&model, Vec::new());
+        let belt = Constant(v);
+        let inputs: [&dyn Signal; 1] = [&belt];
+        let trajectory = simulator
+            .run(&Run {
+                inputs: &inputs,
+                initial_mode: Mode::initial(&model),
+                initial_state: vec![0.0, 0.0],
+                duration: 1.0,
+                sample: None,
+                audit_energy: false,
+            })
+            .unwrap_or_else(|e| panic!("v = {v}: {e}"));
+        let breakaway = 0.1 / v;
+        let stick = breakaway + (2.0 * std::f64::consts::PI - 2.0 * (0.4 / v).atan()) / 10.0;
+        let expected = [
+            (breakaway, "friction=slip+"),
+            (stick, "friction=stuck"),
+            (stick + 0.08 / v, "friction=slip+"),
+        ];
+        assert!(
+            trajectory.events.len() >= 3,
+            "v = {v}: {:#?}",
+            trajectory.events
+        );
+        for (event, (t, to)) in trajectory.events.iter().zip(expected) {
+            assert_eq!(event.to, to, "v = {v}: {:#?}", trajectory.events);
+            assert!(
+                (event.t - t).abs() < 1e-9,
+                "v = {v}: {} against {t}",
+                event.t
+            );
+        }
+    }
+}
+
+/// Found by `properties.rs` (item 17): a mass (m = 0.3295 kg) pulled by a constant
+/// 31.47 N through a damper (b = 0.5025 N·s/m), tied by a string (k = 962.45 N/m) that
+/// starts taut at zero extension with the mass moving back at 1.375 m/s. The string goes
+/// slack and taut again twice (events at 0, 0.0286, 0.1229, 0.1444 s), goes slack a third
+/// time at t = 0.2448 s, and then never went taut again: at 2 s it was "slack" at an
+/// extension of 71.3 m, and the books were off by 2.4e6 J. It entered slack at exactly zero
+/// extension, so its guard `q_string >= 0` was not armed (never seen below zero), and the
+/// extension's dip below zero (12.7 ms) ended before the first bracketing sample (13.1 ms):
+/// a guard at zero that is falling is now armed at once. A slack string's guard must fire
+/// as soon as the pull brings the extension back to zero, so in slack the extension may
+/// never be positive.
+#[test]
+#[ignore = "fixed in commit 'events: arm a guard at zero that is falling', reverted with the peak bracketing it builds on (see the README)"]
+fn a_string_pulled_back_from_slack_goes_taut_every_time() {
+    let text = r#"Model(name: "tether",
+    parameters: {"m": (value: 0.32950256407150785), "k": (value: 962.4535342161964),
+        "b": (value: 0.5024740385401693)},
+    inputs: {"F": ()},
+    elements: {"push": Se(effort: "F"), "v": One, "mass": I(inertance: "m"),
+        "damper": R(resistance: "b"), "string": TensionOnly(stiffness: "k", initial: "taut")},
+    bonds: [("push", "v"), ("v", "mass"), ("v", "damper"), ("v", "string")])"#;
+    let model = model::load_str("tether.ron", text).unwrap();
+    let outputs = vec![Output {
+        name: "effort:spring".into(),
+        spec: OutputSpec::parse(&model, "effort:string").unwrap(),
+        integral: false,
+    }];
+    let mut simulator = Simulator::new(&model, outputs);
+    let pull = Constant(31.474068747067616);
+    let inputs: [&dyn Signal; 1] = [&pull];
+    let trajectory = simulator
+        .run(&Run {
+            inputs: &inputs,
+            initial_mode: Mode::initial(&model),
+            initial_state: vec![-0.45307108865010737, 0.0],
+            duration: 2.0,
+            sample: Some(1e-3),
+            audit_energy: true,
+        })
+        .unwrap();
+    let q = trajectory
+        .final_state
+        .iter()
+        .find(|(name, _)| name == "q_string")
+        .unwrap()
+        .1;
+    assert!(
+        trajectory.final_mode == "string=taut" || q <= 0.0,
+        "{} at q = {q}: {:#?}",
+        trajectory.final_mode,
+        trajectory.events
+    );
+    let energy = trajectory.energy.unwrap();
+    assert!(
+        energy.residual().abs() <= 1e-9 * energy.scale(),
+        "{energy:?}"
+    );
+}
+
 /// The geared motor of `models/examples/geared_motor/` (R_a = 2 Ω, N = 20, J = 0.01 kg m²)
 /// with K = 0.050035 N m/A, b = 0.05086 N m s/rad, T_C = 0.1345 N m, T_S = 0.325 N m, driven
 /// at V = 12 V against a brake of 1 N m from rest. The brake breaks the shaft away backwards

@@ -685,6 +685,9 @@ impl Validator<'_> {
                 )?;
                 ElementKind::Resistor(reciprocal(coefficient))
             }
+            RawElement::ReciprocalGY { ratio } if self.needs_law(ratio, scope, true) => {
+                self.modulated_reciprocal_gyrator(name, index, ratio, scope)?
+            }
             RawElement::ReciprocalGY { ratio } => {
                 let coefficient =
                     self.coefficient(name, index, "ratio", ratio, scope, Sign::NonZero)?;
@@ -873,7 +876,8 @@ impl Validator<'_> {
         Some(())
     }
 
-    /// Parses an expression and turns it into an affine form of the inputs.
+    /// Parses an expression and turns it into an affine form of the inputs; with
+    /// `inputs` false (a coefficient) it may name parameters only.
     fn affine(
         &mut self,
         element: &str,
@@ -881,6 +885,7 @@ impl Validator<'_> {
         field: &str,
         text: &str,
         scope: &Scope<'_>,
+        inputs: bool,
     ) -> Option<(LinearForm, Span)> {
         let base = self
             .string_span(index, field)
@@ -928,13 +933,43 @@ impl Validator<'_> {
         if unknown {
             return None;
         }
+        let input = expr
+            .symbols()
+            .into_iter()
+            .find(|(name, _)| scope.symbols.get(name).is_none())
+            .map(|(name, _)| name);
+        if let (false, Some(input)) = (inputs, input) {
+            // Said before the algebra, which would otherwise complain of the way the input
+            // enters (`m/u`: "divides by an input") rather than that it enters at all.
+            self.problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::NotLinear,
+                    format!(
+                        "element '{element}': {field} \"{text}\" depends on input '{input}'; it may use parameters only"
+                    ),
+                )
+                .at(&self.file, base)
+                .element(element)
+                .note("a coefficient that varies in time makes the model time-varying, which it cannot be"),
+            );
+            return None;
+        }
         match to_affine(&expr, scope) {
             Ok(form) => Some((form, base)),
             Err((kind, message, span)) => {
+                let rule = match (kind, inputs) {
+                    (DiagnosticKind::NotLinear, true) => format!(
+                        "; {field} must be linear in the inputs, with rational functions of the parameters as coefficients"
+                    ),
+                    (DiagnosticKind::NotLinear, false) => {
+                        format!("; {field} must be a rational function of the parameters")
+                    }
+                    _ => String::new(),
+                };
                 self.problems.push(
                     Diagnostic::new(
                         kind,
-                        format!("element '{element}': {field} \"{text}\": {message}"),
+                        format!("element '{element}': {field} \"{text}\": {message}{rule}"),
                     )
                     .at(&self.file, span.shifted(base.start))
                     .element(element),
@@ -952,7 +987,7 @@ impl Validator<'_> {
         text: &str,
         scope: &Scope<'_>,
     ) -> Option<SourceValue> {
-        let (value, span) = self.affine(element, index, field, text, scope)?;
+        let (value, span) = self.affine(element, index, field, text, scope, true)?;
         if let Some(constant) = value.get(Var::Constant) {
             let number = constant.eval(scope.values);
             if !number.is_finite() {
@@ -985,30 +1020,7 @@ impl Validator<'_> {
         scope: &Scope<'_>,
         sign: Sign,
     ) -> Option<Coefficient> {
-        let (form, span) = self.affine(element, index, field, text, scope)?;
-        if let Some((Var::Input(i), _)) = form
-            .terms()
-            .iter()
-            .find(|(v, _)| matches!(v, Var::Input(_)))
-        {
-            let input = scope
-                .inputs
-                .iter()
-                .find(|(_, id)| **id == *i)
-                .map_or("?", |(n, _)| *n);
-            self.problems.push(
-                Diagnostic::new(
-                    DiagnosticKind::NotLinear,
-                    format!(
-                        "element '{element}': {field} \"{text}\" depends on input '{input}'; it may use parameters only"
-                    ),
-                )
-                .at(&self.file, span)
-                .element(element)
-                .note("a coefficient that varies in time makes the model time-varying, which it cannot be"),
-            );
-            return None;
-        }
+        let (form, span) = self.affine(element, index, field, text, scope, false)?;
         let value = form.coefficient(Var::Constant);
         let number = value.eval(scope.values);
         let bad = match sign {
@@ -1248,7 +1260,7 @@ fn to_affine_unbounded(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<Li
                 _ => {
                     return Err((
                         DiagnosticKind::NotLinear,
-                        "multiplies two inputs; sources must be linear in the inputs".into(),
+                        "multiplies two inputs".into(),
                         expr.span,
                     ));
                 }
@@ -1259,7 +1271,7 @@ fn to_affine_unbounded(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<Li
             let Some(divisor) = constant_of(&right) else {
                 return Err((
                     DiagnosticKind::NotLinear,
-                    "divides by an input; sources must be linear in the inputs".into(),
+                    "divides by an input".into(),
                     b.span,
                 ));
             };
@@ -1275,17 +1287,14 @@ fn to_affine_unbounded(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<Li
         ExprKind::Call(function, _) => {
             return Err((
                 DiagnosticKind::NotLinear,
-                format!(
-                    "calls {}(); this value must be a linear expression of parameters and inputs",
-                    function.name()
-                ),
+                format!("calls {}()", function.name()),
                 expr.span,
             ));
         }
         ExprKind::RealPow(..) => {
             return Err((
                 DiagnosticKind::NotLinear,
-                "raises to a power that is not an integer literal; this value must be a linear expression of parameters and inputs".into(),
+                "raises to a power that is not an integer literal".into(),
                 expr.span,
             ));
         }
@@ -1297,7 +1306,7 @@ fn to_affine_unbounded(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<Li
                 let Some(value) = constant_of(&form) else {
                     return Err((
                         DiagnosticKind::NotLinear,
-                        "raises an input to a power; sources must be linear in the inputs".into(),
+                        "raises an input to a power".into(),
                         expr.span,
                     ));
                 };

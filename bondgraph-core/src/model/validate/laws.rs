@@ -315,6 +315,35 @@ impl Validator<'_> {
         Some(nonlinear(law, "ratio", text, span))
     }
 
+    /// A linear graph's gyrator whose ratio depends on inputs and states: the bond-graph
+    /// gyrator with the reciprocal ratio (see [`crate::model::raw::RawElement::ReciprocalGY`]),
+    /// as for a constant ratio.
+    pub(super) fn modulated_reciprocal_gyrator(
+        &mut self,
+        element: &str,
+        index: usize,
+        text: &str,
+        scope: &Scope<'_>,
+    ) -> Option<ElementKind> {
+        let allowed = Allowed {
+            inputs: true,
+            states: States::All,
+            port: None,
+            what: "a ratio",
+        };
+        let (ratio, span) = self.law(element, index, "ratio", text, scope, allowed)?;
+        let Some(reciprocal) = Sym::div(&Sym::one(), &ratio) else {
+            self.zero_law(element, "ratio", text, span);
+            return None;
+        };
+        Some(nonlinear(
+            NonlinearLaw::Gyrator(reciprocal),
+            "ratio",
+            &format!("1/({text})"),
+            span,
+        ))
+    }
+
     fn zero_law(&mut self, element: &str, field: &str, text: &str, span: Span) {
         self.problems.push(
             Diagnostic::new(
