@@ -137,16 +137,102 @@ pub fn first_crossing(
             armed[i] = true;
         }
     }
+    // The guards' rates of change at `tau`, for a guard that rises above zero and falls back
+    // between two samples (a contact's relative velocity touching zero for a few
+    // milliseconds of a long swing, when the belt is fast): negative at both samples, it has
+    // a maximum between them where its rate changes sign from rising to falling.
+    let mut x_rate = vec![0.0; n];
+    let mut u_rate = vec![0.0; u0.len()];
+    let mut slopes = |segment: &mut Segment<'_>, tau: f64, out: &mut Vec<f64>| {
+        out.clear();
+        segment.state_into(tau, &mut x_rate);
+        for (k, slot) in u_rate.iter_mut().enumerate() {
+            *slot = u0[k] + u1[k] * tau;
+        }
+        out.extend(
+            mode.guards
+                .iter()
+                .map(|g| mode.row_rate(&g.row, &x_rate, &u_rate, u1)),
+        );
+    };
     let times = sample_times(mode.propagator.eigenvalues(), length);
     let mut current = Vec::with_capacity(mode.guards.len());
+    let (mut previous_slopes, mut current_slopes) = (Vec::new(), Vec::new());
+    // A guard at zero (to rounding) that is falling is left at once: armed now, as if seen
+    // below zero, or a dip shorter than the first sample (a string that goes slack and is
+    // pulled taut again within milliseconds) would never arm it.
+    let mut from_zero = vec![false; previous.len()];
+    if (0..previous.len()).any(|i| !armed[i] && arm_below[i] >= 0.0) {
+        slopes(segment, 0.0, &mut previous_slopes);
+        let mut x0 = vec![0.0; n];
+        segment.state_into(0.0, &mut x0);
+        for i in 0..previous.len() {
+            let level = 1e-9 * mode.guards[i].row.magnitude(&x0, u0, u1);
+            if !armed[i] && arm_below[i] >= 0.0 && previous[i] <= level && previous_slopes[i] < 0.0
+            {
+                armed[i] = true;
+                from_zero[i] = true;
+                previous[i] = previous[i].min(-f64::MIN_POSITIVE);
+            }
+        }
+    }
     let mut previous_tau = 0.0;
     for &tau in &times {
         evaluate(segment, tau, &mut current);
+        let dipping = (0..current.len()).any(|i| armed[i] && previous[i] < 0.0);
+        if dipping {
+            if previous_slopes.is_empty() {
+                slopes(segment, previous_tau, &mut previous_slopes);
+            }
+            slopes(segment, tau, &mut current_slopes);
+        } else {
+            current_slopes.clear();
+        }
         let mut best: Option<Crossing> = None;
         for i in 0..current.len() {
-            if armed[i] && previous[i] < 0.0 && current[i] >= 0.0 {
+            if !(armed[i] && previous[i] < 0.0) {
+                continue;
+            }
+            // Rising at the first sample and falling at the second, the guard peaks between
+            // them: its first zero, if any, is before the peak (a bracket that ends at or
+            // above zero would otherwise give Brent's method two roots to choose from).
+            let mut bracket = (current[i] >= 0.0).then_some((tau, current[i]));
+            if previous_slopes[i] > 0.0 && current_slopes[i] < 0.0 {
+                let mut rates = Vec::with_capacity(current.len());
+                let peak = refine(
+                    previous_tau,
+                    tau,
+                    -previous_slopes[i],
+                    -current_slopes[i],
+                    |t| {
+                        slopes(segment, t, &mut rates);
+                        -rates[i]
+                    },
+                );
                 let mut values = Vec::with_capacity(current.len());
-                let root = refine(previous_tau, tau, previous[i], current[i], |t| {
+                evaluate(segment, peak, &mut values);
+                bracket = (values[i] >= 0.0).then_some((peak, values[i]));
+            }
+            if let Some((end, value)) = bracket {
+                let mut values = Vec::with_capacity(current.len());
+                let (mut start, mut f_start) = (previous_tau, previous[i]);
+                if from_zero[i] && previous_tau == 0.0 {
+                    // Armed at zero: start the bracket where the guard is below zero, or
+                    // Brent's method would find the zero it starts from.
+                    let mut probe = end;
+                    loop {
+                        probe *= 0.5;
+                        evaluate(segment, probe, &mut values);
+                        if values[i] < 0.0 || probe < f64::MIN_POSITIVE {
+                            break;
+                        }
+                    }
+                    if values[i] >= 0.0 {
+                        continue;
+                    }
+                    (start, f_start) = (probe, values[i]);
+                }
+                let root = refine(start, end, f_start, value, |t| {
                     evaluate(segment, t, &mut values);
                     values[i]
                 });
@@ -161,6 +247,7 @@ pub fn first_crossing(
         if best.is_some() {
             return best;
         }
+        std::mem::swap(&mut previous_slopes, &mut current_slopes);
         for i in 0..current.len() {
             if current[i] < arm_below[i] {
                 armed[i] = true;

@@ -401,7 +401,6 @@ fn the_events_of_a_run_are_bounded() {
 /// between two bracketing samples, the second of them at the period's end where the guard
 /// is zero again, and the block never stuck (`slip+ -> slip- -> slip+` at θ = 2π instead).
 #[test]
-#[ignore = "fixed in commit 'events: find a guard's first zero before its peak', reverted: it changes the geared motor's discover result (see the README)"]
 fn a_fast_belt_still_sticks_where_the_block_catches_up_with_it() {
     let model = crate::support::load("models/examples/belt_friction.ron");
     for v in [10.0, 100.0, 1.0e4] {
@@ -453,7 +452,6 @@ fn a_fast_belt_still_sticks_where_the_block_catches_up_with_it() {
 /// as soon as the pull brings the extension back to zero, so in slack the extension may
 /// never be positive.
 #[test]
-#[ignore = "fixed in commit 'events: arm a guard at zero that is falling', reverted with the peak bracketing it builds on (see the README)"]
 fn a_string_pulled_back_from_slack_goes_taut_every_time() {
     let text = r#"Model(name: "tether",
     parameters: {"m": (value: 0.32950256407150785), "k": (value: 962.4535342161964),

@@ -180,10 +180,8 @@ proptest! {
 
     /// A mass pushed by `F` through a damper `b`, tied by a tension-only string `k`.
     ///
-    /// It found `hardening::a_string_pulled_back_from_slack_goes_taut_every_time`; ignored
-    /// while that fix is held back (see the README).
+    /// It found `hardening::a_string_pulled_back_from_slack_goes_taut_every_time`.
     #[test]
-    #[ignore = "finds the open string bug of hardening::a_string_pulled_back_from_slack_goes_taut_every_time"]
     fn strings_keep_their_books_and_their_guards(
         m in 0.1..10.0f64, k in 1.0..1000.0f64, b in 0.0..5.0f64, force in force(),
         q0 in -0.2..0.2f64, p0 in -1.0..1.0f64,
