@@ -11,7 +11,8 @@
 //!   touching the belt's for 34 µs of a 17 ms swing): below zero at both, it has a maximum
 //!   between them, where its rate changes sign from rising to falling; the peak is found from
 //!   the rates, and a peak at or above zero brackets the guard's first zero before it. That
-//!   also keeps a bracket that ends above zero from holding two roots.
+//!   also keeps a bracket that ends above zero from holding two roots; a peak found below
+//!   zero (one of several extrema) leaves such a bracket as it was, rather than losing it.
 //! - A guard at zero (to rounding) that is falling when its mode is entered is left at once:
 //!   it is armed then, as if seen below zero, or a dip shorter than the first look (a string
 //!   that goes slack and is pulled taut again within a microsecond) would never arm it. Its
@@ -88,7 +89,11 @@ pub(super) fn first_crossing(
                     },
                 );
                 look(peak, &mut probe);
-                bracket = (probe.values[k] >= 0.0).then_some((peak, probe.values[k]));
+                if probe.values[k] >= 0.0 {
+                    bracket = Some((peak, probe.values[k]));
+                }
+                // (A peak below zero is not the last: the rates found one of several
+                // extrema, and a guard at or above zero at the second look still crossed.)
             }
             let Some((end, value)) = bracket else {
                 continue;
@@ -164,6 +169,48 @@ mod tests {
         let (k, root) = found.expect("the dip is found");
         assert_eq!(k, 0);
         assert!((root - 0.599).abs() < 1e-12, "{root}");
+    }
+
+    #[test]
+    fn a_crossing_past_a_peak_below_zero_is_still_found() {
+        // g' = -(θ - 0.1)(θ - 0.3)(θ - r) with g(0) = -0.002: a maximum below zero at 0.1,
+        // a minimum at 0.3, a maximum above zero at r, and falling but above zero at the
+        // look at 1. Whichever extremum the rates lead to, the guard crosses zero before 1
+        // (at r = 0.85 they led to the maximum below zero, and the crossing was lost).
+        for r in [0.95, 0.9, 0.85] {
+            let c = 0.4 + r;
+            let d = 0.03 + 0.4 * r;
+            let e = 0.03 * r;
+            let g = move |th: f64| {
+                -th.powi(4) / 4.0 + c / 3.0 * th.powi(3) - d / 2.0 * th * th + e * th - 0.002
+            };
+            let dg = move |th: f64| -(th - 0.1) * (th - 0.3) * (th - r);
+            assert!(g(1.0) > 0.0 && dg(1.0) < 0.0 && g(0.1) < 0.0, "r = {r}");
+            let root = {
+                // The first zero, by bisection between the minimum and the maximum above 0.
+                let (mut a, mut b) = (0.3, r);
+                for _ in 0..200 {
+                    let m = 0.5 * (a + b);
+                    if g(m) < 0.0 { a = m } else { b = m }
+                }
+                b
+            };
+            let mut previous = Look {
+                values: vec![g(0.0)],
+                rates: vec![dg(0.0)],
+            };
+            let mut armed = [true];
+            let found = first_crossing(
+                &mut previous,
+                &[1.0],
+                &mut armed,
+                &[0.0],
+                &[false],
+                looker(g, dg),
+            );
+            let (_, at) = found.unwrap_or_else(|| panic!("r = {r}: the crossing is lost"));
+            assert!((at - root).abs() < 1e-12, "r = {r}: {at} against {root}");
+        }
     }
 
     #[test]
