@@ -29,6 +29,7 @@ use crate::events;
 
 mod crossing;
 mod integrate;
+mod step_guards;
 use crate::numeric::{NumericGuard, NumericMode, Storage, dot};
 use crossing::{Crossed, Trigger};
 use num_complex::Complex64;

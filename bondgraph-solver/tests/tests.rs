@@ -9,6 +9,7 @@ mod flow_limit;
 mod hardening;
 mod input_rates;
 mod nonlinear;
+mod nonlinear_events;
 mod properties;
 mod stick_slip;
 mod stribeck;

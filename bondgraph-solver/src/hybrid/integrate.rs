@@ -5,13 +5,16 @@
 //! Within a segment the inputs are linear in time, so the mode is the ODE
 //! `dx/dτ = f(x, u₀ + u₁τ)`; the energy books and integral outputs ride along as quadrature
 //! components that never set the step size, so keeping the books does not change the
-//! trajectory. After each accepted step the guards are checked on the step's dense output;
-//! a crossing is bracketed there, located by Brent's method, and then refined by Newton's
-//! method on the guard along exact steps from the step's start (each a full step of the
-//! same method landing on the candidate time, the guard's rate `∇g·f` from its symbolic
-//! derivative), so the event is where the integrated solution crosses, not where its
-//! interpolant does. Samples come from the dense output, which DOP853 builds (three more
-//! evaluations of `f`) only for steps with a sample or a guard to check.
+//! trajectory. After each accepted step the guards are checked on the step's dense output
+//! ([`super::step_guards`], which also finds a guard's brief excursion above zero between
+//! two looks and a guard falling from zero at the segment's start); a crossing is
+//! bracketed there, located by Brent's method, and then refined by Newton's method on the
+//! guard along exact steps from the step's start (each a full step of the same method
+//! landing on the candidate time, the guard's rate `∇g·f` from its symbolic derivative),
+//! so the event is where the integrated solution crosses, not where its interpolant does,
+//! and on the far side of the zero by rounding. Samples come from the dense output, which
+//! DOP853 builds (three more evaluations of `f`) only for steps with a sample or a guard
+//! to check.
 
 // The kernels index stages and components as the method's formulas do.
 #![allow(clippy::needless_range_loop)]
@@ -19,8 +22,9 @@
 use bondgraph_core::modes::Mode;
 use bondgraph_core::symbolic::expr::Sym;
 
+use super::step_guards::{self, Look};
 use super::{SimError, Simulator, Stepper};
-use crate::events::{self, Crossing};
+use crate::events::Crossing;
 use crate::nonlinear::NonlinearNumeric;
 use crate::numeric::NumericMode;
 use crate::ode::{Method, StepOutcome, Switching, System, Tolerances};
@@ -225,6 +229,101 @@ impl<'a> Guards<'a> {
     fn rate(&self, k: usize) -> f64 {
         self.out[3 * k + 2]
     }
+
+    fn magnitude(&self, k: usize) -> f64 {
+        self.out[3 * k + 1]
+    }
+
+    /// The values and rates of the last point, into `look`.
+    fn look_into(&self, look: &mut Look) {
+        look.values.clear();
+        look.values.extend((0..self.count()).map(|k| self.value(k)));
+        look.rates.clear();
+        look.rates.extend((0..self.count()).map(|k| self.rate(k)));
+    }
+}
+
+/// Where a step that crosses a guard starts, and which guard.
+struct Landing<'a> {
+    /// The step's start, in time.
+    start: f64,
+    /// The step's start, in the segment's local time.
+    tau: f64,
+    /// The state at the step's start.
+    before: &'a [f64],
+    /// The step's size.
+    step: f64,
+    /// The guard crossed.
+    guard: usize,
+    u0: &'a [f64],
+    u1: &'a [f64],
+}
+
+/// The state `hit` into the step into `point`: by an exact step, or on the dense output
+/// where Radau's Newton iteration does not converge.
+fn place(
+    integrator: &mut Switching,
+    system: &mut Segment<'_>,
+    at: &Landing<'_>,
+    hit: f64,
+    reuse: bool,
+    point: &mut [f64],
+) {
+    if !integrator.step_exact(system, at.tau, at.before, hit, reuse, point) {
+        integrator.dense(hit / at.step, point);
+    }
+}
+
+/// Lands exactly on a crossing found near `hit` into the step on its dense output: Newton on
+/// the guard along exact steps from the step's start (the guard's rate `∇g·f` from its
+/// symbolic derivative), so the event is where the integrated solution crosses, not where
+/// its interpolant does. Newton's last iterate may stop a rounding error short of the zero
+/// (an extension of -1.2e-21 m, still slack), which the modes judged at the event would read
+/// as the crossing not made (taut and slack each sending the string to the other); as
+/// Brent's method does on the closed-form path, the landing then moves on by a few ulps
+/// until the guard is at or above zero. Returns the time into the step, the state there in
+/// `point`.
+fn land_on_crossing(
+    integrator: &mut Switching,
+    system: &mut Segment<'_>,
+    guards: &mut Guards<'_>,
+    at: Landing<'_>,
+    mut hit: f64,
+    point: &mut [f64],
+) -> f64 {
+    let k = at.guard;
+    let resolution = |hit: f64| 4.0 * f64::EPSILON * (at.start + hit).abs().max(1e-300);
+    let mut placed = None;
+    for _ in 0..8 {
+        place(integrator, system, &at, hit, placed.is_some(), point);
+        placed = Some(hit);
+        guards.at(at.tau + hit, point, at.u0, at.u1);
+        let (g, rate) = (guards.value(k), guards.rate(k));
+        if rate <= 0.0 || !rate.is_finite() {
+            break;
+        }
+        let next = (hit - g / rate).clamp(0.0, at.step);
+        let converged = (next - hit).abs() <= resolution(hit);
+        hit = next;
+        if converged {
+            break;
+        }
+    }
+    if placed != Some(hit) {
+        place(integrator, system, &at, hit, true, point);
+        guards.at(at.tau + hit, point, at.u0, at.u1);
+    }
+    let mut nudge = resolution(hit);
+    for _ in 0..64 {
+        if guards.value(k) >= 0.0 || hit >= at.step {
+            break;
+        }
+        hit = (hit + nudge).min(at.step);
+        place(integrator, system, &at, hit, true, point);
+        guards.at(at.tau + hit, point, at.u0, at.u1);
+        nudge *= 2.0;
+    }
+    hit
 }
 
 impl Stepper<'_, '_> {
@@ -264,12 +363,17 @@ impl Stepper<'_, '_> {
 
         // Guards at the start: an armed guard already at zero fires at once.
         guards.at(0.0, &z, &u0, &u1);
-        let mut previous: Vec<f64> = (0..guard_count).map(|k| guards.value(k)).collect();
-        if let Some(k) = (0..guard_count).find(|&k| self.armed[k] && previous[k] >= 0.0) {
+        let mut previous = Look::default();
+        guards.look_into(&mut previous);
+        if let Some(k) = (0..guard_count).find(|&k| self.armed[k] && previous.values[k] >= 0.0) {
             self.sample_until(&mut system, start, &z, None, 0.0, mode_index);
             return Ok(Some(Crossing { guard: k, tau: 0.0 }));
         }
-        for (k, value) in previous.iter().enumerate() {
+        let magnitudes: Vec<f64> = (0..guard_count).map(|k| guards.magnitude(k)).collect();
+        let from_zero =
+            step_guards::arm_at_zero(&mut previous, &magnitudes, &mut self.armed, &self.arm_below);
+        let not_from_zero = vec![false; guard_count];
+        for (k, value) in previous.values.iter().enumerate() {
             if *value < self.arm_below[k] {
                 self.armed[k] = true;
             }
@@ -286,7 +390,8 @@ impl Stepper<'_, '_> {
         let mut before = vec![0.0; size];
         let mut point = vec![0.0; size];
         let mut crossing: Option<Crossing> = None;
-        let mut current_values: Vec<f64> = Vec::with_capacity(guard_count);
+        let mut look_guards = Guards::new(&nl);
+        let mut look_point = vec![0.0; size];
         while tau < length {
             let step = h.min(length - tau);
             if step <= f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0
@@ -301,9 +406,10 @@ impl Stepper<'_, '_> {
                 // Steps collapse where the motion reaches a guard tangentially (a tank
                 // emptying as (t_e - t)², its law's slope infinite there): the guard is met.
                 guards.at(tau, &z, &u0, &u1);
+                // (A guard armed at zero as it falls from the segment's start is not met.)
                 let touching = (0..guard_count).find(|&k| {
-                    let tolerance = 1e-9 * guards.out[3 * k + 1] + f64::MIN_POSITIVE;
-                    self.armed[k] && guards.value(k) >= -tolerance
+                    let tolerance = 1e-9 * guards.magnitude(k) + f64::MIN_POSITIVE;
+                    self.armed[k] && guards.value(k) >= -tolerance && !(tau == 0.0 && from_zero[k])
                 });
                 if let Some(k) = touching {
                     crossing = Some(Crossing { guard: k, tau });
@@ -331,75 +437,48 @@ impl Stepper<'_, '_> {
                 integrator.prepare_dense(&mut system);
             }
             // Guards along the step, on its dense output.
-            let mut found: Option<(usize, f64)> = None;
-            let mut theta_before = 0.0;
-            let thetas: &[f64] = if guard_count == 0 {
-                &[]
+            let found = if guard_count == 0 {
+                None
             } else {
-                &[0.25, 0.5, 0.75, 1.0]
-            };
-            for &theta in thetas {
-                if theta == 1.0 {
-                    point.copy_from_slice(&z);
+                let from_zero = if tau == 0.0 {
+                    &from_zero
                 } else {
-                    integrator.dense(theta, &mut point);
-                }
-                guards.at(tau + theta * step, &point, &u0, &u1);
-                current_values.clear();
-                current_values.extend((0..guard_count).map(|k| guards.value(k)));
-                for k in 0..guard_count {
-                    if self.armed[k] && previous[k] < 0.0 && current_values[k] >= 0.0 {
-                        let (a, b) = (theta_before, theta);
-                        let mut probe = vec![0.0; size];
-                        let mut probe_guards = Guards::new(&nl);
-                        let root = events::refine(a, b, previous[k], current_values[k], |th| {
-                            integrator.dense(th, &mut probe);
-                            probe_guards.at(tau + th * step, &probe, &u0, &u1);
-                            probe_guards.value(k)
-                        });
-                        if found.is_none_or(|(_, r)| root < r) {
-                            found = Some((k, root));
+                    &not_from_zero
+                };
+                step_guards::first_crossing(
+                    &mut previous,
+                    &[0.25, 0.5, 0.75, 1.0],
+                    &mut self.armed,
+                    &self.arm_below,
+                    from_zero,
+                    |theta, look| {
+                        if theta == 1.0 {
+                            look_point.copy_from_slice(&z);
+                        } else {
+                            integrator.dense(theta, &mut look_point);
                         }
-                    }
-                }
-                if found.is_some() {
-                    break;
-                }
-                for k in 0..guard_count {
-                    if current_values[k] < self.arm_below[k] {
-                        self.armed[k] = true;
-                    }
-                }
-                std::mem::swap(&mut previous, &mut current_values);
-                theta_before = theta;
-            }
+                        look_guards.at(tau + theta * step, &look_point, &u0, &u1);
+                        look_guards.look_into(look);
+                    },
+                )
+            };
             if let Some((k, theta)) = found {
-                // Land exactly on the crossing: Newton on the guard along exact steps.
-                let mut hit = theta * step;
-                let mut reuse = false;
-                for _ in 0..8 {
-                    if !integrator.step_exact(&mut system, tau, &before, hit, reuse, &mut point) {
-                        integrator.dense(hit / step, &mut point);
-                        break;
-                    }
-                    reuse = true;
-                    guards.at(tau + hit, &point, &u0, &u1);
-                    let (g, rate) = (guards.value(k), guards.rate(k));
-                    if rate <= 0.0 || !rate.is_finite() {
-                        break;
-                    }
-                    let next = (hit - g / rate).clamp(0.0, step);
-                    let converged = (next - hit).abs()
-                        <= 4.0 * f64::EPSILON * (start + tau + hit).abs().max(1e-300);
-                    hit = next;
-                    if converged {
-                        if !integrator.step_exact(&mut system, tau, &before, hit, true, &mut point)
-                        {
-                            integrator.dense(hit / step, &mut point);
-                        }
-                        break;
-                    }
-                }
+                let hit = land_on_crossing(
+                    &mut integrator,
+                    &mut system,
+                    &mut guards,
+                    Landing {
+                        start: start + tau,
+                        tau,
+                        before: &before,
+                        step,
+                        guard: k,
+                        u0: &u0,
+                        u1: &u1,
+                    },
+                    theta * step,
+                    &mut point,
+                );
                 self.sample_until(
                     &mut system,
                     start + tau,
