@@ -25,6 +25,9 @@ pub struct SteadySettings {
     pub max_time: f64,
     /// Eigenvalues smaller than this in magnitude (1/s) are integrators (drift).
     pub zero_eigenvalue: f64,
+    /// Give up after this many mode changes: a cycle (stick-slip) that has not settled by
+    /// then will not, and simulating it to `max_time` can take minutes.
+    pub max_mode_changes: usize,
 }
 
 impl Default for SteadySettings {
@@ -32,6 +35,7 @@ impl Default for SteadySettings {
         Self {
             max_time: 1.0e4,
             zero_eigenvalue: 1e-9,
+            max_mode_changes: 10_000,
         }
     }
 }
@@ -129,6 +133,15 @@ pub fn steady_state(
     loop {
         if stepper.time() > settings.max_time {
             return Err(not_steady(&stepper, "it had not settled".into()));
+        }
+        if stepper.events().len() > settings.max_mode_changes {
+            return Err(not_steady(
+                &stepper,
+                format!(
+                    "it changed mode more than {} times without settling",
+                    settings.max_mode_changes
+                ),
+            ));
         }
         if stepper.time() > last_time {
             last_time = stepper.time();

@@ -66,3 +66,40 @@ fn event_times_and_period_match_the_closed_form() {
     assert!(((times[2] - times[0]) - (0.8 + slip)).abs() < 1e-9);
     assert!(((times[4] - times[2]) - (0.8 + slip)).abs() < 1e-9);
 }
+
+/// The same stick-slip cycle never settles: a steady-state search gives up after the mode
+/// changes it allows, at the event that exceeds them, and says why. With 20 allowed, the
+/// 21st event is the 11th breakaway, at 1 s + 10 periods of 0.8 s + τ_s (events above).
+#[test]
+fn a_steady_state_search_gives_up_on_a_cycle_after_its_mode_changes() {
+    use bondgraph_solver::steady::{SteadyError, SteadySettings, steady_state};
+    let model = load("models/examples/belt_friction.ron");
+    let outputs = vec![Output {
+        name: "flow:block".into(),
+        spec: OutputSpec::parse(&model, "flow:block").unwrap(),
+        integral: false,
+    }];
+    let mut simulator = Simulator::new(&model, outputs);
+    let settings = SteadySettings {
+        max_mode_changes: 20,
+        ..SteadySettings::default()
+    };
+    let error = steady_state(
+        &mut simulator,
+        &[0.1],
+        Mode::parse(&model, "friction=stuck").unwrap(),
+        vec![0.1, 0.0],
+        &settings,
+    )
+    .unwrap_err();
+    let SteadyError::NotSteady { t, why, .. } = &error else {
+        panic!("{error}");
+    };
+    let slip = (std::f64::consts::PI - 4f64.atan()) / 5.0;
+    let expected = 1.0 + 10.0 * (0.8 + slip);
+    assert!(
+        (t - expected).abs() < 1e-6,
+        "gave up at {t}, expected {expected}"
+    );
+    assert_eq!(why, "it changed mode more than 20 times without settling");
+}
