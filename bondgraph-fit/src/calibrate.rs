@@ -40,6 +40,10 @@ impl Default for Settings {
     }
 }
 
+/// Rounds of descent then scanning: a scan that finds a better point between its grid points
+/// hands it to the next round's descent.
+const ROUNDS: usize = 5;
+
 /// The result of a calibration.
 #[derive(Clone, Debug)]
 pub struct Fit {
@@ -108,7 +112,7 @@ pub fn least_squares(
         CalibrationError("the model cannot be evaluated at the starting values".into())
     })?;
     let mut intervals = vec![None; u.len()];
-    for _round in 0..3 {
+    for _round in 0..ROUNDS {
         let (next_u, next_r) = problem.levenberg_marquardt(u, r, settings);
         u = next_u;
         r = next_r;
@@ -153,6 +157,28 @@ pub fn least_squares(
         if let Some(inverse) = spd_inverse(&jtj, m) {
             for (a, &j) in free.iter().enumerate() {
                 std_errors[j] = Some((sigma2 * inverse[a * m + a]).sqrt() * scale[j]);
+            }
+        } else {
+            // A parameter the residuals barely move (a column a ten-thousandth of the longest
+            // in norm) makes the normal matrix numerically singular and would cost every
+            // other parameter its error: it is undetermined, the others are not. (Aliased
+            // parameters, whose columns are long but collinear, still get none.)
+            let norm2 = |j: usize| (0..n).map(|i| jacobian_u[i * p + j].powi(2)).sum::<f64>();
+            let longest = free.iter().map(|&j| norm2(j)).fold(0.0, f64::max);
+            let determined: Vec<usize> = free
+                .iter()
+                .copied()
+                .filter(|&j| norm2(j) > 1e-8 * longest)
+                .collect();
+            let m = determined.len();
+            if m < free.len() && m > 0 {
+                let sigma2 = total / (n - m) as f64;
+                let jtj = normal_matrix(&jacobian_u, n, p, &determined);
+                if let Some(inverse) = spd_inverse(&jtj, m) {
+                    for (a, &j) in determined.iter().enumerate() {
+                        std_errors[j] = Some((sigma2 * inverse[a * m + a]).sqrt() * scale[j]);
+                    }
+                }
             }
         }
     }
@@ -222,18 +248,25 @@ impl Problem<'_> {
         (self.residuals)(&x).filter(|r| r.iter().all(|v| v.is_finite()))
     }
 
-    /// Forward differences in unit coordinates (backwards at the upper bound); a column
-    /// whose perturbed point cannot be evaluated is zero.
+    /// Forward differences in unit coordinates (backwards at the upper bound, or where the
+    /// forward point cannot be evaluated: a Coulomb force tied to its breakaway force can
+    /// only move down); a column whose perturbed points both fail is zero.
     fn jacobian(&mut self, u: &[f64], r: &[f64], h: f64) -> Vec<f64> {
         let (n, p) = (r.len(), u.len());
         let mut jacobian = vec![0.0; n * p];
         for j in 0..p {
-            let step = if u[j] + h > 1.0 { -h } else { h };
-            let mut moved = u.to_vec();
-            moved[j] += step;
-            if let Some(rj) = self.eval(&moved) {
-                for i in 0..n {
-                    jacobian[i * p + j] = (rj[i] - r[i]) / step;
+            let first = if u[j] + h > 1.0 { -h } else { h };
+            for step in [first, -first] {
+                if !(0.0..=1.0).contains(&(u[j] + step)) {
+                    continue;
+                }
+                let mut moved = u.to_vec();
+                moved[j] += step;
+                if let Some(rj) = self.eval(&moved) {
+                    for i in 0..n {
+                        jacobian[i * p + j] = (rj[i] - r[i]) / step;
+                    }
+                    break;
                 }
             }
         }
@@ -339,22 +372,45 @@ impl Problem<'_> {
         } else {
             grid[costs.iter().position(|&c| same(c)).expect("a best point")]
         };
+        // From the seed, through the grid points as good as it on either side; the first
+        // worse point on each side bounds the interval (a grid point below the seed that
+        // cannot be evaluated, a Coulomb force above its breakaway force, is not in it).
         let below = grid.iter().rposition(|&g| g <= seed).unwrap_or(0);
-        let mut lo_k = below;
-        while lo_k > 0 && same(costs[lo_k - 1]) {
-            lo_k -= 1;
+        let above = grid.iter().position(|&g| g >= seed).unwrap_or(points - 1);
+        let (mut lo, mut lo_bad) = (seed, None);
+        if same(costs[below]) {
+            let mut k = below;
+            while k > 0 && same(costs[k - 1]) {
+                k -= 1;
+            }
+            lo = grid[k];
+            lo_bad = k.checked_sub(1).map(|k| grid[k]);
+        } else if grid[below] < seed {
+            lo_bad = Some(grid[below]);
         }
-        let mut hi_k = below;
-        while hi_k + 1 < points && same(costs[hi_k + 1]) {
-            hi_k += 1;
+        let (mut hi, mut hi_bad) = (seed, None);
+        if same(costs[above]) {
+            let mut k = above;
+            while k + 1 < points && same(costs[k + 1]) {
+                k += 1;
+            }
+            hi = grid[k];
+            hi_bad = (k + 1 < points).then(|| grid[k + 1]);
+        } else if grid[above] > seed {
+            hi_bad = Some(grid[above]);
         }
-        let (mut lo, mut hi) = (grid[lo_k].min(seed), grid[hi_k].max(seed));
-        // Bisect each edge between the last good and the first bad grid point.
-        let refine = |good: f64, bad: f64, this: &mut Self| {
+        // Bisect each edge between the last good and the first bad grid point. A point
+        // better than every grid point (between two grid points, a row that slides just
+        // above its threshold) is taken at once: the next round fits from there.
+        let mut better: Option<(f64, f64)> = None;
+        let mut refine = |good: f64, bad: f64, this: &mut Self| {
             let (mut good, mut bad) = (good, bad);
             for _ in 0..10 {
                 let mid = 0.5 * (good + bad);
                 let c = this.eval(&at(mid)).map_or(f64::INFINITY, |r| sse(&r));
+                if c < best_cost * (1.0 - 1e-9) && better.is_none_or(|(_, b)| c < b) {
+                    better = Some((mid, c));
+                }
                 if same(c) {
                     good = mid;
                 } else {
@@ -363,11 +419,16 @@ impl Problem<'_> {
             }
             good
         };
-        if lo_k > 0 && !same(costs[lo_k - 1]) {
-            lo = refine(lo, grid[lo_k - 1], self);
+        if let Some(bad) = lo_bad {
+            lo = refine(lo, bad, self);
         }
-        if hi_k + 1 < points && !same(costs[hi_k + 1]) {
-            hi = refine(hi, grid[hi_k + 1], self);
+        if let Some(bad) = hi_bad {
+            hi = refine(hi, bad, self);
+        }
+        if let Some((point, _)) = better
+            && let Some(point_r) = self.eval(&at(point))
+        {
+            return (point, (point, point), point_r);
         }
         let middle = 0.5 * (lo + hi);
         match self.eval(&at(middle)) {
@@ -500,6 +561,39 @@ mod tests {
     }
 
     #[test]
+    fn a_threshold_between_two_scan_points_is_found() {
+        // A contact pushed by 1..=20 N: stuck up to its breakaway force F_S = x[2], sliding
+        // above at (P - F_C)/b; undefined for F_C > F_S. The data: F_C = F_S = 9, b = 2. From
+        // (0, 25, 15) the descent reaches F_C = 9, b = 2 with F_S at 10, where the row P = 10
+        // sticks (residual -0.5); every value in (9, 10) fits exactly, but the scan's grid
+        // (1.25 N apart) has no point there: the bisection towards the infeasible 8.75 N
+        // passes through them and must keep what it finds.
+        let velocity = |p: f64, x: &[f64]| if p <= x[2] { 0.0 } else { (p - x[0]) / x[1] };
+        let result = fit(
+            |x| {
+                (x[0] <= x[2]).then(|| {
+                    (1..=20)
+                        .map(|p| {
+                            let p = f64::from(p);
+                            velocity(p, x) - velocity(p, &[9.0, 2.0, 9.0])
+                        })
+                        .collect()
+                })
+            },
+            &[0.0, 25.0, 15.0],
+            &[(0.0, 30.0), (0.1, 50.0), (0.0, 30.0)],
+        );
+        assert!(result.sse < 1e-20, "{result:?}");
+        assert!((result.values[0] - 9.0).abs() < 1e-9);
+        assert!((result.values[1] - 2.0).abs() < 1e-9);
+        let (lo, hi) = result.intervals[2].unwrap();
+        assert!(
+            (lo - 9.0).abs() < 0.01 && (hi - 10.0).abs() < 0.01,
+            "{lo} {hi}"
+        );
+    }
+
+    #[test]
     fn a_parameter_that_only_rounding_moves_does_not_stall_the_others() {
         // The line of the first test, plus a parameter c whose whole effect is rounding
         // (1e-11 per unit) and which cannot be evaluated above 0.6 (as a friction model
@@ -521,6 +615,55 @@ mod tests {
         );
         assert!((result.values[0] - 1.0).abs() < 1e-6, "{:?}", result.values);
         assert!((result.values[1] - 2.0).abs() < 1e-6, "{:?}", result.values);
+    }
+
+    #[test]
+    fn a_parameter_the_residuals_barely_move_leaves_the_others_their_errors() {
+        // The line of the first test plus 2.6e-6·c·g with g = (1, 1, 0, 0), orthogonal to
+        // the line's residuals (+1, -1, -1, +1) and outside the span of 1 and x: c changes
+        // the fit by nothing that matters, and its Jacobian column is 1e-7 of the slope's in
+        // norm, which makes the 3×3 normal matrix numerically singular. c is undetermined;
+        // a and b keep the textbook errors of the line, SE(b) = sqrt(2/5), SE(a) = sqrt(1.4)
+        // (σ̂² = SSE/(n - 2) = 4/2).
+        let x = [0.0, 1.0, 2.0, 3.0];
+        let g = [1.0, 1.0, 0.0, 0.0];
+        let y = [2.0, 2.0, 4.0, 8.0];
+        let result = fit(
+            |p| {
+                Some(
+                    (0..4)
+                        .map(|i| p[0] + p[1] * x[i] + 2.6e-6 * p[2] * g[i] - y[i])
+                        .collect(),
+                )
+            },
+            &[0.0, 0.0, 0.5],
+            &[(-10.0, 10.0), (-10.0, 10.0), (-1.0, 1.0)],
+        );
+        assert!((result.sse - 4.0).abs() < 1e-9, "{result:?}");
+        assert_eq!(result.std_errors[2], None);
+        let (se_a, se_b) = (result.std_errors[0].unwrap(), result.std_errors[1].unwrap());
+        assert!((se_b - 0.4f64.sqrt()).abs() < 1e-6, "{se_b}");
+        assert!((se_a - 1.4f64.sqrt()).abs() < 1e-6, "{se_a}");
+    }
+
+    #[test]
+    fn a_slope_at_a_face_is_taken_from_the_side_that_can_be_evaluated() {
+        // y = c·x with c the data's 2, and the model undefined for c > 2 (a Coulomb force
+        // tied to its breakaway force): c's column comes from the backward difference, so c
+        // is fitted smoothly with its error, not scanned as a threshold. The residuals
+        // (0, -0.1, 0.1) are orthogonal to x = (1, 2, 2), so c stays at 2 with
+        // SE = sqrt(σ̂²/Σx²) = sqrt((0.02/2)/9).
+        let x = [1.0, 2.0, 2.0];
+        let y = [2.0, 4.1, 3.9];
+        let result = fit(
+            |p| (p[0] <= 2.0).then(|| x.iter().zip(&y).map(|(x, y)| p[0] * x - y).collect()),
+            &[2.0],
+            &[(0.0, 5.0)],
+        );
+        assert!((result.values[0] - 2.0).abs() < 1e-9, "{result:?}");
+        assert_eq!(result.intervals[0], None);
+        let se = result.std_errors[0].unwrap();
+        assert!((se - (0.01f64 / 9.0).sqrt()).abs() < 1e-6, "{se}");
     }
 
     #[test]
