@@ -2,9 +2,9 @@
 //! standard errors (or, for a threshold, the interval of equally good values), and the
 //! residuals by regime and along each condition (what `bondgraph calibrate` prints).
 //!
-//! The fit starts from the model file's values and from the middle of the bounds and keeps
-//! the better ([`crate::calibrate::least_squares`] from each); every observed column the
-//! experiment names enters the sum of squares in its own units.
+//! The fit is a global search ([`crate::global`]) over the faces where friction thresholds
+//! tie, started from the model file's values too; every observed column the experiment
+//! names enters the sum of squares in its own units.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -15,8 +15,7 @@ use serde::Serialize;
 
 use crate::data::Dataset;
 use crate::discover::{
-    self, DiscoverError, Estimate, Residuals, SETTLE_WITHIN_S, Settings, fit_best,
-    fitted_parameters,
+    self, DiscoverError, Estimate, Residuals, Settings, fit_best, fitted_parameters,
 };
 use crate::experiment::Experiment;
 use crate::predict::Predictor;
@@ -81,10 +80,16 @@ pub fn calibrate(
     let (names, bounds, file_start) = fitted_parameters(&model, experiment, rows, &[])?;
     let predictor = Predictor::new(model.clone(), source, experiment)?;
     let mut evaluator = predictor.evaluator(&names)?;
-    evaluator.set_max_time(SETTLE_WITHIN_S);
-    let middle: Vec<f64> = bounds.iter().map(|(lo, hi)| 0.5 * (lo + hi)).collect();
-    let starts: [&[f64]; 2] = [&file_start, &middle];
-    let fit = fit_best(&mut evaluator, rows, &starts, &bounds, settings)?;
+    discover::limit_to_settling(&mut evaluator);
+    let orderings = crate::global::orderings(&model, &names);
+    let fit = fit_best(
+        &mut evaluator,
+        rows,
+        &[&file_start],
+        &bounds,
+        (&orderings, &settings.search),
+        settings,
+    )?;
     evaluator.set(&fit.values);
     let predictions = evaluator.predict(rows)?;
     let observed = &experiment.observed;

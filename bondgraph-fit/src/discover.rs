@@ -43,6 +43,7 @@ use serde::Serialize;
 use crate::calibrate::{self, CalibrationError, Fit};
 use crate::data::{Dataset, Measurement};
 use crate::experiment::{Experiment, ExperimentError};
+use crate::global::{self, Ordering, Search};
 use crate::predict::{Evaluator, Predictor};
 use crate::stats;
 
@@ -55,6 +56,8 @@ pub struct Settings {
     pub folds: usize,
     /// The calibration's settings.
     pub calibration: calibrate::Settings,
+    /// How widely each model's first fit searches (folds refit locally from it).
+    pub search: Search,
 }
 
 impl Default for Settings {
@@ -63,6 +66,7 @@ impl Default for Settings {
             alpha: 0.01,
             folds: 5,
             calibration: calibrate::Settings::default(),
+            search: Search::GLOBAL,
         }
     }
 }
@@ -327,6 +331,19 @@ struct Assessment {
 /// cycle), which a steady velocity cannot describe.
 pub(crate) const SETTLE_WITHIN_S: f64 = 2.0;
 
+/// Mode changes within which a row must settle: a steady state is reached after a handful
+/// (a contact that sticks, then slides, a string that goes taut), and a trial value that
+/// makes a row stick and slip hundreds of times is a cycle, not a steady state. Without this
+/// a fit spends most of its time simulating such cycles to [`SETTLE_WITHIN_S`].
+pub(crate) const MODE_CHANGES_WITHIN: usize = 200;
+
+/// Limits an evaluator to what a steady row may take: [`SETTLE_WITHIN_S`] of simulated
+/// time and [`MODE_CHANGES_WITHIN`] mode changes.
+pub(crate) fn limit_to_settling(evaluator: &mut Evaluator<'_>) {
+    evaluator.set_max_time(SETTLE_WITHIN_S);
+    evaluator.set_max_mode_changes(MODE_CHANGES_WITHIN);
+}
+
 impl Assessment {
     fn rmse_fit(&self) -> f64 {
         (self.fit.sse / self.predictions.len() as f64).sqrt()
@@ -449,12 +466,13 @@ type Warm<'a> = Option<(&'a [String], &'a [f64])>;
 struct FittedOnAll {
     assessment: Assessment,
     bounds: Vec<(f64, f64)>,
+    orderings: Vec<Ordering>,
     file_start: Vec<f64>,
 }
 
-/// Fits `model` on all `rows`: its own parameters `own` with the experiment's, from the
-/// model file's values, from the base model's fit (`warm`), and from the middle of the
-/// bounds. Held-out errors are left to [`cross_validate`].
+/// Fits `model` on all `rows`: its own parameters `own` with the experiment's, by a global
+/// search ([`crate::global`]) from the model file's values and, for a candidate, from the
+/// base model's fit (`warm`). Held-out errors are left to [`cross_validate`].
 fn fit_on_all(
     model: &Model,
     source: &Arc<SourceFile>,
@@ -465,13 +483,19 @@ fn fit_on_all(
     settings: &Settings,
 ) -> Result<FittedOnAll, DiscoverError> {
     let (names, bounds, file_start) = fitted_parameters(model, experiment, rows, own)?;
+    let orderings = global::orderings(model, &names);
     // Steady states are piecewise linear in the parameters, with basins that differ in which
-    // rows slide (a low Coulomb force with a high viscous coefficient, or the reverse), so
-    // every fit starts from several points and keeps the best: the model file's values; the
-    // base model's fit, where there is one (a candidate contains the base model at its own
-    // parameters' no-effect values, so it then does no worse than the base); and the middle
-    // of the bounds.
+    // rows slide (a low Coulomb force with a high viscous coefficient, or the reverse, or a
+    // Coulomb force tied to its breakaway force), so the fit searches every face and starts
+    // from the model file's values and, for a candidate, from the base model's fit too (a
+    // candidate contains the base model at its own parameters' file values, their no-effect
+    // values, so it then does no worse than the base). With that start the search is lighter.
     let mut starts = vec![file_start.clone()];
+    let search = if warm.is_some() {
+        settings.search.beside_a_known_fit()
+    } else {
+        settings.search
+    };
     if let Some((warm_names, warm_values)) = warm {
         let mut start = file_start.clone();
         for (name, value) in warm_names.iter().zip(warm_values) {
@@ -481,12 +505,18 @@ fn fit_on_all(
         }
         starts.push(start);
     }
-    starts.push(bounds.iter().map(|(lo, hi)| 0.5 * (lo + hi)).collect());
     let predictor = Predictor::new(model.clone(), source, experiment)?;
     let mut evaluator = predictor.evaluator(&names)?;
-    evaluator.set_max_time(SETTLE_WITHIN_S);
+    limit_to_settling(&mut evaluator);
     let start_refs: Vec<&[f64]> = starts.iter().map(Vec::as_slice).collect();
-    let fit = fit_best(&mut evaluator, rows, &start_refs, &bounds, settings)?;
+    let fit = fit_best(
+        &mut evaluator,
+        rows,
+        &start_refs,
+        &bounds,
+        (&orderings, &search),
+        settings,
+    )?;
     evaluator.set(&fit.values);
     let predictions: Vec<(f64, String)> = evaluator
         .predict_each(rows)
@@ -509,6 +539,7 @@ fn fit_on_all(
     Ok(FittedOnAll {
         assessment,
         bounds,
+        orderings,
         file_start,
     })
 }
@@ -573,11 +604,12 @@ fn cross_validate(
     let FittedOnAll {
         assessment,
         bounds,
+        orderings,
         file_start,
     } = fitted;
     let predictor = Predictor::new(model.clone(), source, experiment)?;
     let mut evaluator = predictor.evaluator(&assessment.names)?;
-    evaluator.set_max_time(SETTLE_WITHIN_S);
+    limit_to_settling(&mut evaluator);
     let folds: Vec<(Vec<Measurement>, Vec<Measurement>)> =
         crate::folds::folds(experiment, rows, settings.folds)
             .into_iter()
@@ -587,9 +619,19 @@ fn cross_validate(
             })
             .collect();
     let mut fold_fits = Vec::new();
+    // A fold refits locally from the full data's optimum (and the file's values), each
+    // start on its own face: the global search has already chosen the basin, and a fold
+    // that searched again could leave it by the luck of the rows it holds out.
     for (train, _) in &folds {
         let starts: [&[f64]; 2] = [&assessment.fit.values, file_start];
-        fold_fits.push(fit_best(&mut evaluator, train, &starts, bounds, settings)?);
+        fold_fits.push(fit_best(
+            &mut evaluator,
+            train,
+            &starts,
+            bounds,
+            (orderings, &Search::LOCAL),
+            settings,
+        )?);
     }
     for ((_, test), fold_fit) in folds.iter().zip(&fold_fits) {
         evaluator.set(&fold_fit.values);
@@ -606,13 +648,14 @@ fn cross_validate(
     Ok(())
 }
 
-/// The best least-squares fit on `train` of the parameters `evaluator` sets, from each of
-/// `starts` in turn.
+/// The best least-squares fit on `train` of the parameters `evaluator` sets, searching
+/// (`search`, under the parameters' `orderings`) from `starts`.
 pub(crate) fn fit_best(
     evaluator: &mut Evaluator<'_>,
     train: &[Measurement],
     starts: &[&[f64]],
     bounds: &[(f64, f64)],
+    (orderings, search): (&[Ordering], &Search),
     settings: &Settings,
 ) -> Result<Fit, DiscoverError> {
     let measured: Vec<f64> = train
@@ -631,18 +674,17 @@ pub(crate) fn fit_best(
                 .collect(),
         )
     };
-    let mut best: Option<Fit> = None;
-    let mut failure = None;
-    for from in starts {
-        match calibrate::least_squares(&mut residuals, from, bounds, &settings.calibration) {
-            Ok(fit) if best.as_ref().is_none_or(|b| fit.sse < b.sse) => best = Some(fit),
-            Ok(_) => {}
-            Err(e) => failure = Some(e),
-        }
-    }
-    match best {
-        Some(fit) => Ok(fit),
-        None => {
+    let result = global::least_squares(
+        &mut residuals,
+        starts,
+        bounds,
+        orderings,
+        search,
+        &settings.calibration,
+    );
+    match result {
+        Ok(fit) => Ok(fit),
+        Err(error) => {
             // Name the row the model cannot evaluate, when it is one row.
             evaluator.set(starts[0]);
             if let Err(e) = evaluator.predict(train) {
@@ -652,7 +694,7 @@ pub(crate) fn fit_best(
                 data: train
                     .first()
                     .map_or_else(String::new, |r| r.file.to_string()),
-                error: failure.expect("at least one start"),
+                error,
             })
         }
     }
@@ -823,13 +865,115 @@ impl Fitted<'_> {
     ) -> Result<Vec<f64>, DiscoverError> {
         let predictor = Predictor::new(self.model.clone(), self.source, experiment)?;
         let mut evaluator = predictor.evaluator(self.names)?;
-        evaluator.set_max_time(SETTLE_WITHIN_S);
+        limit_to_settling(&mut evaluator);
         evaluator.set(self.values);
         Ok(evaluator
             .predict_each(rows)
             .into_iter()
             .map(|p| p.map_or(f64::NAN, |p| p.observed[0]))
             .collect())
+    }
+}
+
+/// What every fit of one discovery shares.
+struct Models<'a> {
+    base_model: &'a Model,
+    base: &'a Arc<SourceFile>,
+    experiment: &'a Experiment,
+    rows: &'a [Measurement],
+    candidates: &'a [Candidate],
+    settings: &'a Settings,
+}
+
+impl Models<'_> {
+    /// Cross-validates the base model's fit and fits and cross-validates every candidate
+    /// from it, side by side: the base model's assessment, and the candidates' in order.
+    fn fit_base_and_candidates(
+        &self,
+        mut base_fitted: FittedOnAll,
+        done: &(dyn Fn() + Sync),
+    ) -> Result<(Assessment, Vec<Assessment>), DiscoverError> {
+        let warm_names = base_fitted.assessment.names.clone();
+        let warm_values = base_fitted.assessment.fit.values.clone();
+        let warm = (warm_names.as_slice(), warm_values.as_slice());
+        let base_predictions = base_fitted.assessment.predictions.clone();
+        let (base_validated, assessed) = rayon::join(
+            || {
+                let result = cross_validate(
+                    self.base_model,
+                    self.base,
+                    self.experiment,
+                    self.rows,
+                    &mut base_fitted,
+                    self.settings,
+                );
+                done();
+                result
+            },
+            || {
+                self.candidates
+                    .par_iter()
+                    .map(|c| {
+                        let result = assess_candidate(
+                            c,
+                            self.experiment,
+                            self.rows,
+                            warm,
+                            &base_predictions,
+                            self.settings,
+                        );
+                        done();
+                        result
+                    })
+                    .collect::<Vec<_>>()
+            },
+        );
+        base_validated?;
+        let baseline = base_fitted.assessment;
+        let assessed = assessed
+            .into_iter()
+            .map(|result| {
+                result.map(|(mut assessment, same_as_base)| {
+                    if same_as_base {
+                        assessment.heldout_sse = baseline.heldout_sse;
+                        assessment.heldout_count = baseline.heldout_count;
+                    }
+                    assessment
+                })
+            })
+            .collect::<Result<_, _>>()?;
+        Ok((baseline, assessed))
+    }
+
+    /// The base parameters of the candidate fit that, put in the base model, fit it best,
+    /// when that is better than the base model's own fit.
+    fn better_base_start(
+        &self,
+        baseline: &Assessment,
+        assessed: &[Assessment],
+    ) -> Result<Option<Vec<f64>>, DiscoverError> {
+        let predictor = Predictor::new(self.base_model.clone(), self.base, self.experiment)?;
+        let mut evaluator = predictor.evaluator(&baseline.names)?;
+        limit_to_settling(&mut evaluator);
+        let p = baseline.names.len();
+        let mut best: Option<(f64, Vec<f64>)> = None;
+        for assessment in assessed {
+            let values = &assessment.fit.values[..p];
+            evaluator.set(values);
+            let Ok(predictions) = evaluator.predict(self.rows) else {
+                continue;
+            };
+            let sse: f64 = predictions
+                .iter()
+                .zip(self.rows)
+                .map(|(p, r)| (p.observed[0] - r.observed[0]).powi(2))
+                .sum();
+            let bar = best.as_ref().map_or(baseline.fit.sse, |(b, _)| *b);
+            if sse < bar * (1.0 - 1e-6) {
+                best = Some((sse, values.to_vec()));
+            }
+        }
+        Ok(best.map(|(_, values)| values))
     }
 }
 
@@ -880,52 +1024,32 @@ pub fn discover_with_progress(
     let base_model = model::load_source(base)?;
     let observed = experiment.observed[0].column.as_str();
     let n = rows.len() as f64;
-    let mut base_fitted = fit_on_all(&base_model, base, experiment, rows, &[], None, settings)?;
-    // The base model's cross-validation runs beside the candidates' fits, which only need
-    // its fit to start from.
-    let warm_names = base_fitted.assessment.names.clone();
-    let warm_values = base_fitted.assessment.fit.values.clone();
-    let warm = (warm_names.as_slice(), warm_values.as_slice());
-    let base_predictions = base_fitted.assessment.predictions.clone();
-    let (base_validated, assessed) = rayon::join(
-        || {
-            let result = cross_validate(
-                &base_model,
-                base,
-                experiment,
-                rows,
-                &mut base_fitted,
-                settings,
-            );
-            done();
-            result
-        },
-        || {
-            candidates
-                .par_iter()
-                .map(|c| {
-                    let result =
-                        assess_candidate(c, experiment, rows, warm, &base_predictions, settings);
-                    done();
-                    result
-                })
-                .collect::<Vec<_>>()
-        },
-    );
-    base_validated?;
-    let baseline = base_fitted.assessment;
-    let assessed: Vec<Assessment> = assessed
-        .into_iter()
-        .map(|result| {
-            result.map(|(mut assessment, same_as_base)| {
-                if same_as_base {
-                    assessment.heldout_sse = baseline.heldout_sse;
-                    assessment.heldout_count = baseline.heldout_count;
-                }
-                assessment
-            })
-        })
-        .collect::<Result<_, _>>()?;
+    let base_fitted = fit_on_all(&base_model, base, experiment, rows, &[], None, settings)?;
+    let models = Models {
+        base_model: &base_model,
+        base,
+        experiment,
+        rows,
+        candidates,
+        settings,
+    };
+    let (mut baseline, mut assessed) = models.fit_base_and_candidates(base_fitted, done)?;
+    // A candidate contains the base model, so its fit's base parameters may show the base a
+    // better basin than its own search found: refit the base from there, and the candidates
+    // from the new base fit, once.
+    if let Some(start) = models.better_base_start(&baseline, &assessed)? {
+        let warm = (baseline.names.as_slice(), start.as_slice());
+        let refitted = fit_on_all(
+            &base_model,
+            base,
+            experiment,
+            rows,
+            &[],
+            Some(warm),
+            settings,
+        )?;
+        (baseline, assessed) = models.fit_base_and_candidates(refitted, &|| {})?;
+    }
     let p0 = baseline.names.len();
 
     // Verdicts.
@@ -1258,7 +1382,8 @@ impl Discovery {
     }
 }
 
-/// An estimate as text: the value, `± SE`, the interval of a threshold, `(at its bound)`.
+/// An estimate as text: the value, `± SE`, the interval of a threshold, `(at its bound)`, or
+/// that the data do not determine it.
 pub fn estimate_text(e: &Estimate) -> String {
     let mut s = number(e.value, 6);
     if let Some(se) = e.std_error {
@@ -1273,6 +1398,10 @@ pub fn estimate_text(e: &Estimate) -> String {
     }
     if e.at_bound {
         s.push_str(" (at its bound)");
+    }
+    if e.std_error.is_none() && e.interval.is_none() && !e.at_bound {
+        // Aliased with others, or moving the residuals too little to have an error.
+        s.push_str(" (not determined by this data)");
     }
     s
 }
@@ -1317,6 +1446,28 @@ pub fn write_residuals(s: &mut String, residuals: &Residuals) {
 #[cfg(test)]
 mod tests {
     use super::number;
+
+    #[test]
+    fn an_estimate_says_what_the_data_determine() {
+        let e = |std_error, interval, at_bound| {
+            super::estimate_text(&super::Estimate {
+                value: 2.0,
+                std_error,
+                interval,
+                at_bound,
+            })
+        };
+        assert_eq!(e(Some(0.5), None, false), "2.000000 ± 5.000e-1");
+        assert_eq!(
+            e(None, Some((1.0, 3.0)), false),
+            "2.000000 (any value in [1.0000, 3.0000] fits as well)"
+        );
+        assert_eq!(e(None, None, true), "2.000000 (at its bound)");
+        assert_eq!(
+            e(None, None, false),
+            "2.000000 (not determined by this data)"
+        );
+    }
 
     #[test]
     fn numbers_keep_their_digits_at_any_scale() {

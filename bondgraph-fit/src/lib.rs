@@ -15,7 +15,8 @@
 //! - [`data`]: the CSV reader (which refuses bad rows and says where they are) and writer;
 //! - [`predict`]: a model prepared once for an experiment, predicting rows as steady states
 //!   or, for a time series, along a simulated run (`timeseries`);
-//! - [`calibrate`]: bounded least squares for piecewise-smooth steady states;
+//! - [`calibrate`]: bounded least squares for piecewise-smooth steady states, and [`global`]:
+//!   the search over the faces where friction thresholds tie, around it;
 //! - [`calibration`]: a model calibrated on data, with residuals by regime and condition;
 //! - [`folds`] and [`probes`]: held-out folds, and conditions that separate two models;
 //! - [`discover`]: which candidate extension explains the misfit;
@@ -27,6 +28,7 @@ pub mod data;
 pub mod discover;
 pub mod experiment;
 pub mod folds;
+pub mod global;
 pub mod predict;
 pub mod probes;
 pub mod stats;

@@ -426,6 +426,13 @@ impl Evaluator<'_> {
     pub fn set_max_time(&mut self, seconds: f64) {
         self.settings.max_time = seconds;
     }
+
+    /// Gives up on rows whose simulation changes mode more than `count` times without
+    /// settling (a stick-slip cycle at trial values, which would otherwise be simulated to
+    /// the time limit, event by event).
+    pub fn set_max_mode_changes(&mut self, count: usize) {
+        self.settings.max_mode_changes = count;
+    }
 }
 
 /// `column = value, ...` of a row's condition cells, `column empty` for an empty one.

@@ -27,14 +27,14 @@ use crate::support::{experiment, root};
 
 const BASE: &str = "models/eversion/robot.ron";
 
-fn base() -> Arc<SourceFile> {
+pub fn base() -> Arc<SourceFile> {
     SourceFile::new(
         BASE,
         std::fs::read_to_string(root().join(BASE)).expect("robot.ron"),
     )
 }
 
-fn library() -> Vec<Candidate> {
+pub fn library() -> Vec<Candidate> {
     let dir = root().join("models/eversion/extensions");
     let mut paths: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()

@@ -1,5 +1,6 @@
 //! Whole-crate tests of the fit crate on the bundled models and data.
 
+mod global_fits;
 mod hidden;
 mod reproduce;
 mod stalls;

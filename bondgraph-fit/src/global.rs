@@ -1,0 +1,426 @@
+//! A deterministic global search for least squares over piecewise objectives.
+//!
+//! A steady state of a switching model is piecewise smooth in its parameters, and its
+//! best fit often lies on a *face* of the feasible set rather than inside it: a contact
+//! whose kinetic friction equals its breakaway force (`F_C = F_S`) is where a model with a
+//! small viscous coefficient fits measured growth best, and a local search started inside
+//! (`F_C < F_S`) slides into another basin (`F_C = 0` with a huge viscous coefficient) and
+//! stays there. Local descent cannot step onto the face either: beyond it the model cannot be
+//! evaluated at all.
+//!
+//! So the search works face by face. Each ordering `lower <= upper` between two fitted
+//! parameters (a contact's Coulomb force and its breakaway force) gives a face where the
+//! two are tied. For the interior and every face with up to three orderings tied, it
+//! 1. *screens* the face's box with a Halton sequence (deterministic, evenly spread: the
+//!    same points every run) and keeps the best few points as starts, besides the caller's
+//!    own starts projected onto the face;
+//! 2. runs [`calibrate::least_squares`] on the face's reduced parameters from each start;
+//!
+//! and keeps the best face's optimum, which is then *polished* on all parameters (so that a
+//! threshold the data does not pin, the breakaway force above the tied Coulomb force, gets
+//! its interval, and standard errors come from the full Jacobian). Nothing is random: a fit
+//! is a function of its data.
+
+use bondgraph_core::model::{ElementKind, Model};
+
+use crate::calibrate::{self, CalibrationError, Fit, Settings};
+
+/// How widely a fit searches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Search {
+    /// Halton points screened on each face.
+    pub screened: usize,
+    /// The best screened points of each face that start a local fit.
+    pub local_fits: usize,
+    /// Search every face (up to three orderings tied); otherwise only the faces the
+    /// caller's starts lie on (a fold's refit, started from the full data's optimum).
+    pub every_face: bool,
+}
+
+impl Search {
+    /// The full search: what a model's first fit on its data uses.
+    pub const GLOBAL: Self = Self {
+        screened: 64,
+        local_fits: 2,
+        every_face: true,
+    };
+
+    /// Local fits from the caller's starts only, each on the face it lies on.
+    pub const LOCAL: Self = Self {
+        screened: 0,
+        local_fits: 0,
+        every_face: false,
+    };
+
+    /// A lighter search for a model whose starts already include a good fit (a candidate
+    /// started from the base model's optimum): a quarter of the screening, one local fit per
+    /// face.
+    pub fn beside_a_known_fit(self) -> Self {
+        Self {
+            screened: self.screened / 4,
+            local_fits: self.local_fits.min(1),
+            every_face: self.every_face,
+        }
+    }
+}
+
+impl Default for Search {
+    fn default() -> Self {
+        Self::GLOBAL
+    }
+}
+
+/// `values[lower] <= values[upper]` must hold (outside it the model cannot be evaluated).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Ordering {
+    /// The parameter that must not exceed the other.
+    pub lower: usize,
+    /// The parameter it must not exceed.
+    pub upper: usize,
+}
+
+/// The orderings among the fitted parameters `names` that the model's friction contacts
+/// impose: a contact whose Coulomb force and breakaway force are each one fitted parameter
+/// (written as its bare name) needs `F_C <= F_S`.
+pub fn orderings(model: &Model, names: &[String]) -> Vec<Ordering> {
+    let index = |text: &str| names.iter().position(|n| n == text.trim());
+    model
+        .element_ids()
+        .filter_map(|id| match &model.element(id).kind {
+            ElementKind::Friction(friction) => Some((
+                index(&friction.coulomb.text)?,
+                index(&friction.breakaway.text)?,
+            )),
+            _ => None,
+        })
+        .filter(|(lower, upper)| lower != upper)
+        .map(|(lower, upper)| Ordering { lower, upper })
+        .collect()
+}
+
+/// Faces searched with every face on: the interior, then every set of up to this many
+/// orderings tied.
+const MAX_TIED: usize = 3;
+
+/// Minimises the sum of squared `residuals(values)` over the box `bounds` subject to
+/// `orderings`, searching as `search` says from `starts` (every start is tried, on the face
+/// it lies on).
+///
+/// # Errors
+/// When no start and no screened point can be evaluated, or a bound is not a finite interval.
+pub fn least_squares(
+    residuals: &mut dyn FnMut(&[f64]) -> Option<Vec<f64>>,
+    starts: &[&[f64]],
+    bounds: &[(f64, f64)],
+    orderings: &[Ordering],
+    search: &Search,
+    settings: &Settings,
+) -> Result<Fit, CalibrationError> {
+    let mut faces: Vec<Vec<Ordering>> = if search.every_face {
+        subsets(orderings, MAX_TIED)
+    } else {
+        Vec::new()
+    };
+    for start in starts {
+        let face = face_of(start, bounds, orderings);
+        if !faces.contains(&face) {
+            faces.push(face);
+        }
+    }
+    let mut evaluations = 0;
+    let mut best: Option<(Fit, Reduced)> = None;
+    let mut failure = None;
+    for face in &faces {
+        let Some(reduced) = Reduced::new(bounds, face) else {
+            continue; // the tied parameters' bounds do not overlap
+        };
+        let mut on_face = |u: &[f64]| residuals(&reduced.expand(u));
+        let mut face_starts: Vec<Vec<f64>> = starts
+            .iter()
+            .filter(|s| search.every_face || face_of(s, bounds, orderings) == *face)
+            .map(|s| reduced.project(s))
+            .collect();
+        let screened = screen(&mut on_face, &reduced.bounds, search);
+        evaluations += search.screened;
+        face_starts.extend(screened);
+        for start in &face_starts {
+            match calibrate::least_squares(&mut on_face, start, &reduced.bounds, settings) {
+                Ok(fit) => {
+                    evaluations += fit.evaluations;
+                    if best.as_ref().is_none_or(|(b, _)| fit.sse < b.sse) {
+                        best = Some((fit, reduced.clone()));
+                    }
+                }
+                Err(e) => {
+                    evaluations += 1;
+                    failure = Some(e);
+                }
+            }
+        }
+    }
+    let Some((face_fit, reduced)) = best else {
+        return Err(failure.unwrap_or_else(|| {
+            CalibrationError("no start and no screened point could be evaluated".into())
+        }));
+    };
+    // Polish on every parameter from the face's optimum: the tied parameters part where the
+    // data allows it, and the errors come from the full Jacobian.
+    let start = reduced.expand(&face_fit.values);
+    let mut fit = calibrate::least_squares(residuals, &start, bounds, settings)?;
+    fit.evaluations += evaluations;
+    Ok(fit)
+}
+
+/// Every set of at most `most` orderings, the empty one first.
+fn subsets(orderings: &[Ordering], most: usize) -> Vec<Vec<Ordering>> {
+    let mut all = vec![Vec::new()];
+    for ordering in orderings {
+        let grown: Vec<Vec<Ordering>> = all
+            .iter()
+            .filter(|s| s.len() < most)
+            .map(|s| {
+                let mut s = s.clone();
+                s.push(*ordering);
+                s
+            })
+            .collect();
+        all.extend(grown);
+    }
+    all.sort_by_key(Vec::len);
+    all
+}
+
+/// The orderings a point holds with equality (within a billionth of the bounds' width): the
+/// face it lies on.
+fn face_of(x: &[f64], bounds: &[(f64, f64)], orderings: &[Ordering]) -> Vec<Ordering> {
+    orderings
+        .iter()
+        .filter(|o| {
+            let width =
+                (bounds[o.lower].1 - bounds[o.lower].0).max(bounds[o.upper].1 - bounds[o.upper].0);
+            x[o.lower] >= x[o.upper] - 1e-9 * width
+        })
+        .copied()
+        .collect()
+}
+
+/// The best `search.local_fits` of `search.screened` Halton points in `bounds`.
+fn screen(
+    residuals: &mut dyn FnMut(&[f64]) -> Option<Vec<f64>>,
+    bounds: &[(f64, f64)],
+    search: &Search,
+) -> Vec<Vec<f64>> {
+    let mut scored: Vec<(f64, Vec<f64>)> = (1..=search.screened)
+        .filter_map(|k| {
+            let x: Vec<f64> = bounds
+                .iter()
+                .enumerate()
+                .map(|(d, &(lo, hi))| lo + halton(k, PRIMES[d % PRIMES.len()]) * (hi - lo))
+                .collect();
+            let r = residuals(&x)?;
+            Some((r.iter().map(|v| v * v).sum(), x))
+        })
+        .collect();
+    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+    scored
+        .into_iter()
+        .take(search.local_fits)
+        .map(|(_, x)| x)
+        .collect()
+}
+
+/// Bases of the Halton sequence, one per dimension.
+const PRIMES: [usize; 16] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53];
+
+/// The `k`-th element of the van der Corput sequence in `base`: `k`'s digits mirrored
+/// about the radix point.
+fn halton(mut k: usize, base: usize) -> f64 {
+    let mut value = 0.0;
+    let mut scale = 1.0 / base as f64;
+    while k > 0 {
+        value += (k % base) as f64 * scale;
+        k /= base;
+        scale /= base as f64;
+    }
+    value
+}
+
+/// The parameters of one face: the full set less the upper side of each tied ordering,
+/// which takes its lower side's value.
+#[derive(Clone, Debug)]
+struct Reduced {
+    /// The full index of each reduced parameter.
+    kept: Vec<usize>,
+    /// For every full parameter, the reduced one that gives its value.
+    source: Vec<usize>,
+    /// The reduced parameters' bounds (a tied pair's is the overlap of both).
+    bounds: Vec<(f64, f64)>,
+}
+
+impl Reduced {
+    /// `None` when a tied pair's bounds do not overlap, or the orderings chain (a parameter
+    /// tied on both sides), which the face search does not handle.
+    fn new(bounds: &[(f64, f64)], tied: &[Ordering]) -> Option<Self> {
+        let mut uses = vec![0usize; bounds.len()];
+        for o in tied {
+            uses[o.lower] += 1;
+            uses[o.upper] += 1;
+        }
+        if uses.iter().any(|&n| n > 1) {
+            return None;
+        }
+        let upper_of = |j: usize| tied.iter().find(|o| o.lower == j).map(|o| o.upper);
+        let is_upper = |j: usize| tied.iter().any(|o| o.upper == j);
+        let kept: Vec<usize> = (0..bounds.len()).filter(|&j| !is_upper(j)).collect();
+        let mut reduced_bounds = Vec::with_capacity(kept.len());
+        for &j in &kept {
+            let (mut lo, mut hi) = bounds[j];
+            if let Some(u) = upper_of(j) {
+                lo = lo.max(bounds[u].0);
+                hi = hi.min(bounds[u].1);
+                if lo >= hi {
+                    return None;
+                }
+            }
+            reduced_bounds.push((lo, hi));
+        }
+        let source = (0..bounds.len())
+            .map(|j| {
+                let giver = tied.iter().find(|o| o.upper == j).map_or(j, |o| o.lower);
+                kept.iter().position(|&k| k == giver).expect("kept")
+            })
+            .collect();
+        Some(Self {
+            kept,
+            source,
+            bounds: reduced_bounds,
+        })
+    }
+
+    /// The full parameter vector of a reduced one.
+    fn expand(&self, reduced: &[f64]) -> Vec<f64> {
+        self.source.iter().map(|&s| reduced[s]).collect()
+    }
+
+    /// A full vector's reduced one (a tied pair takes the lower side's value), clamped to
+    /// the face's bounds.
+    fn project(&self, full: &[f64]) -> Vec<f64> {
+        self.kept
+            .iter()
+            .zip(&self.bounds)
+            .map(|(&j, &(lo, hi))| full[j].clamp(lo, hi))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn halton_points_are_the_mirrored_digits() {
+        // 1, 2, 3 in base 2 are 1, 10, 11: mirrored 0.1, 0.01, 0.11 = 1/2, 1/4, 3/4.
+        assert_eq!(halton(1, 2), 0.5);
+        assert_eq!(halton(2, 2), 0.25);
+        assert_eq!(halton(3, 2), 0.75);
+        // 5 in base 3 is 12: mirrored 0.21 = 2/3 + 1/9.
+        assert!((halton(5, 3) - (2.0 / 3.0 + 1.0 / 9.0)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn faces_are_every_set_of_at_most_three_orderings() {
+        let o = |k: usize| Ordering {
+            lower: 2 * k,
+            upper: 2 * k + 1,
+        };
+        let four = [o(0), o(1), o(2), o(3)];
+        let faces = subsets(&four, 3);
+        // C(4,0) + C(4,1) + C(4,2) + C(4,3) = 1 + 4 + 6 + 4.
+        assert_eq!(faces.len(), 15);
+        assert!(faces[0].is_empty());
+        assert!(faces.iter().all(|f| f.len() <= 3));
+    }
+
+    #[test]
+    fn a_tied_pair_shares_one_value_within_both_bounds() {
+        let bounds = [(0.0, 30.0), (0.0, 5000.0), (5.0, 40.0)];
+        let tied = [Ordering { lower: 0, upper: 2 }];
+        let reduced = Reduced::new(&bounds, &tied).unwrap();
+        assert_eq!(reduced.bounds, vec![(5.0, 30.0), (0.0, 5000.0)]);
+        assert_eq!(reduced.expand(&[11.0, 100.0]), vec![11.0, 100.0, 11.0]);
+        assert_eq!(reduced.project(&[2.0, 100.0, 12.0]), vec![5.0, 100.0]);
+        // Disjoint bounds: no face.
+        assert!(
+            Reduced::new(
+                &[(0.0, 1.0), (2.0, 3.0)],
+                &[Ordering { lower: 0, upper: 1 }]
+            )
+            .is_none()
+        );
+    }
+
+    /// A contact pushed by forces `1..=20` N: stuck (velocity 0) up to its breakaway force
+    /// `x[2]`, sliding above it at `(P - F_C)/b` with `F_C = x[0]`, `b = x[1]`; it cannot be
+    /// evaluated with `F_C > F_S`. The data were made with `F_C = F_S = 9`, `b = 2`.
+    fn contact(x: &[f64]) -> Option<Vec<f64>> {
+        let velocity = |p: f64, f_c: f64, b: f64, f_s: f64| {
+            if p <= f_s { 0.0 } else { (p - f_c) / b }
+        };
+        (x[0] <= x[2]).then(|| {
+            (1..=20)
+                .map(|p| {
+                    let p = f64::from(p);
+                    velocity(p, x[0], x[1], x[2]) - velocity(p, 9.0, 2.0, 9.0)
+                })
+                .collect()
+        })
+    }
+
+    #[test]
+    fn the_optimum_on_the_face_is_found_from_a_start_inside() {
+        let bounds = [(0.0, 30.0), (0.1, 50.0), (0.0, 30.0)];
+        let start = [0.0, 25.0, 15.0];
+        let ties = [Ordering { lower: 0, upper: 2 }];
+        let global = least_squares(
+            &mut contact,
+            &[&start],
+            &bounds,
+            &ties,
+            &Search::GLOBAL,
+            &Settings::default(),
+        )
+        .unwrap();
+        assert!(global.sse < 1e-12, "{global:?}");
+        // The data pin F_C and b exactly; F_S only to a window: at least 9 (F_C) and below
+        // 10 (the first row that slides in the data, P = 10, must slide).
+        assert!((global.values[0] - 9.0).abs() < 1e-6, "{:?}", global.values);
+        assert!((global.values[1] - 2.0).abs() < 1e-6, "{:?}", global.values);
+        assert!(global.values[2] >= 9.0 && global.values[2] < 10.0);
+        let (lo, hi) = global.intervals[2].expect("a threshold's interval");
+        assert!(
+            (lo - 9.0).abs() < 0.01 && (hi - 10.0).abs() < 0.01,
+            "{lo} {hi}"
+        );
+    }
+
+    #[test]
+    fn a_local_search_keeps_each_start_on_its_own_face() {
+        // From the data's own optimum (on the face F_C = F_S), a local search stays there;
+        // from inside, it does not jump onto the face.
+        let bounds = [(0.0, 30.0), (0.1, 50.0), (0.0, 30.0)];
+        let ties = [Ordering { lower: 0, upper: 2 }];
+        let on_face = [9.0, 2.0, 9.0];
+        let fit = least_squares(
+            &mut contact,
+            &[&on_face],
+            &bounds,
+            &ties,
+            &Search::LOCAL,
+            &Settings::default(),
+        )
+        .unwrap();
+        assert!(fit.sse < 1e-12, "{fit:?}");
+        assert_eq!(face_of(&on_face, &bounds, &ties), ties.to_vec());
+        assert!(face_of(&[0.0, 25.0, 15.0], &bounds, &ties).is_empty());
+    }
+}
