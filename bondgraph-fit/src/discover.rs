@@ -1353,8 +1353,10 @@ impl Discovery {
                 );
             }
         }
+        // Replicates that did not give the noise level: too few, or a declared noise.
         if let Some(pe) = &self.pure_error
-            && !self.noise_source.starts_with("pure error")
+            && (pe.dof < noise::MIN_PURE_ERROR_DOF
+                || self.noise_source == "declared in the experiment")
         {
             let _ = writeln!(
                 s,

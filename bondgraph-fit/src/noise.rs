@@ -286,8 +286,8 @@ pub fn lack_of_fit(level: &NoiseLevel, sse: f64, rows: usize, params: usize) -> 
 }
 
 impl LackOfFit {
-    /// The test as a sentence: `F = 3.21 on (5, 12) dof, p = 0.041 (F (lack of fit against
-    /// pure error))`.
+    /// The test as a sentence: `F = 3.210 on (5, 12) dof, p = 0.041: no misfit beyond the
+    /// noise` (at level 0.01).
     pub fn text(&self) -> String {
         let dof = self
             .dof
@@ -300,10 +300,14 @@ impl LackOfFit {
         } else {
             "chi-square"
         };
+        let p = if self.p_value >= 1e-3 {
+            format!("{:.3}", self.p_value)
+        } else {
+            format!("{:.1e}", self.p_value)
+        };
         format!(
-            "{name} = {:.3} on ({dof}) dof, p = {:.3e}: {}",
+            "{name} = {:.3} on ({dof}) dof, p = {p}: {}",
             self.statistic,
-            self.p_value,
             if self.p_value < 0.01 {
                 "the model misfits beyond the noise"
             } else {

@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use bondgraph_core::model;
 use bondgraph_core::source::SourceFile;
+use bondgraph_fit::calibration::calibrate;
 use bondgraph_fit::data::{self, Dataset, Measurement};
 use bondgraph_fit::discover::{self, Candidate, DiscoverError, Discovery, Settings};
 use bondgraph_fit::experiment::Experiment;
@@ -241,8 +242,27 @@ fn identical_rows_give_no_noise_level_and_say_so() {
             .all(|r| !r.stands_out),
         "{report}"
     );
+    assert!(!report.contains("replicates: pure error"), "{report}");
     let json = serde_json::to_value(&discovery).unwrap();
     assert!(json["noise"].is_null());
+}
+
+#[test]
+fn calibrate_takes_the_pure_error_too() {
+    let dataset = dataset(noisy_truth(5));
+    let (ss, _, _) = pure_error_by_hand(&dataset);
+    let result = calibrate(&motor(), &experiment(), &dataset, &Settings::default()).unwrap();
+    assert_eq!(
+        result.noise_source["w_rad_s"],
+        "pure error of 12 replicated conditions (24 dof)"
+    );
+    let sd = result.noise["w_rad_s"].unwrap();
+    assert!((sd - (ss / 24.0).sqrt()).abs() < 1e-12, "{sd}");
+    assert!(
+        result
+            .summary()
+            .contains("(pure error of 12 replicated conditions (24 dof))")
+    );
 }
 
 #[test]
