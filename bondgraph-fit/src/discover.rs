@@ -730,7 +730,10 @@ fn unfittable_row(
             observed.clone(),
             measured,
             format!(
-                "`{observed}` = {measured:e} cannot be fitted: the model predicts {predicted:.6e}                  there, and {overflow}"
+                "`{observed}` = {} cannot be fitted: the model predicts {} there, and \
+                 {overflow}",
+                cell_text(measured),
+                number(predicted, 6)
             ),
         )
     } else {
@@ -749,7 +752,8 @@ fn unfittable_row(
                 column: None,
                 value: None,
                 reason: format!(
-                    "the model predicts `{observed}` = {predicted:e} on this row, which cannot                      be fitted"
+                    "the model predicts `{observed}` = {predicted:e} on this row, which cannot \
+                     be fitted"
                 ),
             });
         };
@@ -757,8 +761,11 @@ fn unfittable_row(
             columns[j].to_string(),
             cell,
             format!(
-                "`{}` = {cell:e}: the model predicts `{observed}` = {predicted:e} there, which                  cannot be fitted ({})",
+                "`{}` = {}: the model predicts `{observed}` = {} there, which cannot be \
+                 fitted ({})",
                 columns[j],
+                cell_text(cell),
+                number(predicted, 6),
                 if predicted.is_finite() {
                     overflow.as_str()
                 } else {
@@ -774,6 +781,15 @@ fn unfittable_row(
         value: Some(value),
         reason,
     })
+}
+
+/// A cell as the data would write it: `12.5`, or `1.797e308` where decimals would run on.
+fn cell_text(value: f64) -> String {
+    if value == 0.0 || (1e-3..1e6).contains(&value.abs()) {
+        value.to_string()
+    } else {
+        format!("{value:e}")
+    }
 }
 
 /// Whether the candidate's own parameters' Jacobian columns lie in the span of the base

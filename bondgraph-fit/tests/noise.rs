@@ -300,3 +300,32 @@ fn a_measured_cell_too_large_to_square_names_its_row_and_column() {
         "{message}"
     );
 }
+
+#[test]
+fn a_drive_that_overflows_the_prediction_names_the_condition_column() {
+    // At 1e160 V, from the model file's values (K = 0.04, b = 0.02, N = 20, R_a = 2), the
+    // motor turns at (N K/R_a) V/(b + N^2 K^2/R_a) = 0.4 V/0.34 = 1.18e160 rad/s: it
+    // settles, but its residual's square overflows. The cell to blame is the voltage, the
+    // largest drive of the row.
+    let experiment = experiment();
+    let csv = file("models/examples/geared_motor/data/steady.csv");
+    let text = csv.text().replace("\n12,,10.6648", "\n1e160,,10.6648");
+    let dataset = data::read("e.csv", &text, &experiment).unwrap();
+    let error = calibrate(&motor(), &experiment, &dataset, &Settings::default())
+        .expect_err("cannot be fitted");
+    let message = error.to_string();
+    match error {
+        DiscoverError::Unfittable {
+            row, column, value, ..
+        } => {
+            assert_eq!(row, 10, "{message}");
+            assert_eq!(column.as_deref(), Some("V_V"), "{message}");
+            assert_eq!(value, Some(1e160));
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(
+        message.starts_with("e.csv:10: `V_V` = 1e160: the model predicts `w_rad_s` = 1.176471e160"),
+        "{message}"
+    );
+}
