@@ -28,6 +28,10 @@
 //!    the two fitted models' predictions differ by more than three noise levels, searched
 //!    over a grid of conditions wider than the data's, or, when no steady observation
 //!    separates them, what the extension's file says would show its effect directly.
+//!
+//! The noise level all of this is judged against is the experiment's declared one, else the
+//! pure error of replicated conditions, else the best model's residual ([`crate::noise`]);
+//! with a level that does not come from a model, the base model's lack of fit is tested too.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;

@@ -329,3 +329,35 @@ fn a_drive_that_overflows_the_prediction_names_the_condition_column() {
         "{message}"
     );
 }
+
+#[test]
+fn a_declared_noise_is_used_and_tests_the_base_model() {
+    // steady.csv against a declared 0.05 rad/s: the base model's SSE = 22 rmse_fit^2 is a
+    // chi-square on 22 - 4 = 18 dof if the model is right.
+    let text = file("models/examples/geared_motor/experiment.ron")
+        .text()
+        .replace("kind: Steady,", "kind: Steady,\n    noise: 0.05,");
+    let experiment = Experiment::parse("experiment.ron", &text).unwrap();
+    let csv = file("models/examples/geared_motor/data/steady.csv");
+    let dataset = data::read("steady.csv", csv.text(), &experiment).unwrap();
+    let discovery = discover::discover(
+        &motor(),
+        &experiment,
+        &dataset,
+        &library(),
+        &Settings::default(),
+    )
+    .unwrap();
+    assert_eq!(discovery.noise, Some(0.05));
+    assert_eq!(discovery.noise_source, "declared in the experiment");
+    let chi2 = 22.0 * discovery.baseline.rmse_fit.powi(2) / 0.0025;
+    let test = discovery.lack_of_fit.as_ref().expect("a test");
+    assert_eq!(test.dof, [18]);
+    assert!(
+        (test.statistic - chi2).abs() < 1e-9 * chi2,
+        "{test:?} {chi2}"
+    );
+    assert!((test.p_value - stats::chi_square_survival(chi2, 18.0)).abs() < 1e-12);
+    // The data's noise is 0.05 rad/s on 19 of the 22 rows: no misfit beyond it.
+    assert!(test.p_value > 0.01, "{}", discovery.summary());
+}
