@@ -508,6 +508,15 @@ fn discover_prints_the_json_contract() {
     let json: serde_json::Value = serde_json::from_str(&printed).unwrap();
     assert_eq!(json["observed"], "v_ge_mm_s");
     assert!(json["noise"].as_f64().is_some_and(|n| n > 0.0));
+    // Table III measures no condition twice: the noise is the best model's residual.
+    assert!(
+        json["noise_source"]
+            .as_str()
+            .is_some_and(|s| s.starts_with("residual of ")),
+        "{}",
+        json["noise_source"]
+    );
+    assert!(json["pure_error"].is_null() && json["lack_of_fit"].is_null());
     for field in ["rmse_fit", "rmse_heldout"] {
         assert!(
             json["baseline"][field].as_f64().is_some(),
@@ -639,6 +648,10 @@ fn calibrate_and_discover_any_model_with_nothing_but_model_and_data() {
     // K/(1 + mu_b), T_C/(1 + mu_b) and b + beta = (b_0 + beta_0)/(1 + mu_b). All three are
     // reported as indistinguishable from the base model.
     assert!(json["selected"].is_null());
+    // No condition is measured twice and nothing is selected: the base model's residual,
+    // 22 rows less 4 fitted parameters.
+    assert_eq!(json["noise_source"], "residual of the base model (18 dof)");
+    assert!(json["lack_of_fit"].is_null());
     assert_eq!(
         json["indistinguishable"],
         serde_json::json!([
@@ -673,6 +686,77 @@ fn a_bad_experiment_is_reported_at_its_line_and_field() {
     assert!(
         err.contains("the `absent` entry for `tau_mNm` removes 'gear'"),
         "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn discover_takes_the_noise_from_replicates_and_tests_the_fit() {
+    // steady.csv twice, the second time 0.1 rad/s faster wherever the shaft turns: 22
+    // conditions measured twice, 19 pairs 0.1 apart (a pair's squares about its mean sum to
+    // 0.1^2/2) and 3 stalled pairs at 0. Pure error: SS = 19 x 0.005 = 0.095 on 22 dof,
+    // sd = sqrt(0.095/22) = 0.065714.
+    let steady =
+        std::fs::read_to_string(root().join("models/examples/geared_motor/data/steady.csv"))
+            .unwrap();
+    let mut text = steady.clone();
+    for line in steady.lines().skip(1) {
+        let (conditions, w) = line.rsplit_once(',').unwrap();
+        let w: f64 = w.parse().unwrap();
+        let again = if w > 0.0 { w + 0.1 } else { w };
+        text.push_str(&format!("{conditions},{again:.4}\n"));
+    }
+    let dir = scratch("replicates");
+    std::fs::create_dir_all(&dir).unwrap();
+    let data = dir.join("replicated.csv");
+    std::fs::write(&data, text).unwrap();
+    let printed = succeed(&[
+        "discover",
+        "--model",
+        "models/examples/geared_motor/geared_motor.ron",
+        "--data",
+        data.to_str().unwrap(),
+        "--format",
+        "json",
+    ]);
+    let json: Value = serde_json::from_str(&printed).unwrap();
+    assert_eq!(
+        json["noise_source"],
+        "pure error of 22 replicated conditions (22 dof)"
+    );
+    let sd = (0.095f64 / 22.0).sqrt();
+    assert!(
+        (json["noise"].as_f64().unwrap() - sd).abs() < 1e-9,
+        "{}",
+        json["noise"]
+    );
+    assert_eq!(json["pure_error"]["dof"], 22);
+    assert_eq!(json["pure_error"]["groups"], 22);
+    // Lack of fit of the base model (4 parameters, 44 rows): (44 - 4) - 22 = 18 dof,
+    // F = ((SSE - 0.095)/18)/(0.095/22) with SSE = 44 rmse_fit^2.
+    let sse = 44.0 * json["baseline"]["rmse_fit"].as_f64().unwrap().powi(2);
+    let f = ((sse - 0.095) / 18.0) / (0.095 / 22.0);
+    let test = &json["lack_of_fit"];
+    assert_eq!(test["dof"], serde_json::json!([18, 22]));
+    assert!(
+        (test["statistic"].as_f64().unwrap() - f).abs() < 1e-6 * f,
+        "{test} against F = {f}"
+    );
+    let text = succeed(&[
+        "discover",
+        "--model",
+        "models/examples/geared_motor/geared_motor.ron",
+        "--data",
+        data.to_str().unwrap(),
+    ]);
+    let first = text.lines().next().unwrap();
+    assert!(
+        first.ends_with("noise 0.066, pure error of 22 replicated conditions (22 dof)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("lack of fit of the base model: F = "),
+        "{text}"
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -18,6 +18,7 @@ use crate::discover::{
     self, DiscoverError, Estimate, Residuals, Settings, fit_best, fitted_parameters,
 };
 use crate::experiment::Experiment;
+use crate::noise::{self, NoiseLevel};
 use crate::predict::Predictor;
 
 /// One row with its prediction.
@@ -50,9 +51,13 @@ pub struct Calibration {
     pub params: BTreeMap<String, Estimate>,
     /// The root-mean-square residual of each observed column, in its units.
     pub rmse: BTreeMap<String, f64>,
-    /// The noise the residuals are judged against, per observed column: the experiment's
-    /// declared `noise`, or the residuals' own standard deviation (`SSE/(n - p)`).
-    pub noise: BTreeMap<String, f64>,
+    /// The noise the residuals are judged against, per observed column ([`crate::noise`]):
+    /// the experiment's declared `noise`, else the pure error of replicated conditions
+    /// (steady data), else the residuals' own standard deviation (`SSE/(n - p)`); `None`
+    /// when the data cannot estimate it (an exact fit).
+    pub noise: BTreeMap<String, Option<f64>>,
+    /// Where each column's `noise` came from, as a phrase.
+    pub noise_source: BTreeMap<String, String>,
     /// Whether `noise` is the experiment's declared one.
     pub noise_declared: bool,
     /// Residuals by regime and along each condition, per observed column.
@@ -107,6 +112,7 @@ pub fn calibrate(
         .collect();
     let mut rmse = BTreeMap::new();
     let mut noise = BTreeMap::new();
+    let mut noise_source = BTreeMap::new();
     let mut residuals = BTreeMap::new();
     for (k, column) in observed.iter().enumerate() {
         let predicted: Vec<f64> = predictions.iter().map(|p| p.observed[k]).collect();
@@ -115,11 +121,26 @@ pub fn calibrate(
             .zip(rows)
             .map(|(p, r)| (p - r.observed[k]).powi(2))
             .sum();
-        let sd = experiment
-            .noise
-            .unwrap_or_else(|| (sse / (n as f64 - free as f64 / m as f64).max(1.0)).sqrt());
+        // Rows of a time series at the same conditions are samples of a run, not replicates.
+        let replicates = if experiment.time().is_none() {
+            noise::pure_error(rows, k)
+        } else {
+            None
+        };
+        let level = NoiseLevel::estimate(
+            experiment.noise,
+            replicates,
+            noise::Residual {
+                sse,
+                dof: n as f64 - free as f64 / m as f64,
+                model: "the calibrated model",
+                scale: noise::root_mean_square(rows, k),
+            },
+        );
+        let sd = level.sd;
         rmse.insert(column.column.clone(), (sse / n as f64).sqrt());
         noise.insert(column.column.clone(), sd);
+        noise_source.insert(column.column.clone(), level.source);
         residuals.insert(
             column.column.clone(),
             discover::residuals(experiment, k, rows, &predicted, &regimes, sd),
@@ -173,6 +194,7 @@ pub fn calibrate(
         params,
         rmse,
         noise,
+        noise_source,
         noise_declared: experiment.noise.is_some(),
         residuals,
         table,
@@ -194,16 +216,15 @@ impl Calibration {
             let _ = writeln!(s, "  {name} = {}", discover::estimate_text(e));
         }
         for (column, rmse) in &self.rmse {
-            let _ = writeln!(
-                s,
-                "\n`{column}`: RMSE {rmse:.4}; noise {:.4} ({})",
-                self.noise[column],
-                if self.noise_declared {
-                    "declared in the experiment"
-                } else {
-                    "the residuals' standard deviation"
-                }
-            );
+            let source = &self.noise_source[column];
+            let _ = match self.noise[column] {
+                Some(sd) => writeln!(s, "\n`{column}`: RMSE {rmse:.4}; noise {sd:.4} ({source})"),
+                None => writeln!(
+                    s,
+                    "\n`{column}`: RMSE {rmse:.4}; noise: {source} (no residual is judged \
+                     against it)"
+                ),
+            };
             let _ = writeln!(s, "residuals (model minus measured):");
             discover::write_residuals(&mut s, &self.residuals[column]);
         }

@@ -28,6 +28,10 @@
 //!    the two fitted models' predictions differ by more than three noise levels, searched
 //!    over a grid of conditions wider than the data's, or, when no steady observation
 //!    separates them, what the extension's file says would show its effect directly.
+//!
+//! The noise level all of this is judged against is the experiment's declared one, else the
+//! pure error of replicated conditions, else the best model's residual ([`crate::noise`]);
+//! with a level that does not come from a model, the base model's lack of fit is tested too.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -44,6 +48,7 @@ use crate::calibrate::{self, CalibrationError, Fit};
 use crate::data::{Dataset, Measurement};
 use crate::experiment::{Experiment, ExperimentError};
 use crate::global::{self, Ordering, Search};
+use crate::noise::{self, LackOfFit, NoiseLevel, PureError};
 use crate::predict::{Evaluator, Predictor};
 use crate::stats;
 
@@ -88,6 +93,24 @@ pub enum DiscoverError {
         data: String,
         /// Why.
         error: CalibrationError,
+    },
+    /// A row whose residual the least-squares search cannot form at the starting values: a
+    /// prediction that is not finite, or a residual whose square overflows (a cell such as
+    /// `1.797e308`).
+    #[error("{file}:{row}: {reason}")]
+    Unfittable {
+        /// The data file.
+        file: String,
+        /// Its line.
+        row: usize,
+        /// The column whose value the model cannot work with, where that is determinable:
+        /// the observed column for a measured value too large, the largest condition cell
+        /// for a prediction that overflows.
+        column: Option<String>,
+        /// That column's cell.
+        value: Option<f64>,
+        /// Why, naming the column and its cell.
+        reason: String,
     },
     /// Too few rows to fit and hold some out.
     #[error("{data}: {rows} rows; discovery needs at least {needed} to fit and hold some out")]
@@ -284,9 +307,20 @@ pub struct Discovery {
     pub rows: usize,
     /// The observed column's name (every RMSE and residual is in its units).
     pub observed: String,
-    /// The noise level estimated from the best model's residuals, in the observed column's
-    /// units.
-    pub noise: f64,
+    /// The noise level, in the observed column's units ([`crate::noise`]): the experiment's
+    /// declared one, else the pure error of replicated conditions, else the best model's
+    /// residual standard deviation; `None` when the data cannot estimate it (replicates
+    /// that repeat exactly, an exact fit), and then nothing is judged in noise levels.
+    pub noise: Option<f64>,
+    /// Where `noise` came from: `declared in the experiment`, `pure error of N replicated
+    /// conditions (D dof)`, `residual of the base model (D dof)`, `residual of 'ID' (D
+    /// dof)`, or `cannot be estimated: ...` and why.
+    pub noise_source: String,
+    /// The scatter of replicated conditions, when some condition is measured twice.
+    pub pure_error: Option<PureError>,
+    /// The base model's lack-of-fit test, when the noise level does not come from a model's
+    /// residuals (declared, or pure error).
+    pub lack_of_fit: Option<LackOfFit>,
     /// The base model.
     pub baseline: Baseline,
     /// Candidates, best held-out RMSE first.
@@ -681,14 +715,24 @@ pub(crate) fn fit_best(
         orderings,
         search,
         &settings.calibration,
-    );
+    )
+    .and_then(|fit| {
+        if fit.sse.is_finite() {
+            Ok(fit)
+        } else {
+            Err(CalibrationError(
+                "the sum of squares is not finite at the best point found".into(),
+            ))
+        }
+    });
     match result {
         Ok(fit) => Ok(fit),
         Err(error) => {
             // Name the row the model cannot evaluate, when it is one row.
             evaluator.set(starts[0]);
-            if let Err(e) = evaluator.predict(train) {
-                return Err(e.into());
+            let predictions = evaluator.predict(train)?;
+            if let Some(error) = unfittable_row(evaluator.experiment(), train, &predictions) {
+                return Err(error);
             }
             Err(DiscoverError::Calibration {
                 data: train
@@ -697,6 +741,104 @@ pub(crate) fn fit_best(
                 error,
             })
         }
+    }
+}
+
+/// The first row of `rows` whose residual cannot enter a sum of squares, given the model's
+/// `predictions`: one that is not finite, or whose square overflows, or, when every square
+/// is finite but their sum is not, the row with the largest. The column to blame is the
+/// observed one when the measured value is the larger in magnitude, otherwise the condition
+/// cell with the largest value in SI units (what the model was driven with).
+fn unfittable_row(
+    experiment: &Experiment,
+    rows: &[Measurement],
+    predictions: &[crate::predict::Prediction],
+) -> Option<DiscoverError> {
+    let mut squares = Vec::new();
+    for (i, (row, p)) in rows.iter().zip(predictions).enumerate() {
+        for (k, (&predicted, &measured)) in p.observed.iter().zip(&row.observed).enumerate() {
+            squares.push((i, k, (predicted - measured).powi(2)));
+        }
+    }
+    let total: f64 = squares.iter().map(|s| s.2).sum();
+    let &(i, k, square) = squares.iter().find(|s| !s.2.is_finite()).or_else(|| {
+        (!total.is_finite())
+            .then(|| squares.iter().max_by(|a, b| a.2.total_cmp(&b.2)))
+            .flatten()
+    })?;
+    let (row, predicted, measured) = (&rows[i], predictions[i].observed[k], rows[i].observed[k]);
+    let observed = &experiment.observed[k].column;
+    let overflow = if square.is_finite() {
+        format!(
+            "the squares of the residuals sum past the largest double (this row's is {square:.3e})"
+        )
+    } else {
+        "the square of its residual overflows a double".to_string()
+    };
+    let (column, value, reason) = if predicted.is_finite() && measured.abs() >= predicted.abs() {
+        (
+            observed.clone(),
+            measured,
+            format!(
+                "`{observed}` = {} cannot be fitted: the model predicts {} there, and \
+                 {overflow}",
+                cell_text(measured),
+                number(predicted, 6)
+            ),
+        )
+    } else {
+        let columns = experiment.condition_columns();
+        let largest = experiment
+            .conditions
+            .iter()
+            .zip(&row.conditions)
+            .enumerate()
+            .filter_map(|(j, (c, cell))| cell.map(|v| (j, v, (c.factor * v).abs())))
+            .max_by(|a, b| a.2.total_cmp(&b.2));
+        let Some((j, cell, _)) = largest else {
+            return Some(DiscoverError::Unfittable {
+                file: row.file.to_string(),
+                row: row.row,
+                column: None,
+                value: None,
+                reason: format!(
+                    "the model predicts `{observed}` = {predicted:e} on this row, which cannot \
+                     be fitted"
+                ),
+            });
+        };
+        (
+            columns[j].to_string(),
+            cell,
+            format!(
+                "`{}` = {}: the model predicts `{observed}` = {} there, which cannot be \
+                 fitted ({})",
+                columns[j],
+                cell_text(cell),
+                number(predicted, 6),
+                if predicted.is_finite() {
+                    overflow.as_str()
+                } else {
+                    "the prediction is not finite"
+                }
+            ),
+        )
+    };
+    Some(DiscoverError::Unfittable {
+        file: row.file.to_string(),
+        row: row.row,
+        column: Some(column),
+        value: Some(value),
+        reason,
+    })
+}
+
+/// A cell as the data would write it: `12.5`, or `1.797e308` where decimals would run on.
+fn cell_text(value: f64) -> String {
+    if value == 0.0 || (1e-3..1e6).contains(&value.abs()) {
+        value.to_string()
+    } else {
+        format!("{value:e}")
     }
 }
 
@@ -776,7 +918,7 @@ pub(crate) fn residuals(
     rows: &[Measurement],
     predictions: &[f64],
     regimes: &[String],
-    noise: f64,
+    noise: Option<f64>,
 ) -> Residuals {
     let mut names: Vec<&String> = Vec::new();
     for regime in regimes {
@@ -801,7 +943,7 @@ pub(crate) fn residuals(
                 rows: members.len(),
                 mean,
                 rmse,
-                stands_out: mean.abs() > 3.0 * noise / n.sqrt(),
+                stands_out: noise.is_some_and(|sd| mean.abs() > 3.0 * sd / n.sqrt()),
             }
         })
         // A regime whose every row failed to settle has no residuals.
@@ -1094,7 +1236,21 @@ pub fn discover_with_progress(
                 .total_cmp(&assessed[b].rmse_heldout())
         });
     let best = selected.map_or(&baseline, |i| &assessed[i]);
-    let noise = (best.fit.sse / (n - best.names.len() as f64).max(1.0)).sqrt();
+    let best_name = selected.map_or("the base model".to_string(), |s| {
+        format!("'{}'", candidates[s].id)
+    });
+    let noise_level = NoiseLevel::estimate(
+        experiment.noise,
+        noise::pure_error(rows, 0),
+        noise::Residual {
+            sse: best.fit.sse,
+            dof: n - best.names.len() as f64,
+            model: &best_name,
+            scale: noise::root_mean_square(rows, 0),
+        },
+    );
+    let lack_of_fit = noise::lack_of_fit(&noise_level, baseline.fit.sse, rows.len(), p0);
+    let noise = noise_level.sd;
     let indistinguishable: Vec<usize> = match selected {
         // Those that also explain the effect (their F-test passes) and fit no worse than the
         // selected one beyond the noise: held-out scores are left out here, since they
@@ -1104,7 +1260,9 @@ pub fn discover_with_progress(
                 i != s
                     && !untestable[i]
                     && p_values[i] < level
-                    && assessed[i].fit.sse - assessed[s].fit.sse < 4.0 * noise * noise
+                    // Without a noise level, only a fit at least as good.
+                    && assessed[i].fit.sse - assessed[s].fit.sse
+                        <= 4.0 * noise.map_or(0.0, |sd| sd * sd)
             })
             .collect(),
         None => (0..candidates.len())
@@ -1150,14 +1308,25 @@ pub fn discover_with_progress(
         let against = selected.map_or("the base model".to_string(), |s| {
             format!("'{}'", candidates[s].id)
         });
-        let measurement = if difference > 3.0 * noise {
+        let measurement = if let Some(sd) = noise
+            && difference > 3.0 * sd
+        {
             format!(
                 "`{observed}` at {}: '{}' predicts {:.4}, {against} {:.4} ({:.1} noise levels apart)",
                 crate::probes::describe(experiment, &probes[k]),
                 candidates[i].id,
                 predictions[k],
                 reference_predictions[k],
-                difference / noise
+                difference / sd
+            )
+        } else if noise.is_none() && difference > SAME_PREDICTION_MM_S {
+            format!(
+                "`{observed}` at {}: '{}' predicts {:.4}, {against} {:.4} (the largest difference; \
+                 with no noise level it is not judged in noise levels)",
+                crate::probes::describe(experiment, &probes[k]),
+                candidates[i].id,
+                predictions[k],
+                reference_predictions[k],
             )
         } else {
             format!(
@@ -1272,6 +1441,9 @@ pub fn discover_with_progress(
         rows: rows.len(),
         observed: observed.to_string(),
         noise,
+        noise_source: noise_level.source,
+        pure_error: noise_level.pure_error,
+        lack_of_fit,
         baseline: Baseline {
             rmse_fit: baseline.rmse_fit(),
             rmse_heldout: baseline.rmse_heldout(),
@@ -1306,12 +1478,50 @@ impl Discovery {
     pub fn summary(&self) -> String {
         use std::fmt::Write;
         let mut s = String::new();
-        let _ = writeln!(
-            s,
-            "{}: {} rows, observed `{}` (every RMSE and residual below is in its units); \
-             noise estimated at {:.3} (RMS residual of the best model)",
-            self.data, self.rows, self.observed, self.noise
-        );
+        match self.noise {
+            Some(sd) => {
+                let _ = writeln!(
+                    s,
+                    "{}: {} rows, observed `{}` (every RMSE and residual below is in its \
+                     units); noise {sd:.3}, {}",
+                    self.data, self.rows, self.observed, self.noise_source
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    s,
+                    "{}: {} rows, observed `{}` (every RMSE and residual below is in its \
+                     units); noise: {}",
+                    self.data, self.rows, self.observed, self.noise_source
+                );
+                let _ = writeln!(
+                    s,
+                    "  so nothing below is judged in noise levels (no residual stands out of \
+                     the noise; candidates count as indistinguishable only if they fit as well)"
+                );
+            }
+        }
+        // Replicates that did not give the noise level: too few, or a declared noise.
+        if let Some(pe) = &self.pure_error
+            && (pe.dof < noise::MIN_PURE_ERROR_DOF
+                || self.noise_source == "declared in the experiment")
+        {
+            let _ = writeln!(
+                s,
+                "  replicates: pure error {:.3} of {} replicated condition(s) ({} dof{})",
+                pe.sd,
+                pe.groups,
+                pe.dof,
+                if pe.dof < noise::MIN_PURE_ERROR_DOF {
+                    format!(", fewer than the {} needed", noise::MIN_PURE_ERROR_DOF)
+                } else {
+                    String::new()
+                }
+            );
+        }
+        if let Some(test) = &self.lack_of_fit {
+            let _ = writeln!(s, "  lack of fit of the base model: {}", test.text());
+        }
         let _ = writeln!(
             s,
             "\nbase model, refitted: RMSE {:.3} on the fit, {:.3} held out",

@@ -19,6 +19,8 @@
 //!   the search over the faces where friction thresholds tie, around it;
 //! - [`calibration`]: a model calibrated on data, with residuals by regime and condition;
 //! - [`folds`] and [`probes`]: held-out folds, and conditions that separate two models;
+//! - [`noise`]: where the noise level comes from (declared, pure error of replicated
+//!   conditions, or a model's residual), and the lack-of-fit test it allows;
 //! - [`discover`]: which candidate extension explains the misfit;
 //! - [`synthetic`]: data made from a model with known values, for tests.
 
@@ -29,6 +31,7 @@ pub mod discover;
 pub mod experiment;
 pub mod folds;
 pub mod global;
+pub mod noise;
 pub mod predict;
 pub mod probes;
 pub mod stats;

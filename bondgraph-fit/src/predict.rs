@@ -329,6 +329,11 @@ impl Evaluator<'_> {
         self.predict_each(rows).into_iter().collect()
     }
 
+    /// The experiment the rows are read against.
+    pub fn experiment(&self) -> &Experiment {
+        self.predictor.experiment()
+    }
+
     /// The predicted steady state of each row, or why that row has none (a simulation that
     /// does not settle, as in a stick-slip cycle), row by row.
     pub fn predict_each(

@@ -61,7 +61,7 @@ fn the_geared_motor_is_calibrated_back_to_its_known_values() {
     );
     // The noise is recovered: the residuals' standard deviation near 0.05 rad/s (19 turning
     // rows with noise, 3 stalled without; four parameters).
-    let noise = result.noise["w_rad_s"];
+    let noise = result.noise["w_rad_s"].expect("a noise level");
     assert!((0.025..0.08).contains(&noise), "{noise}\n{report}");
     let stalled = result.residuals["w_rad_s"]
         .by_regime

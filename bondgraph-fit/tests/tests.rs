@@ -3,3 +3,4 @@
 
 mod calibration;
 mod experiments;
+mod noise;

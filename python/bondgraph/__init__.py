@@ -467,9 +467,10 @@ def discover(
     ``data`` (one CSV file or several), and which candidate extension explains it.
 
     ``experiment`` defaults to ``experiment.ron`` beside the model, ``extensions`` to the
-    folder ``extensions/`` beside it. The document has ``observed``, ``noise``,
-    ``baseline``, ``ranking`` (best first), ``selected``, ``indistinguishable`` and
-    ``gain``, as the command line prints them.
+    folder ``extensions/`` beside it. The document has ``observed``, ``noise`` (``None``
+    when the data cannot estimate it), ``noise_source`` (where it came from),
+    ``pure_error``, ``lack_of_fit``, ``baseline``, ``ranking`` (best first), ``selected``,
+    ``indistinguishable`` and ``gain``, as the command line prints them.
     """
     return _parse(
         _native.discover(
