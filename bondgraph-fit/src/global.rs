@@ -21,7 +21,9 @@
 //! its interval, and standard errors come from the full Jacobian). Nothing is random: a fit
 //! is a function of its data.
 
-use bondgraph_core::model::{ElementKind, Model};
+use bondgraph_core::linear::Var;
+use bondgraph_core::model::{ElementKind, Friction, Model};
+use bondgraph_core::symbolic::RatFunc;
 
 use crate::calibrate::{self, CalibrationError, Fit, Settings};
 
@@ -80,22 +82,65 @@ pub struct Ordering {
 }
 
 /// The orderings among the fitted parameters `names` that the model's friction contacts
-/// impose: a contact whose Coulomb force and breakaway force are each one fitted parameter
-/// (written as its bare name) needs `F_C <= F_S`.
+/// impose: a contact whose breakaway force exceeds its Coulomb force by exactly the
+/// difference of two fitted parameters (`F_S - F_C`, or `F_S + mu P - (F_C + mu P)` where
+/// both grow with an input) needs the one not to exceed the other.
 pub fn orderings(model: &Model, names: &[String]) -> Vec<Ordering> {
-    let index = |text: &str| names.iter().position(|n| n == text.trim());
     model
         .element_ids()
         .filter_map(|id| match &model.element(id).kind {
-            ElementKind::Friction(friction) => Some((
-                index(&friction.coulomb.text)?,
-                index(&friction.breakaway.text)?,
-            )),
+            ElementKind::Friction(friction) => gap_between(model, names, friction),
             _ => None,
         })
-        .filter(|(lower, upper)| lower != upper)
-        .map(|(lower, upper)| Ordering { lower, upper })
         .collect()
+}
+
+/// The fitted parameters `(lower, upper)` whose difference `upper - lower` is exactly the
+/// contact's breakaway force less its Coulomb force, if it is such a difference: no input,
+/// no other parameter, no constant, checked at the model's values and at a second point.
+fn gap_between(model: &Model, names: &[String], friction: &Friction) -> Option<Ordering> {
+    let mut gap = friction.breakaway.value.clone();
+    gap.add_scaled(&friction.coulomb.value, &RatFunc::integer(-1));
+    if gap.mentions(|v| v != Var::Constant) {
+        return None;
+    }
+    let gap = gap.coefficient(Var::Constant);
+    let slots: Vec<usize> = names
+        .iter()
+        .map(|n| {
+            model
+                .parameters
+                .iter()
+                .find(|p| &p.name == n)
+                .map(|p| p.symbol.index())
+        })
+        .collect::<Option<_>>()?;
+    let (mut lower, mut upper) = (None, None);
+    for (j, &slot) in slots.iter().enumerate() {
+        let mut moved = model.values.clone();
+        moved[slot] += 1.0;
+        let slope = gap.eval(&moved) - gap.eval(&model.values);
+        if (slope - 1.0).abs() < 1e-9 && upper.is_none() {
+            upper = Some(j);
+        } else if (slope + 1.0).abs() < 1e-9 && lower.is_none() {
+            lower = Some(j);
+        } else if slope.abs() > 1e-9 {
+            return None;
+        }
+    }
+    let ordering = Ordering {
+        lower: lower?,
+        upper: upper?,
+    };
+    // Exactly the difference (nothing else in it), here and at another point.
+    let second: Vec<f64> = model.values.iter().map(|v| 1.7 * v + 0.3).collect();
+    for values in [&model.values, &second] {
+        let difference = values[slots[ordering.upper]] - values[slots[ordering.lower]];
+        if (gap.eval(values) - difference).abs() > 1e-9 * (1.0 + difference.abs()) {
+            return None;
+        }
+    }
+    Some(ordering)
 }
 
 /// Faces searched with every face on: the interior, then every set of up to this many
@@ -401,6 +446,46 @@ mod tests {
             (lo - 9.0).abs() < 0.01 && (hi - 10.0).abs() < 0.01,
             "{lo} {hi}"
         );
+    }
+
+    #[test]
+    fn contacts_order_their_coulomb_and_breakaway_parameters() {
+        let model = bondgraph_core::model::load_str(
+            "contacts.ron",
+            r#"Model(
+                name: "contacts",
+                parameters: {
+                    "m": (value: 1.0), "dv": (value: 1.0e-6), "mu": (value: 0.1),
+                    "F_S": (value: 2.0), "F_C": (value: 1.0),
+                    "G_S": (value: 2.0), "G_C": (value: 1.0),
+                    "H_S": (value: 2.0), "H_C": (value: 1.0),
+                },
+                inputs: { "P": () },
+                elements: {
+                    "push": Se(effort: "P"), "v": One, "body": I(inertance: "m"),
+                    "plain": Friction(breakaway: "F_S", coulomb: "F_C", dead_band: "dv"),
+                    "loaded": Friction(breakaway: "G_S + mu*P", coulomb: "G_C + mu*P", dead_band: "dv"),
+                    "scaled": Friction(breakaway: "2*H_S", coulomb: "H_C", dead_band: "dv"),
+                },
+                bonds: [("push", "v"), ("v", "body"), ("v", "plain"), ("v", "loaded"), ("v", "scaled")],
+            )"#,
+        )
+        .unwrap();
+        let names: Vec<String> = ["F_C", "G_S", "F_S", "G_C", "H_C", "H_S", "mu"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        // `plain`: F_C <= F_S; `loaded`: the input terms cancel, G_C <= G_S; `scaled`: the gap
+        // 2 H_S - H_C is not a difference of two parameters.
+        assert_eq!(
+            orderings(&model, &names),
+            vec![
+                Ordering { lower: 0, upper: 2 },
+                Ordering { lower: 3, upper: 1 }
+            ]
+        );
+        // A contact with a parameter that is not fitted gives no ordering.
+        assert_eq!(orderings(&model, &names[..2].to_vec()), vec![]);
     }
 
     #[test]

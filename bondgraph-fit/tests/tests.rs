@@ -3,4 +3,5 @@
 
 mod calibration;
 mod experiments;
+mod motor_hidden;
 mod noise;
