@@ -485,7 +485,7 @@ mod tests {
             ]
         );
         // A contact with a parameter that is not fitted gives no ordering.
-        assert_eq!(orderings(&model, &names[..2].to_vec()), vec![]);
+        assert_eq!(orderings(&model, &names[..2]), vec![]);
     }
 
     #[test]
