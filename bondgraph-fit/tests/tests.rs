@@ -2,5 +2,6 @@
 //! (which has its own study, `studies/eversion`).
 
 mod calibration;
+mod discover;
 mod experiments;
 mod noise;
