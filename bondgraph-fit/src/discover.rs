@@ -865,43 +865,38 @@ fn cell_text(value: f64) -> String {
 
 /// Whether the candidate's own parameters' Jacobian columns lie in the span of the base
 /// parameters' (so the base refit can mimic its effect): the relative norm of what the
-/// projection leaves, below 2%.
+/// projection leaves, below 2%. Base columns that others already span (two thresholds tied
+/// on a face move the residuals alike) add nothing to the span and are left out of it.
 fn aliased_with_base(fit: &Fit, base: usize, own: usize) -> bool {
     let p = base + own;
     let n = fit.residuals.len();
     let column = |j: usize| -> Vec<f64> { (0..n).map(|i| fit.jacobian[i * p + j]).collect() };
-    // A base parameter held at a bound can mimic an effect in one direction only.
-    let base_columns: Vec<Vec<f64>> = (0..base)
-        .filter(|&j| !fit.at_bound[j])
-        .map(column)
-        .filter(|c| c.iter().any(|v| *v != 0.0))
-        .collect();
+    // An orthonormal basis of the base columns' span (modified Gram-Schmidt). A base
+    // parameter held at a bound can mimic an effect in one direction only.
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    for j in (0..base).filter(|&j| !fit.at_bound[j]) {
+        let mut c = column(j);
+        let norm = dot(&c, &c).sqrt();
+        for q in &basis {
+            let along = dot(q, &c);
+            c.iter_mut().zip(q).for_each(|(v, q)| *v -= along * q);
+        }
+        let left = dot(&c, &c).sqrt();
+        if left > 1e-9 * norm {
+            basis.push(c.into_iter().map(|v| v / left).collect());
+        }
+    }
     (base..p).all(|j| {
-        let c = column(j);
-        let norm: f64 = c.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let mut c = column(j);
+        let norm = dot(&c, &c).sqrt();
         if norm == 0.0 {
             return false;
         }
-        let m = base_columns.len();
-        let mut btb = vec![0.0; m * m];
-        let mut btc = vec![0.0; m];
-        for a in 0..m {
-            for b in 0..m {
-                btb[a * m + b] = dot(&base_columns[a], &base_columns[b]);
-            }
-            btc[a] = dot(&base_columns[a], &c);
+        for q in &basis {
+            let along = dot(q, &c);
+            c.iter_mut().zip(q).for_each(|(v, q)| *v -= along * q);
         }
-        let Some(beta) = stats::cholesky_solve(&btb, &btc) else {
-            return false;
-        };
-        let left: f64 = (0..n)
-            .map(|i| {
-                let fitted: f64 = (0..m).map(|a| beta[a] * base_columns[a][i]).sum();
-                (c[i] - fitted).powi(2)
-            })
-            .sum::<f64>()
-            .sqrt();
-        left < 0.02 * norm
+        dot(&c, &c).sqrt() < 0.02 * norm
     })
 }
 
@@ -1697,6 +1692,36 @@ pub fn write_residuals(s: &mut String, residuals: &Residuals) {
 #[cfg(test)]
 mod tests {
     use super::number;
+
+    /// A fit of three rows whose Jacobian has the columns `columns` (base ones first).
+    fn fit_with(columns: &[[f64; 3]]) -> crate::calibrate::Fit {
+        let p = columns.len();
+        crate::calibrate::Fit {
+            values: vec![0.0; p],
+            residuals: vec![0.0; 3],
+            sse: 0.0,
+            std_errors: vec![None; p],
+            intervals: vec![None; p],
+            at_bound: vec![false; p],
+            jacobian: (0..3)
+                .flat_map(|i| columns.iter().map(move |c| c[i]))
+                .collect(),
+            evaluations: 0,
+        }
+    }
+
+    #[test]
+    fn an_alias_is_found_when_two_base_columns_tie() {
+        // Two thresholds tied on a face move the residuals alike: columns 0 and 1 are
+        // equal, and the candidate's column 3 = 2 x column 0 + column 2 is in their span.
+        let base = [[1.0, 2.0, 0.0], [1.0, 2.0, 0.0], [0.0, 1.0, 1.0]];
+        let alias = [2.0, 5.0, 1.0];
+        let fit = fit_with(&[base[0], base[1], base[2], alias]);
+        assert!(super::aliased_with_base(&fit, 3, 1));
+        // One that leaves their span is not.
+        let fit = fit_with(&[base[0], base[1], base[2], [1.0, 0.0, 0.0]]);
+        assert!(!super::aliased_with_base(&fit, 3, 1));
+    }
 
     #[test]
     fn an_estimate_says_what_the_data_determine() {
