@@ -19,6 +19,7 @@ use bondgraph_core::source::SourceFile;
 use bondgraph_fit::data::{self, Dataset};
 use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};
 use bondgraph_fit::experiment::Experiment;
+use bondgraph_fit::global::Search;
 use bondgraph_fit::synthetic::{self, Noise};
 
 /// The measurement noise put on the synthetic runs, rad/s (as `data/step.csv` has).
@@ -107,15 +108,15 @@ fn with_hidden(id: &str, own: &[(&str, f64)], seed: u64) -> Dataset {
     measured_run(&hidden.model, &hidden.source, &truth(own), seed)
 }
 
+/// `discover` with a quarter of the default screening and one local fit per face, to keep
+/// the tests short (a run is simulated at every evaluation; the command line's default search
+/// is tested on `data/step.csv` in tests/cli.rs).
 fn run(dataset: &Dataset) -> Discovery {
-    discover::discover(
-        &motor(),
-        &experiment(),
-        dataset,
-        &library(),
-        &Settings::default(),
-    )
-    .unwrap()
+    let settings = Settings {
+        search: Search::GLOBAL.beside_a_known_fit(),
+        ..Settings::default()
+    };
+    discover::discover(&motor(), &experiment(), dataset, &library(), &settings).unwrap()
 }
 
 fn ranked<'a>(discovery: &'a Discovery, id: &str) -> &'a discover::Ranked {
