@@ -161,4 +161,23 @@ mod tests {
             "u_V = 4.75, tau_mNm = 2.5"
         );
     }
+
+    #[test]
+    fn a_time_series_is_probed_at_its_samples() {
+        let experiment = Experiment::parse(
+            "e.ron",
+            r#"Experiment(kind: TimeSeries(scenario: "step.ron", time: ("t_s", 1.0)),
+                conditions: [("V_V", "V", 1.0), ("tau_mNm", "tau_load", 0.001)],
+                observed: [("w", "flow:shaft", 1.0)])"#,
+        )
+        .unwrap();
+        let text = "t_s,V_V,tau_mNm,w\n0,0,0,0\n0.84,12,1000,8.4\n";
+        let rows = data::read("step.csv", text, &experiment).unwrap().rows;
+        // No grid of steady conditions: the recorded samples themselves.
+        assert_eq!(probes(&experiment, &rows), rows);
+        assert_eq!(
+            describe(&experiment, &rows[1]),
+            "t_s = 0.84 in the run of step.csv (V_V = 12, tau_mNm = 1000)"
+        );
+    }
 }
