@@ -1302,10 +1302,15 @@ pub fn discover_with_progress(
 
     // What would separate them: a steady condition, or where along the recorded run.
     let probes = crate::probes::probes(experiment, rows);
-    let nowhere = if experiment.time().is_some() {
-        "nothing along the recorded run"
-    } else {
-        "no steady"
+    let runs = rows
+        .iter()
+        .enumerate()
+        .filter(|(i, r)| *i == 0 || rows[i - 1].file != r.file)
+        .count();
+    let nowhere = match (experiment.time(), runs) {
+        (None, _) => "no steady",
+        (Some(_), 1) => "nothing along the recorded run",
+        (Some(_), _) => "nothing along the recorded runs",
     };
     let reference = match selected {
         Some(s) => Fitted {
