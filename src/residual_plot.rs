@@ -10,7 +10,8 @@ use plotters::prelude::*;
 
 /// An SVG of `model - measured` against the condition column with the most levels (for each
 /// row, among the columns it has a value in), one series per setting of the other columns:
-/// the baseline's residuals when `after` is false, the selected model's otherwise.
+/// the baseline's residuals when `after` is false, the selected model's otherwise. A time
+/// series' residuals are drawn along time.
 ///
 /// # Errors
 /// A message when there is nothing to draw or drawing fails.
@@ -20,6 +21,22 @@ pub fn residual_svg(
     title: &str,
     after: bool,
 ) -> Result<String, String> {
+    // A time series: the residuals along time, the run's samples one series.
+    if !rows.is_empty() && rows.iter().all(|r| r.time.is_some()) {
+        let points: Vec<(String, f64, f64)> = rows
+            .iter()
+            .filter_map(|r| {
+                let model = if after { r.selected? } else { r.baseline };
+                Some(("samples".to_string(), r.time?, model - r.measured))
+            })
+            .collect();
+        if points.is_empty() {
+            return Err("no residuals to plot".into());
+        }
+        let mut svg = String::new();
+        draw(&mut svg, &points, title, "time", observed).map_err(|e| e.to_string())?;
+        return Ok(svg);
+    }
     let mut levels: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
     for row in rows {
         for (column, value) in &row.conditions {

@@ -663,6 +663,78 @@ fn calibrate_and_discover_any_model_with_nothing_but_model_and_data() {
 }
 
 #[test]
+fn discover_takes_a_time_series() {
+    // The recorded run of data/step.csv (data/generate_step.py: the base model's truth,
+    // K = 0.05, b = 0.05, T_C = 0.15, T_S = 0.3, J = 0.01, plus noise of 0.05 rad/s):
+    // held out in five contiguous blocks of the one run, each predicted by simulating the
+    // whole run. Nothing is hidden in it, and on a run each candidate is still a base refit
+    // in disguise (bondgraph-fit/tests/discover.rs derives them): windage of b, the brush
+    // drop of T_C and T_S, the brake-loaded bearings of every torque scaled by 1/(1 + mu_b).
+    let printed = succeed(&[
+        "discover",
+        "--model",
+        "models/examples/geared_motor/geared_motor.ron",
+        "--data",
+        "models/examples/geared_motor/data/step.csv",
+        "--experiment",
+        "models/examples/geared_motor/experiment_step.ron",
+        "--format",
+        "json",
+    ]);
+    let json: Value = serde_json::from_str(&printed).unwrap();
+    assert_eq!(json["observed"], "w_rad_s");
+    assert_eq!(json["rows"], 201);
+    assert!(json["noise"].as_f64().is_some_and(|n| n > 0.0));
+    // A run's samples are not replicates: the noise is a model's residual.
+    assert!(
+        json["noise_source"]
+            .as_str()
+            .is_some_and(|s| s.starts_with("residual of ")),
+        "{}",
+        json["noise_source"]
+    );
+    assert!(json["pure_error"].is_null() && json["lack_of_fit"].is_null());
+    for field in ["rmse_fit", "rmse_heldout"] {
+        assert!(
+            json["baseline"][field].as_f64().is_some(),
+            "missing {field}"
+        );
+    }
+    let ranking = json["ranking"].as_array().unwrap();
+    assert_eq!(ranking.len(), 3);
+    for r in ranking {
+        for field in [
+            "id",
+            "params",
+            "rmse_fit",
+            "rmse_heldout",
+            "p_value",
+            "score",
+        ] {
+            assert!(r.get(field).is_some(), "missing {field}");
+        }
+    }
+    assert!(json.get("selected").is_some() && json["indistinguishable"].is_array());
+    for field in ["rmse_heldout_before", "rmse_heldout_after"] {
+        assert!(json["gain"][field].as_f64().is_some(), "missing {field}");
+    }
+    // Nothing selected; all three reported indistinguishable from the base model.
+    assert!(json["selected"].is_null());
+    assert_eq!(
+        json["indistinguishable"],
+        serde_json::json!([
+            "brake-loaded-bearings",
+            "brush-voltage-drop",
+            "shaft-windage"
+        ])
+    );
+    // Every sample in the table, with its time.
+    let table = json["table"].as_array().unwrap();
+    assert_eq!(table.len(), 201);
+    assert_eq!(table[84]["time"], 0.84);
+}
+
+#[test]
 fn a_bad_experiment_is_reported_at_its_line_and_field() {
     let dir = scratch("bad-experiment");
     std::fs::create_dir_all(&dir).unwrap();

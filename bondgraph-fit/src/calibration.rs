@@ -90,6 +90,7 @@ pub fn calibrate(
     let fit = fit_best(
         &mut evaluator,
         rows,
+        None,
         &[&file_start],
         &bounds,
         (&orderings, &settings.search),

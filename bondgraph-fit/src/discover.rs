@@ -8,9 +8,13 @@
 //!    `fitted_when_present` whose column has values) and score the model on held-out data:
 //!    leave one level out of a condition column with three or more levels (fit on some
 //!    settings of a condition, predict the others; [`crate::folds`] says which), and k-fold (k = 5, rows dealt
-//!    round-robin in the order of the conditions).
+//!    round-robin in the order of the conditions). A time series is held out along time:
+//!    one run (data file) at a time, or with one run, k contiguous blocks of it; a fold fits
+//!    its training samples' residuals and scores its held-out ones, each time simulating
+//!    the whole run, so that no held-out block cuts the measured inputs that drive it.
 //! 2. **Residuals** of the baseline by operating regime (named by the mode each row settles
-//!    in) and along each condition column, with the trend and whether it stands out of the
+//!    in, or a sample is in) and along each condition column (in a time series, a measured
+//!    input signal) and the time column, with the trend and whether it stands out of the
 //!    noise.
 //! 3. **Candidates**: each extension merged into the base model, refitted with the base's
 //!    fitted parameters and its own, and scored the same way. A candidate whose parameters
@@ -26,11 +30,13 @@
 //!    than the selected one beyond the noise (or, when nothing is selected, those aliased
 //!    with the base), each with the measurement that would separate them: a condition where
 //!    the two fitted models' predictions differ by more than three noise levels, searched
-//!    over a grid of conditions wider than the data's, or, when no steady observation
-//!    separates them, what the extension's file says would show its effect directly.
+//!    over a grid of conditions wider than the data's (for a time series: the time along the
+//!    recorded run where they differ most), or, when no such observation separates them,
+//!    what the extension's file says would show its effect directly.
 //!
 //! The noise level all of this is judged against is the experiment's declared one, else the
-//! pure error of replicated conditions, else the best model's residual ([`crate::noise`]);
+//! pure error of replicated conditions (steady data: a run's samples are not replicates),
+//! else the best model's residual ([`crate::noise`]);
 //! with a level that does not come from a model, the base model's lack of fit is tested too.
 
 use std::collections::BTreeMap;
@@ -128,15 +134,6 @@ pub enum DiscoverError {
     /// A fitted parameter that is not in the model, or has no bounds.
     #[error("{0}")]
     Fitted(Diagnostics),
-    /// Discovery holds rows out, which a time series cannot yet do: a held-out block would
-    /// also leave a gap in the measured input signals the run is driven by.
-    #[error(
-        "{data}: discover compares candidates on steady data; time series are fitted by calibrate (holding out blocks of a run is not supported yet)"
-    )]
-    TimeSeries {
-        /// The data's name.
-        data: String,
-    },
 }
 
 /// A candidate extension, merged into the base model.
@@ -241,10 +238,10 @@ pub struct RegimeResiduals {
     pub stands_out: bool,
 }
 
-/// The trend of the residuals along one condition column.
+/// The trend of the residuals along one condition column (or a time series' time column).
 #[derive(Clone, Debug, Serialize)]
 pub struct FactorTrend {
-    /// The condition column.
+    /// The condition column, or the time column.
     pub condition: String,
     /// The regime the trend is taken in (`all` for every row).
     pub regime: String,
@@ -261,13 +258,17 @@ pub struct FactorTrend {
 pub struct Residuals {
     /// By operating regime.
     pub by_regime: Vec<RegimeResiduals>,
-    /// Along each condition column, over all rows and within each regime with enough rows.
+    /// Along each condition column and, for a time series, along its time column (a trend
+    /// in time), over all rows and within each regime with enough rows.
     pub by_condition: Vec<FactorTrend>,
 }
 
 /// One row with its predictions.
 #[derive(Clone, Debug, Serialize)]
 pub struct RowResult {
+    /// A time series' sample time, in the time column's units.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time: Option<f64>,
     /// The condition cells, by column (`None`: empty).
     pub conditions: BTreeMap<String, Option<f64>>,
     /// The measured value.
@@ -546,6 +547,7 @@ fn fit_on_all(
     let fit = fit_best(
         &mut evaluator,
         rows,
+        None,
         &start_refs,
         &bounds,
         (&orderings, &search),
@@ -644,35 +646,39 @@ fn cross_validate(
     let predictor = Predictor::new(model.clone(), source, experiment)?;
     let mut evaluator = predictor.evaluator(&assessment.names)?;
     limit_to_settling(&mut evaluator);
-    let folds: Vec<(Vec<Measurement>, Vec<Measurement>)> =
-        crate::folds::folds(experiment, rows, settings.folds)
-            .into_iter()
-            .map(|fold| {
-                let pick = |indices: &[usize]| indices.iter().map(|&i| rows[i].clone()).collect();
-                (pick(&fold.train), pick(&fold.test))
-            })
-            .collect();
+    // What each fold simulates (a time series: whole runs) and which residuals it keeps.
+    let pick = |indices: &[usize]| -> (Vec<Measurement>, Vec<usize>) {
+        let simulated = crate::folds::simulated(experiment, rows, indices);
+        let picked = simulated.rows.iter().map(|&i| rows[i].clone()).collect();
+        (picked, simulated.kept)
+    };
+    let folds: Vec<_> = crate::folds::folds(experiment, rows, settings.folds)
+        .into_iter()
+        .map(|fold| (pick(&fold.train), pick(&fold.test)))
+        .collect();
     let mut fold_fits = Vec::new();
     // A fold refits locally from the full data's optimum (and the file's values), each
     // start on its own face: the global search has already chosen the basin, and a fold
     // that searched again could leave it by the luck of the rows it holds out.
-    for (train, _) in &folds {
+    for ((train, kept), _) in &folds {
         let starts: [&[f64]; 2] = [&assessment.fit.values, file_start];
         fold_fits.push(fit_best(
             &mut evaluator,
             train,
+            Some(kept),
             &starts,
             bounds,
             (orderings, &Search::LOCAL),
             settings,
         )?);
     }
-    for ((_, test), fold_fit) in folds.iter().zip(&fold_fits) {
+    for ((_, (test, kept)), fold_fit) in folds.iter().zip(&fold_fits) {
         evaluator.set(&fold_fit.values);
-        for (p, row) in evaluator.predict_each(test).iter().zip(test) {
-            match p {
+        let predictions = evaluator.predict_each(test);
+        for &i in kept {
+            match &predictions[i] {
                 Ok(p) => {
-                    assessment.heldout_sse += (p.observed[0] - row.observed[0]).powi(2);
+                    assessment.heldout_sse += (p.observed[0] - test[i].observed[0]).powi(2);
                     assessment.heldout_count += 1;
                 }
                 Err(_) => assessment.unsettled += 1,
@@ -684,25 +690,38 @@ fn cross_validate(
 
 /// The best least-squares fit on `train` of the parameters `evaluator` sets, searching
 /// (`search`, under the parameters' `orderings`) from `starts`.
+///
+/// `train` is what the fit simulates; `kept`, the positions in it of the rows whose
+/// residuals enter the sum of squares (`None`: every row). A time series' fold simulates
+/// whole runs, so that the measured inputs are complete, and keeps its training samples'
+/// residuals ([`crate::folds::simulated`]).
 pub(crate) fn fit_best(
     evaluator: &mut Evaluator<'_>,
     train: &[Measurement],
+    kept: Option<&[usize]>,
     starts: &[&[f64]],
     bounds: &[(f64, f64)],
     (orderings, search): (&[Ordering], &Search),
     settings: &Settings,
 ) -> Result<Fit, DiscoverError> {
-    let measured: Vec<f64> = train
+    let all: Vec<usize>;
+    let kept = match kept {
+        Some(kept) => kept,
+        None => {
+            all = (0..train.len()).collect();
+            &all
+        }
+    };
+    let measured: Vec<f64> = kept
         .iter()
-        .flat_map(|r| r.observed.iter().copied())
+        .flat_map(|&i| train[i].observed.iter().copied())
         .collect();
     let mut residuals = |x: &[f64]| -> Option<Vec<f64>> {
         evaluator.set(x);
         let predictions = evaluator.predict(train).ok()?;
         Some(
-            predictions
-                .iter()
-                .flat_map(|p| p.observed.iter().copied())
+            kept.iter()
+                .flat_map(|&i| predictions[i].observed.iter().copied())
                 .zip(&measured)
                 .map(|(p, m)| p - m)
                 .collect(),
@@ -731,7 +750,9 @@ pub(crate) fn fit_best(
             // Name the row the model cannot evaluate, when it is one row.
             evaluator.set(starts[0]);
             let predictions = evaluator.predict(train)?;
-            if let Some(error) = unfittable_row(evaluator.experiment(), train, &predictions) {
+            let rows: Vec<Measurement> = kept.iter().map(|&i| train[i].clone()).collect();
+            let predictions: Vec<_> = kept.iter().map(|&i| predictions[i].clone()).collect();
+            if let Some(error) = unfittable_row(evaluator.experiment(), &rows, &predictions) {
                 return Err(error);
             }
             Err(DiscoverError::Calibration {
@@ -844,43 +865,38 @@ fn cell_text(value: f64) -> String {
 
 /// Whether the candidate's own parameters' Jacobian columns lie in the span of the base
 /// parameters' (so the base refit can mimic its effect): the relative norm of what the
-/// projection leaves, below 2%.
+/// projection leaves, below 2%. Base columns that others already span (two thresholds tied
+/// on a face move the residuals alike) add nothing to the span and are left out of it.
 fn aliased_with_base(fit: &Fit, base: usize, own: usize) -> bool {
     let p = base + own;
     let n = fit.residuals.len();
     let column = |j: usize| -> Vec<f64> { (0..n).map(|i| fit.jacobian[i * p + j]).collect() };
-    // A base parameter held at a bound can mimic an effect in one direction only.
-    let base_columns: Vec<Vec<f64>> = (0..base)
-        .filter(|&j| !fit.at_bound[j])
-        .map(column)
-        .filter(|c| c.iter().any(|v| *v != 0.0))
-        .collect();
+    // An orthonormal basis of the base columns' span (modified Gram-Schmidt). A base
+    // parameter held at a bound can mimic an effect in one direction only.
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    for j in (0..base).filter(|&j| !fit.at_bound[j]) {
+        let mut c = column(j);
+        let norm = dot(&c, &c).sqrt();
+        for q in &basis {
+            let along = dot(q, &c);
+            c.iter_mut().zip(q).for_each(|(v, q)| *v -= along * q);
+        }
+        let left = dot(&c, &c).sqrt();
+        if left > 1e-9 * norm {
+            basis.push(c.into_iter().map(|v| v / left).collect());
+        }
+    }
     (base..p).all(|j| {
-        let c = column(j);
-        let norm: f64 = c.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let mut c = column(j);
+        let norm = dot(&c, &c).sqrt();
         if norm == 0.0 {
             return false;
         }
-        let m = base_columns.len();
-        let mut btb = vec![0.0; m * m];
-        let mut btc = vec![0.0; m];
-        for a in 0..m {
-            for b in 0..m {
-                btb[a * m + b] = dot(&base_columns[a], &base_columns[b]);
-            }
-            btc[a] = dot(&base_columns[a], &c);
+        for q in &basis {
+            let along = dot(q, &c);
+            c.iter_mut().zip(q).for_each(|(v, q)| *v -= along * q);
         }
-        let Some(beta) = stats::cholesky_solve(&btb, &btc) else {
-            return false;
-        };
-        let left: f64 = (0..n)
-            .map(|i| {
-                let fitted: f64 = (0..m).map(|a| beta[a] * base_columns[a][i]).sum();
-                (c[i] - fitted).powi(2)
-            })
-            .sum::<f64>()
-            .sqrt();
-        left < 0.02 * norm
+        dot(&c, &c).sqrt() < 0.02 * norm
     })
 }
 
@@ -911,7 +927,7 @@ fn spans_bounds(fit: &Fit, j: usize, (a, b): (f64, f64)) -> bool {
 }
 
 /// Residuals (model minus measured) of observed column `column` by regime and along each
-/// condition column.
+/// condition column, and for a time series along time.
 pub(crate) fn residuals(
     experiment: &Experiment,
     column: usize,
@@ -964,11 +980,24 @@ pub(crate) fn residuals(
                 .collect(),
         )
     }));
+    // Along each condition column (in a time series, a measured input signal) and along
+    // the time column.
+    let time = experiment.time().map(|(column, _)| column);
+    let along: Vec<(&str, Option<usize>)> = columns
+        .iter()
+        .enumerate()
+        .map(|(k, c)| (*c, Some(k)))
+        .chain(time.map(|t| (t, None)))
+        .collect();
     for (group, members) in groups {
-        for (k, condition) in columns.iter().enumerate() {
+        for &(name, k) in &along {
+            let at = |i: usize| match k {
+                Some(k) => rows[i].conditions[k],
+                None => rows[i].time,
+            };
             let points: Vec<(f64, f64)> = members
                 .iter()
-                .filter_map(|&i| rows[i].conditions[k].map(|x| (x, residual(i))))
+                .filter_map(|&i| at(i).map(|x| (x, residual(i))))
                 .collect();
             if points.len() < 4 {
                 continue;
@@ -976,7 +1005,7 @@ pub(crate) fn residuals(
             let (x, y): (Vec<f64>, Vec<f64>) = points.into_iter().unzip();
             if let Some((slope, se)) = stats::slope(&x, &y) {
                 by_factor.push(FactorTrend {
-                    condition: (*condition).to_string(),
+                    condition: name.to_string(),
                     regime: group.clone(),
                     slope,
                     std_error: se,
@@ -1151,11 +1180,6 @@ pub fn discover_with_progress(
     if experiment.observed.len() != 1 {
         return Err(DiscoverError::ObservedColumns(experiment.observed.len()));
     }
-    if experiment.time().is_some() {
-        return Err(DiscoverError::TimeSeries {
-            data: data_name.to_string(),
-        });
-    }
     if rows.len() < 8 {
         return Err(DiscoverError::TooFewRows {
             data: data_name.to_string(),
@@ -1239,9 +1263,15 @@ pub fn discover_with_progress(
     let best_name = selected.map_or("the base model".to_string(), |s| {
         format!("'{}'", candidates[s].id)
     });
+    // Samples of a run at the same input levels are not replicates.
+    let replicates = if experiment.time().is_none() {
+        noise::pure_error(rows, 0)
+    } else {
+        None
+    };
     let noise_level = NoiseLevel::estimate(
         experiment.noise,
-        noise::pure_error(rows, 0),
+        replicates,
         noise::Residual {
             sse: best.fit.sse,
             dof: n - best.names.len() as f64,
@@ -1270,8 +1300,18 @@ pub fn discover_with_progress(
             .collect(),
     };
 
-    // What would separate them.
-    let probes = crate::probes::grid(experiment, rows);
+    // What would separate them: a steady condition, or where along the recorded run.
+    let probes = crate::probes::probes(experiment, rows);
+    let runs = rows
+        .iter()
+        .enumerate()
+        .filter(|(i, r)| *i == 0 || rows[i - 1].file != r.file)
+        .count();
+    let nowhere = match (experiment.time(), runs) {
+        (None, _) => "no steady",
+        (Some(_), 1) => "nothing along the recorded run",
+        (Some(_), _) => "nothing along the recorded runs",
+    };
     let reference = match selected {
         Some(s) => Fitted {
             model: &candidates[s].model,
@@ -1330,7 +1370,7 @@ pub fn discover_with_progress(
             )
         } else {
             format!(
-                "no steady `{observed}` tells '{}' from {against} (they differ by at most {:.4}); {}",
+                "{nowhere} `{observed}` tells '{}' from {against} (they differ by at most {:.4}); {}",
                 candidates[i].id,
                 difference,
                 candidates[i]
@@ -1405,6 +1445,7 @@ pub fn discover_with_progress(
         .iter()
         .enumerate()
         .map(|(i, r)| RowResult {
+            time: r.time,
             conditions: data
                 .conditions
                 .iter()
@@ -1656,6 +1697,36 @@ pub fn write_residuals(s: &mut String, residuals: &Residuals) {
 #[cfg(test)]
 mod tests {
     use super::number;
+
+    /// A fit of three rows whose Jacobian has the columns `columns` (base ones first).
+    fn fit_with(columns: &[[f64; 3]]) -> crate::calibrate::Fit {
+        let p = columns.len();
+        crate::calibrate::Fit {
+            values: vec![0.0; p],
+            residuals: vec![0.0; 3],
+            sse: 0.0,
+            std_errors: vec![None; p],
+            intervals: vec![None; p],
+            at_bound: vec![false; p],
+            jacobian: (0..3)
+                .flat_map(|i| columns.iter().map(move |c| c[i]))
+                .collect(),
+            evaluations: 0,
+        }
+    }
+
+    #[test]
+    fn an_alias_is_found_when_two_base_columns_tie() {
+        // Two thresholds tied on a face move the residuals alike: columns 0 and 1 are
+        // equal, and the candidate's column 3 = 2 x column 0 + column 2 is in their span.
+        let base = [[1.0, 2.0, 0.0], [1.0, 2.0, 0.0], [0.0, 1.0, 1.0]];
+        let alias = [2.0, 5.0, 1.0];
+        let fit = fit_with(&[base[0], base[1], base[2], alias]);
+        assert!(super::aliased_with_base(&fit, 3, 1));
+        // One that leaves their span is not.
+        let fit = fit_with(&[base[0], base[1], base[2], [1.0, 0.0, 0.0]]);
+        assert!(!super::aliased_with_base(&fit, 3, 1));
+    }
 
     #[test]
     fn an_estimate_says_what_the_data_determine() {

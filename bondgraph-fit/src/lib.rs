@@ -18,7 +18,9 @@
 //! - [`calibrate`]: bounded least squares for piecewise-smooth steady states, and [`global`]:
 //!   the search over the faces where friction thresholds tie, around it;
 //! - [`calibration`]: a model calibrated on data, with residuals by regime and condition;
-//! - [`folds`] and [`probes`]: held-out folds, and conditions that separate two models;
+//! - [`folds`] and [`probes`]: held-out folds (for a time series, whole runs or contiguous
+//!   blocks of one, every run simulated whole), and conditions (or, along a run, times) that
+//!   separate two models;
 //! - [`noise`]: where the noise level comes from (declared, pure error of replicated
 //!   conditions, or a model's residual), and the lack-of-fit test it allows;
 //! - [`discover`]: which candidate extension explains the misfit;

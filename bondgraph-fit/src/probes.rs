@@ -4,12 +4,27 @@
 //! setting of the conditions at which their predictions differ by more than the noise. The
 //! search runs over a grid wider than the data's range in every condition column, so that it
 //! can propose a measurement outside what was done (a higher pressure, a faster drive).
+//!
+//! A time series is not probed on a grid: its conditions are input signals along a run, and
+//! a steady setting of them says nothing of the run's dynamics. Its probes are the recorded
+//! samples themselves, each predicted by simulating its whole run: the answer is where along
+//! the run the two models differ most.
 
 use crate::data::Measurement;
 use crate::experiment::Experiment;
 
 /// Probe rows at most, over all condition columns together.
 const BUDGET: f64 = 200.0;
+
+/// Where to look for a separating measurement: for steady data the [`grid`], for a time
+/// series the recorded samples (`rows` themselves).
+pub fn probes(experiment: &Experiment, rows: &[Measurement]) -> Vec<Measurement> {
+    if experiment.time().is_some() {
+        rows.to_vec()
+    } else {
+        grid(experiment, rows)
+    }
+}
 
 /// A grid of conditions wider than the data's: for a column whose values are never negative,
 /// from half the lowest to twice the highest; otherwise half the range beyond each end; a
@@ -84,8 +99,21 @@ pub fn grid(experiment: &Experiment, rows: &[Measurement]) -> Vec<Measurement> {
         .collect()
 }
 
-/// `column = value, ...` with four significant digits, `column empty` for an empty cell.
+/// `column = value, ...` with four significant digits, `column empty` for an empty cell; a
+/// time series' sample as `t_s = 0.84 in the run of step.csv (V_V = 12, tau_mNm = 1000)`.
 pub fn describe(experiment: &Experiment, row: &Measurement) -> String {
+    let conditions = cells(experiment, row);
+    match (experiment.time(), row.time) {
+        (Some((column, _)), Some(t)) => format!(
+            "{column} = {} in the run of {} ({conditions})",
+            significant(t),
+            row.file
+        ),
+        _ => conditions,
+    }
+}
+
+fn cells(experiment: &Experiment, row: &Measurement) -> String {
     experiment
         .condition_columns()
         .iter()
@@ -131,6 +159,25 @@ mod tests {
         assert_eq!(
             describe(&experiment, &grid[15]),
             "u_V = 4.75, tau_mNm = 2.5"
+        );
+    }
+
+    #[test]
+    fn a_time_series_is_probed_at_its_samples() {
+        let experiment = Experiment::parse(
+            "e.ron",
+            r#"Experiment(kind: TimeSeries(scenario: "step.ron", time: ("t_s", 1.0)),
+                conditions: [("V_V", "V", 1.0), ("tau_mNm", "tau_load", 0.001)],
+                observed: [("w", "flow:shaft", 1.0)])"#,
+        )
+        .unwrap();
+        let text = "t_s,V_V,tau_mNm,w\n0,0,0,0\n0.84,12,1000,8.4\n";
+        let rows = data::read("step.csv", text, &experiment).unwrap().rows;
+        // No grid of steady conditions: the recorded samples themselves.
+        assert_eq!(probes(&experiment, &rows), rows);
+        assert_eq!(
+            describe(&experiment, &rows[1]),
+            "t_s = 0.84 in the run of step.csv (V_V = 12, tau_mNm = 1000)"
         );
     }
 }

@@ -2,6 +2,7 @@
 //! (which has its own study, `studies/eversion`).
 
 mod calibration;
+mod discover;
 mod experiments;
 mod motor_hidden;
 mod noise;
