@@ -213,7 +213,30 @@ pub fn least_squares(
     let start = reduced.expand(&face_fit.values);
     let mut fit = calibrate::least_squares(residuals, &start, bounds, settings)?;
     fit.evaluations += evaluations;
+    errors_on_the_face(&mut fit, &face_fit, &reduced);
     Ok(fit)
+}
+
+/// Where the polish stays on the face (no better point off it) and the full Jacobian leaves
+/// parameters without errors (a tied Coulomb and breakaway force move the residuals alike,
+/// which makes the normal matrix singular and costs every parameter its error), the errors
+/// of the fit constrained to the face: those of its reduced parameters, a tied pair sharing
+/// its lower side's. A threshold's interval is kept.
+fn errors_on_the_face(fit: &mut Fit, face_fit: &Fit, reduced: &Reduced) {
+    let on_face = reduced
+        .expand(&face_fit.values)
+        .iter()
+        .zip(&fit.values)
+        .zip(&reduced.widths())
+        .all(|((a, b), w)| (a - b).abs() <= 1e-9 * w);
+    if !on_face {
+        return;
+    }
+    for (j, &r) in reduced.source.iter().enumerate() {
+        if fit.std_errors[j].is_none() && fit.intervals[j].is_none() && !fit.at_bound[j] {
+            fit.std_errors[j] = face_fit.std_errors[r];
+        }
+    }
 }
 
 /// Every set of at most `most` orderings, the empty one first.
@@ -340,6 +363,14 @@ impl Reduced {
             source,
             bounds: reduced_bounds,
         })
+    }
+
+    /// The width of each full parameter's bounds, through the reduced one that gives it.
+    fn widths(&self) -> Vec<f64> {
+        self.source
+            .iter()
+            .map(|&r| self.bounds[r].1 - self.bounds[r].0)
+            .collect()
     }
 
     /// The full parameter vector of a reduced one.

@@ -96,3 +96,50 @@ fn no_candidate_fits_worse_than_the_base_model() {
         );
     }
 }
+
+/// Velocity weakening calibrated alone (its Stribeck velocity fitted with the nozzle
+/// friction) lands on the face `F_C_ge = F_S_ge`, where breakaway and kinetic friction are
+/// equal and the weakening has nothing to weaken: there it is the base model, so its fit and
+/// its errors must be the base model's. The full Jacobian cannot give them (a tied Coulomb
+/// and breakaway force move the residuals alike); the fit constrained to the face does.
+#[test]
+fn on_the_face_a_weakening_contact_has_the_base_models_errors() {
+    use bondgraph_core::model::extension::{self, Extension};
+    use bondgraph_fit::calibration::calibrate;
+    use bondgraph_fit::experiment::Experiment;
+
+    let path =
+        crate::support::root().join("models/eversion/extensions/velocity-weakening-friction.ron");
+    let weakening = Extension::read(&path).unwrap();
+    let extended = extension::merge(&base(), &[weakening]).unwrap();
+    let text =
+        std::fs::read_to_string(crate::support::root().join("models/eversion/experiment.ron"))
+            .unwrap()
+            .replace(
+                r#"fitted: ["F_C_ge", "b", "F_S_ge"]"#,
+                r#"fitted: ["F_C_ge", "b", "F_S_ge", "v_st"]"#,
+            );
+    let experiment = Experiment::parse("experiment.ron", &text).unwrap();
+    let data = dataset("table3.csv");
+    let fit = calibrate(&extended.file, &experiment, &data, &Settings::default()).unwrap();
+    let d = table3();
+    let base = &d.baseline.params;
+    let rmse = fit.rmse["v_ge_mm_s"];
+    assert!((rmse - d.baseline.rmse_fit).abs() < 1e-6, "{rmse}");
+    for name in ["F_C_ge", "b"] {
+        let (value, se) = (fit.params[name].value, fit.params[name].std_error);
+        assert!(
+            (value - base[name].value).abs() < 1e-6 * base[name].value,
+            "{name} = {value}"
+        );
+        let (se, base_se) = (
+            se.expect("an error on the face"),
+            base[name].std_error.unwrap(),
+        );
+        assert!(
+            (se / base_se - 1.0).abs() < 1e-3,
+            "{name}: ± {se} against ± {base_se}"
+        );
+    }
+    assert_eq!(fit.params["F_S_ge"].value, fit.params["F_C_ge"].value);
+}
