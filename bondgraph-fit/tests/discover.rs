@@ -10,9 +10,9 @@
 //! mechanical time constant J/(b + beta) = 18 ms (the electrical one, L_a/R_a, is 1.5 ms) at
 //! w = (alpha V - T_C - tau)/(b + beta).
 
-use std::path::PathBuf;
 use std::sync::Arc;
 
+use crate::motor::{self, file, library, motor};
 use bondgraph_core::model::extension::Extension;
 use bondgraph_core::model::{self, Model};
 use bondgraph_core::source::SourceFile;
@@ -25,38 +25,8 @@ use bondgraph_fit::synthetic::{self, Noise};
 /// The measurement noise put on the synthetic runs, rad/s (as `data/step.csv` has).
 const SIGMA: f64 = 0.05;
 
-fn file(relative: &str) -> Arc<SourceFile> {
-    // Absolute, so that the experiment finds its scenario beside it.
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join(relative);
-    SourceFile::new(
-        path.display().to_string(),
-        std::fs::read_to_string(&path).unwrap(),
-    )
-}
-
-fn motor() -> Arc<SourceFile> {
-    file("models/examples/geared_motor/geared_motor.ron")
-}
-
 fn experiment() -> Experiment {
-    Experiment::from_source(&file("models/examples/geared_motor/experiment_step.ron")).unwrap()
-}
-
-fn library() -> Vec<Candidate> {
-    let base = motor();
-    [
-        "brake-loaded-bearings",
-        "brush-voltage-drop",
-        "shaft-windage",
-    ]
-    .iter()
-    .map(|id| {
-        let source = file(&format!("models/examples/geared_motor/extensions/{id}.ron"));
-        Candidate::new(&base, &Extension::load(&source).unwrap()).unwrap()
-    })
-    .collect()
+    motor::experiment("experiment_step.ron")
 }
 
 /// The truth of `data/generate_step.py`, and `hidden`'s own parameters.

@@ -18,43 +18,16 @@
 //! errors. Detection rates over 20 seeds are an ignored test (figures in the README).
 
 use std::path::PathBuf;
-use std::sync::Arc;
 
-use bondgraph_core::model::{self, extension::Extension};
-use bondgraph_core::source::SourceFile;
+use crate::motor::{self, library, motor};
+use bondgraph_core::model;
 use bondgraph_fit::data::{self, Dataset};
-use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};
+use bondgraph_fit::discover::{self, Discovery, Settings};
 use bondgraph_fit::experiment::Experiment;
 use bondgraph_fit::synthetic::{self, Noise};
 
-fn file(relative: &str) -> Arc<SourceFile> {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join(relative);
-    SourceFile::new(relative, std::fs::read_to_string(path).unwrap())
-}
-
-fn motor() -> Arc<SourceFile> {
-    file("models/examples/geared_motor/geared_motor.ron")
-}
-
 fn experiment() -> Experiment {
-    Experiment::from_source(&file("models/examples/geared_motor/experiment.ron")).unwrap()
-}
-
-fn library() -> Vec<Candidate> {
-    let base = motor();
-    [
-        "brake-loaded-bearings",
-        "brush-voltage-drop",
-        "shaft-windage",
-    ]
-    .iter()
-    .map(|id| {
-        let source = file(&format!("models/examples/geared_motor/extensions/{id}.ron"));
-        Candidate::new(&base, &Extension::load(&source).unwrap()).unwrap()
-    })
-    .collect()
+    motor::experiment("experiment.ron")
 }
 
 const TRUTH: [(&str, f64); 4] = [("K", 0.05), ("b", 0.05), ("T_C", 0.15), ("T_S", 0.3)];

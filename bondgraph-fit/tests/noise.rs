@@ -2,48 +2,19 @@
 //! `models/examples/geared_motor/`: the pure error of replicated conditions, an exact
 //! repetition that gives no estimate, and a cell that cannot be fitted.
 
-use std::path::PathBuf;
 use std::sync::Arc;
 
+use crate::motor::{self, file, library, motor};
 use bondgraph_core::model;
-use bondgraph_core::source::SourceFile;
 use bondgraph_fit::calibration::calibrate;
 use bondgraph_fit::data::{self, Dataset, Measurement};
-use bondgraph_fit::discover::{self, Candidate, DiscoverError, Discovery, Settings};
+use bondgraph_fit::discover::{self, DiscoverError, Discovery, Settings};
 use bondgraph_fit::experiment::Experiment;
 use bondgraph_fit::stats;
 use bondgraph_fit::synthetic::{self, Noise};
 
-fn file(relative: &str) -> Arc<SourceFile> {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join(relative);
-    SourceFile::new(relative, std::fs::read_to_string(path).unwrap())
-}
-
-fn motor() -> Arc<SourceFile> {
-    file("models/examples/geared_motor/geared_motor.ron")
-}
-
 fn experiment() -> Experiment {
-    Experiment::from_source(&file("models/examples/geared_motor/experiment.ron")).unwrap()
-}
-
-fn library() -> Vec<Candidate> {
-    let base = motor();
-    [
-        "brake-loaded-bearings",
-        "brush-voltage-drop",
-        "shaft-windage",
-    ]
-    .iter()
-    .map(|id| {
-        let source = file(&format!("models/examples/geared_motor/extensions/{id}.ron"));
-        let extension =
-            bondgraph_core::model::extension::Extension::load(&source).expect("extension");
-        Candidate::new(&base, &extension).unwrap()
-    })
-    .collect()
+    motor::experiment("experiment.ron")
 }
 
 /// The truth of `data/generate.py`.

@@ -4,5 +4,6 @@
 mod calibration;
 mod discover;
 mod experiments;
+mod motor;
 mod motor_hidden;
 mod noise;

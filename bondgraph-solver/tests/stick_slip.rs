@@ -7,6 +7,15 @@ use bondgraph_solver::{Output, Run, Signal, Simulator};
 
 use crate::support::{Constant, load};
 
+/// The block's velocity, the one output both tests record.
+fn block_velocity(model: &bondgraph_core::model::Model) -> Vec<Output> {
+    vec![Output {
+        name: "flow:block".into(),
+        spec: OutputSpec::parse(model, "flow:block").unwrap(),
+        integral: false,
+    }]
+}
+
 /// By hand, with m = 1 kg, k = 100 N/m, F_S = 10 N, F_C = 6 N and the belt at V = 0.1 m/s,
 /// starting stuck with the spring relaxed:
 /// - stuck, the spring stretches at V and the contact holds k q; it breaks away when
@@ -20,12 +29,7 @@ use crate::support::{Constant, load};
 #[test]
 fn event_times_and_period_match_the_closed_form() {
     let model = load("models/examples/belt_friction.ron");
-    let outputs = vec![Output {
-        name: "flow:block".into(),
-        spec: OutputSpec::parse(&model, "flow:block").unwrap(),
-        integral: false,
-    }];
-    let mut simulator = Simulator::new(&model, outputs);
+    let mut simulator = Simulator::new(&model, block_velocity(&model));
     let belt = Constant(0.1);
     let inputs: [&dyn Signal; 1] = [&belt];
     let run = Run {
@@ -74,12 +78,7 @@ fn event_times_and_period_match_the_closed_form() {
 fn a_steady_state_search_gives_up_on_a_cycle_after_its_mode_changes() {
     use bondgraph_solver::steady::{SteadyError, SteadySettings, steady_state};
     let model = load("models/examples/belt_friction.ron");
-    let outputs = vec![Output {
-        name: "flow:block".into(),
-        spec: OutputSpec::parse(&model, "flow:block").unwrap(),
-        integral: false,
-    }];
-    let mut simulator = Simulator::new(&model, outputs);
+    let mut simulator = Simulator::new(&model, block_velocity(&model));
     let settings = SteadySettings {
         max_mode_changes: 20,
         ..SteadySettings::default()
