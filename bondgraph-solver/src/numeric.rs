@@ -489,7 +489,26 @@ impl NumericMode {
         if let Some(program) = &row.program {
             return program.outputs(x, u, rate)[program.rate];
         }
-        dot(&row.state, &self.derivative(x, u)) + dot(&row.input, rate)
+        if self.nonlinear.is_some() {
+            return dot(&row.state, &self.derivative(x, u)) + dot(&row.input, rate);
+        }
+        // `g·(A x + B u + c)` row by row, skipping the states the row does not read: event
+        // location asks for every guard's rate at every sample, so this must not allocate.
+        let mut sum = dot(&row.input, rate);
+        for (i, &g) in row.state.iter().enumerate() {
+            if g == 0.0 {
+                continue;
+            }
+            let mut derivative = self.c[i];
+            for (j, xj) in x.iter().enumerate() {
+                derivative += self.a[(i, j)] * xj;
+            }
+            for (k, uk) in u.iter().enumerate() {
+                derivative += self.b[(i, k)] * uk;
+            }
+            sum += g * derivative;
+        }
+        sum
     }
 
     /// The size of the terms of [`NumericMode::row_rate`] before they cancel, the scale
