@@ -5,6 +5,7 @@
 //! [`Model`], which cannot hold a bond to an undefined element, an unknown symbol or a
 //! zero mass.
 
+use std::collections::BTreeSet;
 use std::sync::Arc;
 
 use crate::linear::{LinearForm, Var};
@@ -223,6 +224,24 @@ pub struct ResistorLaw {
 }
 
 impl NonlinearLaw {
+    /// The parameters its expressions use.
+    pub fn parameters(&self) -> BTreeSet<Symbol> {
+        match self {
+            NonlinearLaw::EffortSource(e)
+            | NonlinearLaw::FlowSource(e)
+            | NonlinearLaw::Inertia(e)
+            | NonlinearLaw::Compliance(e)
+            | NonlinearLaw::Transformer(e)
+            | NonlinearLaw::Gyrator(e) => e.parameters(),
+            NonlinearLaw::Resistor(law) => law
+                .effort
+                .iter()
+                .chain(&law.flow)
+                .flat_map(Sym::parameters)
+                .collect(),
+        }
+    }
+
     /// The element kind it belongs to, as written in model files.
     pub fn keyword(&self) -> &'static str {
         match self {
@@ -579,6 +598,43 @@ impl Model {
         crate::units::Domain::of(dims.effort?, dims.flow?)
     }
 
+    /// The parameters some element's law uses: a parameter outside it (one only a removed
+    /// element used) changes nothing the model computes.
+    pub fn parameters_in_use(&self) -> BTreeSet<Symbol> {
+        let mut used = BTreeSet::new();
+        let mut form = |form: &LinearForm| {
+            for (_, coefficient) in form.terms() {
+                used.extend(coefficient.symbols());
+            }
+        };
+        let mut law_symbols = Vec::new();
+        for element in &self.elements {
+            match &element.kind {
+                ElementKind::EffortSource(v) | ElementKind::FlowSource(v) => form(&v.value),
+                ElementKind::Inertia(c)
+                | ElementKind::Compliance(c)
+                | ElementKind::Resistor(c)
+                | ElementKind::Transformer(c)
+                | ElementKind::Gyrator(c) => law_symbols.push(c.value.symbols()),
+                ElementKind::Friction(f) => {
+                    form(&f.breakaway.value);
+                    form(&f.coulomb.value);
+                    law_symbols.push(f.viscous.value.symbols());
+                    law_symbols.push(f.dead_band.value.symbols());
+                    if let Some(s) = &f.stribeck {
+                        law_symbols.push(s.value.symbols());
+                    }
+                }
+                ElementKind::TensionOnly(t) => law_symbols.push(t.compliance.value.symbols()),
+                ElementKind::FlowLimit(l) => form(&l.max_flow.value),
+                ElementKind::Nonlinear(n) => law_symbols.push(n.law.parameters()),
+                ElementKind::ZeroJunction | ElementKind::OneJunction => {}
+            }
+        }
+        used.extend(law_symbols.into_iter().flatten());
+        used
+    }
+
     /// Evaluates a symbolic coefficient with the model's parameter values.
     pub fn evaluate(&self, value: &RatFunc) -> f64 {
         value.eval(&self.values)
@@ -592,5 +648,51 @@ impl Model {
     /// The ids of all bonds.
     pub fn bond_ids(&self) -> impl Iterator<Item = BondId> + '_ {
         (0..self.bonds.len() as u32).map(BondId)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(model: &Model, symbols: &BTreeSet<Symbol>) -> Vec<String> {
+        let mut names: Vec<String> = model
+            .parameters
+            .iter()
+            .filter(|p| symbols.contains(&p.symbol))
+            .map(|p| p.name.clone())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn parameters_in_use_are_those_some_law_names() {
+        // `unused` is in no law; `mu` only in an input's coefficient of the contact's forces;
+        // `g` and `l` only inside a nonlinear law's coefficient; `c` in a flow limit.
+        let model = crate::model::load_str(
+            "uses.ron",
+            r#"Model(
+                name: "uses",
+                parameters: {
+                    "m": (value: 1.0), "g": (value: 9.81), "l": (value: 2.0),
+                    "F_S": (value: 2.0), "F_C": (value: 1.0), "mu": (value: 0.1),
+                    "dv": (value: 1.0e-6), "c": (value: 3.0), "unused": (value: 5.0),
+                },
+                inputs: { "P": () },
+                elements: {
+                    "push": Se(effort: "P"), "v": One, "body": I(inertance: "m"),
+                    "pendulum": C(effort: "m*g*l*sin(q_pendulum)"),
+                    "contact": Friction(breakaway: "F_S + mu*P", coulomb: "F_C + mu*P", dead_band: "dv"),
+                    "stop": FlowLimit(max_flow: "c"),
+                },
+                bonds: [("push", "v"), ("v", "body"), ("v", "pendulum"), ("v", "contact"), ("v", "stop")],
+            )"#,
+        )
+        .unwrap();
+        assert_eq!(
+            names(&model, &model.parameters_in_use()),
+            ["F_C", "F_S", "c", "dv", "g", "l", "m", "mu"]
+        );
     }
 }

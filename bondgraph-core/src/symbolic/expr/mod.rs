@@ -381,6 +381,34 @@ impl Sym {
         out
     }
 
+    /// Every parameter symbol the expression's coefficients use (`g` and `l` in
+    /// `sqrt(g/l)*sin(q_pendulum)`).
+    pub fn parameters(&self) -> BTreeSet<crate::symbolic::Symbol> {
+        let mut out = BTreeSet::new();
+        self.collect_parameters(&mut out);
+        out
+    }
+
+    fn collect_parameters(&self, out: &mut BTreeSet<crate::symbolic::Symbol>) {
+        match &self.0.node {
+            Node::Coefficient(c) => out.extend(c.symbols()),
+            Node::Atom(_) => {}
+            Node::Sum(constant, terms) => {
+                out.extend(constant.symbols());
+                for (term, coefficient) in terms {
+                    out.extend(coefficient.symbols());
+                    term.collect_parameters(out);
+                }
+            }
+            Node::Product(factors) => factors.iter().for_each(|(b, _)| b.collect_parameters(out)),
+            Node::Power(b, e) => {
+                b.collect_parameters(out);
+                e.collect_parameters(out);
+            }
+            Node::Call(_, args) => args.iter().for_each(|a| a.collect_parameters(out)),
+        }
+    }
+
     fn collect_atoms(&self, out: &mut BTreeSet<Atom>) {
         if self.0.lead.is_none() {
             return;
