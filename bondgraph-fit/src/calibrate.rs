@@ -25,6 +25,12 @@ pub struct Settings {
     pub tolerance: f64,
     /// Forward-difference step, in unit coordinates.
     pub step: f64,
+    /// Stop when an accepted step moves no parameter by more than this, in unit coordinates
+    /// (a thousandth of a forward-difference step). A descent pressed against a face where
+    /// the model cannot be evaluated (a Coulomb force at its breakaway force) otherwise
+    /// crawls towards it in ever smaller steps, each still lowering the sum of squares a
+    /// little.
+    pub min_stride: f64,
     /// Points of the scan of a flat parameter over its bounds.
     pub scan_points: usize,
 }
@@ -35,7 +41,8 @@ impl Default for Settings {
             max_iterations: 60,
             tolerance: 1e-9,
             step: 1e-5,
-            scan_points: 25,
+            min_stride: 1e-8,
+            scan_points: 13,
         }
     }
 }
@@ -64,6 +71,59 @@ pub struct Fit {
     pub jacobian: Vec<f64>,
     /// Forward-model evaluations used.
     pub evaluations: usize,
+}
+
+impl Fit {
+    /// This fit with the parameters marked `idle` put back among its own: each at its value
+    /// in `values`, changing no residual (a zero Jacobian column), so any value within its
+    /// `bounds` fits as well. `idle`, `values` and `bounds` cover every parameter; the fit,
+    /// those not idle, in order.
+    ///
+    /// # Panics
+    /// When the fit does not have one value per parameter not idle.
+    #[must_use]
+    pub fn with_idle(self, idle: &[bool], values: &[f64], bounds: &[(f64, f64)]) -> Fit {
+        let active = idle.iter().filter(|i| !**i).count();
+        assert_eq!(
+            self.values.len(),
+            active,
+            "one fitted value per active parameter"
+        );
+        if active == idle.len() {
+            return self;
+        }
+        let (n, p) = (self.residuals.len(), idle.len());
+        let source: Vec<Option<usize>> = idle
+            .iter()
+            .scan(0, |next, i| {
+                Some((!*i).then(|| {
+                    *next += 1;
+                    *next - 1
+                }))
+            })
+            .collect();
+        let pick = |j: usize| source[j];
+        Fit {
+            values: (0..p)
+                .map(|j| pick(j).map_or(values[j], |a| self.values[a]))
+                .collect(),
+            std_errors: (0..p)
+                .map(|j| pick(j).and_then(|a| self.std_errors[a]))
+                .collect(),
+            intervals: (0..p)
+                .map(|j| pick(j).map_or(Some(bounds[j]), |a| self.intervals[a]))
+                .collect(),
+            at_bound: (0..p)
+                .map(|j| pick(j).is_some_and(|a| self.at_bound[a]))
+                .collect(),
+            jacobian: (0..n * p)
+                .map(|k| pick(k % p).map_or(0.0, |a| self.jacobian[(k / p) * active + a]))
+                .collect(),
+            residuals: self.residuals,
+            sse: self.sse,
+            evaluations: self.evaluations,
+        }
+    }
 }
 
 /// Why a calibration failed.
@@ -102,6 +162,7 @@ pub fn least_squares(
         residuals,
         bounds,
         evaluations: 0,
+        last_jacobian: None,
     };
     let mut u: Vec<f64> = start
         .iter()
@@ -235,6 +296,9 @@ struct Problem<'a> {
     residuals: &'a mut dyn FnMut(&[f64]) -> Option<Vec<f64>>,
     bounds: &'a [(f64, f64)],
     evaluations: usize,
+    /// The last full Jacobian and where it was taken: a descent ends where it last
+    /// differenced every column, and the scans and the standard errors need the same one.
+    last_jacobian: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 impl Problem<'_> {
@@ -252,9 +316,29 @@ impl Problem<'_> {
     /// forward point cannot be evaluated: a Coulomb force tied to its breakaway force can
     /// only move down); a column whose perturbed points both fail is zero.
     fn jacobian(&mut self, u: &[f64], r: &[f64], h: f64) -> Vec<f64> {
+        self.jacobian_columns(u, r, h, &vec![true; u.len()])
+    }
+
+    /// The columns `wanted` of the Jacobian at `u` (the others zero), taken again only where
+    /// the last full one was not taken at `u`.
+    fn jacobian_columns(&mut self, u: &[f64], r: &[f64], h: f64, wanted: &[bool]) -> Vec<f64> {
+        if let Some((at, jacobian)) = &self.last_jacobian
+            && at.as_slice() == u
+        {
+            return jacobian.clone();
+        }
+        let jacobian = self.difference_columns(u, r, h, wanted);
+        if wanted.iter().all(|w| *w) {
+            self.last_jacobian = Some((u.to_vec(), jacobian.clone()));
+        }
+        jacobian
+    }
+
+    /// Forward differences of the columns `wanted` at `u` (the others zero).
+    fn difference_columns(&mut self, u: &[f64], r: &[f64], h: f64, wanted: &[bool]) -> Vec<f64> {
         let (n, p) = (r.len(), u.len());
         let mut jacobian = vec![0.0; n * p];
-        for j in 0..p {
+        for j in (0..p).filter(|&j| wanted[j]) {
             let first = if u[j] + h > 1.0 { -h } else { h };
             for step in [first, -first] {
                 if !(0.0..=1.0).contains(&(u[j] + step)) {
@@ -282,8 +366,14 @@ impl Problem<'_> {
         let p = u.len();
         let mut lambda = 1e-3;
         let mut cost = sse(&r);
+        // A column that nothing moved (a threshold between its rows' switching points) is
+        // left out of the next differences, which saves an evaluation of every row per
+        // iteration; before stopping, every column is differenced again, and the descent goes
+        // on if one has come to move.
+        let mut wanted = vec![true; p];
         for _ in 0..settings.max_iterations {
-            let jacobian = self.jacobian(&u, &r, settings.step);
+            let every_column = wanted.iter().all(|w| *w);
+            let jacobian = self.jacobian_columns(&u, &r, settings.step, &wanted);
             let n = r.len();
             let gradient: Vec<f64> = (0..p)
                 .map(|j| (0..n).map(|i| jacobian[i * p + j] * r[i]).sum())
@@ -297,8 +387,15 @@ impl Problem<'_> {
                         && !(u[j] >= 1.0 && gradient[j] < 0.0)
                 })
                 .collect();
+            if every_column {
+                wanted.clone_from(&moves);
+            }
             if free.is_empty() {
-                break;
+                if every_column {
+                    break;
+                }
+                wanted = vec![true; p];
+                continue;
             }
             let m = free.len();
             let jtj = normal_matrix(&jacobian, n, p, &free);
@@ -324,18 +421,26 @@ impl Problem<'_> {
                     Some(trial_r) if sse(&trial_r) < cost => {
                         let trial_cost = sse(&trial_r);
                         let decrease = (cost - trial_cost) / cost.max(1e-300);
+                        let stride = trial
+                            .iter()
+                            .zip(&u)
+                            .map(|(a, b)| (a - b).abs())
+                            .fold(0.0, f64::max);
                         u = trial;
                         r = trial_r;
                         cost = trial_cost;
                         lambda = (lambda / 3.0).max(1e-9);
-                        improved = decrease > settings.tolerance;
+                        improved = decrease > settings.tolerance && stride > settings.min_stride;
                         break;
                     }
                     _ => lambda *= 4.0,
                 }
             }
             if !improved {
-                break;
+                if every_column {
+                    break;
+                }
+                wanted = vec![true; p];
             }
         }
         (u, r)
@@ -452,6 +557,36 @@ mod tests {
         bounds: &[(f64, f64)],
     ) -> Fit {
         least_squares(&mut f, start, bounds, &Settings::default()).unwrap()
+    }
+
+    #[test]
+    fn idle_parameters_go_back_in_place_changing_nothing() {
+        // A fit of (a, c) with b idle between them: b takes its given value, no error, its
+        // whole bounds as the interval, and a zero Jacobian column; a and c keep theirs.
+        let fit = Fit {
+            values: vec![1.0, 3.0],
+            residuals: vec![0.5, -0.5],
+            sse: 0.5,
+            std_errors: vec![Some(0.1), None],
+            intervals: vec![None, Some((2.0, 4.0))],
+            at_bound: vec![false, false],
+            jacobian: vec![1.0, 2.0, 3.0, 4.0],
+            evaluations: 7,
+        };
+        let full = fit.with_idle(
+            &[false, true, false],
+            &[0.0, 8.0, 0.0],
+            &[(0.0, 1.0), (5.0, 9.0), (0.0, 1.0)],
+        );
+        assert_eq!(full.values, vec![1.0, 8.0, 3.0]);
+        assert_eq!(full.std_errors, vec![Some(0.1), None, None]);
+        assert_eq!(
+            full.intervals,
+            vec![None, Some((5.0, 9.0)), Some((2.0, 4.0))]
+        );
+        assert_eq!(full.at_bound, vec![false, false, false]);
+        assert_eq!(full.jacobian, vec![1.0, 0.0, 2.0, 3.0, 0.0, 4.0]);
+        assert_eq!((full.sse, full.evaluations), (0.5, 7));
     }
 
     #[test]
