@@ -95,7 +95,8 @@ pub fn calibrate(
         &bounds,
         (&orderings, &settings.search),
         settings,
-    )?;
+    )?
+    .fit;
     evaluator.set(&fit.values);
     let predictions = evaluator.predict(rows)?;
     let observed = &experiment.observed;

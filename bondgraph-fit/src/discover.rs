@@ -53,7 +53,7 @@ use serde::Serialize;
 use crate::calibrate::{self, CalibrationError, Fit};
 use crate::data::{Dataset, Measurement};
 use crate::experiment::{Experiment, ExperimentError};
-use crate::global::{self, Ordering, Search};
+use crate::global::{self, Ordering, Search, Searched};
 use crate::noise::{self, LackOfFit, NoiseLevel, PureError};
 use crate::predict::{Evaluator, Predictor};
 use crate::stats;
@@ -201,6 +201,8 @@ pub struct Baseline {
     pub rmse_heldout: f64,
     /// The refitted parameters.
     pub params: BTreeMap<String, Estimate>,
+    /// Predictions of every row made by its fit and its folds' refits: the search's cost.
+    pub evaluations: usize,
 }
 
 /// One candidate's result.
@@ -218,6 +220,8 @@ pub struct Ranked {
     pub score: f64,
     /// The F-test's p-value against the baseline.
     pub p_value: f64,
+    /// Predictions of every row made by its fit and its folds' refits: the search's cost.
+    pub evaluations: usize,
     /// What the data says of it: `selected`, `indistinguishable`, `qualifies`,
     /// `not significant`, `aliased with the base` or `no effect on this data`.
     pub verdict: String,
@@ -359,6 +363,8 @@ struct Assessment {
     heldout_count: usize,
     /// Predictions (held out, or of the final fit) that did not settle.
     unsettled: usize,
+    /// Predictions of every row made by the fit and the folds' refits.
+    evaluations: usize,
 }
 
 /// Simulated time within which a row must settle; the experiments filmed steady growth
@@ -493,21 +499,22 @@ pub fn fitted_names(experiment: &Experiment, rows: &[Measurement], own: &[String
     names
 }
 
-/// The base model's fitted parameters and values: where a candidate's fit also starts.
-type Warm<'a> = Option<(&'a [String], &'a [f64])>;
+/// The base model's fitted parameters and the basins its search found (its optimum first):
+/// where a candidate's fit starts.
+type Warm<'a> = Option<(&'a [String], &'a [Vec<f64>])>;
 
-/// A model fitted on every row, with what its cross-validation needs: the bounds and the
-/// model file's values (a fold's fit starts from those and from the full fit).
+/// A model fitted on every row, with what its cross-validation needs: the bounds, and the
+/// basins the search found (a fold's fit starts from each).
 struct FittedOnAll {
     assessment: Assessment,
     bounds: Vec<(f64, f64)>,
     orderings: Vec<Ordering>,
-    file_start: Vec<f64>,
+    basins: Vec<Vec<f64>>,
 }
 
 /// Fits `model` on all `rows`: its own parameters `own` with the experiment's, by a global
-/// search ([`crate::global`]) from the model file's values and, for a candidate, from the
-/// base model's fit (`warm`). Held-out errors are left to [`cross_validate`].
+/// search ([`crate::global`]) from the model file's values or, for a candidate, from the
+/// base model's basins (`warm`). Held-out errors are left to [`cross_validate`].
 fn fit_on_all(
     model: &Model,
     source: &Arc<SourceFile>,
@@ -517,34 +524,70 @@ fn fit_on_all(
     warm: Warm<'_>,
     settings: &Settings,
 ) -> Result<FittedOnAll, DiscoverError> {
-    let (names, bounds, file_start) = fitted_parameters(model, experiment, rows, own)?;
+    let (all_names, all_bounds, file_start) = fitted_parameters(model, experiment, rows, own)?;
+    let predictor = Predictor::new(model.clone(), source, experiment)?;
+    // A candidate's parameter that no row's model uses (friction at a contact every row
+    // removes) changes no prediction: it is not searched, and keeps its file value with its
+    // whole bounds as the interval of values that fit as well.
+    let idle: Vec<bool> = all_names
+        .iter()
+        .map(|n| own.contains(n) && !predictor.uses_parameter(n, rows))
+        .collect();
+    let active = |values: &[f64]| -> Vec<f64> {
+        values
+            .iter()
+            .zip(&idle)
+            .filter(|(_, i)| !**i)
+            .map(|(v, _)| *v)
+            .collect()
+    };
+    let names: Vec<String> = all_names
+        .iter()
+        .zip(&idle)
+        .filter(|(_, i)| !**i)
+        .map(|(n, _)| n.clone())
+        .collect();
+    let bounds: Vec<(f64, f64)> = all_bounds
+        .iter()
+        .zip(&idle)
+        .filter(|(_, i)| !**i)
+        .map(|(b, _)| *b)
+        .collect();
     let orderings = global::orderings(model, &names);
     // Steady states are piecewise linear in the parameters, with basins that differ in which
     // rows slide (a low Coulomb force with a high viscous coefficient, or the reverse, or a
-    // Coulomb force tied to its breakaway force), so the fit searches every face and starts
-    // from the model file's values and, for a candidate, from the base model's fit too (a
-    // candidate contains the base model at its own parameters' file values, their no-effect
-    // values, so it then does no worse than the base). With that start the search is lighter.
-    let mut starts = vec![file_start.clone()];
-    let search = if warm.is_some() {
-        settings.search.beside_a_known_fit()
-    } else {
-        settings.search
-    };
-    if let Some((warm_names, warm_values)) = warm {
-        let mut start = file_start.clone();
-        for (name, value) in warm_names.iter().zip(warm_values) {
-            if let Some(j) = names.iter().position(|n| n == name) {
-                start[j] = *value;
+    // Coulomb force tied to its breakaway force), so the fit searches every face. The base
+    // model starts from the model file's values; a candidate from each basin of the base
+    // model's search, with its own parameters at their file values, their no-effect values
+    // (a candidate contains the base model there, so it does no worse than the base), and
+    // with those starts its search is lighter. A candidate none of whose parameters is in use
+    // is the base model on these rows: it is refitted locally from the base model's optimum.
+    let (starts, search) = match warm {
+        None => (vec![active(&file_start)], settings.search),
+        Some((warm_names, basins)) => {
+            let starts: Vec<Vec<f64>> = basins
+                .iter()
+                .map(|basin| {
+                    let mut start = file_start.clone();
+                    for (name, value) in warm_names.iter().zip(basin) {
+                        if let Some(j) = all_names.iter().position(|n| n == name) {
+                            start[j] = *value;
+                        }
+                    }
+                    active(&start)
+                })
+                .collect();
+            if names.len() == all_names.len() - own.len() {
+                (starts[..1].to_vec(), Search::LOCAL)
+            } else {
+                (starts, settings.search.beside_a_known_fit())
             }
         }
-        starts.push(start);
-    }
-    let predictor = Predictor::new(model.clone(), source, experiment)?;
+    };
     let mut evaluator = predictor.evaluator(&names)?;
     limit_to_settling(&mut evaluator);
     let start_refs: Vec<&[f64]> = starts.iter().map(Vec::as_slice).collect();
-    let fit = fit_best(
+    let Searched { fit, basins } = fit_best(
         &mut evaluator,
         rows,
         None,
@@ -562,21 +605,40 @@ fn fit_on_all(
             Err(_) => (f64::NAN, "does not settle".to_string()),
         })
         .collect();
+    let fit = fit.with_idle(&idle, &file_start, &all_bounds);
+    let basins = basins
+        .iter()
+        .map(|basin| {
+            let mut values = basin.iter();
+            idle.iter()
+                .zip(&file_start)
+                .map(|(i, v)| {
+                    if *i {
+                        *v
+                    } else {
+                        *values.next().expect("one per active")
+                    }
+                })
+                .collect()
+        })
+        .collect();
     let mut assessment = Assessment {
-        names,
+        names: all_names,
         predictions: predictions.iter().map(|p| p.0).collect(),
         modes: predictions.into_iter().map(|p| p.1).collect(),
         unsettled: 0,
+        evaluations: fit.evaluations,
         fit,
         heldout_sse: 0.0,
         heldout_count: 0,
     };
     assessment.unsettled = assessment.predictions.iter().filter(|p| p.is_nan()).count();
+    let orderings = global::orderings(model, &assessment.names);
     Ok(FittedOnAll {
         assessment,
-        bounds,
+        bounds: all_bounds,
         orderings,
-        file_start,
+        basins,
     })
 }
 
@@ -594,7 +656,7 @@ fn assess_candidate(
     candidate: &Candidate,
     experiment: &Experiment,
     rows: &[Measurement],
-    warm: (&[String], &[f64]),
+    warm: (&[String], &[Vec<f64>]),
     base_predictions: &[f64],
     settings: &Settings,
 ) -> Result<(Assessment, bool), DiscoverError> {
@@ -641,7 +703,7 @@ fn cross_validate(
         assessment,
         bounds,
         orderings,
-        file_start,
+        basins,
     } = fitted;
     let predictor = Predictor::new(model.clone(), source, experiment)?;
     let mut evaluator = predictor.evaluator(&assessment.names)?;
@@ -657,21 +719,25 @@ fn cross_validate(
         .map(|fold| (pick(&fold.train), pick(&fold.test)))
         .collect();
     let mut fold_fits = Vec::new();
-    // A fold refits locally from the full data's optimum (and the file's values), each
-    // start on its own face: the global search has already chosen the basin, and a fold
-    // that searched again could leave it by the luck of the rows it holds out.
+    // A fold refits locally from each basin the full data's search found (its optimum
+    // first), each start on its own face, and keeps the best: as the whole search would, it
+    // may change basin when the rows held out favoured one, without screening again.
+    let starts: Vec<&[f64]> = basins.iter().map(Vec::as_slice).collect();
     for ((train, kept), _) in &folds {
-        let starts: [&[f64]; 2] = [&assessment.fit.values, file_start];
-        fold_fits.push(fit_best(
-            &mut evaluator,
-            train,
-            Some(kept),
-            &starts,
-            bounds,
-            (orderings, &Search::LOCAL),
-            settings,
-        )?);
+        fold_fits.push(
+            fit_best(
+                &mut evaluator,
+                train,
+                Some(kept),
+                &starts,
+                bounds,
+                (orderings, &Search::LOCAL),
+                settings,
+            )?
+            .fit,
+        );
     }
+    assessment.evaluations += fold_fits.iter().map(|f| f.evaluations).sum::<usize>();
     for ((_, (test, kept)), fold_fit) in folds.iter().zip(&fold_fits) {
         evaluator.set(&fold_fit.values);
         let predictions = evaluator.predict_each(test);
@@ -703,7 +769,7 @@ pub(crate) fn fit_best(
     bounds: &[(f64, f64)],
     (orderings, search): (&[Ordering], &Search),
     settings: &Settings,
-) -> Result<Fit, DiscoverError> {
+) -> Result<Searched, DiscoverError> {
     let all: Vec<usize>;
     let kept = match kept {
         Some(kept) => kept,
@@ -735,9 +801,9 @@ pub(crate) fn fit_best(
         search,
         &settings.calibration,
     )
-    .and_then(|fit| {
-        if fit.sse.is_finite() {
-            Ok(fit)
+    .and_then(|searched| {
+        if searched.fit.sse.is_finite() {
+            Ok(searched)
         } else {
             Err(CalibrationError(
                 "the sum of squares is not finite at the best point found".into(),
@@ -745,7 +811,7 @@ pub(crate) fn fit_best(
         }
     });
     match result {
-        Ok(fit) => Ok(fit),
+        Ok(searched) => Ok(searched),
         Err(error) => {
             // Name the row the model cannot evaluate, when it is one row.
             evaluator.set(starts[0]);
@@ -1065,8 +1131,8 @@ impl Models<'_> {
         done: &(dyn Fn() + Sync),
     ) -> Result<(Assessment, Vec<Assessment>), DiscoverError> {
         let warm_names = base_fitted.assessment.names.clone();
-        let warm_values = base_fitted.assessment.fit.values.clone();
-        let warm = (warm_names.as_slice(), warm_values.as_slice());
+        let warm_basins = base_fitted.basins.clone();
+        let warm = (warm_names.as_slice(), warm_basins.as_slice());
         let base_predictions = base_fitted.assessment.predictions.clone();
         let (base_validated, assessed) = rayon::join(
             || {
@@ -1204,7 +1270,8 @@ pub fn discover_with_progress(
     // better basin than its own search found: refit the base from there, and the candidates
     // from the new base fit, once.
     if let Some(start) = models.better_base_start(&baseline, &assessed)? {
-        let warm = (baseline.names.as_slice(), start.as_slice());
+        let basins = [start, baseline.fit.values.clone()];
+        let warm = (baseline.names.as_slice(), basins.as_slice());
         let refitted = fit_on_all(
             &base_model,
             base,
@@ -1415,6 +1482,7 @@ pub fn discover_with_progress(
                 rmse_heldout: assessed[i].rmse_heldout(),
                 score: assessed[i].aicc() - baseline.aicc(),
                 p_value: p_values[i],
+                evaluations: assessed[i].evaluations,
                 verdict: verdict.to_string(),
             }
         })
@@ -1489,6 +1557,7 @@ pub fn discover_with_progress(
             rmse_fit: baseline.rmse_fit(),
             rmse_heldout: baseline.rmse_heldout(),
             params: baseline.estimates(),
+            evaluations: baseline.evaluations,
         },
         ranking,
         selected: selected.map(|s| candidates[s].id.clone()),

@@ -147,6 +147,25 @@ fn gap_between(model: &Model, names: &[String], friction: &Friction) -> Option<O
 /// orderings tied.
 const MAX_TIED: usize = 3;
 
+/// What a search found: the best fit, and the distinct local optima it met on the way.
+#[derive(Clone, Debug)]
+pub struct Searched {
+    /// The best fit, polished on every parameter.
+    pub fit: Fit,
+    /// The distinct local optima of the local fits (full parameter vectors), best first, at
+    /// most [`BASINS_KEPT`], the polished optimum first: where a refit on part of the data
+    /// starts, so that it may change basin as the whole search would, without searching
+    /// again.
+    pub basins: Vec<Vec<f64>>,
+}
+
+/// Local optima a search keeps as [`Searched::basins`].
+pub const BASINS_KEPT: usize = 2;
+
+/// Two local optima closer than this in every parameter, in units of its bounds' width,
+/// are one basin.
+const SAME_BASIN: f64 = 1e-3;
+
 /// Minimises the sum of squared `residuals(values)` over the box `bounds` subject to
 /// `orderings`, searching as `search` says from `starts` (every start is tried, on the face
 /// it lies on).
@@ -160,7 +179,7 @@ pub fn least_squares(
     orderings: &[Ordering],
     search: &Search,
     settings: &Settings,
-) -> Result<Fit, CalibrationError> {
+) -> Result<Searched, CalibrationError> {
     let mut faces: Vec<Vec<Ordering>> = if search.every_face {
         subsets(orderings, MAX_TIED)
     } else {
@@ -174,6 +193,7 @@ pub fn least_squares(
     }
     let mut evaluations = 0;
     let mut best: Option<(Fit, Reduced)> = None;
+    let mut optima: Vec<(f64, Vec<f64>)> = Vec::new();
     let mut failure = None;
     for face in &faces {
         let Some(reduced) = Reduced::new(bounds, face) else {
@@ -182,7 +202,7 @@ pub fn least_squares(
         let mut on_face = |u: &[f64]| residuals(&reduced.expand(u));
         let mut face_starts: Vec<Vec<f64>> = starts
             .iter()
-            .filter(|s| search.every_face || face_of(s, bounds, orderings) == *face)
+            .filter(|s| face_of(s, bounds, orderings) == *face)
             .map(|s| reduced.project(s))
             .collect();
         let screened = screen(&mut on_face, &reduced.bounds, search);
@@ -192,6 +212,7 @@ pub fn least_squares(
             match calibrate::least_squares(&mut on_face, start, &reduced.bounds, settings) {
                 Ok(fit) => {
                     evaluations += fit.evaluations;
+                    optima.push((fit.sse, reduced.expand(&fit.values)));
                     if best.as_ref().is_none_or(|(b, _)| fit.sse < b.sse) {
                         best = Some((fit, reduced.clone()));
                     }
@@ -214,7 +235,28 @@ pub fn least_squares(
     let mut fit = calibrate::least_squares(residuals, &start, bounds, settings)?;
     fit.evaluations += evaluations;
     errors_on_the_face(&mut fit, &face_fit, &reduced);
-    Ok(fit)
+    optima.push((f64::NEG_INFINITY, fit.values.clone()));
+    let basins = distinct_basins(optima, bounds);
+    Ok(Searched { fit, basins })
+}
+
+/// The best [`BASINS_KEPT`] of `optima` (`(sse, values)`), one per basin: an optimum within
+/// [`SAME_BASIN`] of a better one in every parameter is that one's.
+fn distinct_basins(mut optima: Vec<(f64, Vec<f64>)>, bounds: &[(f64, f64)]) -> Vec<Vec<f64>> {
+    optima.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut basins: Vec<Vec<f64>> = Vec::new();
+    for (_, values) in optima {
+        let same = |kept: &Vec<f64>| {
+            kept.iter()
+                .zip(&values)
+                .zip(bounds)
+                .all(|((a, b), (lo, hi))| (a - b).abs() <= SAME_BASIN * (hi - lo))
+        };
+        if basins.len() < BASINS_KEPT && !basins.iter().any(same) {
+            basins.push(values);
+        }
+    }
+    basins
 }
 
 /// Where the polish stays on the face (no better point off it) and the full Jacobian leaves
@@ -394,6 +436,30 @@ mod tests {
     use super::*;
 
     #[test]
+    fn basins_keep_the_best_optimum_of_each_and_the_best_basins() {
+        // Bounds 10 wide: optima within a hundredth (1e-3 of the width) are one basin.
+        let bounds = [(0.0, 10.0), (0.0, 10.0)];
+        let optima = vec![
+            (3.0, vec![5.0, 5.0]),
+            (1.0, vec![1.0, 1.0]),
+            (1.5, vec![1.005, 0.995]), // the basin of (1, 1)
+            (2.0, vec![9.0, 1.0]),
+            (2.5, vec![1.0, 9.0]),
+        ];
+        // The best of each basin, best first, at most BASINS_KEPT.
+        let expected = [
+            vec![1.0, 1.0],
+            vec![9.0, 1.0],
+            vec![1.0, 9.0],
+            vec![5.0, 5.0],
+        ];
+        assert_eq!(
+            distinct_basins(optima, &bounds),
+            expected[..BASINS_KEPT].to_vec()
+        );
+    }
+
+    #[test]
     fn halton_points_are_the_mirrored_digits() {
         // 1, 2, 3 in base 2 are 1, 10, 11: mirrored 0.1, 0.01, 0.11 = 1/2, 1/4, 3/4.
         assert_eq!(halton(1, 2), 0.5);
@@ -465,7 +531,8 @@ mod tests {
             &Search::GLOBAL,
             &Settings::default(),
         )
-        .unwrap();
+        .unwrap()
+        .fit;
         assert!(global.sse < 1e-12, "{global:?}");
         // The data pin F_C and b exactly; F_S only to a window: at least 9 (F_C) and below
         // 10 (the first row that slides in the data, P = 10, must slide).
@@ -534,7 +601,8 @@ mod tests {
             &Search::LOCAL,
             &Settings::default(),
         )
-        .unwrap();
+        .unwrap()
+        .fit;
         assert!(fit.sse < 1e-12, "{fit:?}");
         assert_eq!(face_of(&on_face, &bounds, &ties), ties.to_vec());
         assert!(face_of(&[0.0, 25.0, 15.0], &bounds, &ties).is_empty());

@@ -191,6 +191,20 @@ impl Predictor {
         })
     }
 
+    /// Whether some row's model (the variant its empty `absent` columns make) uses the
+    /// parameter `name` in a law. One that only removed elements use changes no prediction.
+    pub fn uses_parameter(&self, name: &str, rows: &[Measurement]) -> bool {
+        let masks: std::collections::BTreeSet<usize> = rows.iter().map(|r| self.mask(r)).collect();
+        masks.into_iter().any(|mask| {
+            let model = &self.variants[mask].model;
+            model
+                .parameters
+                .iter()
+                .find(|p| p.name == name)
+                .is_some_and(|p| model.parameters_in_use().contains(&p.symbol))
+        })
+    }
+
     /// The variant a row is predicted by: the mask of its empty `absent` columns.
     fn mask(&self, row: &Measurement) -> usize {
         self.absent_columns
