@@ -22,20 +22,53 @@ use crate::{Failure, print, with_source};
 
 /// How `bondgraph explain` writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub(crate) enum ExplainFormat {
+pub enum ExplainFormat {
     /// Plain text.
     Text,
     /// Markdown (headings, numbered lists), for lecture notes.
     Markdown,
 }
 
-/// Prints the explanation of bond graph `model` in `mode`.
-pub(crate) fn run(
+/// An explanation, and why the mode's equations cannot be derived where they cannot: the
+/// causality is explained all the same, so a reader sees how far the assignment got.
+pub struct Explanation {
+    /// The explanation, in the format asked for.
+    pub text: String,
+    /// Why the mode's equations cannot be derived, if they cannot.
+    pub underivable: Option<Failure>,
+}
+
+/// Prints the explanation of `model` in `mode` (a linear graph's by
+/// [`crate::explain_lg`]); the command's error, after it, if the mode's equations cannot
+/// be derived.
+pub fn run(
     model: &Model,
     mode: &Mode,
     source: &Arc<SourceFile>,
     format: ExplainFormat,
 ) -> Result<(), Failure> {
+    let explanation = if model.linear_graph.is_some() {
+        Explanation {
+            text: crate::explain_lg::document(model, mode, source, format)?,
+            underivable: None,
+        }
+    } else {
+        document(model, mode, source, format)?
+    };
+    print(&explanation.text);
+    explanation.underivable.map_or(Ok(()), Err)
+}
+
+/// The explanation of bond graph `model` in `mode`.
+///
+/// # Errors
+/// A failure when the causality cannot be assigned (a causal conflict).
+pub fn document(
+    model: &Model,
+    mode: &Mode,
+    source: &Arc<SourceFile>,
+    format: ExplainFormat,
+) -> Result<Explanation, Failure> {
     let laws = laws::for_mode(model, mode);
     let (causal, trace) =
         causality::assign_traced(model, &laws).map_err(|d| with_source(d, source))?;
@@ -49,15 +82,16 @@ pub(crate) fn run(
         derivation,
         markdown: format == ExplainFormat::Markdown,
     };
-    print(&explainer.document(&mode.spec(model)));
-    // The causality is explained even when the equations cannot be derived; the reason
-    // why not is then the command's error.
-    derived.map(|_| ()).map_err(|d| with_source(d, source))
+    let text = explainer.document(&mode.spec(model));
+    Ok(Explanation {
+        text,
+        underivable: derived.err().map(|d| with_source(d, source)),
+    })
 }
 
 /// What the derivation of the mode found: its states and its notes, and for a linear mode
 /// the solved efforts and flows of the elements in algebraic loops.
-pub(crate) struct Derivation {
+struct Derivation {
     states: Vec<StateVariable>,
     notes: Vec<Note>,
     /// For each element in an algebraic loop (not junctions): its bond's effort and flow

@@ -19,20 +19,24 @@ use bondgraph_core::source::SourceFile;
 use bondgraph_core::symbolic::RatFunc;
 
 use crate::explain_bg::ExplainFormat;
-use crate::{Failure, print, with_source};
+use crate::{Failure, with_source};
 
-/// Prints the explanation of linear graph `model` in `mode`; in Markdown, the text under a
-/// heading, as a preformatted block.
-pub(crate) fn run(
+/// The explanation of linear graph `model` in `mode`; in Markdown, with headings and
+/// numbered lists as a bond graph's. A bond graph is explained by [`crate::explain_bg`].
+///
+/// # Errors
+/// A failure when the mode has no causality or its equations cannot be derived.
+pub fn document(
     model: &Model,
     mode: &Mode,
     source: &Arc<SourceFile>,
     format: ExplainFormat,
-) -> Result<(), Failure> {
+) -> Result<String, Failure> {
     let laws = laws::for_mode(model, mode);
     causality::assign(model, &laws).map_err(|d| with_source(reword(model, d), source))?;
     let Some(graph) = &model.linear_graph else {
-        return crate::explain_bg::run(model, mode, source, format);
+        let explanation = crate::explain_bg::document(model, mode, source, format)?;
+        return explanation.underivable.map_or(Ok(explanation.text), Err);
     };
     let tree = normal_tree::of_mode(model, &laws).expect("a linear graph has a normal tree");
     let derived = modes::derive(
@@ -52,12 +56,11 @@ pub(crate) fn run(
             model.name
         );
     }
-    print(&text);
-    Ok(())
+    Ok(text)
 }
 
 /// The explanation of the normal tree and its equations.
-pub(crate) fn explain(
+fn explain(
     model: &Model,
     graph: &LinearGraph,
     tree: &NormalTree,
