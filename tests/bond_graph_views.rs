@@ -88,7 +88,7 @@ impl Box4 {
 
 /// One bond as drawn.
 #[derive(Debug)]
-struct DrawnBond {
+pub(crate) struct DrawnBond {
     from: String,
     to: String,
     stroke_attr: String,
@@ -98,14 +98,16 @@ struct DrawnBond {
     number_text: String,
 }
 
-struct Drawing {
-    title: String,
-    bonds: HashMap<usize, Vec<DrawnBond>>,
+/// A drawing read back: its title, its bonds by number, its element labels and every box.
+pub(crate) struct Drawing {
+    pub(crate) title: String,
+    pub(crate) bonds: HashMap<usize, Vec<DrawnBond>>,
     elements: HashMap<String, Box4>,
     boxes: Vec<(String, Box4)>,
 }
 
-fn read(svg: &str) -> Drawing {
+/// Reads a drawing back from the SVG `bondgraph graph --format svg` writes.
+pub(crate) fn read(svg: &str) -> Drawing {
     let tags = tags(svg);
     let mut drawing = Drawing {
         title: String::new(),
