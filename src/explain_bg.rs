@@ -11,7 +11,7 @@ use std::sync::Arc;
 use bondgraph_core::causality::{
     self, Causality, CausalityTrace, Decision, Propagation, Rule, Step, Stroke, law_description,
 };
-use bondgraph_core::equations::{Note, Options, StateVariable};
+use bondgraph_core::equations::{Note, Options, Quantity, StateVariable};
 use bondgraph_core::laws::{self, Law};
 use bondgraph_core::model::{BondId, ElementId, Model};
 use bondgraph_core::modes::{self, Mode};
@@ -270,7 +270,8 @@ impl Explainer<'_> {
             }
             Decision::Integral => {
                 let state = model.storage_name(e).unwrap_or_default();
-                let (receives, integrates, gives) = storage_words(law);
+                let state = self.code(&state);
+                let (receives, integrates, gives) = storage_words(model, e, law);
                 if step.new {
                     format!(
                         "{what} takes its preferred integral causality: it receives the {receives} on {bond} and integrates it into its {integrates} {state}, a state; it gives its {gives} back: {stroked}."
@@ -283,7 +284,7 @@ impl Explainer<'_> {
                 }
             }
             Decision::Derivative => {
-                let (receives, integrates, gives) = storage_words(law);
+                let (receives, integrates, gives) = storage_words(model, e, law);
                 let other = model.bond(step.bond).other(e);
                 format!(
                     "{what} would take integral causality, receiving the {receives} on {bond}, but {earlier}{} stroked that bond the other way, {stroked}: {} imposes its {gives}. It is in derivative causality: its {integrates} follows from the rest of the graph, and is no state of its own.",
@@ -757,12 +758,32 @@ fn source_meaning(law: &Law, kind: &bondgraph_core::model::ElementKind) -> &'sta
     }
 }
 
-/// What storage receives, integrates and gives back in integral causality.
-fn storage_words(law: &Law) -> (&'static str, &'static str, &'static str) {
+/// What storage element `e` receives, integrates and gives back in integral causality, in
+/// its domain's words where the model's units tell them (as `equations` names its states):
+/// a capacitor receives the flow (current) and integrates it into its charge, giving its
+/// effort (voltage) back. The bond-graph words stay, as the strokes are drawn in them.
+fn storage_words(model: &Model, e: ElementId, law: &Law) -> (String, &'static str, String) {
+    let domain = model.element_domain(e);
+    let word = |generic: &str, named: Option<&str>| match named {
+        Some(named) => format!("{generic} ({named})"),
+        None => generic.to_string(),
+    };
+    let (effort, flow) = (
+        word("effort", domain.map(|d| d.effort.1)),
+        word("flow", domain.map(|d| d.flow.1)),
+    );
     if law.gives_effort() {
-        ("flow", "displacement", "effort")
+        (
+            flow,
+            Quantity::Displacement.description_in(domain, false),
+            effort,
+        )
     } else {
-        ("effort", "momentum", "flow")
+        (
+            effort,
+            Quantity::Momentum.description_in(domain, false),
+            flow,
+        )
     }
 }
 
