@@ -794,6 +794,41 @@ fn explain_walks_through_the_tree_and_its_equations() {
 }
 
 #[test]
+fn explain_in_markdown_has_headings_numbered_steps_and_equation_blocks() {
+    let md = succeed(&[
+        "explain",
+        "models/examples/mass_spring_damper.lg.ron",
+        "--format",
+        "markdown",
+    ]);
+    for part in [
+        "# linear graph `mass_spring_damper`: the normal tree (Rowell & Wormley)\n\n",
+        "\n## Construction\n\n1. `mass` (A-type, v1 -> g) joins the tree: it reaches a node the tree did not reach; its across variable `v_mass` is a state.\n",
+        "\n3. `spring` (T-type, v1 -> g) becomes a link: it would close a loop with `mass`; its through variable `f_spring` is a state.\n",
+        "\n- States: `v_mass`, `f_spring`.\n",
+        "\n## Continuity (cut-set) equations, one per tree branch\n\n```text\nf_mass = f_force - f_spring - f_damper\n```\n",
+        "\n## Elemental equations in this mode\n\n```text\n",
+        "\n## State equations (co-energy variables), from the elemental, continuity and compatibility equations\n\n```text\n",
+    ] {
+        assert!(md.contains(part), "missing {part:?} in\n{md}");
+    }
+    // The numbered steps are Markdown's, outside any code block.
+    let before_first_block = &md[..md.find("```").expect("a code block")];
+    assert!(before_first_block.contains("\n4. `force` (through source, g -> v1) is a link"));
+    let motor = succeed(&[
+        "explain",
+        "models/examples/rowell_wormley_dc_motor.lg.ron",
+        "--format",
+        "markdown",
+    ]);
+    assert!(
+        motor.contains("## Two-ports\n\nA transformer puts one of its ports in the tree, a gyrator both or neither.")
+            && motor.contains("\n1. `motor.primary`, `gear.primary` in the tree: 1 A-type and 0 T-types in the tree (**chosen**)\n"),
+        "{motor}"
+    );
+}
+
+#[test]
 fn extensions_are_refused_on_a_linear_graph_naming_the_file() {
     let err = fail(&[
         "extend",
