@@ -711,7 +711,9 @@ fn output_terms_in_input_rates_are_in_json_and_latex_outputs() {
         "latex",
     ]);
     assert!(
-        latex.contains("\\mathrm{effort}(\\mathrm{damper}) = \\frac{b}{m} p_{mass}\n"),
+        latex.contains(
+            "\\mathrm{effort}(\\mathrm{damper}) = \\frac{b}{m} p_{\\mathrm{mass}}\n"
+        ),
         "{latex}"
     );
     let latex = succeed(&[
