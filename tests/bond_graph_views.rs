@@ -16,13 +16,15 @@ use crate::support::load;
 // A tiny reader of the SVG the program writes: each tag's name and attributes, and the text
 // that follows it.
 
-struct Tag {
-    name: String,
-    attributes: HashMap<String, String>,
-    text: String,
+/// One SVG tag: its name, its attributes and the text after it.
+pub(crate) struct Tag {
+    pub(crate) name: String,
+    pub(crate) attributes: HashMap<String, String>,
+    pub(crate) text: String,
 }
 
-fn tags(svg: &str) -> Vec<Tag> {
+/// The tags of an SVG document, in order.
+pub(crate) fn tags(svg: &str) -> Vec<Tag> {
     let mut out = Vec::new();
     let mut rest = svg;
     while let Some(start) = rest.find('<') {
@@ -57,16 +59,17 @@ fn number(tag: &Tag, key: &str) -> f64 {
     tag.attributes[key].parse().expect(key)
 }
 
+/// A text's box, as its `data-box` gives it.
 #[derive(Clone, Copy, Debug)]
-struct Box4 {
-    x: f64,
-    y: f64,
-    w: f64,
-    h: f64,
+pub(crate) struct Box4 {
+    pub(crate) x: f64,
+    pub(crate) y: f64,
+    pub(crate) w: f64,
+    pub(crate) h: f64,
 }
 
 impl Box4 {
-    fn of(tag: &Tag) -> Self {
+    pub(crate) fn of(tag: &Tag) -> Self {
         let v: Vec<f64> = tag.attributes["data-box"]
             .split(' ')
             .map(|s| s.parse().unwrap())
@@ -78,7 +81,7 @@ impl Box4 {
             h: v[3],
         }
     }
-    fn overlaps(&self, o: &Box4) -> bool {
+    pub(crate) fn overlaps(&self, o: &Box4) -> bool {
         self.x < o.x + o.w && o.x < self.x + self.w && self.y < o.y + o.h && o.y < self.y + self.h
     }
     fn center(&self) -> (f64, f64) {
