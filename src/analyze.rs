@@ -250,7 +250,9 @@ pub fn analyze(
     };
     let transfer = channel.as_ref().map(|(input, output, channel)| {
         let tf = analysis.transfer(channel);
-        Transfer::new(eq, &analysis, input, output, channel, tf)
+        let mut transfer = Transfer::new(eq, &analysis, input, output, channel, tf);
+        transfer.units = ChannelUnits::of(model, eq, input, output);
+        transfer
     });
     let analysis_eigen = eigenvalues;
     Ok(Analyzed {
@@ -300,7 +302,7 @@ impl Analyzed {
             "{}: {} from {}",
             self.prepared.equations.model, t.output, t.input
         );
-        crate::analyze_plot::bode_svg(&points, &title)
+        crate::analyze_plot::bode_svg(&points, &title, &t.units.magnitude_label())
             .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot: {e}")))
     }
 
@@ -350,6 +352,86 @@ struct Transfer {
     dc_gain_text: Option<String>,
     system: StepSystem,
     metrics: StepMetrics,
+    units: ChannelUnits,
+}
+
+/// What the plots write on their axes: the output's quantity and unit, the input's unit.
+#[derive(Default)]
+struct ChannelUnits {
+    /// The output's axis label: `effort:capacitor: voltage (V)`, or its name alone where
+    /// the model's units do not tell.
+    output_label: String,
+    /// The output's unit.
+    output: Option<String>,
+    /// The input's unit, as the model file writes it.
+    input: Option<String>,
+}
+
+impl ChannelUnits {
+    /// The units of the channel from `input` to `output` (a state's name or an output as
+    /// `--output` writes it), as `simulate --plot` labels its axes.
+    fn of(model: &Model, eq: &StateEquations, input: &str, output: &str) -> Self {
+        let record = match eq.state_named(output) {
+            Some(k) => state_record(model, &eq.states[k]),
+            None => Record::parse_output(model, output).ok().map(|(r, _)| r),
+        };
+        let quantity = record
+            .as_ref()
+            .and_then(|r| bondgraph_core::units::label::quantity(model, r));
+        let output_label = match &quantity {
+            Some((word, unit)) if word.is_empty() => format!("{output} ({unit})"),
+            Some((word, unit)) => format!("{output}: {word} ({unit})"),
+            None => output.to_string(),
+        };
+        ChannelUnits {
+            output_label,
+            output: quantity.map(|(_, unit)| unit),
+            input: model
+                .inputs
+                .iter()
+                .find(|i| i.name == input)
+                .and_then(|i| i.unit.clone()),
+        }
+    }
+
+    /// The Bode magnitude's label: `magnitude (dB of (rad/s)/V)`, the decibels of the
+    /// output's unit per the input's.
+    fn magnitude_label(&self) -> String {
+        let grouped = |unit: &str| {
+            if unit.contains(['/', '*']) {
+                format!("({unit})")
+            } else {
+                unit.to_string()
+            }
+        };
+        match (&self.output, &self.input) {
+            (Some(out), Some(input)) => {
+                format!("magnitude (dB of {}/{})", grouped(out), grouped(input))
+            }
+            _ => "magnitude (dB)".to_string(),
+        }
+    }
+}
+
+/// What a state measures as a recorded output would: a momentum is the time integral of
+/// its element's effort, a displacement of its flow; a co-energy state is the flow or the
+/// effort itself.
+fn state_record(model: &Model, state: &equations::StateVariable) -> Option<Record> {
+    use bondgraph_core::equations::{OutputQuantity, OutputSpec, Quantity};
+    let element = model.element_named(&state.element)?;
+    let bond = *model.element(element).bonds.first()?;
+    let spec = |quantity| OutputSpec {
+        name: state.name.clone(),
+        quantity,
+        bond,
+        negated: false,
+    };
+    Some(match state.quantity {
+        Quantity::Momentum => Record::Integral(spec(OutputQuantity::Effort)),
+        Quantity::Displacement => Record::Integral(spec(OutputQuantity::Flow)),
+        Quantity::Velocity => Record::Output(spec(OutputQuantity::Flow)),
+        Quantity::Force => Record::Output(spec(OutputQuantity::Effort)),
+    })
 }
 
 impl Transfer {
@@ -396,6 +478,7 @@ impl Transfer {
             dc_gain_text: dc.filter(|_| analysis.symbolic).map(|g| g.text(symbols)),
             system,
             metrics,
+            units: ChannelUnits::default(),
         }
     }
 }
@@ -406,9 +489,20 @@ fn step_plot(eq: &StateEquations, t: &Transfer) -> Result<String, Failure> {
     let times: Vec<f64> = (0..=1000).map(|i| horizon * i as f64 / 1000.0).collect();
     let values = t.system.response().at(&times);
     let points: Vec<(f64, f64)> = times.into_iter().zip(values).collect();
-    let title = format!("{}: unit step in {}", eq.model, t.input);
-    crate::analyze_plot::step_svg(&points, t.metrics.final_value, &title, &t.output)
-        .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot: {e}")))
+    let title = match &t.units.input {
+        Some(unit) => format!(
+            "{}: response to a step of 1 {unit} in {}",
+            eq.model, t.input
+        ),
+        None => format!("{}: unit step in {}", eq.model, t.input),
+    };
+    crate::analyze_plot::step_svg(
+        &points,
+        t.metrics.final_value,
+        &title,
+        &t.units.output_label,
+    )
+    .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot: {e}")))
 }
 
 struct Report<'a> {

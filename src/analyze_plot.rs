@@ -9,14 +9,37 @@ use plotters::prelude::*;
 
 const WIDTH: u32 = 800;
 
-/// The Bode diagram of `points`, titled `title`.
+/// The Bode diagram of `points`, titled `title`, its magnitude axis labelled
+/// `magnitude_label` (`magnitude (dB of V/V)`).
 ///
 /// # Errors
 /// A message when drawing fails.
-pub fn bode_svg(points: &[BodePoint], title: &str) -> Result<String, String> {
+pub fn bode_svg(
+    points: &[BodePoint],
+    title: &str,
+    magnitude_label: &str,
+) -> Result<String, String> {
     let mut svg = String::new();
-    draw_bode(&mut svg, points, title).map_err(|e| e.to_string())?;
+    draw_bode(&mut svg, points, title, magnitude_label).map_err(|e| e.to_string())?;
     Ok(svg)
+}
+
+/// How many ticks the frequency axis (logarithms from `lo` to `hi`) may have so that they
+/// fall on decades: as many as the whole decades in the range, so no finer step than one
+/// decade fits (a tick between two decades would print the same rounded label twice).
+fn decade_ticks(lo: f64, hi: f64) -> usize {
+    ((hi - lo).floor() as usize + 1).max(2)
+}
+
+/// `10^k` as a tick label: `0.01`, `1`, `1000` near 1, `1e-5`, `1e6` beyond.
+fn decade_label(k: f64) -> String {
+    match k.round() as i32 {
+        -3 => "0.001".to_string(),
+        -2 => "0.01".to_string(),
+        -1 => "0.1".to_string(),
+        k @ 0..=4 => format!("1{}", "0".repeat(k as usize)),
+        k => format!("1e{k}"),
+    }
 }
 
 fn range(values: impl Iterator<Item = f64>, floor: f64) -> (f64, f64) {
@@ -32,7 +55,12 @@ fn range(values: impl Iterator<Item = f64>, floor: f64) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-fn draw_bode(svg: &mut String, points: &[BodePoint], title: &str) -> Result<(), Box<dyn Error>> {
+fn draw_bode(
+    svg: &mut String,
+    points: &[BodePoint],
+    title: &str,
+    magnitude_label: &str,
+) -> Result<(), Box<dyn Error>> {
     let root = SVGBackend::with_string(svg, (WIDTH, 640)).into_drawing_area();
     root.fill(&WHITE)?;
     let root = root.titled(title, ("sans-serif", 20))?;
@@ -42,7 +70,7 @@ fn draw_bode(svg: &mut String, points: &[BodePoint], title: &str) -> Result<(), 
     let panels: [(&DrawingArea<_, _>, &str, Vec<f64>); 2] = [
         (
             &top,
-            "magnitude (dB)",
+            magnitude_label,
             points.iter().map(|p| p.magnitude_db).collect(),
         ),
         (
@@ -63,7 +91,8 @@ fn draw_bode(svg: &mut String, points: &[BodePoint], title: &str) -> Result<(), 
             .light_line_style(TRANSPARENT)
             .bold_line_style(BLACK.mix(0.12))
             .x_desc("angular frequency (rad/s)")
-            .x_label_formatter(&|v| format!("1e{}", v.round()))
+            .x_labels(decade_ticks(x_lo, x_hi))
+            .x_label_formatter(&|v| decade_label(*v))
             .y_desc(label)
             .label_style(("sans-serif", 14))
             .axis_desc_style(("sans-serif", 16))

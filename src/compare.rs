@@ -5,24 +5,53 @@
 //! Exit codes: 0 equal or similar, 1 different, 2 an error (unreadable files, bad entries).
 
 use std::path::Path;
+use std::sync::Arc;
 
 use bondgraph_core::DiagnosticKind;
 use bondgraph_core::analysis::answer;
 use bondgraph_core::analysis::compare::{Comparison, Verdict, compare};
 use bondgraph_core::equations::{self, Variables};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes;
+use bondgraph_core::source::SourceFile;
 use serde_json::json;
 
 use crate::{Failure, json as to_json, load, parse_mode, print, read_source, with_source};
 
 /// Runs the comparison and prints the verdict; `Ok(true)` unless the answer is different.
-pub(crate) fn run(
+pub fn run(
     model_path: &Path,
     answer_path: &Path,
     mode: Option<&str>,
     as_json: bool,
 ) -> Result<bool, Failure> {
     let (model, source) = load(model_path)?;
+    let answer = read_source(answer_path)?;
+    let compared = check(&model, &source, &answer, mode, as_json)?;
+    print(&compared.text);
+    Ok(compared.agrees)
+}
+
+/// A verdict, as the command prints it.
+pub struct Compared {
+    /// The verdict and its notes, as text or JSON.
+    pub text: String,
+    /// Whether the answer is equal or similar (the command's exit code 0).
+    pub agrees: bool,
+}
+
+/// Compares `answer` (an answer file's text) with `model` (read from `source`) in `mode`.
+///
+/// # Errors
+/// A failure when the model is nonlinear, the mode or its equations cannot be had, or the
+/// answer does not read (each at its line and entry).
+pub fn check(
+    model: &Model,
+    source: &Arc<SourceFile>,
+    answer: &Arc<SourceFile>,
+    mode: Option<&str>,
+    as_json: bool,
+) -> Result<Compared, Failure> {
     if model.is_nonlinear() {
         return Err(Failure::message(
             DiagnosticKind::NotLinear,
@@ -32,28 +61,26 @@ pub(crate) fn run(
             ),
         ));
     }
-    let mode = parse_mode(&model, mode, &source)?;
+    let mode = parse_mode(model, mode, source)?;
     let derive = |variables| {
-        modes::derive(&model, &mode, &equations::Options { variables })
+        modes::derive(model, &mode, &equations::Options { variables })
             .map(|d| d.equations)
-            .map_err(|d| with_source(d, &source))
+            .map_err(|d| with_source(d, source))
     };
     let energy = derive(Variables::Energy)?;
     let coenergy = derive(Variables::CoEnergy)?;
-    let answer_source = read_source(answer_path)?;
-    let answer = answer::load(&answer_source, &model.symbols).map_err(|d| Failure {
+    let parsed = answer::load(answer, &model.symbols).map_err(|d| Failure {
         diagnostics: d,
-        sources: vec![answer_source.clone()],
+        sources: vec![answer.clone()],
     })?;
-    let comparison = compare(&energy, &coenergy, Variables::preferred(&model), &answer);
-    let ok = !matches!(comparison.verdict, Verdict::Different { .. });
+    let comparison = compare(&energy, &coenergy, Variables::preferred(model), &parsed);
+    let agrees = !matches!(comparison.verdict, Verdict::Different { .. });
     let text = if as_json {
-        to_json(&to_value(&comparison, &mode.spec(&model)))?
+        to_json(&to_value(&comparison, &mode.spec(model)))?
     } else {
-        to_text(&comparison, &energy.model, &mode.spec(&model))
+        to_text(&comparison, &energy.model, &mode.spec(model))
     };
-    print(&text);
-    Ok(ok)
+    Ok(Compared { text, agrees })
 }
 
 fn to_text(comparison: &Comparison, model: &str, mode: &str) -> String {

@@ -11,7 +11,7 @@ use std::sync::Arc;
 use bondgraph_core::causality::{
     self, Causality, CausalityTrace, Decision, Propagation, Rule, Step, Stroke, law_description,
 };
-use bondgraph_core::equations::{Note, Options, StateVariable};
+use bondgraph_core::equations::{Note, Options, Quantity, StateVariable};
 use bondgraph_core::laws::{self, Law};
 use bondgraph_core::model::{BondId, ElementId, Model};
 use bondgraph_core::modes::{self, Mode};
@@ -22,20 +22,53 @@ use crate::{Failure, print, with_source};
 
 /// How `bondgraph explain` writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub(crate) enum ExplainFormat {
+pub enum ExplainFormat {
     /// Plain text.
     Text,
     /// Markdown (headings, numbered lists), for lecture notes.
     Markdown,
 }
 
-/// Prints the explanation of bond graph `model` in `mode`.
-pub(crate) fn run(
+/// An explanation, and why the mode's equations cannot be derived where they cannot: the
+/// causality is explained all the same, so a reader sees how far the assignment got.
+pub struct Explanation {
+    /// The explanation, in the format asked for.
+    pub text: String,
+    /// Why the mode's equations cannot be derived, if they cannot.
+    pub underivable: Option<Failure>,
+}
+
+/// Prints the explanation of `model` in `mode` (a linear graph's by
+/// [`crate::explain_lg`]); the command's error, after it, if the mode's equations cannot
+/// be derived.
+pub fn run(
     model: &Model,
     mode: &Mode,
     source: &Arc<SourceFile>,
     format: ExplainFormat,
 ) -> Result<(), Failure> {
+    let explanation = if model.linear_graph.is_some() {
+        Explanation {
+            text: crate::explain_lg::document(model, mode, source, format)?,
+            underivable: None,
+        }
+    } else {
+        document(model, mode, source, format)?
+    };
+    print(&explanation.text);
+    explanation.underivable.map_or(Ok(()), Err)
+}
+
+/// The explanation of bond graph `model` in `mode`.
+///
+/// # Errors
+/// A failure when the causality cannot be assigned (a causal conflict).
+pub fn document(
+    model: &Model,
+    mode: &Mode,
+    source: &Arc<SourceFile>,
+    format: ExplainFormat,
+) -> Result<Explanation, Failure> {
     let laws = laws::for_mode(model, mode);
     let (causal, trace) =
         causality::assign_traced(model, &laws).map_err(|d| with_source(d, source))?;
@@ -49,15 +82,16 @@ pub(crate) fn run(
         derivation,
         markdown: format == ExplainFormat::Markdown,
     };
-    print(&explainer.document(&mode.spec(model)));
-    // The causality is explained even when the equations cannot be derived; the reason
-    // why not is then the command's error.
-    derived.map(|_| ()).map_err(|d| with_source(d, source))
+    let text = explainer.document(&mode.spec(model));
+    Ok(Explanation {
+        text,
+        underivable: derived.err().map(|d| with_source(d, source)),
+    })
 }
 
 /// What the derivation of the mode found: its states and its notes, and for a linear mode
 /// the solved efforts and flows of the elements in algebraic loops.
-pub(crate) struct Derivation {
+struct Derivation {
     states: Vec<StateVariable>,
     notes: Vec<Note>,
     /// For each element in an algebraic loop (not junctions): its bond's effort and flow
@@ -236,7 +270,8 @@ impl Explainer<'_> {
             }
             Decision::Integral => {
                 let state = model.storage_name(e).unwrap_or_default();
-                let (receives, integrates, gives) = storage_words(law);
+                let state = self.code(&state);
+                let (receives, integrates, gives) = storage_words(model, e, law);
                 if step.new {
                     format!(
                         "{what} takes its preferred integral causality: it receives the {receives} on {bond} and integrates it into its {integrates} {state}, a state; it gives its {gives} back: {stroked}."
@@ -249,7 +284,7 @@ impl Explainer<'_> {
                 }
             }
             Decision::Derivative => {
-                let (receives, integrates, gives) = storage_words(law);
+                let (receives, integrates, gives) = storage_words(model, e, law);
                 let other = model.bond(step.bond).other(e);
                 format!(
                     "{what} would take integral causality, receiving the {receives} on {bond}, but {earlier}{} stroked that bond the other way, {stroked}: {} imposes its {gives}. It is in derivative causality: its {integrates} follows from the rest of the graph, and is no state of its own.",
@@ -723,12 +758,32 @@ fn source_meaning(law: &Law, kind: &bondgraph_core::model::ElementKind) -> &'sta
     }
 }
 
-/// What storage receives, integrates and gives back in integral causality.
-fn storage_words(law: &Law) -> (&'static str, &'static str, &'static str) {
+/// What storage element `e` receives, integrates and gives back in integral causality, in
+/// its domain's words where the model's units tell them (as `equations` names its states):
+/// a capacitor receives the flow (current) and integrates it into its charge, giving its
+/// effort (voltage) back. The bond-graph words stay, as the strokes are drawn in them.
+fn storage_words(model: &Model, e: ElementId, law: &Law) -> (String, &'static str, String) {
+    let domain = model.element_domain(e);
+    let word = |generic: &str, named: Option<&str>| match named {
+        Some(named) => format!("{generic} ({named})"),
+        None => generic.to_string(),
+    };
+    let (effort, flow) = (
+        word("effort", domain.map(|d| d.effort.1)),
+        word("flow", domain.map(|d| d.flow.1)),
+    );
     if law.gives_effort() {
-        ("flow", "displacement", "effort")
+        (
+            flow,
+            Quantity::Displacement.description_in(domain, false),
+            effort,
+        )
     } else {
-        ("effort", "momentum", "flow")
+        (
+            effort,
+            Quantity::Momentum.description_in(domain, false),
+            flow,
+        )
     }
 }
 

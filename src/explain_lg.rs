@@ -19,20 +19,25 @@ use bondgraph_core::source::SourceFile;
 use bondgraph_core::symbolic::RatFunc;
 
 use crate::explain_bg::ExplainFormat;
-use crate::{Failure, print, with_source};
+use crate::{Failure, with_source};
 
-/// Prints the explanation of linear graph `model` in `mode`; in Markdown, the text under a
-/// heading, as a preformatted block.
-pub(crate) fn run(
+/// The explanation of linear graph `model` in `mode`; in Markdown, with headings, numbered
+/// lists and the equations in code blocks, as a bond graph's. A bond graph is explained by
+/// [`crate::explain_bg`].
+///
+/// # Errors
+/// A failure when the mode has no causality or its equations cannot be derived.
+pub fn document(
     model: &Model,
     mode: &Mode,
     source: &Arc<SourceFile>,
     format: ExplainFormat,
-) -> Result<(), Failure> {
+) -> Result<String, Failure> {
     let laws = laws::for_mode(model, mode);
     causality::assign(model, &laws).map_err(|d| with_source(reword(model, d), source))?;
     let Some(graph) = &model.linear_graph else {
-        return crate::explain_bg::run(model, mode, source, format);
+        let explanation = crate::explain_bg::document(model, mode, source, format)?;
+        return explanation.underivable.map_or(Ok(explanation.text), Err);
     };
     let tree = normal_tree::of_mode(model, &laws).expect("a linear graph has a normal tree");
     let derived = modes::derive(
@@ -43,36 +48,116 @@ pub(crate) fn run(
         },
     )
     .map_err(|d| with_source(d, source))?;
-    let mut text = explain(model, graph, &tree, &laws, &mode.spec(model));
-    text.push_str("\nState equations (co-energy variables), from the elemental, continuity and compatibility equations:\n\n");
-    text.push_str(&derived.equations.to_text());
-    if format == ExplainFormat::Markdown {
-        text = format!(
-            "# Linear graph `{}`: the normal tree and its equations\n\n```text\n{text}```\n",
-            model.name
-        );
+    let writer = Writer {
+        markdown: format == ExplainFormat::Markdown,
+    };
+    let mut text = explain(&writer, model, graph, &tree, &laws, &mode.spec(model));
+    writer.heading(
+        &mut text,
+        "State equations (co-energy variables), from the elemental, continuity and compatibility equations",
+    );
+    if writer.markdown {
+        text.push_str(&format!("```text\n{}```\n", derived.equations.to_text()));
+    } else {
+        text.push('\n');
+        text.push_str(&derived.equations.to_text());
     }
-    print(&text);
-    Ok(())
+    Ok(text)
+}
+
+/// How the explanation is written: plain text, or Markdown for lecture notes.
+struct Writer {
+    markdown: bool,
+}
+
+impl Writer {
+    /// A title: `# title` in Markdown.
+    fn title(&self, out: &mut String, text: &str) {
+        if self.markdown {
+            out.push_str(&format!("# {text}\n\n"));
+        } else {
+            out.push_str(&format!("{text}\n\n"));
+        }
+    }
+
+    /// A section's heading: `## heading` in Markdown, `heading:` in text.
+    fn heading(&self, out: &mut String, text: &str) {
+        if self.markdown {
+            out.push_str(&format!("\n## {text}\n\n"));
+        } else {
+            out.push_str(&format!("\n{text}:\n"));
+        }
+    }
+
+    /// `'name'` in text, `` `name` `` in Markdown.
+    fn name(&self, name: &str) -> String {
+        if self.markdown {
+            format!("`{name}`")
+        } else {
+            format!("'{name}'")
+        }
+    }
+
+    /// Code (a variable, a list of them): as is in text, quoted in Markdown.
+    fn code(&self, text: &str) -> String {
+        if self.markdown {
+            format!("`{text}`")
+        } else {
+            text.to_string()
+        }
+    }
+
+    /// A numbered list.
+    fn items(&self, out: &mut String, items: &[String]) {
+        for (i, item) in items.iter().enumerate() {
+            if self.markdown {
+                out.push_str(&format!("{}. {item}\n", i + 1));
+            } else {
+                out.push_str(&format!("  {}. {item}\n", i + 1));
+            }
+        }
+    }
+
+    /// Lines of equations: a code block in Markdown, indented in text.
+    fn block(&self, out: &mut String, lines: &[String]) {
+        if self.markdown {
+            out.push_str("```text\n");
+        }
+        for line in lines {
+            if !self.markdown {
+                out.push_str("  ");
+            }
+            out.push_str(line);
+            out.push('\n');
+        }
+        if self.markdown {
+            out.push_str("```\n");
+        }
+    }
 }
 
 /// The explanation of the normal tree and its equations.
-pub(crate) fn explain(
+fn explain(
+    writer: &Writer,
     model: &Model,
     graph: &LinearGraph,
     tree: &NormalTree,
     laws: &[Law],
     spec: &str,
 ) -> String {
-    let edge = |b: usize, p: usize| format!("'{}'", graph.edge_name(b, p));
-    let mut out = format!(
-        "linear graph '{}'{}: the normal tree (Rowell & Wormley)\n\n",
-        model.name,
-        if spec.is_empty() {
-            String::new()
-        } else {
-            format!(" in mode {spec}")
-        }
+    let edge = |b: usize, p: usize| writer.name(&graph.edge_name(b, p));
+    let mut out = String::new();
+    writer.title(
+        &mut out,
+        &format!(
+            "linear graph {}{}: the normal tree (Rowell & Wormley)",
+            writer.name(&model.name),
+            if spec.is_empty() {
+                String::new()
+            } else {
+                format!(" in mode {spec}")
+            }
+        ),
     );
     out.push_str(
         "A tree joins every node without a loop. The normal tree takes across sources first, then \
@@ -82,129 +167,124 @@ pub(crate) fn explain(
          variables are the states.\n",
     );
     if !tree.alternatives.is_empty() {
-        out.push_str(
-            "\nTwo-ports: a transformer puts one of its ports in the tree, a gyrator both or \
-             neither. Every placement was tried; the tree kept has the most A-types in it, then \
-             the fewest T-types:\n",
-        );
-        for (i, alternative) in tree.alternatives.iter().enumerate() {
-            let placed: Vec<String> = alternative
-                .placement
-                .iter()
-                .map(|(b, ports)| {
-                    let names: Vec<String> = ports.iter().map(|&p| edge(*b, p)).collect();
-                    if names.is_empty() {
-                        format!("neither port of '{}'", graph.branches[*b].name)
-                    } else {
-                        names.join(" and ")
-                    }
-                })
-                .collect();
-            let result = if alternative.feasible {
-                format!(
-                    "{} A-type{} and {} T-type{} in the tree",
-                    alternative.a_in_tree,
-                    plural(alternative.a_in_tree),
-                    alternative.t_in_tree,
-                    plural(alternative.t_in_tree)
-                )
-            } else {
-                "no tree (a port would close a loop, or the tree would not reach every node)"
-                    .to_string()
-            };
-            let chosen = if i == tree.chosen { "  <- chosen" } else { "" };
-            out.push_str(&format!(
-                "  {}. {} in the tree: {result}{chosen}\n",
-                i + 1,
-                placed.join(", ")
-            ));
-        }
-    }
-    out.push_str("\nConstruction:\n");
-    for (i, step) in tree.steps.iter().enumerate() {
-        let e = &graph.branches[step.branch].edges[step.port];
-        let what = format!(
-            "{} ({}, {} -> {})",
-            edge(step.branch, step.port),
-            role_text(graph, step.branch, step.role),
-            graph.node(e.from).name,
-            graph.node(e.to).name
-        );
-        let why = match &step.reason {
-            Reason::Reaches => {
-                let mut s = "joins the tree: it reaches a node the tree did not reach".to_string();
-                if step.role == Role::A {
-                    s.push_str(&format!(
-                        "; its across variable v_{} is a state",
-                        graph.branches[step.branch].name
-                    ));
-                }
-                if step.role == Role::T {
-                    s.push_str(
-                        "; a T-type in the tree is dependent storage: its through variable is set by the links of its cut-set",
-                    );
-                }
-                s
-            }
-            Reason::ClosesLoop(path) => {
-                let names: Vec<String> = path.iter().map(|&(b, p)| edge(b, p)).collect();
-                let mut s = format!(
-                    "becomes a link: it would close a loop with {}",
-                    names.join(", ")
-                );
-                match step.role {
-                    Role::A => s.push_str(
-                        "; an A-type link is dependent storage: its across variable is set by the loop",
-                    ),
-                    Role::T => s.push_str(&format!(
-                        "; its through variable f_{} is a state",
-                        graph.branches[step.branch].name
-                    )),
-                    Role::AcrossSource => s.push_str(
-                        "; across sources in a loop contradict each other, so this mode cannot be entered",
-                    ),
-                    _ => {}
-                }
-                s
-            }
-            Reason::TwoPortInTree => {
-                "joins the tree, as the chosen two-port placement puts it there".to_string()
-            }
-            Reason::TwoPortLink => {
-                "is a link, as the chosen two-port placement leaves it out".to_string()
-            }
-            Reason::Source if step.in_tree => {
-                "joins the tree: nothing else reaches its node, so its cut-set holds only sources"
-                    .to_string()
-            }
-            Reason::Source => "is a link: through sources are links".to_string(),
-        };
-        out.push_str(&format!("  {}. {what} {why}.\n", i + 1));
-    }
-
-    let states = tree.states(graph);
-    out.push_str(&format!(
-        "\nStates: {}\n",
-        if states.is_empty() {
-            "none".to_string()
+        let placements = "puts one of its ports in the tree, a gyrator both or neither. Every \
+             placement was tried; the tree kept has the most A-types in it, then the fewest \
+             T-types:";
+        if writer.markdown {
+            writer.heading(&mut out, "Two-ports");
+            out.push_str(&format!("A transformer {placements}\n\n"));
         } else {
-            states.join(", ")
+            out.push_str(&format!("\nTwo-ports: a transformer {placements}\n"));
         }
-    ));
-    let dependent = tree.dependent_storage();
-    if !dependent.is_empty() {
-        let names: Vec<String> = dependent
+        let items: Vec<String> = tree
+            .alternatives
             .iter()
-            .map(|&b| format!("'{}'", graph.branches[b].name))
+            .enumerate()
+            .map(|(i, alternative)| {
+                let placed: Vec<String> = alternative
+                    .placement
+                    .iter()
+                    .map(|(b, ports)| {
+                        let names: Vec<String> = ports.iter().map(|&p| edge(*b, p)).collect();
+                        if names.is_empty() {
+                            format!("neither port of {}", writer.name(&graph.branches[*b].name))
+                        } else {
+                            names.join(" and ")
+                        }
+                    })
+                    .collect();
+                let result = if alternative.feasible {
+                    format!(
+                        "{} A-type{} and {} T-type{} in the tree",
+                        alternative.a_in_tree,
+                        plural(alternative.a_in_tree),
+                        alternative.t_in_tree,
+                        plural(alternative.t_in_tree)
+                    )
+                } else {
+                    "no tree (a port would close a loop, or the tree would not reach every node)"
+                        .to_string()
+                };
+                let chosen = match (i == tree.chosen, writer.markdown) {
+                    (false, _) => "",
+                    (true, false) => "  <- chosen",
+                    (true, true) => " (**chosen**)",
+                };
+                format!("{} in the tree: {result}{chosen}", placed.join(", "))
+            })
             .collect();
-        out.push_str(&format!(
-            "Dependent storage: {} (merged into the states it follows; see the notes below)\n",
-            names.join(", ")
-        ));
+        writer.items(&mut out, &items);
     }
+    writer.heading(&mut out, "Construction");
+    let steps: Vec<String> = tree
+        .steps
+        .iter()
+        .map(|step| {
+            let e = &graph.branches[step.branch].edges[step.port];
+            let what = format!(
+                "{} ({}, {} -> {})",
+                edge(step.branch, step.port),
+                role_text(graph, step.branch, step.role),
+                graph.node(e.from).name,
+                graph.node(e.to).name
+            );
+            let why = match &step.reason {
+                Reason::Reaches => {
+                    let mut s =
+                        "joins the tree: it reaches a node the tree did not reach".to_string();
+                    if step.role == Role::A {
+                        s.push_str(&format!(
+                            "; its across variable {} is a state",
+                            writer.code(&format!("v_{}", graph.branches[step.branch].name))
+                        ));
+                    }
+                    if step.role == Role::T {
+                        s.push_str(
+                            "; a T-type in the tree is dependent storage: its through variable is set by the links of its cut-set",
+                        );
+                    }
+                    s
+                }
+                Reason::ClosesLoop(path) => {
+                    let names: Vec<String> = path.iter().map(|&(b, p)| edge(b, p)).collect();
+                    let mut s = format!(
+                        "becomes a link: it would close a loop with {}",
+                        names.join(", ")
+                    );
+                    match step.role {
+                        Role::A => s.push_str(
+                            "; an A-type link is dependent storage: its across variable is set by the loop",
+                        ),
+                        Role::T => s.push_str(&format!(
+                            "; its through variable {} is a state",
+                            writer.code(&format!("f_{}", graph.branches[step.branch].name))
+                        )),
+                        Role::AcrossSource => s.push_str(
+                            "; across sources in a loop contradict each other, so this mode cannot be entered",
+                        ),
+                        _ => {}
+                    }
+                    s
+                }
+                Reason::TwoPortInTree => {
+                    "joins the tree, as the chosen two-port placement puts it there".to_string()
+                }
+                Reason::TwoPortLink => {
+                    "is a link, as the chosen two-port placement leaves it out".to_string()
+                }
+                Reason::Source if step.in_tree => {
+                    "joins the tree: nothing else reaches its node, so its cut-set holds only sources"
+                        .to_string()
+                }
+                Reason::Source => "is a link: through sources are links".to_string(),
+            };
+            format!("{what} {why}.")
+        })
+        .collect();
+    writer.items(&mut out, &steps);
 
-    let across = |b: usize, p: usize| format!("v_{}", variable(graph, b, p));
-    let through = |b: usize, p: usize| format!("f_{}", variable(graph, b, p));
+    let codes =
+        |items: Vec<String>| -> Vec<String> { items.iter().map(|v| writer.code(v)).collect() };
     let list = |items: Vec<String>| {
         if items.is_empty() {
             "none".to_string()
@@ -212,36 +292,81 @@ pub(crate) fn explain(
             items.join(", ")
         }
     };
-    out.push_str(&format!(
-        "\nPrimary variables: the across variables of the tree, {}; the through variables of the links, {}.\n",
-        list(tree.tree_edges().map(|(b, p)| across(b, p)).collect()),
-        list(tree.links().map(|(b, p)| through(b, p)).collect())
-    ));
-    out.push_str(&format!(
-        "Secondary variables: the through variables of the tree, {}; the across variables of the links, {}.\n",
-        list(tree.tree_edges().map(|(b, p)| through(b, p)).collect()),
-        list(tree.links().map(|(b, p)| across(b, p)).collect())
-    ));
+    let states = tree.states(graph);
+    let dependent = tree.dependent_storage();
+    let dependent_text = (!dependent.is_empty()).then(|| {
+        let names: Vec<String> = dependent
+            .iter()
+            .map(|&b| writer.name(&graph.branches[b].name))
+            .collect();
+        format!(
+            "Dependent storage: {} (merged into the states it follows; see the notes below)",
+            names.join(", ")
+        )
+    });
+    let across = |b: usize, p: usize| format!("v_{}", variable(graph, b, p));
+    let through = |b: usize, p: usize| format!("f_{}", variable(graph, b, p));
+    let primary = format!(
+        "Primary variables: the across variables of the tree, {}; the through variables of the links, {}.",
+        list(codes(
+            tree.tree_edges().map(|(b, p)| across(b, p)).collect()
+        )),
+        list(codes(tree.links().map(|(b, p)| through(b, p)).collect()))
+    );
+    let secondary = format!(
+        "Secondary variables: the through variables of the tree, {}; the across variables of the links, {}.",
+        list(codes(
+            tree.tree_edges().map(|(b, p)| through(b, p)).collect()
+        )),
+        list(codes(tree.links().map(|(b, p)| across(b, p)).collect()))
+    );
+    if writer.markdown {
+        writer.heading(&mut out, "States and variables");
+        out.push_str(&format!("- States: {}.\n", list(codes(states))));
+        if let Some(text) = &dependent_text {
+            out.push_str(&format!("- {text}.\n"));
+        }
+        out.push_str(&format!("- {primary}\n- {secondary}\n"));
+    } else {
+        out.push_str(&format!("\nStates: {}\n", list(states)));
+        if let Some(text) = &dependent_text {
+            out.push_str(&format!("{text}\n"));
+        }
+        out.push_str(&format!("\n{primary}\n{secondary}\n"));
+    }
 
-    out.push_str("\nContinuity (cut-set) equations, one per tree branch:\n");
-    for (b, p) in tree.tree_edges() {
-        let terms = tree.cut_set_equation(graph, b, p);
-        out.push_str(&format!("  {} = {}\n", through(b, p), sum(&terms, through)));
-    }
-    out.push_str("\nCompatibility (loop) equations, one per link:\n");
-    for (b, p) in tree.links() {
-        let terms = tree.loop_equation(graph, b, p);
-        out.push_str(&format!("  {} = {}\n", across(b, p), sum(&terms, across)));
-    }
-    out.push_str("\nElemental equations in this mode:\n");
-    for (b, branch) in graph.branches.iter().enumerate() {
-        let law = &laws[branch.element.index()];
-        out.push_str(&format!(
-            "  {}: {}\n",
-            branch.name,
-            elemental(model, graph, b, law)
-        ));
-    }
+    writer.heading(
+        &mut out,
+        "Continuity (cut-set) equations, one per tree branch",
+    );
+    let lines: Vec<String> = tree
+        .tree_edges()
+        .map(|(b, p)| {
+            let terms = tree.cut_set_equation(graph, b, p);
+            format!("{} = {}", through(b, p), sum(&terms, through))
+        })
+        .collect();
+    writer.block(&mut out, &lines);
+    writer.heading(&mut out, "Compatibility (loop) equations, one per link");
+    let lines: Vec<String> = tree
+        .links()
+        .map(|(b, p)| {
+            let terms = tree.loop_equation(graph, b, p);
+            format!("{} = {}", across(b, p), sum(&terms, across))
+        })
+        .collect();
+    writer.block(&mut out, &lines);
+    writer.heading(&mut out, "Elemental equations in this mode");
+    let lines: Vec<String> = graph
+        .branches
+        .iter()
+        .enumerate()
+        .map(|(b, branch)| {
+            let law = &laws[branch.element.index()];
+            format!("{}: {}", branch.name, elemental(model, graph, b, law))
+        })
+        .collect();
+    writer.block(&mut out, &lines);
     out
 }
 

@@ -3,8 +3,8 @@
 //! The `bondgraph` binary renders the libraries' results as text, JSON, CSV and SVG; the
 //! modules here are the renderers and the commands' documents that another front end (the
 //! Python bindings in `python/`) needs too, so that both print the same documents from the
-//! same code: `analyze`, `calibrate`, `discover` and `reproduce` each build their result
-//! here, and the binary only parses arguments and prints.
+//! same code: `analyze`, `calibrate`, `compare`, `discover`, `explain` and `reproduce` each
+//! build their result here, and the binary only parses arguments and prints.
 //!
 //! ```
 //! use bondgraph_core::model;
@@ -25,8 +25,11 @@ pub mod analyze;
 pub mod analyze_plot;
 pub mod bg_svg;
 pub mod calibrate;
+pub mod compare;
 pub mod diagnostics;
 pub mod discover;
+pub mod explain_bg;
+pub mod explain_lg;
 pub mod failure;
 pub mod files;
 pub mod lg_svg;

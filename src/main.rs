@@ -4,16 +4,14 @@
 //! requested format; diagnostics from the libraries are rendered here with a snippet of the
 //! model file, and any failure exits non-zero.
 
-mod compare;
 mod conventions;
-mod explain_bg;
-mod explain_lg;
 mod lg_graph;
 mod nonlinear;
 
 use bondgraph::{
-    Failure, analyze, bg_svg, calibrate, count, diagnostics, discover, json, lg_svg, load, output,
-    parse_mode, plot, print, read_source, reproduce, trajectory, with_source, write_file,
+    Failure, analyze, bg_svg, calibrate, compare, count, diagnostics, discover, explain_bg, json,
+    lg_svg, load, output, parse_mode, plot, print, read_source, reproduce, trajectory, with_source,
+    write_file,
 };
 
 use std::io::Write;
@@ -524,11 +522,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
         } => {
             let (model, source) = load(&model)?;
             let mode = parse_mode(&model, mode.as_deref(), &source)?;
-            if model.linear_graph.is_some() {
-                explain_lg::run(&model, &mode, &source, format)
-            } else {
-                explain_bg::run(&model, &mode, &source, format)
-            }
+            explain_bg::run(&model, &mode, &source, format)
         }
         Command::Analyze {
             model,

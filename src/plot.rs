@@ -211,11 +211,8 @@ fn draw_panel(
             .iter()
             .flat_map(|(_, runs)| runs.iter().flatten().map(|&(_, y)| y)),
     );
-    let label = curves
-        .iter()
-        .map(|(name, _)| name.as_str())
-        .collect::<Vec<_>>()
-        .join(", ");
+    let names: Vec<&str> = curves.iter().map(|(name, _)| name.as_str()).collect();
+    let (label, keys) = panel_label(&names);
 
     let mut chart = ChartBuilder::on(area)
         .margin_top(10)
@@ -273,13 +270,13 @@ fn draw_panel(
             }),
     )?;
 
-    for (k, (name, runs)) in curves.iter().enumerate() {
+    for (k, ((_, runs), key)) in curves.iter().zip(&keys).enumerate() {
         let colour = CURVE_COLOURS[k % CURVE_COLOURS.len()];
         for (r, run) in runs.iter().enumerate() {
             let series =
                 chart.draw_series(LineSeries::new(run.iter().copied(), colour.stroke_width(2)))?;
             if r == 0 && curves.len() > 1 {
-                series.label(name.as_str()).legend(move |(x, y)| {
+                series.label(key.as_str()).legend(move |(x, y)| {
                     PathElement::new([(x, y), (x + 18, y)], colour.stroke_width(2))
                 });
             }
@@ -295,6 +292,44 @@ fn draw_panel(
             .draw()?;
     }
     Ok(())
+}
+
+/// A panel's y label and the names in its key. One output: its label (`flow:body:
+/// velocity (m/s)`) and no key. Several whose labels end in the same quantity and unit
+/// (`energy:stored: energy (J)`): that quantity (`energy (J)`), the outputs' names in the
+/// key. Several of different quantities: those quantities, the whole labels in the key.
+/// Without units: the labels joined. A panel's label fits its height only when short.
+fn panel_label(labels: &[&str]) -> (String, Vec<String>) {
+    let whole = || labels.iter().map(|l| l.to_string()).collect::<Vec<_>>();
+    if labels.len() == 1 {
+        return (labels[0].to_string(), whole());
+    }
+    // `name: quantity (unit)` or `name (unit)`.
+    let parts: Option<Vec<(&str, &str)>> = labels
+        .iter()
+        .map(|label| {
+            label.split_once(": ").or_else(|| {
+                label
+                    .find(" (")
+                    .map(|i| (&label[..i], label[i + 1..].trim()))
+            })
+        })
+        .collect();
+    let Some(parts) = parts else {
+        return (labels.join(", "), whole());
+    };
+    let mut quantities: Vec<&str> = Vec::new();
+    for (_, quantity) in &parts {
+        if !quantities.contains(quantity) {
+            quantities.push(quantity);
+        }
+    }
+    if quantities.len() == 1 {
+        let names = parts.iter().map(|(name, _)| name.to_string()).collect();
+        (quantities[0].to_string(), names)
+    } else {
+        (quantities.join(", "), whole())
+    }
 }
 
 /// The time axis: from the first to the last finite sample time (or the final time, if
@@ -661,6 +696,31 @@ mod tests {
         assert!(has_text(&svg, "f_k, f_fr_ct"));
         // A key names each curve of a shared panel.
         assert!(has_text(&svg, "x_ge"));
+    }
+
+    #[test]
+    fn a_shared_panel_is_labelled_with_its_common_quantity_and_unit() {
+        let label = |labels: &[&str]| panel_label(labels);
+        // One output keeps its whole label.
+        assert_eq!(
+            label(&["flow:body: velocity (m/s)"]).0,
+            "flow:body: velocity (m/s)"
+        );
+        // One quantity: on the axis once, the names in the key.
+        assert_eq!(
+            label(&["energy:supplied: energy (J)", "energy:stored: energy (J)"]),
+            (
+                "energy (J)".to_string(),
+                vec!["energy:supplied".to_string(), "energy:stored".to_string()]
+            )
+        );
+        assert_eq!(label(&["a (m)", "b (m)"]).0, "(m)");
+        // Different quantities: each once on the axis, the whole labels in the key.
+        let (axis, key) = label(&["effort:c: voltage (V)", "flow:c: current (A)"]);
+        assert_eq!(axis, "voltage (V), current (A)");
+        assert_eq!(key[1], "flow:c: current (A)");
+        // No units: the names, joined.
+        assert_eq!(label(&["v_ge", "x_ge"]).0, "v_ge, x_ge");
     }
 
     #[test]

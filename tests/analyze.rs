@@ -345,3 +345,115 @@ fn compare_energy_answer_to_a_linear_graph_is_similar() {
     assert_eq!(out.status.code(), Some(0), "{text}");
     assert!(text.starts_with("similar"), "{text}");
 }
+
+/// Whether an SVG the program wrote has a text element reading `text` (plotters puts the
+/// text on a line of its own).
+fn svg_has_text(svg: &str, text: &str) -> bool {
+    svg.split("<text").skip(1).any(|element| {
+        element
+            .split_once('>')
+            .and_then(|(_, rest)| rest.split_once("</text>"))
+            .is_some_and(|(inside, _)| inside.trim() == text)
+    })
+}
+
+#[test]
+fn plots_label_their_axes_with_quantity_and_unit() {
+    let scratch = std::env::temp_dir().join(format!("bondgraph-units-{}", std::process::id()));
+    std::fs::create_dir_all(&scratch).unwrap();
+    let file = |name: &str| scratch.join(name).to_string_lossy().into_owned();
+    let read = |name: &str| std::fs::read_to_string(scratch.join(name)).unwrap();
+
+    // simulate --plot: one output per panel with its unit; a shared panel with the
+    // quantity they share, their names in the key.
+    succeed(&[
+        "simulate",
+        "models/teaching/rc.ron",
+        "--scenario",
+        "models/teaching/scenarios/rc_step.ron",
+        "--plot",
+        &file("rc.svg"),
+        "--panel",
+        "effort:capacitor",
+        "--panel",
+        "flow:capacitor",
+        "--panel",
+        "energy:supplied,energy:stored,energy:dissipated",
+    ]);
+    let svg = read("rc.svg");
+    for label in [
+        "effort:capacitor: voltage (V)",
+        "flow:capacitor: current (A)",
+        "energy (J)",
+        "energy:dissipated",
+    ] {
+        assert!(svg_has_text(&svg, label), "simulate --plot: no {label:?}");
+    }
+
+    // analyze --step and --bode: the output's quantity and unit; the magnitude in dB of
+    // the output's unit per the input's.
+    for (model, input, output, step_label, magnitude) in [
+        (
+            "rc",
+            "V",
+            "effort:capacitor",
+            "effort:capacitor: voltage (V)",
+            "magnitude (dB of V/V)",
+        ),
+        (
+            "tank",
+            "Q_in",
+            "effort:tank",
+            "effort:tank: pressure (Pa)",
+            "magnitude (dB of Pa/(m^3/s))",
+        ),
+        (
+            "dc_motor",
+            "V",
+            "flow:load_inertia",
+            "flow:load_inertia: angular velocity (rad/s)",
+            "magnitude (dB of (rad/s)/V)",
+        ),
+        (
+            "mass_spring_damper",
+            "F",
+            "q_spring",
+            "q_spring: displacement (m)",
+            "magnitude (dB of m/N)",
+        ),
+    ] {
+        succeed(&[
+            "analyze",
+            &format!("models/teaching/{model}.ron"),
+            "--input",
+            input,
+            "--output",
+            output,
+            "--step",
+            &file("step.svg"),
+            "--bode",
+            &file("bode.svg"),
+        ]);
+        let (step, bode) = (read("step.svg"), read("bode.svg"));
+        assert!(
+            svg_has_text(&step, step_label),
+            "{model} --step: no {step_label:?}"
+        );
+        assert!(svg_has_text(&step, "time (s)"), "{model} --step");
+        assert!(
+            svg_has_text(&bode, magnitude),
+            "{model} --bode: no {magnitude:?}"
+        );
+        assert!(svg_has_text(&bode, "phase (deg)"), "{model} --bode");
+        assert!(
+            svg_has_text(&bode, "angular frequency (rad/s)"),
+            "{model} --bode"
+        );
+    }
+    // The step is one unit of the input, in the input's unit.
+    assert!(svg_has_text(
+        &read("step.svg"),
+        "mass_spring_damper: response to a step of 1 N in F"
+    ));
+    let _ = std::fs::remove_dir_all(&scratch);
+}

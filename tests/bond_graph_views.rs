@@ -16,13 +16,15 @@ use crate::support::load;
 // A tiny reader of the SVG the program writes: each tag's name and attributes, and the text
 // that follows it.
 
-struct Tag {
-    name: String,
-    attributes: HashMap<String, String>,
-    text: String,
+/// One SVG tag: its name, its attributes and the text after it.
+pub(crate) struct Tag {
+    pub(crate) name: String,
+    pub(crate) attributes: HashMap<String, String>,
+    pub(crate) text: String,
 }
 
-fn tags(svg: &str) -> Vec<Tag> {
+/// The tags of an SVG document, in order.
+pub(crate) fn tags(svg: &str) -> Vec<Tag> {
     let mut out = Vec::new();
     let mut rest = svg;
     while let Some(start) = rest.find('<') {
@@ -57,16 +59,17 @@ fn number(tag: &Tag, key: &str) -> f64 {
     tag.attributes[key].parse().expect(key)
 }
 
+/// A text's box, as its `data-box` gives it.
 #[derive(Clone, Copy, Debug)]
-struct Box4 {
-    x: f64,
-    y: f64,
-    w: f64,
-    h: f64,
+pub(crate) struct Box4 {
+    pub(crate) x: f64,
+    pub(crate) y: f64,
+    pub(crate) w: f64,
+    pub(crate) h: f64,
 }
 
 impl Box4 {
-    fn of(tag: &Tag) -> Self {
+    pub(crate) fn of(tag: &Tag) -> Self {
         let v: Vec<f64> = tag.attributes["data-box"]
             .split(' ')
             .map(|s| s.parse().unwrap())
@@ -78,7 +81,7 @@ impl Box4 {
             h: v[3],
         }
     }
-    fn overlaps(&self, o: &Box4) -> bool {
+    pub(crate) fn overlaps(&self, o: &Box4) -> bool {
         self.x < o.x + o.w && o.x < self.x + self.w && self.y < o.y + o.h && o.y < self.y + self.h
     }
     fn center(&self) -> (f64, f64) {
@@ -88,7 +91,7 @@ impl Box4 {
 
 /// One bond as drawn.
 #[derive(Debug)]
-struct DrawnBond {
+pub(crate) struct DrawnBond {
     from: String,
     to: String,
     stroke_attr: String,
@@ -98,14 +101,16 @@ struct DrawnBond {
     number_text: String,
 }
 
-struct Drawing {
-    title: String,
-    bonds: HashMap<usize, Vec<DrawnBond>>,
+/// A drawing read back: its title, its bonds by number, its element labels and every box.
+pub(crate) struct Drawing {
+    pub(crate) title: String,
+    pub(crate) bonds: HashMap<usize, Vec<DrawnBond>>,
     elements: HashMap<String, Box4>,
     boxes: Vec<(String, Box4)>,
 }
 
-fn read(svg: &str) -> Drawing {
+/// Reads a drawing back from the SVG `bondgraph graph --format svg` writes.
+pub(crate) fn read(svg: &str) -> Drawing {
     let tags = tags(svg);
     let mut drawing = Drawing {
         title: String::new(),
@@ -352,9 +357,9 @@ fn explain_rigid_masses_step_by_step() {
     let text = succeed(&["explain", "models/examples/rigid_masses.ron"]);
     for line in [
         "  1. effort source 'force': a source of effort, its causality is fixed. It sets the effort on bond 1 (force -> v), so the stroke is at the end of 'v': force -> v|.\n",
-        "  2. inertia 'mass1' takes its preferred integral causality: it receives the effort on bond 2 (v -> mass1) and integrates it into its momentum p_mass1, a state; it gives its flow back: v -> mass1|.\n",
+        "  2. inertia 'mass1' takes its preferred integral causality: it receives the effort (force) on bond 2 (v -> mass1) and integrates it into its momentum p_mass1, a state; it gives its flow (velocity) back: v -> mass1|.\n",
         "       - 1-junction 'v' has its flow brought in by bond 2 (from 'mass1'), so it gives that flow to bond 3 |v -> mass2, bond 4 |v -> spring and bond 5 |v -> damper, each giving an effort back.\n",
-        "  3. inertia 'mass2' would take integral causality, receiving the effort on bond 3 (v -> mass2), but step 2 (inertia 'mass1', through 1-junction 'v') stroked that bond the other way, |v -> mass2: 'v' imposes its flow. It is in derivative causality: its momentum follows from the rest of the graph, and is no state of its own.\n",
+        "  3. inertia 'mass2' would take integral causality, receiving the effort (force) on bond 3 (v -> mass2), but step 2 (inertia 'mass1', through 1-junction 'v') stroked that bond the other way, |v -> mass2: 'v' imposes its flow (velocity). It is in derivative causality: its momentum follows from the rest of the graph, and is no state of its own.\n",
         "       - The derivation merges it into 'mass1': the state p_mass1 now has the inertance m1 + m2.\n",
         "  5. resistor 'damper': step 2 (inertia 'mass1', through 1-junction 'v') decided its causality. It receives the flow on bond 5 (v -> damper) and gives the effort (resistance causality: the effort from the flow): |v -> damper.\n",
         "  3  |v -> mass2   derivative causality\n",
@@ -363,6 +368,50 @@ fn explain_rigid_masses_step_by_step() {
     ] {
         assert!(text.contains(line), "missing {line:?} in\n{text}");
     }
+}
+
+#[test]
+fn explain_names_what_storage_integrates_in_its_domain() {
+    // A capacitor integrates current into charge, an inductor voltage into flux linkage, a
+    // rotating inertia torque into angular momentum (the gear ratio N has a unit, so the
+    // load side's domain is known).
+    let rc = succeed(&["explain", "models/teaching/rc.ron"]);
+    assert!(
+        rc.contains("compliance 'capacitor' takes its preferred integral causality: it receives the flow (current) on bond 3 (loop_current -> capacitor) and integrates it into its charge q_capacitor, a state; it gives its effort (voltage) back"),
+        "{rc}"
+    );
+    let motor = succeed(&[
+        "explain",
+        "models/teaching/dc_motor.ron",
+        "--format",
+        "markdown",
+    ]);
+    for words in [
+        "it receives the effort (voltage) on bond 3 (`armature -> winding_inductance`) and integrates it into its flux linkage `p_winding_inductance`, a state; it gives its flow (current) back",
+        "it receives the effort (torque) on bond 7 (`load -> load_inertia`) and integrates it into its angular momentum `p_load_inertia`, a state; it gives its flow (angular velocity) back",
+    ] {
+        assert!(motor.contains(words), "missing {words:?} in\n{motor}");
+    }
+    // Without units there is no domain: the bond-graph words alone.
+    let text = r#"Model(name: "rc", parameters: {"R": (value: 1.0), "C": (value: 1.0)},
+        inputs: {"V": ()},
+        elements: {"s": Se(effort: "V"), "j": One, "r": R(resistance: "R"), "c": C(compliance: "C")},
+        bonds: [("s", "j"), ("j", "r"), ("j", "c")])"#;
+    let source = bondgraph_core::source::SourceFile::new("rc.ron".to_string(), text.to_string());
+    let model = bondgraph_core::model::load_source(&source).expect("a model");
+    let mode = modes::Mode::initial(&model);
+    let plain = bondgraph::explain_bg::document(
+        &model,
+        &mode,
+        &source,
+        bondgraph::explain_bg::ExplainFormat::Text,
+    )
+    .unwrap_or_else(|_| panic!("explained"))
+    .text;
+    assert!(
+        plain.contains("it receives the flow on bond 3 (j -> c) and integrates it into its displacement q_c, a state; it gives its effort back"),
+        "{plain}"
+    );
 }
 
 #[test]

@@ -711,7 +711,7 @@ fn output_terms_in_input_rates_are_in_json_and_latex_outputs() {
         "latex",
     ]);
     assert!(
-        latex.contains("\\mathrm{effort}(\\mathrm{damper}) = \\frac{b}{m} p_{mass}\n"),
+        latex.contains("\\mathrm{effort}(\\mathrm{damper}) = \\frac{b}{m} p_{\\mathrm{mass}}\n"),
         "{latex}"
     );
     let latex = succeed(&[
@@ -794,6 +794,41 @@ fn explain_walks_through_the_tree_and_its_equations() {
 }
 
 #[test]
+fn explain_in_markdown_has_headings_numbered_steps_and_equation_blocks() {
+    let md = succeed(&[
+        "explain",
+        "models/examples/mass_spring_damper.lg.ron",
+        "--format",
+        "markdown",
+    ]);
+    for part in [
+        "# linear graph `mass_spring_damper`: the normal tree (Rowell & Wormley)\n\n",
+        "\n## Construction\n\n1. `mass` (A-type, v1 -> g) joins the tree: it reaches a node the tree did not reach; its across variable `v_mass` is a state.\n",
+        "\n3. `spring` (T-type, v1 -> g) becomes a link: it would close a loop with `mass`; its through variable `f_spring` is a state.\n",
+        "\n- States: `v_mass`, `f_spring`.\n",
+        "\n## Continuity (cut-set) equations, one per tree branch\n\n```text\nf_mass = f_force - f_spring - f_damper\n```\n",
+        "\n## Elemental equations in this mode\n\n```text\n",
+        "\n## State equations (co-energy variables), from the elemental, continuity and compatibility equations\n\n```text\n",
+    ] {
+        assert!(md.contains(part), "missing {part:?} in\n{md}");
+    }
+    // The numbered steps are Markdown's, outside any code block.
+    let before_first_block = &md[..md.find("```").expect("a code block")];
+    assert!(before_first_block.contains("\n4. `force` (through source, g -> v1) is a link"));
+    let motor = succeed(&[
+        "explain",
+        "models/examples/rowell_wormley_dc_motor.lg.ron",
+        "--format",
+        "markdown",
+    ]);
+    assert!(
+        motor.contains("## Two-ports\n\nA transformer puts one of its ports in the tree, a gyrator both or neither.")
+            && motor.contains("\n1. `motor.primary`, `gear.primary` in the tree: 1 A-type and 0 T-types in the tree (**chosen**)\n"),
+        "{motor}"
+    );
+}
+
+#[test]
 fn extensions_are_refused_on_a_linear_graph_naming_the_file() {
     let err = fail(&[
         "extend",
@@ -861,4 +896,106 @@ fn a_gyrator_relates_across_to_through() {
     // Both ports in the tree (the mass a dependent link), or neither (the mass in the tree).
     assert_eq!(summary, [(true, 0), (true, 1)]);
     assert_eq!(tree.chosen, 1);
+}
+
+/// Checks a linear graph's drawing, read back from its SVG: every edge of every branch drawn
+/// once, as a tree branch or a link as the normal tree says; no two labels (or a label and
+/// a node) overlapping, and no branch's line across a label.
+fn check_lg_drawing(model: &Model, mode: &Mode, what: &str) {
+    use crate::bond_graph_views::{Box4, tags};
+    let graph = model.linear_graph.as_ref().expect("a linear graph");
+    let laws = laws::for_mode(model, mode);
+    let tree = normal_tree::of_mode(model, &laws).expect("a normal tree");
+    let svg = bondgraph::lg_svg::draw(model, graph, &tree, &mode.spec(model));
+    let tags = tags(&svg);
+    let mut drawn: std::collections::HashMap<String, Vec<bool>> = Default::default();
+    let mut lines: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    let mut boxes: Vec<(String, Box4)> = Vec::new();
+    for tag in &tags {
+        if tag.name == "g" && tag.attributes.get("class").map(String::as_str) == Some("branch") {
+            let edge = tag.attributes["data-edge"].clone();
+            drawn
+                .entry(edge.clone())
+                .or_default()
+                .push(tag.attributes["data-tree"] == "true");
+            let points = tag.attributes["data-points"]
+                .split(' ')
+                .map(|xy| {
+                    let (x, y) = xy.split_once(',').expect("x,y");
+                    (x.parse().expect("x"), y.parse().expect("y"))
+                })
+                .collect();
+            lines.push((edge, points));
+        }
+        if tag.attributes.contains_key("data-box") {
+            let label = if tag.name == "circle" {
+                "a node".to_string()
+            } else {
+                tag.text.clone()
+            };
+            boxes.push((label, Box4::of(tag)));
+        }
+    }
+    let edges: Vec<(usize, usize)> = graph.edges().map(|(b, p, _)| (b, p)).collect();
+    assert_eq!(drawn.len(), edges.len(), "{what}: edges drawn");
+    for (b, p) in edges {
+        let name = graph.edge_name(b, p);
+        let marks = drawn
+            .get(&name)
+            .unwrap_or_else(|| panic!("{what}: {name} not drawn"));
+        assert_eq!(
+            marks,
+            &[tree.in_tree[b][p]],
+            "{what}: {name} drawn once, in the tree or not"
+        );
+    }
+    // The title, the ground's name, each node and its name, each branch's name and role.
+    let nodes = graph.nodes.len() - 1;
+    assert_eq!(
+        boxes.len(),
+        2 + 2 * nodes + 2 * drawn.len(),
+        "{what}: labels"
+    );
+    for (i, (a, box_a)) in boxes.iter().enumerate() {
+        for (b, box_b) in &boxes[i + 1..] {
+            assert!(
+                !box_a.overlaps(box_b),
+                "{what}: '{a}' {box_a:?} overlaps '{b}' {box_b:?}"
+            );
+        }
+    }
+    // No line runs through a text: each segment, sampled every pixel, stays out of every
+    // label's box.
+    for (edge, points) in &lines {
+        for pair in points.windows(2) {
+            let ((x0, y0), (x1, y1)) = (pair[0], pair[1]);
+            let steps = ((x1 - x0).hypot(y1 - y0)).ceil().max(1.0) as usize;
+            for k in 0..=steps {
+                let t = k as f64 / steps as f64;
+                let (x, y) = (x0 + t * (x1 - x0), y0 + t * (y1 - y0));
+                for (label, b) in boxes.iter().filter(|(l, _)| l != "a node") {
+                    let inside = x > b.x && x < b.x + b.w && y > b.y && y < b.y + b.h;
+                    assert!(
+                        !inside,
+                        "{what}: the line of {edge} crosses '{label}' at ({x:.1}, {y:.1})"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn every_linear_graph_is_drawn_readably_in_every_mode() {
+    let mut files = linear_graph_files("models/examples");
+    files.push("models/eversion/robot.lg.ron".to_string());
+    for path in &files {
+        let model = load(path);
+        let reachable =
+            modes::reachable(&model, &Options::default()).unwrap_or_else(|e| panic!("{path}: {e}"));
+        for derived in &reachable.modes {
+            let what = format!("{path} {}", derived.mode.spec(&model));
+            check_lg_drawing(&model, &derived.mode, &what);
+        }
+    }
 }

@@ -48,7 +48,9 @@ fn the_pendulum_s_equations_read_like_a_textbook() {
     );
     let latex = succeed(&["equations", PENDULUM, "--format", "latex"]);
     assert!(
-        latex.contains("\\frac{d p_{bob}}{dt} &= -g l m \\sin\\left(q_{gravity}\\right)"),
+        latex.contains(
+            "\\frac{d p_{\\mathrm{bob}}}{dt} &= -g l m \\sin\\left(q_{\\mathrm{gravity}}\\right)"
+        ),
         "{latex}"
     );
 }

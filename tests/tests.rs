@@ -6,6 +6,7 @@ mod analyze;
 mod bond_graph_views;
 mod cli;
 mod diagnostics;
+mod every_model;
 mod examples;
 mod hardening;
 mod linear_graph_diagnostics;

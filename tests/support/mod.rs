@@ -135,6 +135,42 @@ fn files_ending(dir: &str, suffix: &str) -> Vec<String> {
     files
 }
 
+/// Every model file under `dir` (relative to the root), its subfolders included, sorted:
+/// the `.ron` files whose text is a `Model(...)` or a `LinearGraph(...)`, not the
+/// scenarios, experiments and extensions that lie beside them.
+pub fn model_files_under(dir: &str) -> Vec<String> {
+    fn walk(path: &Path, out: &mut Vec<String>) {
+        let mut entries: Vec<PathBuf> = std::fs::read_dir(path)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+            .map(|entry| entry.expect("a folder entry").path())
+            .collect();
+        entries.sort();
+        for entry in entries {
+            if entry.is_dir() {
+                walk(&entry, out);
+            } else if entry.extension().is_some_and(|e| e == "ron") && is_model(&entry) {
+                out.push(relative(&entry));
+            }
+        }
+    }
+    let mut files = Vec::new();
+    walk(&root().join(dir), &mut files);
+    files
+}
+
+/// Whether the RON file at `path` is a model: its first value, after comments, is a
+/// `Model(` or a `LinearGraph(`.
+fn is_model(path: &Path) -> bool {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let code: String = text
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let head = code.trim_start();
+    head.starts_with("Model(") || head.starts_with("LinearGraph(")
+}
+
 fn relative(path: &Path) -> String {
     path.strip_prefix(root())
         .unwrap_or(path)

@@ -10,7 +10,7 @@ use serde::Serialize;
 
 use crate::equations::{OutputEquation, Quantity, StateEquations, Variables};
 use crate::linear::{LinearForm, Var};
-use crate::symbolic::{RatFunc, latex_name};
+use crate::symbolic::{RatFunc, latex_name, latex_subscript};
 
 /// The JSON document of `bondgraph equations`.
 #[derive(Clone, Debug, Serialize)]
@@ -418,15 +418,14 @@ impl StateEquations {
 }
 
 /// A state's name in LaTeX: its quantity's letter with the element's name as subscript,
-/// upright when the name is a word with underscores (`p_{\mathrm{winding\_inductance}}`).
-fn state_latex(state: &crate::equations::StateVariable) -> String {
-    let element = &state.element;
-    let subscript = if element.contains('_') {
-        format!("\\mathrm{{{}}}", element.replace('_', "\\_"))
-    } else {
-        element.clone()
-    };
-    format!("{}_{{{subscript}}}", state.quantity.letter())
+/// by the rule parameters follow ([`latex_name`]): `q_{\mathrm{tyre}}`,
+/// `p_{\mathrm{load\_inertia}}`, `q_{c}`.
+pub(crate) fn state_latex(state: &crate::equations::StateVariable) -> String {
+    format!(
+        "{}_{{{}}}",
+        state.quantity.letter(),
+        latex_subscript(&state.element)
+    )
 }
 
 /// An output's name in LaTeX: `flow:mass` as `\mathrm{flow}(\mathrm{mass})`.
@@ -548,5 +547,46 @@ mod tests {
         assert_eq!(product_text("(b + K_p)/M", "v"), "(b + K_p)/M*v");
         assert_eq!(product_text("a + b", "v"), "(a + b)*v");
         assert_eq!(product_text("k", "q"), "k*q");
+    }
+
+    #[test]
+    fn states_and_parameters_follow_one_subscript_rule() {
+        // A tyre, a load inertia and a one-letter spring, with parameters named like
+        // states: each state prints as the parameter of its name would.
+        let text = r#"Model(name: "names",
+            parameters: {"m_load_inertia": (value: 1.0), "k_t": (value: 2.0), "k_c": (value: 3.0),
+                         "F_S_ge": (value: 1.0)},
+            inputs: {"F": ()},
+            elements: {"f": Se(effort: "F*F_S_ge"), "j": One, "load_inertia": I(inertance: "m_load_inertia"),
+                       "tyre": C(stiffness: "k_t"), "c": C(stiffness: "k_c")},
+            bonds: [("f", "j"), ("j", "load_inertia"), ("j", "tyre"), ("j", "c")])"#;
+        let model = crate::model::load_str("names.ron", text).expect("a model");
+        let eq = crate::equations::derive(
+            &model,
+            &crate::laws::plain_laws(&model),
+            &crate::equations::Options::default(),
+        )
+        .expect("equations");
+        let latex = eq.to_latex();
+        for state in &eq.states {
+            assert_eq!(
+                state_latex(state),
+                latex_name(&state.name),
+                "{}",
+                state.name
+            );
+        }
+        for written in [
+            "p_{\\mathrm{load\\_inertia}}",
+            "q_{\\mathrm{tyre}}",
+            "q_{c}",
+            "m_{\\mathrm{load\\_inertia}}",
+            "k_{t}",
+            "F_{\\mathrm{S\\_ge}}",
+        ] {
+            assert!(latex.contains(written), "no {written} in\n{latex}");
+        }
+        // Nowhere a subscript of a subscript.
+        assert!(!latex.contains("}}_{"), "{latex}");
     }
 }

@@ -47,7 +47,7 @@ mod proptests;
 pub use gcd::gcd;
 pub use monomial::Monomial;
 pub use poly::{Poly, div_exact};
-pub use print::latex_name;
+pub use print::{latex_name, latex_subscript};
 pub use ratfunc::RatFunc;
 pub use symbol::{Symbol, SymbolTable};
 

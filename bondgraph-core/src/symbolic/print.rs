@@ -205,23 +205,28 @@ const GREEK: [&str; 33] = [
     "omega", "Gamma", "Delta", "Theta", "Lambda", "Xi", "Pi", "Sigma", "Phi", "Psi", "Omega",
 ];
 
-/// A symbol name in LaTeX: `m_ct` is `m_{ct}`, `F_S_ge` is `F_{S_{ge}}`, `Delta_v` is
-/// `\Delta_{v}`, `dv` is `\mathrm{dv}`, `m1` is `m_{1}`.
+/// A symbol name in LaTeX: `m_ct` is `m_{\mathrm{ct}}`, `F_S_ge` is `F_{\mathrm{S\_ge}}`,
+/// `R_a` is `R_{a}`, `Delta_v` is `\Delta_{v}`, `dv` is `\mathrm{dv}`, `m1` is `m_{1}`.
 ///
-/// The part before the first `_` is the base: a single character plain, a Greek letter name
-/// as its command, anything else upright. Each further part is the subscript of the one
-/// before it, written as is. A name with an empty part (`_x`, `a__b`, `a_`) prints upright
-/// as a whole, with its underscores escaped.
+/// One rule for parameters, inputs and states (whose names are a letter, `_` and an
+/// element's name: `q_tyre` is `q_{\mathrm{tyre}}`), so that one document writes one name
+/// one way. The name is split at its first `_`: the base before it is a single character
+/// plain (italic in mathematics), a Greek letter's name its command, anything else upright;
+/// the rest is one subscript, written by [`latex_subscript`]. A name without `_` that is a
+/// letter and digits is the letter numbered (`m1` is `m_{1}`). A name with an empty part
+/// (`_x`, `a__b`, `a_`) prints upright as a whole, with its underscores escaped.
 pub fn latex_name(name: &str) -> String {
-    let parts: Vec<&str> = name.split('_').collect();
-    if parts.iter().any(|p| p.is_empty()) {
+    if name.split('_').any(str::is_empty) {
         return format!("\\mathrm{{{}}}", name.replace('_', "\\_"));
     }
-    let base = parts[0];
+    let (base, subscript) = match name.split_once('_') {
+        Some((base, rest)) => (base, Some(rest)),
+        None => (name, None),
+    };
     // A letter followed by digits is a numbered symbol: `m1` is `m_{1}`.
     let digits = base.trim_start_matches(|c: char| c.is_ascii_alphabetic());
     let letters = &base[..base.len() - digits.len()];
-    if parts.len() == 1
+    if subscript.is_none()
         && letters.chars().count() == 1
         && !digits.is_empty()
         && digits.chars().all(|c| c.is_ascii_digit())
@@ -235,12 +240,24 @@ pub fn latex_name(name: &str) -> String {
     } else {
         format!("\\mathrm{{{base}}}")
     };
-    let subscripts = &parts[1..];
-    for part in subscripts {
-        let _ = write!(out, "_{{{part}");
+    if let Some(subscript) = subscript {
+        let _ = write!(out, "_{{{}}}", latex_subscript(subscript));
     }
-    out.extend(std::iter::repeat_n('}', subscripts.len()));
     out
+}
+
+/// A subscript in LaTeX, the same for a parameter's and a state's: a single character or a
+/// number as is (`a`, `12`), a Greek letter's name its command (`\mu`), anything else
+/// upright with its underscores escaped, as a word or a label is set (`\mathrm{ct}`,
+/// `\mathrm{load\_inertia}`), never a subscript of a subscript.
+pub fn latex_subscript(text: &str) -> String {
+    if text.chars().count() == 1 || (!text.is_empty() && text.chars().all(|c| c.is_ascii_digit())) {
+        text.to_string()
+    } else if GREEK.contains(&text) {
+        format!("\\{text}")
+    } else {
+        format!("\\mathrm{{{}}}", text.replace('_', "\\_"))
+    }
 }
 
 #[cfg(test)]
@@ -303,7 +320,7 @@ mod tests {
         assert_eq!(t.text(&r), "-(b + K_p)/M");
         assert_eq!(t.latex(&r), "-\\frac{b + K_{p}}{M}");
         // Within a product, factors are in the same (alphabetical) order as in sums.
-        assert_eq!(t.latex(&(t.s("m_ge") * &kp)), "K_{p} m_{ge}");
+        assert_eq!(t.latex(&(t.s("m_ge") * &kp)), "K_{p} m_{\\mathrm{ge}}");
     }
 
     #[test]
@@ -315,7 +332,10 @@ mod tests {
         assert_eq!(t.text(&div(&(&b + &kp), &m_big)), "(b + K_p)/M");
         let r = div(&n(1), &(t.s("m_ct") + t.s("m_ge")));
         assert_eq!(t.text(&r), "1/(m_ct + m_ge)");
-        assert_eq!(t.latex(&r), "\\frac{1}{m_{ct} + m_{ge}}");
+        assert_eq!(
+            t.latex(&r),
+            "\\frac{1}{m_{\\mathrm{ct}} + m_{\\mathrm{ge}}}"
+        );
         let r = div(&k, &(&m * &nn));
         assert_eq!(t.text(&r), "k/(m*n)");
         assert_eq!(t.latex(&r), "\\frac{k}{m n}");
@@ -408,15 +428,20 @@ mod tests {
 
     #[test]
     fn latex_names() {
-        assert_eq!(latex_name("m_ct"), "m_{ct}");
+        // Multi-letter subscripts upright, single letters and numbers as they are, the name
+        // split at its first underscore only.
+        assert_eq!(latex_name("m_ct"), "m_{\\mathrm{ct}}");
         assert_eq!(latex_name("K_p"), "K_{p}");
-        assert_eq!(latex_name("F_S_ge"), "F_{S_{ge}}");
-        assert_eq!(latex_name("v_ct_des"), "v_{ct_{des}}");
+        assert_eq!(latex_name("F_S_ge"), "F_{\\mathrm{S\\_ge}}");
+        assert_eq!(latex_name("v_ct_des"), "v_{\\mathrm{ct\\_des}}");
+        assert_eq!(latex_name("q_tyre"), "q_{\\mathrm{tyre}}");
+        assert_eq!(latex_name("p_load_inertia"), "p_{\\mathrm{load\\_inertia}}");
+        assert_eq!(latex_name("k_12"), "k_{12}");
         assert_eq!(latex_name("Delta_v"), "\\Delta_{v}");
         assert_eq!(latex_name("mu"), "\\mu");
         assert_eq!(latex_name("omega"), "\\omega");
         assert_eq!(latex_name("Omega"), "\\Omega");
-        assert_eq!(latex_name("alpha_mu"), "\\alpha_{mu}");
+        assert_eq!(latex_name("alpha_mu"), "\\alpha_{\\mu}");
         assert_eq!(latex_name("dv"), "\\mathrm{dv}");
         assert_eq!(latex_name("Beta"), "\\mathrm{Beta}");
         assert_eq!(latex_name("x"), "x");
@@ -433,7 +458,7 @@ mod tests {
     fn latex_powers_of_named_symbols() {
         let t = Names::new(&["mu", "m_ct", "dv"]);
         let r = t.s("mu") * t.s("mu") * t.s("m_ct") * n(3);
-        assert_eq!(t.latex(&r), "3 m_{ct} \\mu^{2}");
+        assert_eq!(t.latex(&r), "3 m_{\\mathrm{ct}} \\mu^{2}");
         assert_eq!(t.text(&r), "3*m_ct*mu^2");
         assert_eq!(t.latex(&(t.s("dv") * t.s("dv"))), "\\mathrm{dv}^{2}");
     }

@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
-use crate::equations::print::matrix_text;
+use crate::equations::print::{matrix_text, state_latex};
 use crate::equations::{StateJson, Variables};
 use crate::symbolic::expr::{Atom, Sym};
 use crate::symbolic::latex_name;
@@ -99,16 +99,7 @@ impl NonlinearEquations {
 
     fn latex_atom(&self, atom: Atom) -> String {
         match atom {
-            Atom::State(i) => {
-                let state = &self.states[i as usize];
-                let element = &state.element;
-                let subscript = if element.contains('_') {
-                    format!("\\mathrm{{{}}}", element.replace('_', "\\_"))
-                } else {
-                    element.clone()
-                };
-                format!("{}_{{{subscript}}}", state.quantity.letter())
-            }
+            Atom::State(i) => state_latex(&self.states[i as usize]),
             Atom::Input(i) => latex_name(&self.inputs[i as usize]),
             Atom::InputRate(i) => format!("\\dot{{{}}}", latex_name(&self.inputs[i as usize])),
             other => format!("{other:?}"),
