@@ -2,10 +2,11 @@
 //!
 //! A model is scored on rows it was not fitted on, in two ways:
 //!
-//! - **leave one level out** of a condition column with three or more distinct values: fit
-//!   on every other setting of that condition, predict the rows at this one (the way a model
-//!   is validated on conditions it was not tuned on; with two levels, fitting on one would be
-//!   a single extrapolation, not a validation). Of several such columns, the one with the
+//! - **leave one level out** of a condition column with three or more distinct values (with
+//!   more levels than `k`, `k` runs of neighbouring levels, so that the refits do not grow
+//!   with the data): fit on every other setting of that condition, predict the rows at this
+//!   one (the way a model is validated on conditions it was not tuned on; with two levels,
+//!   fitting on one would be a single extrapolation, not a validation). Of several such columns, the one with the
 //!   fewest levels: the condition set at a few discrete settings (a drive speed, a load)
 //!   rather than swept (a pressure in nine steps), whose neighbouring levels k-fold already
 //!   holds out. Leaving every level of every sweep out as well multiplies the refits (27 on
@@ -128,10 +129,10 @@ fn across_conditions(experiment: &Experiment, rows: &[Measurement], k: usize) ->
         .filter(|(_, levels)| levels.len() >= 3)
         .collect();
     if let Some((c, levels)) = levels.iter().min_by_key(|(_, levels)| levels.len()) {
-        for &level in levels {
+        for block in level_blocks(levels, k) {
             candidates.push(
                 (0..rows.len())
-                    .filter(|&i| rows[i].conditions[*c] == Some(level))
+                    .filter(|&i| rows[i].conditions[*c].is_some_and(|v| block.contains(&v)))
                     .collect(),
             );
         }
@@ -159,6 +160,27 @@ fn across_conditions(experiment: &Experiment, rows: &[Measurement], k: usize) ->
         }
     }
     candidates
+}
+
+/// The levels held out together: each level alone, or with more than `k` levels (`k` at
+/// least 3), `k` runs of neighbouring levels, as even as they can be (the first
+/// `levels mod k` one level longer). The number of refits then stays bounded as the data
+/// grow (a condition swept in forty steps is held out a fifth of its range at a time), and
+/// each fold still predicts settings it was not fitted on.
+fn level_blocks(levels: &[f64], k: usize) -> Vec<&[f64]> {
+    if k < 3 || levels.len() <= k {
+        return levels.chunks(1).collect();
+    }
+    let (size, longer) = (levels.len() / k, levels.len() % k);
+    let mut start = 0;
+    (0..k)
+        .map(|f| {
+            let end = start + size + usize::from(f < longer);
+            let block = &levels[start..end];
+            start = end;
+            block
+        })
+        .collect()
 }
 
 /// The rows to simulate so as to predict the rows `wanted` (indices into `rows`, in
@@ -270,6 +292,26 @@ mod tests {
         let folds = folds(&experiment(), &rows, 1);
         let tests: Vec<Vec<usize>> = folds.iter().map(|f| f.test.clone()).collect();
         assert_eq!(tests, vec![vec![0, 3], vec![1], vec![2]]);
+    }
+
+    #[test]
+    fn more_levels_than_folds_are_held_out_in_runs_of_neighbours() {
+        // u_V in seven levels (1..=7, two rows each, one of them also at tau 5) and three
+        // folds: levels {1, 2, 3}, {4, 5}, {6, 7} held out in turn (7 = 3 + 2 + 2), then the
+        // three round-robin folds.
+        let text = "u_V,tau_mNm,w\n1,,1\n2,,2\n3,,3\n4,,4\n5,,5\n6,,6\n7,,7\n\
+                    1,,8\n2,,9\n3,,10\n4,,11\n5,,12\n6,,13\n7,,14\n";
+        let rows = data::read("d.csv", text, &experiment()).unwrap().rows;
+        let folds = folds(&experiment(), &rows, 3);
+        let tests: Vec<Vec<usize>> = folds.iter().map(|f| f.test.clone()).collect();
+        assert_eq!(tests.len(), 6);
+        assert_eq!(tests[0], vec![0, 1, 2, 7, 8, 9]);
+        assert_eq!(tests[1], vec![3, 4, 10, 11]);
+        assert_eq!(tests[2], vec![5, 6, 12, 13]);
+        assert_eq!(
+            level_blocks(&[1.0, 2.0, 3.0], 5),
+            vec![&[1.0][..], &[2.0], &[3.0]]
+        );
     }
 
     #[test]
