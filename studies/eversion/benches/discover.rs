@@ -79,8 +79,14 @@ fn bench(c: &mut Criterion) {
     group.sample_size(10);
     let sets = [
         ("library on Table III (27 rows)", table3.clone()),
-        ("library on 100 rows", grid(&base, &experiment, &table3, 20, 5)),
-        ("library on 400 rows", grid(&base, &experiment, &table3, 40, 10)),
+        (
+            "library on 100 rows",
+            grid(&base, &experiment, &table3, 20, 5),
+        ),
+        (
+            "library on 400 rows",
+            grid(&base, &experiment, &table3, 40, 10),
+        ),
     ];
     for (name, data) in &sets {
         group.bench_function(*name, |b| {

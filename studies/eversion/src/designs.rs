@@ -60,6 +60,24 @@ pub fn catheter_sweep_design() -> Vec<Measurement> {
     rows
 }
 
+/// A grid of `pressures` tank pressures evenly from 110 to 150 kPa at `channels`
+/// active-channel speeds evenly from 5.8 to 11.6 mm/s (Table III's ranges), without a
+/// catheter: `pressures × channels` rows, for measuring how the cost of a fit grows with
+/// the data.
+pub fn grid_design(pressures: usize, channels: usize) -> Vec<Measurement> {
+    let file: Arc<str> = Arc::from("grid design");
+    let step = |k: usize, count: usize| k as f64 / (count.max(2) - 1) as f64;
+    let mut rows = Vec::with_capacity(pressures * channels);
+    for c in 0..channels {
+        let v_ac = 5.8 + 5.8 * step(c, channels);
+        for k in 0..pressures {
+            let pressure = 110.0 + 40.0 * step(k, pressures);
+            rows.push(row(&file, rows.len() + 2, pressure, v_ac, None, 0.0));
+        }
+    }
+    rows
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -74,5 +92,10 @@ mod tests {
         assert_eq!(sweep.len(), 15 + 27);
         assert_eq!(catheter(&sweep[14]), None);
         assert_eq!(catheter(&sweep[41]), Some(60.0));
+        let grid = grid_design(20, 5);
+        assert_eq!(grid.len(), 100);
+        assert_eq!((pressure(&grid[0]), channel(&grid[0])), (110.0, 5.8));
+        assert_eq!((pressure(&grid[99]), channel(&grid[99])), (150.0, 11.6));
+        assert!((pressure(&grid[1]) - (110.0 + 40.0 / 19.0)).abs() < 1e-12);
     }
 }
