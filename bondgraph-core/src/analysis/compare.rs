@@ -902,11 +902,11 @@ fn first_difference(
             want.text(symbols)
         )
     };
-    for i in 0..n {
-        for j in 0..n {
-            if answer.a[i][j] != a[i][j] {
+    for (i, (got_row, want_row)) in answer.a.iter().zip(&a).enumerate() {
+        for (j, (got, want)) in got_row.iter().zip(want_row).enumerate() {
+            if got != want {
                 let what = format!("coefficient of {}", name(j));
-                return Some((report("A", i, j, what, &answer.a[i][j], &a[i][j]), true));
+                return Some((report("A", i, j, what, got, want), true));
             }
         }
     }
