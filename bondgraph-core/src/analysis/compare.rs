@@ -103,6 +103,7 @@ impl Transformation {
             .collect()
     }
 
+    /// An entry as text: symbolic, a simple fraction, or six significant digits.
     fn number(&self, x: &RatFunc, symbols: &SymbolTable) -> String {
         if self.symbolic || x.to_constant().is_some_and(|(_, d)| d < 1000.into()) {
             x.text(symbols)
@@ -111,22 +112,16 @@ impl Transformation {
         }
     }
 
+    /// `Σⱼ row[j] xⱼ` as text: `p_mass + b*q_spring`.
     fn combination(&self, row: &[RatFunc], symbols: &SymbolTable) -> String {
         let mut out = String::new();
         for (x, name) in row.iter().zip(&self.from) {
             if x.is_zero() {
                 continue;
             }
-            let (negative, magnitude) = if self.symbolic || x.to_constant().is_some() {
-                let text = self.number(x, symbols);
-                match text.strip_prefix('-') {
-                    Some(rest) if !rest.starts_with('(') => (true, rest.to_string()),
-                    _ if x.signed_text(symbols).0 => (true, self.number(&-x.clone(), symbols)),
-                    _ => (false, text),
-                }
-            } else {
-                (false, self.number(x, symbols))
-            };
+            // The sign pulled out when every numerator term is negative: `- p_mass/m`.
+            let negative = x.signed_text(symbols).0;
+            let magnitude = self.number(&if negative { -x.clone() } else { x.clone() }, symbols);
             let term = product_text(&magnitude, name);
             match (out.is_empty(), negative) {
                 (true, false) => out.push_str(&term),
@@ -279,16 +274,7 @@ pub fn compare(
             }
             return out.different(first);
         }
-        let identity = (0..n).all(|i| {
-            (0..n).all(|j| {
-                t[i][j]
-                    == if i == j {
-                        RatFunc::one()
-                    } else {
-                        RatFunc::zero()
-                    }
-            })
-        });
+        let identity = t == super::characteristic::identity(n);
         let base_variables = if base.variables == Variables::CoEnergy {
             Variables::CoEnergy
         } else {
@@ -325,9 +311,7 @@ pub fn compare(
             ));
             changes
         };
-        if !plain {
-            out.transformation = Some(transformation);
-        }
+        out.transformation = Some(transformation);
         out.notes.push(
             "every entry of A and B agrees after the change of variables, so do the transfer functions from every input to every state"
                 .to_string(),
@@ -356,7 +340,7 @@ pub fn compare(
         out.notes.push(polynomials_note);
         return out.different(poly);
     }
-    let (found, points) = search(preferred_eq, answer);
+    let (found, points) = search(preferred_eq, answer, true);
     let symbolic = points.is_none();
     let to: Vec<String> = match &answer.states {
         Some(states) => states.clone(),
@@ -405,10 +389,8 @@ pub fn compare(
             out
         }
         Similarity::NoSolution | Similarity::Singular { .. } => {
-            let why = no_t_reason(&found, points);
-            out.different(format!(
-                "the characteristic polynomials agree, but {why}: the input coupling differs"
-            ))
+            let why = no_t_reason(preferred_eq, answer, &found, points);
+            out.different(why)
         }
     }
 }
@@ -429,7 +411,7 @@ impl Comparison {
                     .to_string(),
             );
         }
-        let (found, points) = search(base, answer);
+        let (found, points) = search(base, answer, true);
         let symbolic = points.is_none();
         match found {
             Similarity::Found { t, unique } => {
@@ -456,18 +438,23 @@ impl Comparison {
             }
             other => {
                 if in_a {
-                    let why = no_t_reason(&other, points);
-                    self.notes.push(format!(
-                        "the characteristic polynomials agree, but {why}: the input coupling differs"
-                    ));
+                    self.notes.push(no_t_reason(base, answer, &other, points));
                 }
             }
         }
     }
 }
 
-/// Why no `T` exists, in words; `points` as [`search`] gives it.
-fn no_t_reason(found: &Similarity, points: Option<usize>) -> String {
+/// Why no `T` exists when the characteristic polynomials agree, in words; `points` as
+/// [`search`] gives it. The input coupling is blamed only if `A'` alone is `A` in other
+/// states (`T A = A' T` with `T` invertible); else `A` itself differs (a repeated
+/// eigenvalue with fewer eigenvectors, say).
+fn no_t_reason(
+    base: &StateEquations,
+    answer: &Answer,
+    found: &Similarity,
+    points: Option<usize>,
+) -> String {
     let at = match points {
         None => "",
         Some(0) => " (checked exactly at the parameter values)",
@@ -475,7 +462,13 @@ fn no_t_reason(found: &Similarity, points: Option<usize>) -> String {
             " (checked exactly at a second parameter point, each value scaled by its own factor; at the parameter values one exists)"
         }
     };
-    match found {
+    let (a_alone, _) = search(base, answer, false);
+    if !matches!(a_alone, Similarity::Found { .. }) {
+        return format!(
+            "the characteristic polynomials agree, but no invertible T has T A = A' T{at}: A is not the model's in any state variables (its eigenvectors differ)"
+        );
+    }
+    let why = match found {
         Similarity::Singular {
             ranks: Some((model, answer)),
         } => format!(
@@ -485,18 +478,25 @@ fn no_t_reason(found: &Similarity, points: Option<usize>) -> String {
             format!("every T with T A = A' T and T B = B' is singular{at}")
         }
         _ => format!("no change of state variables T with T A = A' T and T B = B' exists{at}"),
-    }
+    };
+    format!("the characteristic polynomials agree, but {why}: the input coupling differs")
 }
 
-/// The search for `T` from `base`'s states to the answer's: symbolic up to
+/// The search for `T` from `base`'s states to the answer's (`inputs`: with `B` and `E`,
+/// else `A` alone): symbolic up to
 /// [`SYMBOLIC_STATES`] states (`None`), else exact at the parameter values and at a second
 /// point (each value scaled by its own factor), with how many points passed before the
 /// result (`Some(2)` when both did; the first point's `T` is reported).
-fn search(base: &StateEquations, answer: &Answer) -> (Similarity, Option<usize>) {
+fn search(base: &StateEquations, answer: &Answer, inputs: bool) -> (Similarity, Option<usize>) {
     let n = base.state_count();
     let zero = vec![vec![RatFunc::zero(); base.inputs.len()]; n];
-    let (a, b, e) = (base.a(), base.b(), base.e());
-    let answer_e = answer.e.clone().unwrap_or_else(|| zero.clone());
+    let (a, mut b, mut e) = (base.a(), base.b(), base.e());
+    let mut answer_b = answer.b.clone();
+    let mut answer_e = answer.e.clone().unwrap_or_else(|| zero.clone());
+    if !inputs {
+        let none = vec![Vec::new(); n];
+        (b, e, answer_b, answer_e) = (none.clone(), none.clone(), none.clone(), none);
+    }
     let fresh = u32::try_from(base.symbols.len()).unwrap_or(u32::MAX / 2);
     let run = |a: &Matrix, b: &Matrix, e: &Matrix, a2: &Matrix, b2: &Matrix, e2: &Matrix| {
         similarity::similarity(
@@ -510,7 +510,7 @@ fn search(base: &StateEquations, answer: &Answer) -> (Similarity, Option<usize>)
         )
     };
     if n <= SYMBOLIC_STATES {
-        return (run(&a, &b, &e, &answer.a, &answer.b, &answer_e), None);
+        return (run(&a, &b, &e, &answer.a, &answer_b, &answer_e), None);
     }
     let mut first = None;
     let mut passed = 0;
@@ -561,7 +561,6 @@ fn parameter_points(values: &[f64]) -> [Vec<RatFunc>; 2] {
 
 /// `T` from states named as the model's: answer state `i` = `scale_i` · base state `k_i`.
 /// `Err` when they mix energy and co-energy variables of coupled storage.
-#[allow(clippy::type_complexity)]
 fn named<'a>(
     matched: &[Matched],
     energy: &'a StateEquations,
@@ -663,7 +662,6 @@ fn plain_changes(
 /// linear form in the model's states (energy names, their `x_` aliases, or co-energy
 /// names) with coefficients rational in the parameters; `Err` when energy and co-energy
 /// variables of coupled storage are mixed.
-#[allow(clippy::type_complexity)]
 fn combinations<'a>(
     states: &[String],
     energy: &'a StateEquations,
@@ -1079,6 +1077,54 @@ mod tests {
         assert!(
             matches!(&found.verdict, Verdict::Different { first } if first.contains("not independent")),
             "{found:?}"
+        );
+    }
+
+    #[test]
+    fn same_polynomial_other_eigenvectors_is_not_blamed_on_b() {
+        // Two free masses pushed by one force through a 0-junction: A = 0, det(sI - A) =
+        // s^2. An answer with A' = [[0, 1], [0, 0]] has the same polynomial but one
+        // eigenvector, so no T with T A = A' T is invertible, whatever B is.
+        let model = model::load_str(
+            "free.ron",
+            r#"Model(
+    name: "free",
+    parameters: { "m1": (value: 1.0, unit: "kg"), "m2": (value: 2.0, unit: "kg") },
+    inputs: { "F": (unit: "N") },
+    elements: {
+        "f": Se(effort: "F"), "split": Zero,
+        "v1": One, "mass1": I(inertance: "m1"), "v2": One, "mass2": I(inertance: "m2"),
+    },
+    bonds: [("f", "split"), ("split", "v1"), ("v1", "mass1"), ("split", "v2"), ("v2", "mass2")],
+)"#,
+        )
+        .unwrap();
+        let derive = |variables| {
+            equations::derive(
+                &model,
+                &laws::plain_laws(&model),
+                &equations::Options { variables },
+            )
+            .unwrap()
+        };
+        let (energy, coenergy) = (derive(Variables::Energy), derive(Variables::CoEnergy));
+        let (zero, one) = (RatFunc::zero(), RatFunc::one());
+        let answer = Answer {
+            states: None,
+            a: vec![
+                vec![zero.clone(), one.clone()],
+                vec![zero.clone(), zero.clone()],
+            ],
+            b: vec![vec![zero], vec![one]],
+            e: None,
+        };
+        let found = compare(&energy, &coenergy, Variables::Energy, &answer);
+        let Verdict::Different { first } = &found.verdict else {
+            panic!("{found:?}");
+        };
+        assert!(
+            first.contains("no invertible T has T A = A' T") && !first.contains("input coupling"),
+            "{first}"
         );
     }
 }
