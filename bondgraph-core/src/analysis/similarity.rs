@@ -163,6 +163,8 @@ pub fn similarity(model: System, answer: System, fresh: u32) -> Similarity {
             return found(t);
         }
     }
+    // An invertible member exists but 200 points missed it: too unlikely to matter, and
+    // reported as none rather than as a T that was not shown to be invertible.
     Similarity::Singular { ranks: None }
 }
 
