@@ -14,6 +14,7 @@ use bondgraph_core::equations::{self, Variables};
 use bondgraph_core::model::Model;
 use bondgraph_core::modes;
 use bondgraph_core::source::SourceFile;
+use bondgraph_core::symbolic::SymbolTable;
 use serde_json::json;
 
 use crate::{Failure, json as to_json, load, parse_mode, print, read_source, with_source};
@@ -76,7 +77,7 @@ pub fn check(
     let comparison = compare(&energy, &coenergy, Variables::preferred(model), &parsed);
     let agrees = !matches!(comparison.verdict, Verdict::Different { .. });
     let text = if as_json {
-        to_json(&to_value(&comparison, &mode.spec(model)))?
+        to_json(&to_value(&comparison, &mode.spec(model), &energy.symbols))?
     } else {
         to_text(&comparison, &energy.model, &mode.spec(model))
     };
@@ -118,7 +119,7 @@ fn to_text(comparison: &Comparison, model: &str, mode: &str) -> String {
     text
 }
 
-fn to_value(comparison: &Comparison, mode: &str) -> serde_json::Value {
+fn to_value(comparison: &Comparison, mode: &str, symbols: &SymbolTable) -> serde_json::Value {
     let (verdict, changes, first, entries_checked) = match &comparison.verdict {
         Verdict::Equal => ("equal", Vec::new(), None, true),
         Verdict::Similar {
@@ -134,5 +135,18 @@ fn to_value(comparison: &Comparison, mode: &str) -> serde_json::Value {
         "first_difference": first,
         "entries_checked": entries_checked,
         "notes": comparison.notes,
+        "characteristic_polynomial": {
+            "model": comparison.polynomials[0],
+            "answer": comparison.polynomials[1],
+        },
+        "transformation": comparison.transformation.as_ref().map(|t| json!({
+            "T": t.entries_text(symbols),
+            "rows": t.rows_text(symbols),
+            "from": t.from,
+            "to": t.to,
+            "given": t.given,
+            "unique": t.unique,
+            "symbolic": t.symbolic,
+        })),
     })
 }

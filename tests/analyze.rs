@@ -317,10 +317,13 @@ fn compare_equal_similar_and_different_answers() {
         "{text}"
     );
 
+    // Unnamed (displacement, velocity): T is found, and it is diag(1, 1/m) reordered.
     let (code, text) = compare("msd_unnamed_similar.ron");
     assert_eq!(code, 0, "{text}");
+    assert!(text.starts_with("similar"), "{text}");
     assert!(
-        text.contains("only the characteristic polynomial"),
+        text.contains("  z1 = q_spring\n  z2 = p_mass/m\n")
+            && text.contains("T = [[0, 1], [1/m, 0]]"),
         "{text}"
     );
 
@@ -329,6 +332,160 @@ fn compare_equal_similar_and_different_answers() {
     assert!(
         text.contains("A[2][2]") && text.contains("msd_bad_entry.ron:4"),
         "{text}"
+    );
+}
+
+/// `compare MODEL tests/fixtures/analysis/ANSWER`: exit code and output.
+fn compare_with(model: &str, answer: &str) -> (i32, String) {
+    let out = run(&[
+        "compare",
+        model,
+        &format!("tests/fixtures/analysis/{answer}"),
+    ]);
+    let text =
+        String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
+    (out.status.code().unwrap(), text)
+}
+
+#[test]
+fn compare_finds_a_sign_change_of_a_state() {
+    // z = (-q, p), worked out by hand in the fixture: T = [[0, -1], [1, 0]].
+    let (code, text) = compare("msd_sign_change.ron");
+    assert_eq!(code, 0, "{text}");
+    assert!(text.starts_with("similar"), "{text}");
+    assert!(
+        text.contains("  z1 = -q_spring\n  z2 = p_mass\n")
+            && text.contains("T = [[0, -1], [1, 0]]")
+            && text.contains("the only solution"),
+        "{text}"
+    );
+    // The same states written as the model's: T is given, every entry checked.
+    let (code, text) = compare("msd_sign_change_named.ron");
+    assert_eq!(code, 0, "{text}");
+    assert!(
+        text.starts_with("similar") && text.contains("T = [[0, -1], [1, 0]]"),
+        "{text}"
+    );
+}
+
+#[test]
+fn compare_finds_a_mixed_change_of_variables() {
+    // z1 = q, z2 = p + b q: A' = T A T⁻¹ by hand in the fixture.
+    let (code, text) = compare("msd_mixed.ron");
+    assert_eq!(code, 0, "{text}");
+    assert!(
+        text.contains("  z1 = q_spring\n  z2 = p_mass + b*q_spring\n")
+            && text.contains("T = [[0, 1], [1, b]]"),
+        "{text}"
+    );
+    let (code, text) = compare("msd_mixed_named.ron");
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("every entry of A and B agrees"), "{text}");
+    // Two masses: the stretch, the total momentum and the relative velocity.
+    let (code, text) = compare_with("models/examples/two_masses.ron", "two_masses_momentum.ron");
+    assert_eq!(code, 0, "{text}");
+    assert!(
+        text.contains("  z2 = p_mass1 + p_mass2\n  z3 = p_mass1/m1 - p_mass2/m2\n"),
+        "{text}"
+    );
+    let (code, text) = compare_with(
+        "models/examples/two_masses.ron",
+        "two_masses_momentum_named.ron",
+    );
+    assert_eq!(code, 0, "{text}");
+    assert!(
+        text.contains("v_mass1 - v_mass2 = p_mass1/m1 - p_mass2/m2"),
+        "{text}"
+    );
+    // The quarter car's tyre and total compressions and velocities, unnamed and named.
+    let (code, text) = compare_with(
+        "models/teaching/quarter_car.ron",
+        "quarter_car_deflections.ron",
+    );
+    assert_eq!(code, 0, "{text}");
+    assert!(
+        text.contains("T = [[1, 0, 0, 0], [1, 0, 1, 0], [0, 1/m_w, 0, 0], [0, 0, 0, 1/m_b]]"),
+        "{text}"
+    );
+    let (code, text) = compare_with(
+        "models/teaching/quarter_car.ron",
+        "quarter_car_deflections_named.ron",
+    );
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("v_wheel = p_wheel/m_w"), "{text}");
+}
+
+#[test]
+fn compare_says_when_the_input_coupling_differs() {
+    // The model's states and A, B with the wrong sign: the polynomials agree.
+    let (code, text) = compare("msd_wrong_input_sign.ron");
+    assert_eq!(code, 1, "{text}");
+    assert!(
+        text.contains("B[1][1] (dp_mass/dt, coefficient of F) is -1 in the answer, 1 in the model")
+            && text.contains("same characteristic polynomial")
+            && text.contains("the input coupling differs")
+            // The same A and B would be right for the states -p_mass, -q_spring.
+            && text.contains("z1 = -p_mass, z2 = -q_spring"),
+        "{text}"
+    );
+    // Unnamed, no input at all: no invertible T can exist.
+    let (code, text) = compare("msd_no_input.ron");
+    assert_eq!(code, 1, "{text}");
+    assert!(
+        text.contains("the characteristic polynomials agree")
+            && text
+                .contains("the inputs reach 0 state directions in the answer and 2 in the model")
+            && text.contains("the input coupling differs"),
+        "{text}"
+    );
+    // The force on the wrong mass, states named: caught at B.
+    let (code, text) = compare_with(
+        "models/examples/two_masses.ron",
+        "two_masses_wrong_mass.ron",
+    );
+    assert_eq!(code, 1, "{text}");
+    assert!(
+        text.contains("B[3][1] (d(v_mass1 - v_mass2)/dt, coefficient of F) is 1/m2 in the answer, 1/m1 in the model"),
+        "{text}"
+    );
+}
+
+#[test]
+fn compare_json_gives_t_and_both_polynomials() {
+    let out = run(&[
+        "compare",
+        "models/examples/mass_spring_damper.ron",
+        "tests/fixtures/analysis/msd_mixed.ron",
+        "--format",
+        "json",
+    ]);
+    let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(value["verdict"], "similar");
+    assert_eq!(
+        value["transformation"]["T"],
+        serde_json::json!([["0", "1"], ["1", "b"]])
+    );
+    assert_eq!(
+        value["transformation"]["from"],
+        serde_json::json!(["p_mass", "q_spring"])
+    );
+    assert_eq!(value["transformation"]["unique"], true);
+    assert_eq!(
+        value["characteristic_polynomial"]["model"],
+        "s^2 + (b/m)*s + k/m"
+    );
+    let out = run(&[
+        "compare",
+        "models/examples/mass_spring_damper.ron",
+        "tests/fixtures/analysis/msd_wrong_damping.ron",
+        "--format",
+        "json",
+    ]);
+    let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(value["verdict"], "different");
+    assert_eq!(
+        value["characteristic_polynomial"]["answer"],
+        "s^2 + (2*b/m)*s + k/m"
     );
 }
 

@@ -189,11 +189,23 @@ fn matrix(
 
 /// `text` as an exact rational function of `symbols`: the error and its span in `text`.
 pub fn rational(text: &str, symbols: &SymbolTable) -> std::result::Result<RatFunc, (String, Span)> {
-    let parsed = expr::parse(text).map_err(|e| (e.message, e.span))?;
-    lower(&parsed, symbols)
+    rational_with(text, &|name| symbols.get(name).map(RatFunc::symbol))
 }
 
-fn lower(e: &Expr, symbols: &SymbolTable) -> std::result::Result<RatFunc, (String, Span)> {
+/// `text` as an exact rational function, each name's value given by `resolve` (`None`: not
+/// a parameter of the model).
+pub fn rational_with(
+    text: &str,
+    resolve: &dyn Fn(&str) -> Option<RatFunc>,
+) -> std::result::Result<RatFunc, (String, Span)> {
+    let parsed = expr::parse(text).map_err(|e| (e.message, e.span))?;
+    lower(&parsed, resolve)
+}
+
+fn lower(
+    e: &Expr,
+    symbols: &dyn Fn(&str) -> Option<RatFunc>,
+) -> std::result::Result<RatFunc, (String, Span)> {
     let zero_division = || ("divides by zero".to_string(), e.span);
     Ok(match &e.kind {
         ExprKind::Number(text) => RatFunc::from_decimal(text).ok_or_else(|| {
@@ -202,8 +214,8 @@ fn lower(e: &Expr, symbols: &SymbolTable) -> std::result::Result<RatFunc, (Strin
                 e.span,
             )
         })?,
-        ExprKind::Symbol(name) => match symbols.get(name) {
-            Some(s) => RatFunc::symbol(s),
+        ExprKind::Symbol(name) => match symbols(name) {
+            Some(value) => value,
             None => {
                 return Err((format!("'{name}' is not a parameter of the model"), e.span));
             }

@@ -13,8 +13,9 @@
 //! that a textbook would.
 //!
 //! Submodules, one job each: `characteristic` (Faddeev–LeVerrier), `transfer` (transfer
-//! functions and their textbook printing), `answer` (reading an answer file), `compare`
-//! (the verdict on an answer).
+//! functions and their textbook printing), `answer` (reading an answer file), `similarity`
+//! (the change of state variables `T` between two `(A, B)`, if any), `compare` (the verdict
+//! on an answer).
 //!
 //! # Example
 //!
@@ -41,6 +42,7 @@
 pub mod answer;
 mod characteristic;
 pub mod compare;
+pub mod similarity;
 mod transfer;
 
 pub use characteristic::{Characteristic, Matrix, characteristic};
