@@ -398,7 +398,7 @@ fn nothing_hidden_in_the_catheter_sweep_nothing_selected() {
 }
 
 /// The detection rate over many seeds, for the README (slow: run with
-/// `cargo test --release -p bondgraph-fit --test tests detection_rate -- --ignored --nocapture`;
+/// `cargo test --release -p bondgraph-eversion --test tests detection_rate -- --ignored --nocapture`;
 /// `DETECTION_SEEDS=a..b` and `DETECTION_CASES=id,id` narrow it down).
 /// "Found" is the test's own criterion for each id: selected or indistinguishable from the
 /// selection for the two channel effects, reported as aliased with the base model for the
