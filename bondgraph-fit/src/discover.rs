@@ -706,8 +706,6 @@ fn cross_validate(
         basins,
     } = fitted;
     let predictor = Predictor::new(model.clone(), source, experiment)?;
-    let mut evaluator = predictor.evaluator(&assessment.names)?;
-    limit_to_settling(&mut evaluator);
     // What each fold simulates (a time series: whole runs) and which residuals it keeps.
     let pick = |indices: &[usize]| -> (Vec<Measurement>, Vec<usize>) {
         let simulated = crate::folds::simulated(experiment, rows, indices);
@@ -718,40 +716,61 @@ fn cross_validate(
         .into_iter()
         .map(|fold| (pick(&fold.train), pick(&fold.test)))
         .collect();
-    let mut fold_fits = Vec::new();
     // A fold refits locally from each basin the full data's search found (its optimum
     // first), each start on its own face, and keeps the best: as the whole search would, it
-    // may change basin when the rows held out favoured one, without screening again.
+    // may change basin when the rows held out favoured one, without screening again. Folds
+    // are independent, each with its own evaluator, and run side by side.
     let starts: Vec<&[f64]> = basins.iter().map(Vec::as_slice).collect();
-    for ((train, kept), _) in &folds {
-        fold_fits.push(
-            fit_best(
+    let scored: Vec<Result<HeldOut, DiscoverError>> = folds
+        .par_iter()
+        .map(|((train, train_kept), (test, test_kept))| {
+            let mut evaluator = predictor.evaluator(&assessment.names)?;
+            limit_to_settling(&mut evaluator);
+            let fit = fit_best(
                 &mut evaluator,
                 train,
-                Some(kept),
+                Some(train_kept),
                 &starts,
                 bounds,
                 (orderings, &Search::LOCAL),
                 settings,
             )?
-            .fit,
-        );
-    }
-    assessment.evaluations += fold_fits.iter().map(|f| f.evaluations).sum::<usize>();
-    for ((_, (test, kept)), fold_fit) in folds.iter().zip(&fold_fits) {
-        evaluator.set(&fold_fit.values);
-        let predictions = evaluator.predict_each(test);
-        for &i in kept {
-            match &predictions[i] {
-                Ok(p) => {
-                    assessment.heldout_sse += (p.observed[0] - test[i].observed[0]).powi(2);
-                    assessment.heldout_count += 1;
+            .fit;
+            evaluator.set(&fit.values);
+            let predictions = evaluator.predict_each(test);
+            let mut held_out = HeldOut {
+                evaluations: fit.evaluations,
+                ..HeldOut::default()
+            };
+            for &i in test_kept {
+                match &predictions[i] {
+                    Ok(p) => {
+                        held_out.sse += (p.observed[0] - test[i].observed[0]).powi(2);
+                        held_out.count += 1;
+                    }
+                    Err(_) => held_out.unsettled += 1,
                 }
-                Err(_) => assessment.unsettled += 1,
             }
-        }
+            Ok(held_out)
+        })
+        .collect();
+    for held_out in scored {
+        let held_out = held_out?;
+        assessment.evaluations += held_out.evaluations;
+        assessment.heldout_sse += held_out.sse;
+        assessment.heldout_count += held_out.count;
+        assessment.unsettled += held_out.unsettled;
     }
     Ok(())
+}
+
+/// What one fold's refit scores on its held-out rows.
+#[derive(Default)]
+struct HeldOut {
+    sse: f64,
+    count: usize,
+    unsettled: usize,
+    evaluations: usize,
 }
 
 /// The best least-squares fit on `train` of the parameters `evaluator` sets, searching
