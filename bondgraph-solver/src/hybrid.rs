@@ -993,16 +993,34 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let current = self.mode.clone();
         let mut segment = current.propagator.start(&self.x, &u0, &u1);
         self.stats.segments += 1;
-        let crossing = events::first_crossing(
+        // Guards are located only as far as their samples follow the mode's oscillations:
+        // the segment ends there, and the next one samples on from its end. (An oscillation
+        // whose 625 periods are shorter than the spacing of doubles at `t` cannot be
+        // followed at all: its segment is not cut, or time would stop.)
+        let window = if current.guards.is_empty() {
+            length
+        } else {
+            events::sampled_horizon(current.propagator.eigenvalues(), length)
+        };
+        let window = if self.t + window > self.t {
+            window
+        } else {
+            length
+        };
+        let located = events::first_crossing(
             &current,
             &mut segment,
             &u0,
             &u1,
             length,
+            window,
             &mut self.armed,
             &self.arm_below,
         );
-        let stop = crossing.map_or(length, |c| c.tau);
+        let (crossing, stop) = match located {
+            events::Located::Crossing(c) => (Some(c), c.tau),
+            events::Located::Clear(reached) => (None, reached),
+        };
 
         let n = self.x.len();
         let mut state = vec![0.0; n];
@@ -1120,7 +1138,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
             }
         }
         // Land exactly on the end of the segment, not a rounding error short of it.
-        self.t = if crossing.is_some() {
+        self.t = if crossing.is_some() || stop < length {
             self.t + stop
         } else {
             end
