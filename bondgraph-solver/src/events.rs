@@ -276,9 +276,27 @@ pub fn first_crossing(
         }
     }
     let to = (from + window).min(length);
-    let times = sample_times(mode.propagator.eigenvalues(), from, to);
+    // A cut segment's samples are taken in stretches that double from 1/256 of it, so
+    // that a crossing early in it does not cost all 10,000 samples of its oscillation.
+    let mut stretches = Vec::new();
+    let mut end = from;
+    let mut piece = if window < length {
+        (to - from) / 256.0
+    } else {
+        to - from
+    };
+    while end < to {
+        let start = end;
+        end = if end + piece < to { end + piece } else { to };
+        stretches.push((start, end));
+        piece *= 2.0;
+    }
     let mut previous_tau = from;
-    for &tau in &times {
+    let values = mode.propagator.eigenvalues();
+    for tau in stretches
+        .iter()
+        .flat_map(|&(start, end)| sample_times(values, start, end))
+    {
         evaluate(segment, tau, &mut current);
         let dipping = (0..current.len()).any(|i| armed[i] && previous[i] < 0.0);
         if dipping {
