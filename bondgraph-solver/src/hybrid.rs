@@ -1017,9 +1017,26 @@ impl<'s, 'm> Stepper<'s, 'm> {
             &mut self.armed,
             &self.arm_below,
         );
-        let (crossing, stop) = match located {
-            events::Located::Crossing(c) => (Some(c), c.tau),
-            events::Located::Clear(reached) => (None, reached),
+        // An event's time is a double: the first one at or after the root, with the state
+        // taken there too, so that state and inputs agree at the event. (The root itself
+        // may be closer to the segment's start than the spacing of doubles there: a belt's
+        // speed rising at 1e9 m/s² gains 8e-14 m/s in the 8e-23 s from 1 µs to a root that
+        // rounds back to 1 µs; the state moved on and the input did not, the contact's
+        // velocity read -8e-14 m/s, and each segment found the root again.)
+        let (crossing, stop, stop_time) = match located {
+            events::Located::Crossing(c) => {
+                let mut time = self.t + c.tau;
+                if time - self.t < c.tau {
+                    time = time.next_up();
+                }
+                let time = time.min(end);
+                let stop = (time - self.t).max(0.0);
+                (Some(events::Crossing { tau: stop, ..c }), stop, time)
+            }
+            events::Located::Clear(reached) if reached < length => {
+                (None, reached, self.t + reached)
+            }
+            events::Located::Clear(_) => (None, length, end),
         };
 
         let n = self.x.len();
@@ -1137,12 +1154,9 @@ impl<'s, 'm> Stepper<'s, 'm> {
                     integrated(&current.outputs[k], &integral_state, &u0, &u1, stop);
             }
         }
-        // Land exactly on the end of the segment, not a rounding error short of it.
-        self.t = if crossing.is_some() || stop < length {
-            self.t + stop
-        } else {
-            end
-        };
+        // At the event's double, or exactly on the end of the segment (not a rounding
+        // error short of it).
+        self.t = stop_time;
         self.x = state;
         if self.x.iter().any(|v| !v.is_finite()) {
             return Err(self.simulator.non_finite(self.t, &current, &self.x));
