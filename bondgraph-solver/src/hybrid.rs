@@ -29,10 +29,12 @@ use crate::events;
 
 mod crossing;
 mod integrate;
+mod stall;
 mod step_guards;
 use crate::numeric::{NumericGuard, NumericMode, Storage, dot};
 use crossing::{Crossed, Trigger};
 use num_complex::Complex64;
+pub use stall::{STALLED_SEGMENTS, Stall};
 
 /// A time-varying input, piecewise linear between its breakpoints.
 pub trait Signal {
@@ -202,12 +204,15 @@ pub enum SimError {
         /// The limit.
         limit: usize,
     },
-    /// Time stopped advancing: steps shorter than the spacing of doubles at `t`.
+    /// Time stopped advancing: integration steps under the resolution of time at `t`, or
+    /// segments that ended where they began.
     Stalled {
         /// When.
         t: f64,
         /// The mode.
         mode: String,
+        /// What was seen.
+        cause: Stall,
     },
     /// A recorded output became infinite or not a number, the states still finite (a
     /// velocity near the largest double times a gain).
@@ -251,9 +256,10 @@ impl fmt::Display for SimError {
                 "chattering at t = {t} s: {events} events in {window:e} s, switching {}",
                 quoted(elements)
             ),
-            SimError::Stalled { t, mode } => write!(
+            SimError::Stalled { t, mode, cause } => write!(
                 f,
-                "time stopped advancing at t = {t} s in mode {mode}: its steps are shorter than the spacing of floating-point numbers there"
+                "time stopped advancing at t = {t} s{}: {cause}",
+                in_mode(mode)
             ),
             SimError::TooManyEvents { t, limit } => {
                 write!(f, "more than {limit} events by t = {t} s")
@@ -273,6 +279,15 @@ impl fmt::Display for SimError {
 }
 
 impl std::error::Error for SimError {}
+
+/// ` in mode SPEC`, or nothing for a model without switching (whose mode is empty).
+fn in_mode(mode: &str) -> String {
+    if mode.is_empty() {
+        String::new()
+    } else {
+        format!(" in mode {mode}")
+    }
+}
 
 fn quoted(names: &[String]) -> String {
     names
@@ -766,6 +781,9 @@ pub struct Stepper<'s, 'm> {
     recorder: Recorder,
     stats: Stats,
     energy: Option<EnergyBalance>,
+    /// The element and reason of the last crossing found, and whether its switch was
+    /// declined, for a stalled run's message.
+    last_crossing: Option<(String, String, bool)>,
 }
 
 impl<'s, 'm> Stepper<'s, 'm> {
@@ -837,6 +855,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
             recorder,
             stats: Stats::default(),
             energy: None,
+            last_crossing: None,
         })
     }
 
@@ -931,7 +950,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
     /// # Errors
     /// As [`Simulator::run`].
     pub fn advance(&mut self, until: f64) -> Result<bool, SimError> {
-        let mut stalls = 0;
+        let mut progress = stall::Progress::default();
         while self.t < until {
             let before = self.t;
             let end = self
@@ -940,19 +959,22 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 .copied()
                 .find(|&b| b > self.t)
                 .map_or(until, |b| b.min(until));
+            self.last_crossing = None;
             let switched = self.segment(end)?;
             self.check_outputs()?;
             if switched {
                 return Ok(true);
             }
-            if self.t <= before {
-                stalls += 1;
-                if stalls > 1000 {
-                    return Err(SimError::Stalled {
-                        t: self.t,
-                        mode: self.mode.spec.clone(),
-                    });
-                }
+            let (crossing, declined) = match self.last_crossing.take() {
+                Some((element, reason, declined)) => (Some((element, reason)), declined),
+                None => (None, false),
+            };
+            if let Some(cause) = progress.after_segment(before, self.t, crossing, declined) {
+                return Err(SimError::Stalled {
+                    t: self.t,
+                    mode: self.mode.spec.clone(),
+                    cause,
+                });
             }
         }
         Ok(false)
@@ -1173,7 +1195,9 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let (u, rate) = self.inputs_at(t);
         let full = current.reconstruct(&self.x, &u);
         let guard = &current.guards[crossing.guard];
+        let element = self.simulator.model.element(guard.element).name.clone();
         if guard.requires_hold && !self.simulator.can_hold(&current, guard, &full, &u, &rate)? {
+            self.last_crossing = Some((element, reason(guard, true), true));
             // Static friction cannot hold (or a flow limit would hold back nothing): no
             // switch. The guard rests until it has been left again by more than rounding,
             // and the contact slips on to its next guard (through zero velocity).
@@ -1182,7 +1206,6 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 -(1e-9 * guard.row.magnitude(&self.x, &u, &rate) + f64::MIN_POSITIVE);
             return Ok(false);
         }
-        let element = self.simulator.model.element(guard.element).name.clone();
         if self.sample.is_some() {
             let values = self.outputs();
             self.recorder.sample(t, &current.spec, values);

@@ -418,6 +418,10 @@ impl Stepper<'_, '_> {
                 return Err(SimError::Stalled {
                     t: start + tau,
                     mode: current.spec.clone(),
+                    cause: super::Stall::Steps {
+                        step,
+                        resolution: f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0,
+                    },
                 });
             }
             before.copy_from_slice(&z);
