@@ -133,6 +133,8 @@ pub fn sample_times(values: &[Complex64], from: f64, to: f64) -> Vec<f64> {
 /// The inputs are `u₀ + u₁ τ` over the segment. `window` is how long a stretch the samples
 /// may follow ([`sampled_horizon`], or `length` where the segment must not be cut).
 ///
+/// Each bracketing sample taken is counted in `samples`.
+///
 /// # Returns
 /// The crossing, or how far no guard reaches zero: `length`, or, when `window < length`,
 /// the end of the sampled stretch. That stretch starts where some guard may first reach
@@ -147,6 +149,7 @@ pub fn first_crossing(
     window: f64,
     armed: &mut [bool],
     arm_below: &[f64],
+    samples: &mut u64,
 ) -> Located {
     if mode.guards.is_empty() || length <= 0.0 {
         return Located::Clear(length);
@@ -297,6 +300,7 @@ pub fn first_crossing(
         .iter()
         .flat_map(|&(start, end)| sample_times(values, start, end))
     {
+        *samples += 1;
         evaluate(segment, tau, &mut current);
         let dipping = (0..current.len()).any(|i| armed[i] && previous[i] < 0.0);
         if dipping {

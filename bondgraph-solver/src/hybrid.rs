@@ -27,6 +27,7 @@ use bondgraph_core::scenario::Book;
 use crate::energy::{EnergyBalance, EnergyColumn};
 use crate::events;
 
+mod combinations;
 mod crossing;
 mod integrate;
 mod stall;
@@ -63,6 +64,9 @@ pub struct Settings {
     /// The most events a run may have (by default
     /// [`bondgraph_core::limits::MAX_EVENTS`]).
     pub max_events: usize,
+    /// The most steps a run may take: integration steps plus event-location samples (by
+    /// default [`bondgraph_core::limits::MAX_STEPS`]).
+    pub max_steps: u64,
     /// This many events within `chatter_window` times the current time (at least one
     /// second) is chattering.
     pub chatter_events: usize,
@@ -74,6 +78,7 @@ impl Default for Settings {
     fn default() -> Self {
         Self {
             max_events: bondgraph_core::limits::MAX_EVENTS,
+            max_steps: bondgraph_core::limits::MAX_STEPS,
             chatter_events: 200,
             chatter_window: 1e-6,
         }
@@ -197,12 +202,31 @@ pub enum SimError {
         /// The elements that switched.
         elements: Vec<String>,
     },
+    /// No single switch is consistent, and the modes of the elements that kept switching
+    /// have more combinations than the search may derive.
+    TooManyCombinations {
+        /// When.
+        t: f64,
+        /// The elements that kept switching.
+        elements: Vec<String>,
+        /// How many combinations, in words.
+        combinations: String,
+        /// The limit.
+        limit: usize,
+    },
     /// More events than allowed.
     TooManyEvents {
         /// When.
         t: f64,
         /// The limit.
         limit: usize,
+    },
+    /// More steps than allowed (integration steps and event-location samples).
+    TooManySteps {
+        /// The time reached.
+        t: f64,
+        /// The limit.
+        limit: u64,
     },
     /// Time stopped advancing: integration steps under the resolution of time at `t`, or
     /// segments that ended where they began.
@@ -261,9 +285,23 @@ impl fmt::Display for SimError {
                 "time stopped advancing at t = {t} s{}: {cause}",
                 in_mode(mode)
             ),
+            SimError::TooManyCombinations {
+                t,
+                elements,
+                combinations,
+                limit,
+            } => write!(
+                f,
+                "at t = {t} s no single switch is consistent, and the modes of {} combine in {combinations} ways, over the limit of {limit} searched",
+                quoted(elements)
+            ),
             SimError::TooManyEvents { t, limit } => {
                 write!(f, "more than {limit} events by t = {t} s")
             }
+            SimError::TooManySteps { t, limit } => write!(
+                f,
+                "more than {limit} steps (integration steps and event-location samples) by t = {t} s: the duration is too long for the model's time scales"
+            ),
             SimError::NonFiniteOutput { t, mode, outputs } => write!(
                 f,
                 "at t = {t} s in mode {mode} the outputs {} are no longer finite",
@@ -533,6 +571,15 @@ impl<'m> Simulator<'m> {
             if tried.contains(&mode) {
                 switched.sort();
                 switched.dedup();
+                let sizes = self.mode_counts(&switched);
+                if combinations::count(sizes.iter().copied()).is_none() {
+                    return Err(SimError::TooManyCombinations {
+                        t,
+                        elements: switched,
+                        combinations: combinations::in_words(sizes),
+                        limit: bondgraph_core::limits::MAX_MODES,
+                    });
+                }
                 let last = self.mode(tried.last().expect("a mode was tried"))?;
                 if let Some(found) =
                     self.search_consistent(&tried[0], &switched, full, u, rate, crossed)?
@@ -617,7 +664,8 @@ impl<'m> Simulator<'m> {
                 choices.push((id, options));
             }
         }
-        let combinations: usize = choices.iter().map(|(_, o)| o.len()).product();
+        // Within the limit: `resolve` checked the count before searching.
+        let combinations = combinations::count(choices.iter().map(|(_, o)| o.len())).unwrap_or(0);
         let mut best: Option<((usize, usize), Arc<NumericMode>)> = None;
         for index in 0..combinations {
             let mut mode = candidate.clone();
@@ -648,6 +696,16 @@ impl<'m> Simulator<'m> {
             }
         }
         Ok(best.map(|(_, numeric)| numeric))
+    }
+
+    /// The number of modes of each switching element named in `elements`.
+    fn mode_counts(&self, elements: &[String]) -> Vec<usize> {
+        elements
+            .iter()
+            .filter_map(|name| self.model.element_named(name))
+            .map(|id| self.model.element(id).kind.modes().len())
+            .filter(|&n| n > 0)
+            .collect()
     }
 
     /// Whether no guard of `mode` is entered at this instant, counting a dead-band guard
@@ -784,6 +842,8 @@ pub struct Stepper<'s, 'm> {
     /// The element and reason of the last crossing found, and whether its switch was
     /// declined, for a stalled run's message.
     last_crossing: Option<(String, String, bool)>,
+    /// Steps taken: integration steps and event-location samples.
+    steps: u64,
 }
 
 impl<'s, 'm> Stepper<'s, 'm> {
@@ -856,6 +916,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
             stats: Stats::default(),
             energy: None,
             last_crossing: None,
+            steps: 0,
         })
     }
 
@@ -1029,6 +1090,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
         } else {
             length
         };
+        let mut samples = 0;
         let located = events::first_crossing(
             &current,
             &mut segment,
@@ -1038,7 +1100,9 @@ impl<'s, 'm> Stepper<'s, 'm> {
             window,
             &mut self.armed,
             &self.arm_below,
+            &mut samples,
         );
+        self.take_steps(samples, self.t)?;
         // An event's time is a double: the first one at or after the root, with the state
         // taken there too, so that state and inputs agree at the event. (The root itself
         // may be closer to the segment's start than the spacing of doubles there: a belt's
@@ -1251,6 +1315,16 @@ impl<'s, 'm> Stepper<'s, 'm> {
             self.recorder.sample(t, &self.mode.spec, values);
         }
         Ok(true)
+    }
+
+    /// Counts `count` more steps, taken by time `t`; an error past the run's limit.
+    fn take_steps(&mut self, count: u64, t: f64) -> Result<(), SimError> {
+        self.steps += count;
+        let limit = self.simulator.settings.max_steps;
+        if self.steps > limit {
+            return Err(SimError::TooManySteps { t, limit });
+        }
+        Ok(())
     }
 
     fn check_chattering(&mut self, t: f64) -> Result<(), SimError> {

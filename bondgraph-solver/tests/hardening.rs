@@ -706,3 +706,50 @@ fn time_stopping_at_a_blow_up_says_the_steps_fell_under_its_resolution() {
         "{message}"
     );
 }
+
+/// Item 18: a run's steps are bounded. The pendulum (`models/examples/nonlinear/pendulum.ron`)
+/// released at 2 rad for 1e12 s integrated for ever (killed after 30 s, no output); past
+/// `max_steps` integration steps it stops, saying how far it got. (With the default of
+/// `MAX_STEPS` = 10 000 000 it stops at t = 605 878 s, after 5.4 s.) Steps of linear modes
+/// are the event locator's samples: the belt's stick-slip takes about seven an event.
+#[test]
+fn the_steps_of_a_run_are_bounded() {
+    use bondgraph_solver::{Settings, SimError};
+    assert_eq!(
+        Settings::default().max_steps,
+        bondgraph_core::limits::MAX_STEPS
+    );
+    let settings = Settings {
+        max_steps: 100_000,
+        ..Settings::default()
+    };
+    let pendulum = crate::support::load("models/examples/nonlinear/pendulum.ron");
+    let belt = crate::support::load("models/examples/belt_friction.ron");
+    let speed = Constant(0.1);
+    let belt_inputs: [&dyn Signal; 1] = [&speed];
+    for (model, inputs, state) in [
+        (&pendulum, &[][..], vec![0.0, 2.0]),
+        (&belt, &belt_inputs[..], vec![0.0, 0.0]),
+    ] {
+        let mut simulator = Simulator::new(model, Vec::new()).with_settings(settings);
+        let error = simulator
+            .run(&Run {
+                inputs,
+                initial_mode: Mode::initial(model),
+                initial_state: state,
+                duration: 1e12,
+                sample: None,
+                audit_energy: false,
+            })
+            .unwrap_err();
+        let message = error.to_string();
+        match error {
+            SimError::TooManySteps { t, limit } => {
+                assert_eq!(limit, 100_000);
+                assert!(t > 0.0 && t < 1e12, "{message}");
+            }
+            _ => panic!("{}: {message}", model.name),
+        }
+        assert!(message.starts_with("more than 100000 steps"), "{message}");
+    }
+}

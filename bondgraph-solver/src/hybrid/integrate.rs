@@ -425,6 +425,7 @@ impl Stepper<'_, '_> {
                 });
             }
             before.copy_from_slice(&z);
+            self.take_steps(1, start + tau)?;
             match integrator.step(&mut system, tau, &mut z, step) {
                 StepOutcome::Rejected { h_next } => {
                     h = h_next;
