@@ -96,7 +96,7 @@ pub(crate) fn equations(args: &EquationsArgs<'_>) -> Result<(), Failure> {
         Format::Latex => format!(
             "{}{}",
             crate::conventions::latex_preamble(model),
-            eq.to_latex()
+            eq.to_latex_with_outputs(&outputs)
         ),
         Format::Json => json(&eq.to_json(&args.mode.spec(model), &outputs, point.as_ref()))?,
     };

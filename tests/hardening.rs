@@ -158,6 +158,63 @@ fn outputs_keep_their_terms_in_input_derivatives_in_json_and_latex() {
     );
 }
 
+/// The same on a nonlinear model: a flow source `v` drives a mass `m`, a cubic damper
+/// (`R(effort: "c*flow^3")`) and a spring `k` on one 1-junction, so the source's effort is
+/// `m dv/dt + c v³ + k q_spring` (by hand). At `q_spring = 0.1`, `v = 2` (m = 2, c = 3,
+/// k = 5) its gradients are `C = [k] = [5]`, `D = [3 c v²] = [36]` and, in the input's rate,
+/// `F = [m] = [2]`. The JSON had `C` and `D` but no `F`, and LaTeX dropped the output
+/// equation.
+#[test]
+fn nonlinear_outputs_keep_their_terms_in_input_derivatives_in_json_and_latex() {
+    let path = temporary(
+        "driven_cubic.ron",
+        br#"Model(
+    name: "driven_cubic",
+    parameters: { "m": (value: 2.0), "c": (value: 3.0), "k": (value: 5.0) },
+    inputs: { "v": () },
+    elements: { "drive": Sf(flow: "v"), "node": One, "mass": I(inertance: "m"),
+        "damper": R(effort: "c*flow^3"), "spring": C(stiffness: "k") },
+    bonds: [("drive", "node"), ("node", "mass"), ("node", "damper"), ("node", "spring")],
+)"#,
+    );
+    let path = path.to_str().unwrap();
+    let run = |format: &str| {
+        let output = crate::cli::run(&[
+            "equations",
+            path,
+            "--output",
+            "effort:drive",
+            "--output",
+            "integral:flow:spring",
+            "--at",
+            "q_spring=0.1,v=2",
+            "--format",
+            format,
+        ]);
+        let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(output.status.success(), "{format}: {stderr}");
+        stdout
+    };
+    let json: serde_json::Value = serde_json::from_str(&run("json")).unwrap();
+    let equation = &json["outputs"][0];
+    assert_eq!(equation["C_value"], serde_json::json!([5.0]), "{equation}");
+    assert_eq!(equation["D_value"], serde_json::json!([36.0]), "{equation}");
+    assert_eq!(equation["F"], serde_json::json!(["m"]), "{equation}");
+    assert_eq!(equation["F_value"], serde_json::json!([2.0]), "{equation}");
+    // The spring's flow is `v`: no term in an input's rate, so no `F`.
+    let integral = &json["outputs"][1];
+    assert_eq!(integral["D_value"], serde_json::json!([1.0]), "{integral}");
+    assert!(integral.get("F").is_none(), "{integral}");
+    let latex = run("latex");
+    for line in [
+        r"\mathrm{effort}(\mathrm{drive}) = k q_{spring} + c v^{3} + m \dot{v}",
+        r"\mathrm{integral}(\mathrm{flow:spring}) = \int_0^t \left(v\right) dt",
+    ] {
+        assert!(latex.lines().any(|l| l == line), "{line} not in:\n{latex}");
+    }
+}
+
 /// A mass `"2^-100000"` (or `m^-30` with m = 1e300) is not zero, but its value in double
 /// precision is: the message once said `= 0 ... must be positive`, as if the file wrote 0.
 #[test]

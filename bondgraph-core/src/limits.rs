@@ -13,6 +13,8 @@
 //! | terms of a law's expanded parameter expression (numerator or denominator) | [`MAX_EXPRESSION_TERMS`] |
 //! | samples a simulation records | [`MAX_SAMPLES`] |
 //! | events (mode changes) in one simulation | [`MAX_EVENTS`] |
+//! | steps in one simulation (integration steps and event-location samples) | [`MAX_STEPS`] |
+//! | modes `check` and `modes` enumerate for a model | [`MAX_MODES`] |
 //! | size of a model, scenario, experiment or extension file | [`MAX_FILE_BYTES`] |
 //! | size of a CSV data file | [`MAX_DATA_FILE_BYTES`] |
 //! | measurements (rows) in a CSV data file | [`MAX_DATA_ROWS`] |
@@ -45,6 +47,20 @@ pub const MAX_SAMPLES: u64 = 1_000_000;
 /// steady pace for a very long time (the belt's stick-slip, two events every 1.16 s, reaches
 /// it after 58 000 s simulated, in about ten seconds).
 pub const MAX_EVENTS: usize = 100_000;
+
+/// The most steps one simulation may take: the integrator's steps in nonlinear modes
+/// (accepted or rejected) plus the event locator's samples in linear modes. Time is what a
+/// step costs (a microsecond or so), and duration is what takes steps: a pendulum released
+/// for 1e12 s once integrated for ever. The belt's stick-slip reaches its 100 000 events in
+/// 700 000 samples.
+pub const MAX_STEPS: u64 = 10_000_000;
+
+/// The most modes `check` and `modes` enumerate for one model, and the most combinations
+/// a simulation searches when no single switch is consistent. Each friction contact has
+/// three modes and each string or flow limit two, so the modes grow as `3^N`, each derived
+/// symbolically: eight contacts in a chain (6561 modes) took 3.4 s, twelve ran out of
+/// patience. The flagship has 18.
+pub const MAX_MODES: usize = 1000;
 
 /// The largest input file read as text, in bytes (16 MiB: the flagship is 12 kB).
 pub const MAX_FILE_BYTES: u64 = 16 << 20;

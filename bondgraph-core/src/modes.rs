@@ -363,7 +363,8 @@ impl ListedMode for NonlinearModeEquations {
 /// Every mode reachable from the initial mode by following guards.
 ///
 /// # Errors
-/// When the initial mode itself cannot be derived; for a nonlinear model
+/// When the initial mode itself cannot be derived, or more than
+/// [`MAX_MODES`](crate::limits::MAX_MODES) modes are reachable; for a nonlinear model
 /// ([`Model::is_nonlinear`]) use [`reachable_nonlinear`].
 pub fn reachable(model: &Model, options: &Options) -> Result<Reachable> {
     let mut cache = ModeCache::new(model, *options);
@@ -377,7 +378,8 @@ pub fn reachable(model: &Model, options: &Options) -> Result<Reachable> {
 /// Every mode of a nonlinear model reachable from its initial mode.
 ///
 /// # Errors
-/// When the initial mode itself cannot be derived.
+/// When the initial mode itself cannot be derived, or more than
+/// [`MAX_MODES`](crate::limits::MAX_MODES) modes are reachable.
 pub fn reachable_nonlinear(
     model: &Model,
     options: &Options,
@@ -390,7 +392,12 @@ pub fn reachable_nonlinear(
     )
 }
 
-/// Breadth-first search over the modes that guards lead to.
+/// Breadth-first search over the modes that guards lead to, at most
+/// [`MAX_MODES`](crate::limits::MAX_MODES) of them.
+///
+/// # Errors
+/// The initial mode cannot be derived, or more modes than the limit are reachable (a
+/// [`DiagnosticKind::TooLarge`] at the first switching element).
 fn explore<M>(
     model: &Model,
     mut derive: impl FnMut(&Mode) -> Result<Arc<M>>,
@@ -408,6 +415,9 @@ fn explore<M>(
                 for (element, leaves_to) in targets(&derived) {
                     let next = mode.with(element, leaves_to);
                     if !seen.contains(&next) {
+                        if seen.len() >= crate::limits::MAX_MODES {
+                            return Err(too_many_modes(model));
+                        }
                         seen.push(next.clone());
                         queue.push_back(next);
                     }
@@ -422,6 +432,36 @@ fn explore<M>(
         modes,
         impossible,
     })
+}
+
+/// The diagnostic for a model with more reachable modes than
+/// [`MAX_MODES`](crate::limits::MAX_MODES), at its first switching element.
+fn too_many_modes(model: &Model) -> Diagnostics {
+    let limit = crate::limits::MAX_MODES;
+    let switching: Vec<ElementId> = model
+        .element_ids()
+        .filter(|&id| !model.element(id).kind.modes().is_empty())
+        .collect();
+    let combinations = switching
+        .iter()
+        .map(|&id| model.element(id).kind.modes().len() as f64)
+        .product::<f64>();
+    let mut diagnostic = Diagnostic::new(
+        DiagnosticKind::TooLarge,
+        format!(
+            "model '{}' has more than {limit} modes, over the limit that `check` and `modes` enumerate: its {} switching elements combine into {} modes",
+            model.name,
+            switching.len(),
+            crate::limits::count_in_words(combinations)
+        ),
+    )
+    .note("a friction contact has three modes and a string or flow limit two; simulate the model instead, which derives only the modes it enters");
+    if let Some(&first) = switching.first() {
+        diagnostic = diagnostic
+            .at_location(model.locate_element(first))
+            .element(model.element(first).name.clone());
+    }
+    diagnostic.into()
 }
 
 /// The JSON document of `bondgraph modes`.

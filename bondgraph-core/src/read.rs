@@ -46,14 +46,20 @@ pub fn read_text(path: &Path, what: &str) -> Result<String, String> {
 /// The bytes are not UTF-8.
 pub fn decode(name: &str, bytes: Vec<u8>) -> Result<String, String> {
     String::from_utf8(bytes).map_err(|error| {
-        let bytes = error.as_bytes();
-        let at = error.utf8_error().valid_up_to();
-        let before = std::str::from_utf8(&bytes[..at]).unwrap_or_default();
-        let line = before.matches('\n').count() + 1;
-        let column = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
+        let (line, column, byte) = invalid_utf8_at(&error);
         format!(
-            "{name}:{line}:{column}: byte {:#04x} is not valid UTF-8 (files must be UTF-8 text)",
-            bytes[at]
+            "{name}:{line}:{column}: byte {byte:#04x} is not valid UTF-8 (files must be UTF-8 text)"
         )
     })
+}
+
+/// Where the first byte that is not UTF-8 is: its line and column (in characters, both
+/// from 1) and the byte itself.
+pub fn invalid_utf8_at(error: &std::string::FromUtf8Error) -> (usize, usize, u8) {
+    let bytes = error.as_bytes();
+    let at = error.utf8_error().valid_up_to();
+    let before = std::str::from_utf8(&bytes[..at]).unwrap_or_default();
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
+    (line, column, bytes[at])
 }

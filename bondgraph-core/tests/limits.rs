@@ -70,3 +70,63 @@ fn a_nonlinear_law_with_a_huge_parameter_power_is_refused() {
     assert!(error.to_string().contains("degree 300"), "{error}");
     assert_eq!(diagnostic.element.as_deref(), Some("spring"), "{error}");
 }
+
+/// A chain of `n` masses, each on a friction contact with the ground and tied to the next by
+/// a spring, the first pushed by `F`: every contact has three modes, so `3^n` modes.
+fn contact_chain(n: usize) -> String {
+    let mut elements = vec![r#""push": Se(effort: "F")"#.to_string()];
+    let mut bonds = vec![r#"("push", "v1")"#.to_string()];
+    for i in 1..=n {
+        elements.push(format!(
+            r#""v{i}": One, "m{i}": I(inertance: "m"),
+        "f{i}": Friction(breakaway: "F_S", coulomb: "F_C", initial: "stuck")"#
+        ));
+        bonds.push(format!(r#"("v{i}", "m{i}"), ("v{i}", "f{i}")"#));
+        if i < n {
+            elements.push(format!(r#""s{i}": Zero, "k{i}": C(stiffness: "k")"#));
+            bonds.push(format!(
+                r#"("v{i}", "s{i}"), ("s{i}", "v{}"), ("s{i}", "k{i}")"#,
+                i + 1
+            ));
+        }
+    }
+    format!(
+        r#"Model(
+    name: "chain",
+    parameters: {{ "m": (value: 1.0), "k": (value: 100.0), "F_S": (value: 10.0),
+        "F_C": (value: 6.0) }},
+    inputs: {{ "F": () }},
+    elements: {{
+        {},
+    }},
+    bonds: [{}],
+)"#,
+        elements.join(",\n        "),
+        bonds.join(", ")
+    )
+}
+
+/// Seven contacts have 3^7 = 2187 modes, over the limit of 1000 that `check` and `modes`
+/// enumerate: refused at the first contact, with the count. (Fifteen would have 14 million,
+/// each derived symbolically.) Six, 729 modes, are enumerated.
+#[test]
+fn a_model_with_too_many_modes_is_refused_at_its_switching_elements() {
+    use bondgraph_core::equations::Options;
+    use bondgraph_core::limits::MAX_MODES;
+    use bondgraph_core::modes;
+    let six = model::load_str("chain.ron", &contact_chain(6)).unwrap_or_else(|e| panic!("{e}"));
+    let reachable = modes::reachable(&six, &Options::default()).unwrap();
+    assert_eq!(reachable.modes.len() + reachable.impossible.len(), 729);
+    let seven = model::load_str("chain.ron", &contact_chain(7)).unwrap_or_else(|e| panic!("{e}"));
+    let error = match modes::reachable(&seven, &Options::default()) {
+        Ok(reachable) => panic!("{} modes enumerated", reachable.modes.len()),
+        Err(error) => error,
+    };
+    let text = error.to_string();
+    let diagnostic = error.first();
+    assert_eq!(diagnostic.kind, DiagnosticKind::TooLarge, "{text}");
+    assert!(
+        text.contains(&format!("more than {MAX_MODES} modes")) && text.contains("chain.ron:9:"),
+        "{text}"
+    );
+}

@@ -119,8 +119,15 @@ pub struct DataError {
 pub enum DataErrorKind {
     /// The file could not be read.
     Io(std::io::Error),
-    /// The text is not well-formed CSV (e.g. invalid UTF-8 or an unbalanced quote).
+    /// The text is not well-formed CSV (e.g. an unbalanced quote).
     Malformed(String),
+    /// A byte that is not UTF-8, at the error's line and this column (in characters).
+    NotUtf8 {
+        /// The column, from 1.
+        column: usize,
+        /// The byte.
+        byte: u8,
+    },
     /// Nothing at all, not even a header.
     Empty {
         /// The columns the experiment expects.
@@ -242,6 +249,9 @@ impl fmt::Display for DataError {
         if let Some(line) = self.line {
             write!(f, ":{line}")?;
         }
+        if let DataErrorKind::NotUtf8 { column, .. } = self.kind {
+            write!(f, ":{column}")?;
+        }
         if let Some(column) = &self.column {
             write!(f, ": column `{column}`")?;
         }
@@ -264,6 +274,10 @@ impl fmt::Display for DataErrorKind {
         match self {
             Self::Io(error) => write!(f, "cannot read the file: {error}"),
             Self::Malformed(message) => write!(f, "malformed CSV: {message}"),
+            Self::NotUtf8 { byte, .. } => write!(
+                f,
+                "byte {byte:#04x} is not valid UTF-8 (files must be UTF-8 text)"
+            ),
             Self::Empty { expected } => write!(
                 f,
                 "the file is empty; expected the header `{}` and one row per measurement",
@@ -488,8 +502,15 @@ pub fn read_file(path: &Path, experiment: &Experiment) -> Result<Dataset, DataEr
     if bytes.len() as u64 > MAX_DATA_FILE_BYTES {
         return Err(too_large());
     }
-    let text = String::from_utf8(bytes)
-        .map_err(|error| io(std::io::Error::new(std::io::ErrorKind::InvalidData, error)))?;
+    let text = String::from_utf8(bytes).map_err(|error| {
+        let (line, column, byte) = bondgraph_core::read::invalid_utf8_at(&error);
+        DataError::new(
+            &name,
+            Some(line),
+            None,
+            DataErrorKind::NotUtf8 { column, byte },
+        )
+    })?;
     read(&name, &text, experiment)
 }
 
@@ -780,6 +801,25 @@ mod tests {
         );
         assert_eq!(dataset.conditions, ["u_V", "tau_mNm"]);
         assert_eq!(&*dataset.rows[0].file, "t.csv");
+    }
+
+    /// A byte that is not UTF-8 is located at its line and column (in characters), as in a
+    /// model file; it once said only "stream did not contain valid UTF-8".
+    #[test]
+    fn a_byte_that_is_not_utf8_is_located() {
+        let dir = std::env::temp_dir().join(format!("bondgraph-data-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("latin1.csv");
+        // Line 3 is `6,\xb51,3`: the third character is a Latin-1 "µ".
+        std::fs::write(&path, b"u_V,tau_mNm,w_rad_s\n12,,100.5\n6,\xb51,3\n").unwrap();
+        let error = read_file(&path, &experiment()).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            format!(
+                "{}:3:3: byte 0xb5 is not valid UTF-8 (files must be UTF-8 text)",
+                path.display()
+            )
+        );
     }
 
     #[test]

@@ -11,14 +11,22 @@
 //! satisfied when a mode is entered (a velocity guard of a contact that just started to slip
 //! from zero) only fires after it has been left and is reached again.
 //!
+//! An oscillation is followed for at most [`OSCILLATION_SAMPLES`] samples (625 periods) per
+//! segment: a longer segment is cut there ([`Located::Clear`] before its end), after passing
+//! over any stretch where a bound of every guard (`events/envelope.rs`) shows that none can
+//! reach zero.
+//!
 //! # Complexity
-//! `O(s · (n² + g))` for `s` samples (typically a hundred), `n` states and `g` guards, plus a
-//! few dozen evaluations per refinement.
+//! `O(s · (n² + g))` for `s` samples (typically a hundred, at most 10,000 per oscillation),
+//! `n` states and `g` guards, plus a few dozen evaluations per refinement.
+
+mod envelope;
 
 use num_complex::Complex64;
 
 use crate::numeric::NumericMode;
 use crate::propagate::Segment;
+use envelope::Envelope;
 
 /// A guard reaching zero.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -29,42 +37,89 @@ pub struct Crossing {
     pub tau: f64,
 }
 
-/// Bracketing samples over `(0, length]` for a mode with these eigenvalues: each decaying
+/// What the locator found in a segment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Located {
+    /// A guard reaches zero.
+    Crossing(Crossing),
+    /// No guard reaches zero up to this local time: the segment's length, or less where
+    /// the samples stopped following an oscillation (the segment is to end there).
+    Clear(f64),
+}
+
+/// Samples of one oscillation the bracketing may take in a segment: sixteen a period for
+/// 625 periods.
+pub const OSCILLATION_SAMPLES: usize = 10_000;
+
+/// How far into a segment of `length` the bracketing samples can follow every oscillation
+/// of a mode with these eigenvalues, sixteen samples a period for as long as it lasts (40
+/// time constants, or the whole segment if undamped): `length`, or less where that would
+/// take more than [`OSCILLATION_SAMPLES`] samples of one oscillation.
+///
+/// A segment is cut there, not sampled more sparsely beyond: a guard creeping up to zero
+/// under a fast swing (a slack string whose tug draws away at 1 mm/s while its cart swings
+/// ±1 cm at 9.7 rad/s) crosses zero back and forth for dozens of periods, and samples
+/// hundreds of periods apart bracket some later zero, or none, instead of the first.
+pub fn sampled_horizon(values: &[Complex64], length: f64) -> f64 {
+    let mut horizon = length;
+    for v in values {
+        let rate = v.norm();
+        if v.im == 0.0 || !rate.is_finite() {
+            continue;
+        }
+        let spacing = oscillation_spacing(*v);
+        let lasts = if v.re < 0.0 {
+            (40.0 / -v.re).min(length)
+        } else {
+            length
+        };
+        if lasts / spacing > OSCILLATION_SAMPLES as f64 {
+            horizon = horizon.min(OSCILLATION_SAMPLES as f64 * spacing);
+        }
+    }
+    horizon
+}
+
+/// Sixteen samples a period of the oscillation at `value`.
+fn oscillation_spacing(value: Complex64) -> f64 {
+    2.0 * std::f64::consts::PI / value.im.abs() / 16.0
+}
+
+/// Bracketing samples over `(from, to]` for a mode with these eigenvalues: each decaying
 /// time scale `1/|λ|` sampled geometrically while it is active (from 0.02 to 40 time
-/// constants), every oscillation sixteen times a period while it lasts, and the whole
-/// segment uniformly (sixteen intervals).
-pub fn sample_times(values: &[Complex64], length: f64) -> Vec<f64> {
-    const MAX_SAMPLES: usize = 20_000;
+/// constants after the segment's start), every oscillation sixteen times a period while it
+/// lasts, and the stretch uniformly (sixteen intervals). An oscillation is sampled for at
+/// most [`OSCILLATION_SAMPLES`]: a stretch longer than its [`sampled_horizon`] is for the
+/// caller to cut.
+pub fn sample_times(values: &[Complex64], from: f64, to: f64) -> Vec<f64> {
     let mut times = Vec::with_capacity(96);
     for v in values {
         let rate = v.norm();
         if rate == 0.0 || !rate.is_finite() {
             continue;
         }
+        let lasts = if v.re < 0.0 {
+            (40.0 / -v.re).min(to)
+        } else {
+            to
+        };
         if v.re < 0.0 {
-            let scale = 1.0 / rate;
-            let mut t = 0.02 * scale;
-            let end = (40.0 / -v.re).min(length);
-            while t < end {
+            let mut t = 0.02 / rate;
+            while t < lasts {
                 times.push(t);
                 t *= 1.8;
             }
         }
-        if v.im != 0.0 {
-            let spacing = 2.0 * std::f64::consts::PI / v.im.abs() / 16.0;
-            let horizon = if v.re < 0.0 {
-                (40.0 / -v.re).min(length)
-            } else {
-                length
-            };
-            let count = ((horizon / spacing) as usize).min(MAX_SAMPLES / 2);
-            times.extend((1..=count).map(|k| k as f64 * spacing));
+        if v.im != 0.0 && lasts > from {
+            let spacing = oscillation_spacing(*v);
+            let count = (((lasts - from) / spacing) as usize).min(OSCILLATION_SAMPLES);
+            times.extend((1..=count).map(|k| from + k as f64 * spacing));
         }
     }
-    let uniform = length / 16.0;
-    times.extend((1..16).map(|k| k as f64 * uniform));
-    times.push(length);
-    times.retain(|t| *t > 0.0 && *t <= length);
+    let uniform = (to - from) / 16.0;
+    times.extend((1..16).map(|k| from + k as f64 * uniform));
+    times.push(to);
+    times.retain(|t| *t > from && *t <= to);
     times.sort_by(f64::total_cmp);
     times.dedup();
     times
@@ -74,18 +129,30 @@ pub fn sample_times(values: &[Complex64], length: f64) -> Vec<f64> {
 /// `arm_below` level (zero, or minus a rounding tolerance for a guard whose switch was just
 /// declined, so that rounding noise about zero cannot fire it again and again).
 ///
-/// The inputs are `u₀ + u₁ τ` over the segment.
+/// # Arguments
+/// The inputs are `u₀ + u₁ τ` over the segment. `window` is how long a stretch the samples
+/// may follow ([`sampled_horizon`], or `length` where the segment must not be cut).
+///
+/// Each bracketing sample taken is counted in `samples`.
+///
+/// # Returns
+/// The crossing, or how far no guard reaches zero: `length`, or, when `window < length`,
+/// the end of the sampled stretch. That stretch starts where some guard may first reach
+/// zero by a bound of each guard over a modal segment (`events/envelope.rs`), or at zero.
+#[allow(clippy::too_many_arguments)]
 pub fn first_crossing(
     mode: &NumericMode,
     segment: &mut Segment<'_>,
     u0: &[f64],
     u1: &[f64],
     length: f64,
+    window: f64,
     armed: &mut [bool],
     arm_below: &[f64],
-) -> Option<Crossing> {
+    samples: &mut u64,
+) -> Located {
     if mode.guards.is_empty() || length <= 0.0 {
-        return None;
+        return Located::Clear(length);
     }
     let n = segment.dimension();
     let mut x = vec![0.0; n];
@@ -130,7 +197,7 @@ pub fn first_crossing(
     evaluate(segment, 0.0, &mut previous);
     // An armed guard already at zero fires at once (an event exactly at a breakpoint).
     if let Some(i) = (0..previous.len()).find(|&i| armed[i] && previous[i] >= 0.0) {
-        return Some(Crossing { guard: i, tau: 0.0 });
+        return Located::Crossing(Crossing { guard: i, tau: 0.0 });
     }
     for (i, value) in previous.iter().enumerate() {
         if *value < arm_below[i] {
@@ -155,7 +222,6 @@ pub fn first_crossing(
                 .map(|g| mode.row_rate(&g.row, &x_rate, &u_rate, u1)),
         );
     };
-    let times = sample_times(mode.propagator.eigenvalues(), length);
     let mut current = Vec::with_capacity(mode.guards.len());
     let (mut previous_slopes, mut current_slopes) = (Vec::new(), Vec::new());
     // A guard at zero (to rounding) that is falling is left at once: armed now, as if seen
@@ -176,8 +242,65 @@ pub fn first_crossing(
             }
         }
     }
-    let mut previous_tau = 0.0;
-    for &tau in &times {
+    // Where the samples start: at zero, or past the stretches where no guard can reach
+    // zero, in strides that double while they stay clear.
+    let mut from = 0.0;
+    if window < length
+        && let (Some(terms), Some(guards)) = (segment.modal_terms(), &modal)
+    {
+        let envelopes: Vec<Envelope> = guards
+            .iter()
+            .map(|(c, a, b)| Envelope::new(c, *a, *b, &terms))
+            .collect();
+        let mut stride = window;
+        while from < length {
+            let to = (from + stride).min(length);
+            if envelopes.iter().all(|e| e.upper_bound(from, to) < 0.0) {
+                from = to;
+                stride *= 2.0;
+                evaluate(segment, from, &mut current);
+                for i in 0..current.len() {
+                    if current[i] < arm_below[i] {
+                        armed[i] = true;
+                    }
+                }
+            } else if stride > window {
+                stride = window;
+            } else {
+                break;
+            }
+        }
+        if from >= length {
+            return Located::Clear(length);
+        }
+        if from > 0.0 {
+            evaluate(segment, from, &mut previous);
+            previous_slopes.clear();
+        }
+    }
+    let to = (from + window).min(length);
+    // A cut segment's samples are taken in stretches that double from 1/256 of it, so
+    // that a crossing early in it does not cost all 10,000 samples of its oscillation.
+    let mut stretches = Vec::new();
+    let mut end = from;
+    let mut piece = if window < length {
+        (to - from) / 256.0
+    } else {
+        to - from
+    };
+    while end < to {
+        let start = end;
+        end = if end + piece < to { end + piece } else { to };
+        stretches.push((start, end));
+        piece *= 2.0;
+    }
+    let mut previous_tau = from;
+    let values = mode.propagator.eigenvalues();
+    for tau in stretches
+        .iter()
+        .flat_map(|&(start, end)| sample_times(values, start, end))
+    {
+        *samples += 1;
         evaluate(segment, tau, &mut current);
         let dipping = (0..current.len()).any(|i| armed[i] && previous[i] < 0.0);
         if dipping {
@@ -211,7 +334,11 @@ pub fn first_crossing(
                 );
                 let mut values = Vec::with_capacity(current.len());
                 evaluate(segment, peak, &mut values);
-                bracket = (values[i] >= 0.0).then_some((peak, values[i]));
+                if values[i] >= 0.0 {
+                    bracket = Some((peak, values[i]));
+                }
+                // A peak below zero is not the last: the rates found one of several extrema,
+                // and a guard at or above zero at the second sample still crossed.
             }
             if let Some((end, value)) = bracket {
                 let mut values = Vec::with_capacity(current.len());
@@ -244,8 +371,8 @@ pub fn first_crossing(
                 }
             }
         }
-        if best.is_some() {
-            return best;
+        if let Some(crossing) = best {
+            return Located::Crossing(crossing);
         }
         std::mem::swap(&mut previous_slopes, &mut current_slopes);
         for i in 0..current.len() {
@@ -256,7 +383,7 @@ pub fn first_crossing(
         std::mem::swap(&mut previous, &mut current);
         previous_tau = tau;
     }
-    None
+    Located::Clear(to)
 }
 
 /// Refines a bracket `[a, b]` with `f(a) < 0 <= f(b)` by Brent's method (inverse quadratic
@@ -365,6 +492,7 @@ mod tests {
     fn samples_cover_stiff_and_oscillating_scales() {
         let times = sample_times(
             &[Complex64::new(-2.5e17, 0.0), Complex64::new(-0.1, 10.0)],
+            0.0,
             1.0,
         );
         assert!(times[0] <= 0.05 / 2.5e17);

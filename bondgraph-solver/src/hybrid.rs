@@ -27,12 +27,15 @@ use bondgraph_core::scenario::Book;
 use crate::energy::{EnergyBalance, EnergyColumn};
 use crate::events;
 
+mod combinations;
 mod crossing;
 mod integrate;
+mod stall;
 mod step_guards;
 use crate::numeric::{NumericGuard, NumericMode, Storage, dot};
 use crossing::{Crossed, Trigger};
 use num_complex::Complex64;
+pub use stall::{STALLED_SEGMENTS, Stall};
 
 /// A time-varying input, piecewise linear between its breakpoints.
 pub trait Signal {
@@ -61,6 +64,9 @@ pub struct Settings {
     /// The most events a run may have (by default
     /// [`bondgraph_core::limits::MAX_EVENTS`]).
     pub max_events: usize,
+    /// The most steps a run may take: integration steps plus event-location samples (by
+    /// default [`bondgraph_core::limits::MAX_STEPS`]).
+    pub max_steps: u64,
     /// This many events within `chatter_window` times the current time (at least one
     /// second) is chattering.
     pub chatter_events: usize,
@@ -72,6 +78,7 @@ impl Default for Settings {
     fn default() -> Self {
         Self {
             max_events: bondgraph_core::limits::MAX_EVENTS,
+            max_steps: bondgraph_core::limits::MAX_STEPS,
             chatter_events: 200,
             chatter_window: 1e-6,
         }
@@ -195,6 +202,18 @@ pub enum SimError {
         /// The elements that switched.
         elements: Vec<String>,
     },
+    /// No single switch is consistent, and the modes of the elements that kept switching
+    /// have more combinations than the search may derive.
+    TooManyCombinations {
+        /// When.
+        t: f64,
+        /// The elements that kept switching.
+        elements: Vec<String>,
+        /// How many combinations, in words.
+        combinations: String,
+        /// The limit.
+        limit: usize,
+    },
     /// More events than allowed.
     TooManyEvents {
         /// When.
@@ -202,12 +221,22 @@ pub enum SimError {
         /// The limit.
         limit: usize,
     },
-    /// Time stopped advancing: steps shorter than the spacing of doubles at `t`.
+    /// More steps than allowed (integration steps and event-location samples).
+    TooManySteps {
+        /// The time reached.
+        t: f64,
+        /// The limit.
+        limit: u64,
+    },
+    /// Time stopped advancing: integration steps under the resolution of time at `t`, or
+    /// segments that ended where they began.
     Stalled {
         /// When.
         t: f64,
         /// The mode.
         mode: String,
+        /// What was seen.
+        cause: Stall,
     },
     /// A recorded output became infinite or not a number, the states still finite (a
     /// velocity near the largest double times a gain).
@@ -251,13 +280,28 @@ impl fmt::Display for SimError {
                 "chattering at t = {t} s: {events} events in {window:e} s, switching {}",
                 quoted(elements)
             ),
-            SimError::Stalled { t, mode } => write!(
+            SimError::Stalled { t, mode, cause } => write!(
                 f,
-                "time stopped advancing at t = {t} s in mode {mode}: its steps are shorter than the spacing of floating-point numbers there"
+                "time stopped advancing at t = {t} s{}: {cause}",
+                in_mode(mode)
+            ),
+            SimError::TooManyCombinations {
+                t,
+                elements,
+                combinations,
+                limit,
+            } => write!(
+                f,
+                "at t = {t} s no single switch is consistent, and the modes of {} combine in {combinations} ways, over the limit of {limit} searched",
+                quoted(elements)
             ),
             SimError::TooManyEvents { t, limit } => {
                 write!(f, "more than {limit} events by t = {t} s")
             }
+            SimError::TooManySteps { t, limit } => write!(
+                f,
+                "more than {limit} steps (integration steps and event-location samples) by t = {t} s: the duration is too long for the model's time scales"
+            ),
             SimError::NonFiniteOutput { t, mode, outputs } => write!(
                 f,
                 "at t = {t} s in mode {mode} the outputs {} are no longer finite",
@@ -273,6 +317,15 @@ impl fmt::Display for SimError {
 }
 
 impl std::error::Error for SimError {}
+
+/// ` in mode SPEC`, or nothing for a model without switching (whose mode is empty).
+fn in_mode(mode: &str) -> String {
+    if mode.is_empty() {
+        String::new()
+    } else {
+        format!(" in mode {mode}")
+    }
+}
 
 fn quoted(names: &[String]) -> String {
     names
@@ -518,6 +571,15 @@ impl<'m> Simulator<'m> {
             if tried.contains(&mode) {
                 switched.sort();
                 switched.dedup();
+                let sizes = self.mode_counts(&switched);
+                if combinations::count(sizes.iter().copied()).is_none() {
+                    return Err(SimError::TooManyCombinations {
+                        t,
+                        elements: switched,
+                        combinations: combinations::in_words(sizes),
+                        limit: bondgraph_core::limits::MAX_MODES,
+                    });
+                }
                 let last = self.mode(tried.last().expect("a mode was tried"))?;
                 if let Some(found) =
                     self.search_consistent(&tried[0], &switched, full, u, rate, crossed)?
@@ -602,7 +664,8 @@ impl<'m> Simulator<'m> {
                 choices.push((id, options));
             }
         }
-        let combinations: usize = choices.iter().map(|(_, o)| o.len()).product();
+        // Within the limit: `resolve` checked the count before searching.
+        let combinations = combinations::count(choices.iter().map(|(_, o)| o.len())).unwrap_or(0);
         let mut best: Option<((usize, usize), Arc<NumericMode>)> = None;
         for index in 0..combinations {
             let mut mode = candidate.clone();
@@ -633,6 +696,16 @@ impl<'m> Simulator<'m> {
             }
         }
         Ok(best.map(|(_, numeric)| numeric))
+    }
+
+    /// The number of modes of each switching element named in `elements`.
+    fn mode_counts(&self, elements: &[String]) -> Vec<usize> {
+        elements
+            .iter()
+            .filter_map(|name| self.model.element_named(name))
+            .map(|id| self.model.element(id).kind.modes().len())
+            .filter(|&n| n > 0)
+            .collect()
     }
 
     /// Whether no guard of `mode` is entered at this instant, counting a dead-band guard
@@ -766,6 +839,11 @@ pub struct Stepper<'s, 'm> {
     recorder: Recorder,
     stats: Stats,
     energy: Option<EnergyBalance>,
+    /// The element and reason of the last crossing found, and whether its switch was
+    /// declined, for a stalled run's message.
+    last_crossing: Option<(String, String, bool)>,
+    /// Steps taken: integration steps and event-location samples.
+    steps: u64,
 }
 
 impl<'s, 'm> Stepper<'s, 'm> {
@@ -837,6 +915,8 @@ impl<'s, 'm> Stepper<'s, 'm> {
             recorder,
             stats: Stats::default(),
             energy: None,
+            last_crossing: None,
+            steps: 0,
         })
     }
 
@@ -931,7 +1011,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
     /// # Errors
     /// As [`Simulator::run`].
     pub fn advance(&mut self, until: f64) -> Result<bool, SimError> {
-        let mut stalls = 0;
+        let mut progress = stall::Progress::default();
         while self.t < until {
             let before = self.t;
             let end = self
@@ -940,19 +1020,22 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 .copied()
                 .find(|&b| b > self.t)
                 .map_or(until, |b| b.min(until));
+            self.last_crossing = None;
             let switched = self.segment(end)?;
             self.check_outputs()?;
             if switched {
                 return Ok(true);
             }
-            if self.t <= before {
-                stalls += 1;
-                if stalls > 1000 {
-                    return Err(SimError::Stalled {
-                        t: self.t,
-                        mode: self.mode.spec.clone(),
-                    });
-                }
+            let (crossing, declined) = match self.last_crossing.take() {
+                Some((element, reason, declined)) => (Some((element, reason)), declined),
+                None => (None, false),
+            };
+            if let Some(cause) = progress.after_segment(before, self.t, crossing, declined) {
+                return Err(SimError::Stalled {
+                    t: self.t,
+                    mode: self.mode.spec.clone(),
+                    cause,
+                });
             }
         }
         Ok(false)
@@ -993,16 +1076,54 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let current = self.mode.clone();
         let mut segment = current.propagator.start(&self.x, &u0, &u1);
         self.stats.segments += 1;
-        let crossing = events::first_crossing(
+        // Guards are located only as far as their samples follow the mode's oscillations:
+        // the segment ends there, and the next one samples on from its end. (An oscillation
+        // whose 625 periods are shorter than the spacing of doubles at `t` cannot be
+        // followed at all: its segment is not cut, or time would stop.)
+        let window = if current.guards.is_empty() {
+            length
+        } else {
+            events::sampled_horizon(current.propagator.eigenvalues(), length)
+        };
+        let window = if self.t + window > self.t {
+            window
+        } else {
+            length
+        };
+        let mut samples = 0;
+        let located = events::first_crossing(
             &current,
             &mut segment,
             &u0,
             &u1,
             length,
+            window,
             &mut self.armed,
             &self.arm_below,
+            &mut samples,
         );
-        let stop = crossing.map_or(length, |c| c.tau);
+        self.take_steps(samples, self.t)?;
+        // An event's time is a double: the first one at or after the root, with the state
+        // taken there too, so that state and inputs agree at the event. (The root itself
+        // may be closer to the segment's start than the spacing of doubles there: a belt's
+        // speed rising at 1e9 m/s² gains 8e-14 m/s in the 8e-23 s from 1 µs to a root that
+        // rounds back to 1 µs; the state moved on and the input did not, the contact's
+        // velocity read -8e-14 m/s, and each segment found the root again.)
+        let (crossing, stop, stop_time) = match located {
+            events::Located::Crossing(c) => {
+                let mut time = self.t + c.tau;
+                if time - self.t < c.tau {
+                    time = time.next_up();
+                }
+                let time = time.min(end);
+                let stop = (time - self.t).max(0.0);
+                (Some(events::Crossing { tau: stop, ..c }), stop, time)
+            }
+            events::Located::Clear(reached) if reached < length => {
+                (None, reached, self.t + reached)
+            }
+            events::Located::Clear(_) => (None, length, end),
+        };
 
         let n = self.x.len();
         let mut state = vec![0.0; n];
@@ -1119,12 +1240,9 @@ impl<'s, 'm> Stepper<'s, 'm> {
                     integrated(&current.outputs[k], &integral_state, &u0, &u1, stop);
             }
         }
-        // Land exactly on the end of the segment, not a rounding error short of it.
-        self.t = if crossing.is_some() {
-            self.t + stop
-        } else {
-            end
-        };
+        // At the event's double, or exactly on the end of the segment (not a rounding
+        // error short of it).
+        self.t = stop_time;
         self.x = state;
         if self.x.iter().any(|v| !v.is_finite()) {
             return Err(self.simulator.non_finite(self.t, &current, &self.x));
@@ -1141,7 +1259,9 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let (u, rate) = self.inputs_at(t);
         let full = current.reconstruct(&self.x, &u);
         let guard = &current.guards[crossing.guard];
+        let element = self.simulator.model.element(guard.element).name.clone();
         if guard.requires_hold && !self.simulator.can_hold(&current, guard, &full, &u, &rate)? {
+            self.last_crossing = Some((element, reason(guard, true), true));
             // Static friction cannot hold (or a flow limit would hold back nothing): no
             // switch. The guard rests until it has been left again by more than rounding,
             // and the contact slips on to its next guard (through zero velocity).
@@ -1150,7 +1270,6 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 -(1e-9 * guard.row.magnitude(&self.x, &u, &rate) + f64::MIN_POSITIVE);
             return Ok(false);
         }
-        let element = self.simulator.model.element(guard.element).name.clone();
         if self.sample.is_some() {
             let values = self.outputs();
             self.recorder.sample(t, &current.spec, values);
@@ -1196,6 +1315,16 @@ impl<'s, 'm> Stepper<'s, 'm> {
             self.recorder.sample(t, &self.mode.spec, values);
         }
         Ok(true)
+    }
+
+    /// Counts `count` more steps, taken by time `t`; an error past the run's limit.
+    fn take_steps(&mut self, count: u64, t: f64) -> Result<(), SimError> {
+        self.steps += count;
+        let limit = self.simulator.settings.max_steps;
+        if self.steps > limit {
+            return Err(SimError::TooManySteps { t, limit });
+        }
+        Ok(())
     }
 
     fn check_chattering(&mut self, t: f64) -> Result<(), SimError> {

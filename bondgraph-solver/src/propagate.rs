@@ -306,6 +306,19 @@ impl Segment<'_> {
         }
     }
 
+    /// Each eigen-coordinate's eigenvalue and terms `[λ, z₀, w₀, w₁]` of a modal segment
+    /// (`None` otherwise), for bounds on a guard over a stretch of the segment.
+    pub fn modal_terms(&self) -> Option<Vec<[Complex64; 4]>> {
+        match self {
+            Segment::Modal(s) => Some(
+                (0..s.z0.len())
+                    .map(|j| [s.modal.eigen.values[j], s.z0[j], s.w0[j], s.w1[j]])
+                    .collect(),
+            ),
+            Segment::Exponential(_) => None,
+        }
+    }
+
     /// The eigenvector matrix `V` of a modal segment.
     pub fn vectors(&self) -> Option<&DMatrix<Complex64>> {
         match self {

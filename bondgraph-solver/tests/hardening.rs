@@ -3,6 +3,7 @@
 use bondgraph_core::equations::OutputSpec;
 use bondgraph_core::model::{self, Model};
 use bondgraph_core::modes::Mode;
+use bondgraph_core::source::SourceFile;
 use bondgraph_solver::{Output, Run, Signal, Simulator, Trajectory};
 
 use crate::support::Constant;
@@ -562,4 +563,193 @@ fn a_contact_reversing_through_zero_velocity_keeps_the_new_direction() {
         energy.residual().abs() <= 1e-9 * energy.scale(),
         "{energy:?}"
     );
+}
+
+/// Item 7, the issue's case: the belt example driven by a fast table, in a scenario file.
+/// The belt runs at V = 1e5 m/s, stops at t_r = 2⁻¹¹ s (0.000488 s), is back at V at 2 t_r
+/// and slows to w = 0.3 m/s at 3 t_r. From rest (m = 1 kg, k = 100 N/m, F_C = 6 N,
+/// ω = 10 rad/s) the block slips forwards at once, `x = 0.06 (1 - cos ωt)`; the belt, slowing
+/// at 2e8 m/s², passes back through the block's speed just before t_r (too fast for static
+/// friction to hold: it slips backwards, `x = -0.06 + ...`), and again just after t_r as it
+/// speeds up (forwards again, `x = 0.06 + ...`); each of those two instants is the root of
+/// a closed form, found here by bisection. Then the block catches up with the belt at
+/// w where `A sin θ + B cos θ = w` (θ = ω (t - t_b), A = -(x_b - 0.06) ω, B = v_b), holds
+/// (its spring's 0.8 N is under F_S), and rides with the belt until the spring holds
+/// F_S = 10 N: `t_s + (0.1 - x_s)/w`. Just after t_r the root was closer to the segment's
+/// start than the spacing of doubles there: time stayed at 0.0004882812643050566 s while the
+/// state moved on, the contact's velocity read -8e-14 m/s, and each segment found the same
+/// root again until `time stopped advancing at t = 0.0004882812643050566 s`.
+#[test]
+fn a_belt_driven_by_a_fast_table_sticks_where_the_closed_form_says() {
+    let (speed, dip, w, omega) = (1.0e5, 2f64.powi(-11), 0.3, 10.0);
+    let text = format!(
+        "Scenario(name: \"belt_dip\",
+    inputs: {{\"v_belt\": Table([(0.0, {speed:e}), ({dip:e}, 0.0), ({:e}, {speed:e}),
+        ({:e}, {w:e}), (1.0, {w:e})])}},
+    duration: 0.5)",
+        2.0 * dip,
+        3.0 * dip
+    );
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../models/examples/belt_friction.ron"
+    );
+    let model = SourceFile::new(path, std::fs::read_to_string(path).unwrap());
+    let scenario = bondgraph_core::scenario::load(&SourceFile::new("dip.ron", text), &model)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let trajectory =
+        bondgraph_solver::scenario::run(&scenario, false).unwrap_or_else(|e| panic!("{e}"));
+
+    let belt = |t: f64| {
+        if t <= dip {
+            speed * (1.0 - t / dip)
+        } else if t <= 2.0 * dip {
+            speed * (t - dip) / dip
+        } else if t <= 3.0 * dip {
+            speed + (w - speed) * (t - 2.0 * dip) / dip
+        } else {
+            w
+        }
+    };
+    let bisect = |f: &dyn Fn(f64) -> f64, mut a: f64, mut b: f64| {
+        let positive = f(a) > 0.0;
+        for _ in 0..200 {
+            let m = 0.5 * (a + b);
+            if (f(m) > 0.0) == positive {
+                a = m
+            } else {
+                b = m
+            }
+        }
+        0.5 * (a + b)
+    };
+    // Slipping forwards from rest; backwards from (x_a, v_a) at t_a; forwards from t_b.
+    let t_a = bisect(&|t| belt(t) - 0.6 * (omega * t).sin(), 0.0, dip);
+    let (x_a, v_a) = (
+        0.06 * (1.0 - (omega * t_a).cos()),
+        0.6 * (omega * t_a).sin(),
+    );
+    let backwards = |t: f64| {
+        let th = omega * (t - t_a);
+        (
+            -0.06 + (x_a + 0.06) * th.cos() + v_a / omega * th.sin(),
+            -(x_a + 0.06) * omega * th.sin() + v_a * th.cos(),
+        )
+    };
+    let t_b = bisect(&|t| belt(t) - backwards(t).1, dip, 2.0 * dip);
+    let (x_b, v_b) = backwards(t_b);
+    let (a, b) = (-(x_b - 0.06) * omega, v_b);
+    let theta = (w / a.hypot(b)).asin() - b.atan2(a);
+    let t_s = t_b + theta / omega;
+    let x_s = 0.06 + (x_b - 0.06) * theta.cos() + v_b / omega * theta.sin();
+    let expected = [
+        (t_a, "friction=slip-"),
+        (t_b, "friction=slip+"),
+        (t_s, "friction=stuck"),
+        (t_s + (0.1 - x_s) / w, "friction=slip+"),
+    ];
+    // The first two events settle the start (stuck, but the belt outruns the block).
+    let events = &trajectory.events;
+    assert!(events.len() >= 6, "{events:#?}");
+    assert_eq!(
+        (events[1].t, events[1].to.as_str()),
+        (0.0, "friction=slip+")
+    );
+    for (event, (t, to)) in events[2..].iter().zip(expected) {
+        assert_eq!(event.to, to, "{events:#?}");
+        assert!(
+            (event.t - t).abs() <= 1e-9 * t,
+            "{to} at {} s, not {t} s",
+            event.t
+        );
+    }
+}
+
+/// Item 7: time that stops advancing says what was seen. A mass whose momentum feeds
+/// itself through a negative quadratic damper (`R(effort: "-flow^2")`, so `dp/dt = p²`
+/// with m = 1 kg) blows up at t = 1/p₀ = 1 s: `p = 1/(1 - t)`. The integrator's steps
+/// shrink with `1 - t` until they are under the resolution of time near 1 s (4 × 2.2e-16 s),
+/// with no guard to meet; that is what the message says, with the step and the resolution.
+#[test]
+fn time_stopping_at_a_blow_up_says_the_steps_fell_under_its_resolution() {
+    use bondgraph_solver::{SimError, Stall};
+    let text = r#"Model(name: "runaway", parameters: {"m": (value: 1.0)},
+    elements: {"v": One, "mass": I(inertance: "m"), "push": R(effort: "-flow^2")},
+    bonds: [("v", "mass"), ("v", "push")])"#;
+    let model = model::load_str("runaway.ron", text).unwrap_or_else(|e| panic!("{e}"));
+    let mut simulator = Simulator::new(&model, Vec::new());
+    let error = simulator
+        .run(&Run {
+            inputs: &[],
+            initial_mode: Mode::initial(&model),
+            initial_state: vec![1.0],
+            duration: 2.0,
+            sample: None,
+            audit_energy: false,
+        })
+        .unwrap_err();
+    let message = error.to_string();
+    match error {
+        SimError::Stalled {
+            t,
+            cause: Stall::Steps { step, resolution },
+            ..
+        } => {
+            assert!((t - 1.0).abs() < 1e-9, "{message}");
+            assert!(step <= resolution && resolution < 1e-15, "{message}");
+        }
+        _ => panic!("{message}"),
+    }
+    assert!(
+        message.starts_with("time stopped advancing at t = 1.0000")
+            && message.contains(": the integrator's steps fell to"),
+        "{message}"
+    );
+}
+
+/// Item 18: a run's steps are bounded. The pendulum (`models/examples/nonlinear/pendulum.ron`)
+/// released at 2 rad for 1e12 s integrated for ever (killed after 30 s, no output); past
+/// `max_steps` integration steps it stops, saying how far it got. (With the default of
+/// `MAX_STEPS` = 10 000 000 it stops at t = 605 878 s, after 5.4 s.) Steps of linear modes
+/// are the event locator's samples: the belt's stick-slip takes about seven an event.
+#[test]
+fn the_steps_of_a_run_are_bounded() {
+    use bondgraph_solver::{Settings, SimError};
+    assert_eq!(
+        Settings::default().max_steps,
+        bondgraph_core::limits::MAX_STEPS
+    );
+    let settings = Settings {
+        max_steps: 100_000,
+        ..Settings::default()
+    };
+    let pendulum = crate::support::load("models/examples/nonlinear/pendulum.ron");
+    let belt = crate::support::load("models/examples/belt_friction.ron");
+    let speed = Constant(0.1);
+    let belt_inputs: [&dyn Signal; 1] = [&speed];
+    for (model, inputs, state) in [
+        (&pendulum, &[][..], vec![0.0, 2.0]),
+        (&belt, &belt_inputs[..], vec![0.0, 0.0]),
+    ] {
+        let mut simulator = Simulator::new(model, Vec::new()).with_settings(settings);
+        let error = simulator
+            .run(&Run {
+                inputs,
+                initial_mode: Mode::initial(model),
+                initial_state: state,
+                duration: 1e12,
+                sample: None,
+                audit_energy: false,
+            })
+            .unwrap_err();
+        let message = error.to_string();
+        match error {
+            SimError::TooManySteps { t, limit } => {
+                assert_eq!(limit, 100_000);
+                assert!(t > 0.0 && t < 1e12, "{message}");
+            }
+            _ => panic!("{}: {message}", model.name),
+        }
+        assert!(message.starts_with("more than 100000 steps"), "{message}");
+    }
 }

@@ -194,6 +194,7 @@ fn chattering_and_too_many_events_on_the_nonlinear_path_are_errors_at_the_third_
             max_events: 1000,
             chatter_events: 3,
             chatter_window: 10.0,
+            ..Settings::default()
         },
         Settings {
             max_events: 2,

@@ -10,6 +10,7 @@ mod hardening;
 mod input_rates;
 mod nonlinear;
 mod nonlinear_events;
+mod oscillating_guards;
 mod properties;
 mod stick_slip;
 mod stribeck;

@@ -34,6 +34,7 @@ fn chattering_is_detected_and_names_the_element() {
         max_events: 1000,
         chatter_events: 3,
         chatter_window: 10.0,
+        ..Settings::default()
     });
     let belt = Constant(0.1);
     let inputs: [&dyn Signal; 1] = [&belt];

@@ -1,4 +1,5 @@
-//! Extension text merged into a fixed base model (the flagship robot), then checked:
+//! Extension text merged into a fixed base model (the flagship robot), then checked as
+//! `bondgraph extend` checks it (the merged model loaded and every reachable mode derived):
 //! diagnostics pointing into the extension, or a model, never a panic.
 #![no_main]
 
@@ -27,6 +28,6 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     if let Ok(extended) = merge(base(), &[extension]) {
-        let _ = extended.load();
+        let _ = extended.check();
     }
 });

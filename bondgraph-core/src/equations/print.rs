@@ -429,7 +429,7 @@ pub(crate) fn state_latex(state: &crate::equations::StateVariable) -> String {
 }
 
 /// An output's name in LaTeX: `flow:mass` as `\mathrm{flow}(\mathrm{mass})`.
-fn latex_output_name(name: &str) -> String {
+pub(crate) fn latex_output_name(name: &str) -> String {
     let escape = |t: &str| t.trim().replace('_', "\\_").replace("->", "\\to ");
     match name.split_once(':') {
         Some((quantity, target)) => format!(

@@ -38,9 +38,16 @@ impl Crossed {
     /// judged, watches the crossed quantity at the crossed threshold: same element, same
     /// quantity, and a value no larger than the crossing's residue (a guard on another
     /// threshold, such as a dead band, is further away than that).
+    ///
+    /// A tension-only element's two guards watch one threshold in two units: taut, its
+    /// tension falls to zero; slack, its extension rises to zero. Either crossing leaves the
+    /// other at its threshold by construction, whatever its residue (a string going slack at
+    /// an extension of +2e-19 m, its tension's root found at -2e-16 N by the guard's own
+    /// evaluation, was once taut again at once, and slack, and taut: `no mode is consistent`).
     pub fn watches_as(&self, guard: &NumericGuard, value: f64, tolerance: f64) -> bool {
+        let string = |w: Watched| matches!(w, Watched::Tension | Watched::SlackLength);
         guard.element == self.element
-            && guard.watched == self.watched
-            && value.abs() <= 2.0 * self.residue + tolerance
+            && ((guard.watched == self.watched && value.abs() <= 2.0 * self.residue + tolerance)
+                || (guard.watched != self.watched && string(guard.watched) && string(self.watched)))
     }
 }

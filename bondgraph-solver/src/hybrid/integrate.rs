@@ -418,9 +418,14 @@ impl Stepper<'_, '_> {
                 return Err(SimError::Stalled {
                     t: start + tau,
                     mode: current.spec.clone(),
+                    cause: super::Stall::Steps {
+                        step,
+                        resolution: f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0,
+                    },
                 });
             }
             before.copy_from_slice(&z);
+            self.take_steps(1, start + tau)?;
             match integrator.step(&mut system, tau, &mut z, step) {
                 StepOutcome::Rejected { h_next } => {
                     h = h_next;

@@ -79,13 +79,20 @@ pub struct NonlinearOutputJson {
     /// With an operating point: `∂h/∂u` there.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub D: Option<Vec<String>>,
+    /// With an operating point, where `h` has terms in the inputs' rates (storage driven
+    /// directly by an input): `∂h/∂(du/dt)` there.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub F: Option<Vec<String>>,
     /// `C` with the parameter values.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub C_value: Option<Vec<f64>>,
     /// `D` with the parameter values.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub D_value: Option<Vec<f64>>,
-    /// `h` at the point.
+    /// `F` with the parameter values.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub F_value: Option<Vec<f64>>,
+    /// `h` at the point (the inputs' rates at zero).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub h_value: Option<f64>,
 }
@@ -225,6 +232,26 @@ impl NonlinearEquations {
         out
     }
 
+    /// `f` per state and then the output equations `y = h(x, u)`, one LaTeX equation each
+    /// (an integral output as `\int_0^t h \, dt`).
+    pub fn to_latex_with_outputs(&self, outputs: &[NonlinearOutput]) -> String {
+        let mut out = self.to_latex();
+        let names = |a: Atom| self.latex_atom(a);
+        for output in outputs {
+            let h = output.value.latex(&self.symbols, &names);
+            let rhs = if output.integral {
+                format!("\\int_0^t \\left({h}\\right) dt")
+            } else {
+                h
+            };
+            out.push_str(&format!(
+                "\\begin{{equation}}\n{} = {rhs}\n\\end{{equation}}\n",
+                crate::equations::print::latex_output_name(&output.name)
+            ));
+        }
+        out
+    }
+
     /// An output equation as text: `effort:spring = k*q_spring^3`.
     pub fn output_text(&self, output: &NonlinearOutput) -> String {
         let h = self.sym_text(&output.value);
@@ -299,6 +326,13 @@ impl NonlinearEquations {
             };
         let c = point.map(|p| gradient(&|j| Atom::State(j as u32), self.states.len(), p));
         let d = point.map(|p| gradient(&|j| Atom::Input(j as u32), self.inputs.len(), p));
+        let f = point
+            .filter(|_| {
+                output
+                    .value
+                    .mentions_any(&|a| matches!(a, Atom::InputRate(_)))
+            })
+            .map(|p| gradient(&|j| Atom::InputRate(j as u32), self.inputs.len(), p));
         let values = |row: &Option<Vec<Sym>>| {
             row.as_ref()
                 .zip(point)
@@ -310,8 +344,10 @@ impl NonlinearEquations {
             integral: output.integral,
             C_value: values(&c),
             D_value: values(&d),
+            F_value: values(&f),
             C: c.map(|r| r.iter().map(|e| self.sym_text(e)).collect()),
             D: d.map(|r| r.iter().map(|e| self.sym_text(e)).collect()),
+            F: f.map(|r| r.iter().map(|e| self.sym_text(e)).collect()),
             h_value: point.map(|p| self.evaluate(&output.value, p)),
         }
     }

@@ -1,0 +1,172 @@
+//! An upper bound of a guard over a stretch of a modal segment, to pass over stretches where
+//! no guard can reach zero without sampling them.
+//!
+//! In eigen-coordinates a guard is `g(τ) = a + b τ + Re Σ_j c_j z_j(τ)` (see
+//! [`super::first_crossing`]), and each coordinate is known in closed form,
+//! `z(τ) = e^{λτ} z₀ + τ φ₁(λτ) w₀ + τ² φ₂(λτ) w₁`. For `λ ≠ 0` that is a wave on a
+//! straight line, `e^{λτ} K + L + M τ` with `M = -w₁/λ`, `L = -(w₀ + w₁/λ)/λ` and
+//! `K = z₀ - L`; for `λ = 0` (a free integrator) it is the parabola
+//! `z₀ + w₀ τ + w₁ τ²/2`. So `g` is a parabola plus waves of amplitude `|c_j K_j| e^{Re λ τ}`,
+//! and over `[t₀, t₁]` it is at most the parabola's maximum plus every amplitude at its
+//! largest. For a single swing on a trend (a slack string's extension while its cart swings
+//! on a spring) the bound is exact.
+//!
+//! A coordinate whose `|λ| t₁` is small is taken as its parabola with the remainder bounded
+//! (`|eˣ - 1| ≤ |x| e^{|x|}`, `|φ₁(x) - 1| ≤ |x| e^{|x|}/2`, `|φ₂(x) - 1/2| ≤ |x| e^{|x|}/6`),
+//! because `K` and `L` would then be large and cancel. A margin of `1e-12` of the size of
+//! the terms covers the rounding of the bound itself.
+
+use num_complex::Complex64;
+
+/// Below this `|λ| t₁` a coordinate is bounded by its parabola and a remainder.
+const SMALL: f64 = 1e-6;
+
+/// A guard's terms in one modal segment, to bound it over stretches of the segment.
+pub(super) struct Envelope {
+    /// `(c_j, [λ_j, z₀, w₀, w₁])` for the coordinates the guard depends on.
+    terms: Vec<(Complex64, [Complex64; 4])>,
+    /// The guard's terms in the inputs: `a + b τ`.
+    a: f64,
+    b: f64,
+}
+
+impl Envelope {
+    /// The guard `a + b τ + Re Σ c_j z_j(τ)` of a segment with coordinate terms `terms`
+    /// (from [`crate::propagate::Segment::modal_terms`]).
+    pub fn new(c: &[Complex64], a: f64, b: f64, terms: &[[Complex64; 4]]) -> Self {
+        Envelope {
+            terms: c
+                .iter()
+                .zip(terms)
+                .filter(|(cj, _)| cj.norm() != 0.0)
+                .map(|(cj, t)| (*cj, *t))
+                .collect(),
+            a,
+            b,
+        }
+    }
+
+    /// An upper bound of the guard over `[t0, t1]` (`0 <= t0 < t1`); not finite when
+    /// nothing can be said.
+    pub fn upper_bound(&self, t0: f64, t1: f64) -> f64 {
+        // The parabola p₀ + p₁ τ + p₂ τ², the sizes of its terms (for the rounding margin),
+        // and the waves' amplitudes with the small coordinates' remainders.
+        let mut p = [self.a, self.b, 0.0];
+        let mut size = [self.a.abs(), self.b.abs(), 0.0];
+        let mut waves = 0.0;
+        for (c, [lambda, z0, w0, w1]) in &self.terms {
+            let r = lambda.norm();
+            let cn = c.norm();
+            if r * t1 <= SMALL {
+                p[0] += (c * z0).re;
+                p[1] += (c * w0).re;
+                p[2] += 0.5 * (c * w1).re;
+                size[0] += cn * z0.norm();
+                size[1] += cn * w0.norm();
+                size[2] += cn * w1.norm();
+                waves += 2.0
+                    * cn
+                    * r
+                    * t1
+                    * (z0.norm() + t1 * w0.norm() / 2.0 + t1 * t1 * w1.norm() / 6.0);
+            } else {
+                let inverse = 1.0 / lambda;
+                let m = -(w1 * inverse);
+                let l = -((w0 + w1 * inverse) * inverse);
+                let k = z0 - l;
+                p[0] += (c * l).re;
+                p[1] += (c * m).re;
+                let amplitude = (c * k).norm();
+                size[0] += cn * (l.norm() + z0.norm()) + amplitude;
+                size[1] += cn * m.norm();
+                waves += amplitude * (lambda.re * t0).exp().max((lambda.re * t1).exp());
+            }
+        }
+        let q = |t: f64| p[0] + p[1] * t + p[2] * t * t;
+        let mut top = q(t0).max(q(t1));
+        if p[2] < 0.0 {
+            let vertex = -p[1] / (2.0 * p[2]);
+            if vertex > t0 && vertex < t1 {
+                top = top.max(q(vertex));
+            }
+        }
+        let margin = 1e-12 * (size[0] + size[1] * t1 + size[2] * t1 * t1);
+        top + waves + margin
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn c(re: f64, im: f64) -> Complex64 {
+        Complex64::new(re, im)
+    }
+
+    /// `g = -0.941 + 0.001 τ - 0.01 cos 9.7τ` as an integrator and a conjugate pair:
+    /// `z₁ = -0.941 + 0.001 τ`, `z₂,₃ = -0.005 e^{±9.7iτ}`.
+    fn creeping() -> Envelope {
+        let w = 9.7;
+        let terms = [
+            [c(0.0, 0.0), c(-0.941, 0.0), c(0.001, 0.0), c(0.0, 0.0)],
+            [c(0.0, w), c(-0.005, 0.0), c(0.0, 0.0), c(0.0, 0.0)],
+            [c(0.0, -w), c(-0.005, 0.0), c(0.0, 0.0), c(0.0, 0.0)],
+        ];
+        Envelope::new(&[c(1.0, 0.0); 3], 0.0, 0.0, &terms)
+    }
+
+    #[test]
+    fn a_swing_on_a_trend_is_bounded_by_its_trend_plus_its_amplitude() {
+        let envelope = creeping();
+        // Over [0, 900]: at most -0.941 + 0.9 + 0.01 = -0.031.
+        let bound = envelope.upper_bound(0.0, 900.0);
+        assert!((bound + 0.031).abs() < 1e-9, "{bound}");
+        // Over [900, 940] it may reach zero (it does, at 931.13 s).
+        assert!(envelope.upper_bound(900.0, 940.0) > 0.0);
+    }
+
+    #[test]
+    fn a_decaying_wave_is_bounded_by_its_amplitude_at_the_start() {
+        // g = -0.5 - 2 e^{-τ} cos 3τ: z = -e^{(-1±3i)τ}, the constant in a.
+        let terms = [
+            [c(-1.0, 3.0), c(-1.0, 0.0), c(0.0, 0.0), c(0.0, 0.0)],
+            [c(-1.0, -3.0), c(-1.0, 0.0), c(0.0, 0.0), c(0.0, 0.0)],
+        ];
+        let envelope = Envelope::new(&[c(1.0, 0.0); 2], -0.5, 0.0, &terms);
+        let bound = envelope.upper_bound(2.0, 5.0);
+        let expected = -0.5 + 2.0 * (-2.0f64).exp();
+        assert!(
+            (bound - expected).abs() < 1e-9,
+            "{bound} against {expected}"
+        );
+    }
+
+    #[test]
+    fn a_forced_coordinate_is_bounded_above_its_values() {
+        // z' = λ z + w₀ + w₁ τ with λ = -0.3 + 2i: sample the exact solution densely and
+        // check the bound is above every sample, for small and large windows.
+        let lambda = c(-0.3, 2.0);
+        let (z0, w0, w1) = (c(0.2, -0.1), c(0.5, 0.3), c(-0.05, 0.02));
+        let terms = [
+            [lambda, z0, w0, w1],
+            [lambda.conj(), z0.conj(), w0.conj(), w1.conj()],
+        ];
+        let envelope = Envelope::new(&[c(0.5, 0.0); 2], 0.1, -0.01, &terms);
+        let exact = |t: f64| {
+            let l = -(w0 + w1 / lambda) / lambda;
+            let z = (lambda * t).exp() * (z0 - l) + l - w1 / lambda * t;
+            0.1 - 0.01 * t + z.re
+        };
+        for (t0, t1) in [(0.0, 1e-9), (0.0, 0.5), (1.0, 4.0), (3.0, 30.0)] {
+            let bound = envelope.upper_bound(t0, t1);
+            for k in 0..=1000 {
+                let t = t0 + (t1 - t0) * k as f64 / 1000.0;
+                assert!(
+                    exact(t) <= bound,
+                    "[{t0}, {t1}] at {t}: {} > {bound}",
+                    exact(t)
+                );
+            }
+        }
+    }
+}
