@@ -212,6 +212,19 @@ pub fn first_crossing(
     let mut u_rate = vec![0.0; u0.len()];
     let mut slopes = |segment: &mut Segment<'_>, tau: f64, out: &mut Vec<f64>| {
         out.clear();
+        // In eigen-coordinates a guard's rate is Re(Σ_j c_j ż_j(τ)) + b.
+        if let Some(guards) = &modal
+            && let Some(rates) = segment.modal_rate(tau)
+        {
+            out.extend(guards.iter().map(|(c, _, b)| {
+                let mut sum = *b;
+                for (cj, rj) in c.iter().zip(rates) {
+                    sum += cj.re * rj.re - cj.im * rj.im;
+                }
+                sum
+            }));
+            return;
+        }
         segment.state_into(tau, &mut x_rate);
         for (k, slot) in u_rate.iter_mut().enumerate() {
             *slot = u0[k] + u1[k] * tau;

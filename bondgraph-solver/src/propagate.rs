@@ -279,6 +279,30 @@ impl Segment<'_> {
         }
     }
 
+    /// The rates of change of the eigen-coordinates at `τ`, for a modal segment (`None`
+    /// otherwise): `ż = λ z + w₀ + w₁ τ`, written as `λ e^{λτ} z₀ + e^{λτ} w₀ + τ φ₁(λτ) w₁`
+    /// so that a decayed stiff component, whose `λ z` all but cancels `w₀ + w₁ τ`, gives its
+    /// true rate `-w₁/λ` instead of that cancellation's rounding.
+    pub fn modal_rate(&mut self, tau: f64) -> Option<&[Complex64]> {
+        match self {
+            Segment::Modal(s) => {
+                let m = s.modal;
+                for j in 0..s.z0.len() {
+                    s.scratch[j] = coordinate_rate(
+                        m.eigen.values[j],
+                        m.inverse_values[j],
+                        tau,
+                        s.z0[j],
+                        s.w0[j],
+                        s.w1[j],
+                    );
+                }
+                Some(&s.scratch[..s.z0.len()])
+            }
+            Segment::Exponential(_) => None,
+        }
+    }
+
     /// The eigen-coordinates of the state and of its integral at `τ`, `(z(τ), ∫₀^τ z)`, for a
     /// modal segment (`None` otherwise).
     pub fn modal_state_and_integral(&mut self, tau: f64) -> Option<(&[Complex64], &[Complex64])> {
@@ -410,6 +434,25 @@ fn coordinate(
     e * z0 + w0 * phi1 * tau + w1 * phi2 * (tau * tau)
 }
 
+/// The rate of one eigen-coordinate at `τ`: `λ e^{λτ} z₀ + e^{λτ} w₀ + τ φ₁(λτ) w₁`, which
+/// is `-w₁/λ` once a real eigenvalue's component has decayed (the derivative of
+/// [`coordinate`]'s shortcut).
+#[inline]
+fn coordinate_rate(
+    lambda: Complex64,
+    inverse: Complex64,
+    tau: f64,
+    z0: Complex64,
+    w0: Complex64,
+    w1: Complex64,
+) -> Complex64 {
+    if lambda.im == 0.0 && lambda.re * tau < -745.0 {
+        return -(w1 * inverse);
+    }
+    let [e, phi1, _, _] = phis(lambda * tau);
+    lambda * e * z0 + e * w0 + w1 * phi1 * tau
+}
+
 /// `(coordinate, ∫₀^τ coordinate)`, with the same shortcut for decayed components:
 /// `∫ = -z₀/λ - w₀ (1/λ + τ)/λ - w₁ ((1/λ + τ)/λ + τ²/2)/λ`.
 #[inline]
@@ -521,6 +564,30 @@ mod tests {
 
     fn close(a: f64, b: f64, tolerance: f64) -> bool {
         (a - b).abs() <= tolerance * b.abs().max(1.0)
+    }
+
+    #[test]
+    fn a_coordinates_rate_obeys_its_equation() {
+        // z solves ż = λ z + w₀ + w₁ τ; its rate must be that, and once a real component has
+        // decayed (λτ < -745) exactly -w₁/λ, with no cancellation.
+        let c = Complex64::new;
+        let (z0, w0, w1) = (c(0.3, -1.2), c(2.0, 0.5), c(-0.7, 0.25));
+        for (lambda, tau) in [
+            (c(-2.0, 3.0), 0.37),
+            (c(-0.5, 0.0), 1.9),
+            (c(0.2, 0.0), 0.8),
+        ] {
+            let z = coordinate(lambda, 1.0 / lambda, tau, z0, w0, w1);
+            let rate = coordinate_rate(lambda, 1.0 / lambda, tau, z0, w0, w1);
+            let expected = lambda * z + w0 + w1 * tau;
+            assert!(
+                (rate - expected).norm() < 1e-12 * expected.norm().max(1.0),
+                "{rate} {expected}"
+            );
+        }
+        let (lambda, inverse) = (c(-2.5e17, 0.0), c(-4e-18, 0.0));
+        let rate = coordinate_rate(lambda, inverse, 1e-3, z0, w0, w1);
+        assert_eq!(rate, -(w1 * inverse));
     }
 
     #[test]
