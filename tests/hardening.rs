@@ -208,7 +208,7 @@ fn nonlinear_outputs_keep_their_terms_in_input_derivatives_in_json_and_latex() {
     assert!(integral.get("F").is_none(), "{integral}");
     let latex = run("latex");
     for line in [
-        r"\mathrm{effort}(\mathrm{drive}) = k q_{spring} + c v^{3} + m \dot{v}",
+        r"\mathrm{effort}(\mathrm{drive}) = k q_{\mathrm{spring}} + c v^{3} + m \dot{v}",
         r"\mathrm{integral}(\mathrm{flow:spring}) = \int_0^t \left(v\right) dt",
     ] {
         assert!(latex.lines().any(|l| l == line), "{line} not in:\n{latex}");
