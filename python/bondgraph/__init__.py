@@ -121,6 +121,9 @@ class Svg:
     def __str__(self) -> str:
         return self.text
 
+    def __repr__(self) -> str:
+        return f"<Svg: {len(self.text)} characters>"
+
 
 class Equations:
     """The state equations of one mode, ``bondgraph equations --format json``.
@@ -262,15 +265,18 @@ class Simulation:
 
 
 class Analysis:
-    """One linear mode analysed, ``bondgraph analyze --format json``.
+    """One linear mode (or a nonlinear mode's linearisation) analysed, ``bondgraph
+    analyze --format json``.
 
-    The document's fields read as attributes: ``eigenvalues`` (``[{re, im, time_constant,
-    natural_frequency, damping_ratio}]`` in ``eigen_scales``), ``characteristic_polynomial``, ``transfer_function``
-    (``{input, output, numerator, denominator}``, coefficients highest power of ``s``
-    first, denominator monic), ``poles``, ``zeros``, ``dc_gain`` (``None`` for an
-    integrator), ``step`` (rise and settling time, overshoot, final value, from the exact
-    modal solution) and ``notes``. ``poles_complex`` and friends give numpy arrays.
-    A notebook shows the step response; ``bode()`` and ``step()`` give the plots.
+    The document's fields read as attributes: ``eigenvalues`` (``[{re, im}]``, with
+    ``time_constant``, ``natural_frequency`` and ``damping_ratio`` in ``eigen_scales``),
+    ``characteristic_polynomial``, ``transfer_function`` (``{input, output, numerator,
+    denominator}``, coefficients highest power of ``s`` first, denominator monic),
+    ``poles``, ``zeros``, ``dc_gain`` (``None`` for an integrator), ``step`` (rise and
+    settling time, overshoot, final value, from the exact modal solution),
+    ``linearised_at`` and ``notes``. ``poles_complex`` and friends give numpy arrays.
+    A notebook shows the step response; :meth:`bode` and :meth:`step_response` give the
+    plots.
     """
 
     def __init__(self, native: Any) -> None:
@@ -308,9 +314,9 @@ class Analysis:
         svg = self._native.bode_svg
         return None if svg is None else Svg(svg)
 
-    def step(self) -> Optional[Svg]:
+    def step_response(self) -> Optional[Svg]:
         """The exact step response (``analyze --step``), or ``None`` without a transfer
-        function."""
+        function. (``step`` is the document's step metrics.)"""
         svg = self._native.step_svg
         return None if svg is None else Svg(svg)
 

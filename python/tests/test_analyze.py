@@ -41,8 +41,10 @@ def test_plots_are_the_command_lines(cli, tmp_path):
     bode, step = tmp_path / "bode.svg", tmp_path / "step.svg"
     cli.run("analyze", path, "--bode", str(bode), "--step", str(step))
     assert ours.bode().text == bode.read_text()
-    assert ours.step().text == step.read_text()
-    assert ours._repr_svg_() == ours.step().text
+    assert ours.step_response().text == step.read_text()
+    assert ours._repr_svg_() == ours.step_response().text
+    # `step` is the document's field, the metrics of the exact step response.
+    assert ours.step == cli.json("analyze", path)["step"]
     assert str(ours) == cli.run("analyze", path).stdout
 
 
