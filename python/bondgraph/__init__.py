@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Union
 
 import numpy as np
@@ -543,12 +544,11 @@ def _point(at: Optional[Union[str, Dict[str, float]]]) -> Optional[str]:
 
 
 def _looks_like_ron(text: str) -> bool:
-    """Whether ``text`` is RON rather than a file's path (paths hold no newline and do not
-    open with a RON value)."""
-    stripped = text.lstrip()
-    return "\n" in text or stripped.startswith(
-        ("Scenario", "Answer", "(", "//", "Model", "LinearGraph")
-    )
+    """Whether ``text`` is RON rather than a file's path: not an existing file, and either
+    several lines or a RON value's opening (``Scenario(``, ``Answer(``, ``(``, ``//``)."""
+    if os.path.exists(text):
+        return False
+    return "\n" in text or re.match(r"\s*(//|/\*|\(|[A-Za-z_]\w*\s*\()", text) is not None
 
 
 def load(path: PathLike) -> Model:

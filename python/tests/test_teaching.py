@@ -70,7 +70,19 @@ def test_a_sign_error_is_found_where_the_answer_says_plus_k():
         rel(TEACHING / "mass_spring_damper.ron"), rel(ANSWERS / "msd_sign_error.ron")
     )
     assert result.verdict == "different" and not result.agrees
-    assert result.first_difference is not None
+    # Row 2 (dv/dt) and column 1 (x) in the answer's states (x_spring, v_mass).
+    assert result.first_difference.startswith("A[2][1]")
+    assert "k/m in the answer, -k/m in the model" in result.first_difference
+
+
+def test_a_path_is_never_read_as_ron(tmp_path, monkeypatch):
+    # A relative path that opens like a RON value is still a path when the file exists.
+    monkeypatch.chdir(tmp_path)
+    folder = tmp_path / "Answer(1)"
+    folder.mkdir()
+    (folder / "a.ron").write_text((ANSWERS / "msd_correct.ron").read_text())
+    model = bondgraph.load(TEACHING / "mass_spring_damper.ron")
+    assert model.compare("Answer(1)/a.ron").verdict == "equal"
 
 
 def test_an_answer_as_text_is_compared_like_a_file(cli):
