@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use bondgraph_core::DiagnosticKind;
 use bondgraph_core::source::SourceFile;
-use bondgraph_fit::calibration;
+use bondgraph_fit::calibration::{self, Calibration};
 use bondgraph_fit::data;
 use bondgraph_fit::discover::Settings;
 use bondgraph_fit::experiment::Experiment;
@@ -25,7 +25,10 @@ pub struct Args {
 }
 
 /// Reads the model, its experiment (given, or `experiment.ron` beside the model) and the
-/// data files, read against the experiment and joined.
+/// data files (at least one), read against the experiment and joined.
+///
+/// # Errors
+/// A failure naming the file, line and column of what cannot be read.
 pub fn inputs(
     model: &Path,
     experiment: Option<&Path>,
@@ -39,6 +42,12 @@ pub fn inputs(
     ),
     Failure,
 > {
+    if data.is_empty() {
+        return Err(Failure::message(
+            DiagnosticKind::Io,
+            "no data file given: at least one is needed",
+        ));
+    }
     let base = read_source(model)?;
     let folder = model.parent().unwrap_or(Path::new("."));
     let experiment_path =
@@ -69,12 +78,25 @@ pub fn inputs(
     ))
 }
 
+/// Fits the experiment's parameters of `model` (its experiment given, or `experiment.ron`
+/// beside it) to the `data` files, joined.
+///
+/// # Errors
+/// A failure naming the file, line and column of what cannot be read, or why the fit
+/// cannot be made.
+pub fn calibrate(
+    model: &Path,
+    experiment: Option<&Path>,
+    data: &[PathBuf],
+) -> Result<Calibration, Failure> {
+    let (base, experiment_source, experiment, dataset) = inputs(model, experiment, data)?;
+    calibration::calibrate(&base, &experiment, &dataset, &Settings::default())
+        .map_err(|e| discover_failure(e, &[&experiment_source, &base]))
+}
+
 /// Runs `calibrate`.
 pub fn run(args: &Args) -> Result<(), Failure> {
-    let (base, experiment_source, experiment, dataset) =
-        inputs(&args.model, args.experiment.as_deref(), &args.data)?;
-    let result = calibration::calibrate(&base, &experiment, &dataset, &Settings::default())
-        .map_err(|e| discover_failure(e, &[&experiment_source, &base]))?;
+    let result = calibrate(&args.model, args.experiment.as_deref(), &args.data)?;
     if args.json {
         print(&json(&result)?);
     } else {

@@ -28,15 +28,21 @@ pub fn run(
 ) -> Result<bool, Failure> {
     let (model, source) = load(model_path)?;
     let answer = read_source(answer_path)?;
-    let compared = check(&model, &source, &answer, mode, as_json)?;
-    print(&compared.text);
+    let compared = check(&model, &source, &answer, mode)?;
+    print(if as_json {
+        &compared.json
+    } else {
+        &compared.text
+    });
     Ok(compared.agrees)
 }
 
 /// A verdict, as the command prints it.
 pub struct Compared {
-    /// The verdict and its notes, as text or JSON.
+    /// The verdict and its notes, as text.
     pub text: String,
+    /// The same, as the JSON document of `--format json`.
+    pub json: String,
     /// Whether the answer is equal or similar (the command's exit code 0).
     pub agrees: bool,
 }
@@ -51,7 +57,6 @@ pub fn check(
     source: &Arc<SourceFile>,
     answer: &Arc<SourceFile>,
     mode: Option<&str>,
-    as_json: bool,
 ) -> Result<Compared, Failure> {
     if model.is_nonlinear() {
         return Err(Failure::message(
@@ -76,12 +81,11 @@ pub fn check(
     })?;
     let comparison = compare(&energy, &coenergy, Variables::preferred(model), &parsed);
     let agrees = !matches!(comparison.verdict, Verdict::Different { .. });
-    let text = if as_json {
-        to_json(&to_value(&comparison, &mode.spec(model), &energy.symbols))?
-    } else {
-        to_text(&comparison, &energy.model, &mode.spec(model))
-    };
-    Ok(Compared { text, agrees })
+    Ok(Compared {
+        text: to_text(&comparison, &energy.model, &mode.spec(model)),
+        json: to_json(&to_value(&comparison, &mode.spec(model), &energy.symbols))?,
+        agrees,
+    })
 }
 
 fn to_text(comparison: &Comparison, model: &str, mode: &str) -> String {

@@ -5,7 +5,7 @@ use bondgraph_core::model::Model;
 
 /// The `conventions:` block after the state equations: what each source's direction and
 /// each transformer's ratio mean, in words (empty if the model has none).
-pub(crate) fn text(model: &Model) -> String {
+pub fn text(model: &Model) -> String {
     let lines = bondgraph_core::conventions::describe(model);
     if lines.is_empty() {
         return String::new();
@@ -18,7 +18,7 @@ pub(crate) fn text(model: &Model) -> String {
 }
 
 /// The comment opening `--format latex` output: the packages it needs.
-pub(crate) fn latex_preamble(model: &Model) -> String {
+pub fn latex_preamble(model: &Model) -> String {
     format!(
         "% State equations of '{}' (bondgraph). The matrices need \\usepackage{{amsmath}}:\n\
          % put this inside \\begin{{document}}...\\end{{document}} of a document whose preamble\n\

@@ -58,10 +58,7 @@ pub fn discover_failure(error: DiscoverError, sources: &[&Arc<SourceFile>]) -> F
 }
 
 /// Reads the library: every `*.ron` in `dir`, in name order.
-pub fn library(
-    base: &std::sync::Arc<bondgraph_core::source::SourceFile>,
-    dir: &Path,
-) -> Result<Vec<Candidate>, Failure> {
+pub fn library(base: &Arc<SourceFile>, dir: &Path) -> Result<Vec<Candidate>, Failure> {
     let entries = std::fs::read_dir(dir).map_err(|e| {
         fail(
             DiagnosticKind::Io,
@@ -95,27 +92,74 @@ pub fn library(
     Ok(candidates)
 }
 
+/// What `discover` works on: the base model, its experiment, the data joined and the
+/// library of candidate extensions, all read and checked.
+pub struct Inputs {
+    base: Arc<SourceFile>,
+    experiment_source: Arc<SourceFile>,
+    experiment: bondgraph_fit::experiment::Experiment,
+    dataset: bondgraph_fit::data::Dataset,
+    /// The candidate extensions, in file-name order.
+    pub candidates: Vec<Candidate>,
+}
+
+/// Reads `model`, its experiment (given, or `experiment.ron` beside it), the `data` files
+/// (at least one) and the extensions in `extensions` (or `extensions/` beside the model).
+///
+/// # Errors
+/// A failure naming the file, line and column of what cannot be read, or the extension
+/// that does not merge with the model.
+pub fn inputs(
+    model: &Path,
+    data: &[PathBuf],
+    experiment: Option<&Path>,
+    extensions: Option<&Path>,
+) -> Result<Inputs, Failure> {
+    let (base, experiment_source, experiment, dataset) =
+        crate::calibrate::inputs(model, experiment, data)?;
+    let folder = model.parent().unwrap_or(Path::new("."));
+    let extensions = extensions.map_or_else(|| folder.join("extensions"), Path::to_path_buf);
+    let candidates = library(&base, &extensions)?;
+    Ok(Inputs {
+        base,
+        experiment_source,
+        experiment,
+        dataset,
+        candidates,
+    })
+}
+
+impl Inputs {
+    /// Refits the base model and every candidate, cross-validates them and ranks them,
+    /// calling `done` after each model.
+    ///
+    /// # Errors
+    /// A failure located in the experiment or the model, or why the fits cannot be made.
+    pub fn discover(&self, done: &(dyn Fn() + Sync)) -> Result<Discovery, Failure> {
+        discover::discover_with_progress(
+            &self.base,
+            &self.experiment,
+            &self.dataset,
+            &self.candidates,
+            &Settings::default(),
+            done,
+        )
+        .map_err(|e| discover_failure(e, &[&self.experiment_source, &self.base]))
+    }
+}
+
 /// Runs `discover`.
 pub fn run(args: &Args) -> Result<(), Failure> {
-    let (base, experiment_source, experiment, dataset) =
-        crate::calibrate::inputs(&args.model, args.experiment.as_deref(), &args.data)?;
-    let folder = args.model.parent().unwrap_or(Path::new("."));
-    let extensions = args
-        .extensions
-        .clone()
-        .unwrap_or_else(|| folder.join("extensions"));
-    let candidates = library(&base, &extensions)?;
+    let inputs = inputs(
+        &args.model,
+        &args.data,
+        args.experiment.as_deref(),
+        args.extensions.as_deref(),
+    )?;
+    let candidates = inputs.candidates.len();
     let started = std::time::Instant::now();
-    let progress = progress_bar(candidates.len() as u64 + 1);
-    let discovery = discover::discover_with_progress(
-        &base,
-        &experiment,
-        &dataset,
-        &candidates,
-        &Settings::default(),
-        &|| progress.inc(1),
-    )
-    .map_err(|e| discover_failure(e, &[&experiment_source, &base]))?;
+    let progress = progress_bar(candidates as u64 + 1);
+    let discovery = inputs.discover(&|| progress.inc(1))?;
     progress.finish_and_clear();
     let elapsed = started.elapsed();
     let text = json(&discovery)?;
@@ -128,7 +172,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         print(&discovery.summary());
         print(&format!(
             "\n{} candidates fitted and cross-validated in {:.2} s\n",
-            candidates.len(),
+            candidates,
             elapsed.as_secs_f64()
         ));
         if let Some(out) = &args.out {

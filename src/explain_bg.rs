@@ -38,25 +38,39 @@ pub struct Explanation {
     pub underivable: Option<Failure>,
 }
 
-/// Prints the explanation of `model` in `mode` (a linear graph's by
-/// [`crate::explain_lg`]); the command's error, after it, if the mode's equations cannot
-/// be derived.
+/// Prints the explanation of `model` in `mode` ([`explain`]); the command's error, after
+/// it, if the mode's equations cannot be derived.
 pub fn run(
     model: &Model,
     mode: &Mode,
     source: &Arc<SourceFile>,
     format: ExplainFormat,
 ) -> Result<(), Failure> {
-    let explanation = if model.linear_graph.is_some() {
-        Explanation {
-            text: crate::explain_lg::document(model, mode, source, format)?,
-            underivable: None,
-        }
-    } else {
-        document(model, mode, source, format)?
-    };
+    let explanation = explain(model, mode, source, format)?;
     print(&explanation.text);
     explanation.underivable.map_or(Ok(()), Err)
+}
+
+/// The explanation of `model` in `mode`: a bond graph's by [`document`], a linear graph's
+/// by [`crate::explain_lg::document`].
+///
+/// # Errors
+/// A failure when the causality cannot be assigned, or (a linear graph) when the mode's
+/// equations cannot be derived.
+pub fn explain(
+    model: &Model,
+    mode: &Mode,
+    source: &Arc<SourceFile>,
+    format: ExplainFormat,
+) -> Result<Explanation, Failure> {
+    if model.linear_graph.is_some() {
+        Ok(Explanation {
+            text: crate::explain_lg::document(model, mode, source, format)?,
+            underivable: None,
+        })
+    } else {
+        document(model, mode, source, format)
+    }
 }
 
 /// The explanation of bond graph `model` in `mode`.

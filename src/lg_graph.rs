@@ -1,5 +1,6 @@
 //! `bondgraph graph` on a linear graph: its nodes, its branches and the normal tree of the
-//! mode, as text, Graphviz DOT or SVG ([`crate::lg_svg`]).
+//! mode, as text, Graphviz DOT or SVG ([`crate::lg_svg`]). A bond graph is drawn by
+//! [`crate::graph`].
 
 use std::sync::Arc;
 
@@ -10,19 +11,21 @@ use bondgraph_core::modes::Mode;
 use bondgraph_core::normal_tree::{self, NormalTree};
 use bondgraph_core::source::SourceFile;
 
-use crate::{Failure, GraphFormat, print};
+use crate::Failure;
+use crate::graph::GraphFormat;
 
-/// Prints the linear graph of `model` in `mode`.
-pub(crate) fn run(
+/// The linear graph of `model` in `mode`, in `format`.
+///
+/// # Errors
+/// A failure when the mode is one the model cannot be in (its causality conflicts), in the
+/// graph's words.
+pub fn render(
     model: &Model,
+    graph: &LinearGraph,
     mode: &Mode,
     format: GraphFormat,
     source: &Arc<SourceFile>,
-) -> Result<(), Failure> {
-    let graph = model
-        .linear_graph
-        .as_ref()
-        .expect("called for linear graphs");
+) -> Result<String, Failure> {
     let laws = laws::for_mode(model, mode);
     // The mode must be one the model can be in: causality says so, in the graph's words.
     bondgraph_core::causality::assign(model, &laws).map_err(|d| {
@@ -31,24 +34,22 @@ pub(crate) fn run(
             source,
         )
     })?;
-    let tree = normal_tree::of_mode(model, &laws).expect("a linear graph has a normal tree");
+    let tree = normal_tree::of_mode(model, &laws).ok_or_else(|| {
+        Failure::message(
+            bondgraph_core::DiagnosticKind::CausalConflict,
+            "the mode has no normal tree",
+        )
+    })?;
     let spec = mode.spec(model);
-    let text = match format {
+    Ok(match format {
         GraphFormat::Text => describe(model, graph, &tree, &spec),
         GraphFormat::Dot => to_dot(model, graph, &tree),
         GraphFormat::Svg => crate::lg_svg::draw(model, graph, &tree, &spec),
-    };
-    print(&text);
-    Ok(())
+    })
 }
 
 /// The graph and its normal tree as text.
-pub(crate) fn describe(
-    model: &Model,
-    graph: &LinearGraph,
-    tree: &NormalTree,
-    spec: &str,
-) -> String {
+pub fn describe(model: &Model, graph: &LinearGraph, tree: &NormalTree, spec: &str) -> String {
     let mut out = format!(
         "linear graph '{}': {} nodes (ground '{}'), {} branches\n\nnodes:\n",
         model.name,
@@ -144,7 +145,7 @@ pub(crate) fn describe(
 }
 
 /// The graph as Graphviz DOT: tree branches solid and bold, links dashed.
-pub(crate) fn to_dot(model: &Model, graph: &LinearGraph, tree: &NormalTree) -> String {
+pub fn to_dot(model: &Model, graph: &LinearGraph, tree: &NormalTree) -> String {
     let quote = |s: &str| format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""));
     let mut out = format!(
         "digraph {} {{\n  // linear graph: tree branches bold, links dashed\n  node [shape=circle];\n",

@@ -3,8 +3,9 @@
 //! The `bondgraph` binary renders the libraries' results as text, JSON, CSV and SVG; the
 //! modules here are the renderers and the commands' documents that another front end (the
 //! Python bindings in `python/`) needs too, so that both print the same documents from the
-//! same code: `analyze`, `calibrate`, `compare`, `discover`, `explain` and `reproduce` each
-//! build their result here, and the binary only parses arguments and prints.
+//! same code: `check`, `modes`, `graph`, `equations` (`derive`), `simulate`, `analyze`,
+//! `calibrate`, `compare`, `discover`, `explain` and `reproduce` each build their result
+//! here, and the binary only parses arguments and prints.
 //!
 //! ```
 //! use bondgraph_core::model;
@@ -25,18 +26,24 @@ pub mod analyze;
 pub mod analyze_plot;
 pub mod bg_svg;
 pub mod calibrate;
+pub mod check;
 pub mod compare;
+pub mod conventions;
+pub mod derive;
 pub mod diagnostics;
 pub mod discover;
 pub mod explain_bg;
 pub mod explain_lg;
 pub mod failure;
 pub mod files;
+pub mod graph;
+pub mod lg_graph;
 pub mod lg_svg;
 pub mod output;
 pub mod plot;
 pub mod reproduce;
 pub mod residual_plot;
+pub mod simulate;
 pub mod trajectory;
 
 pub use failure::{Failure, with_source};

@@ -4,24 +4,18 @@
 //! requested format; diagnostics from the libraries are rendered here with a snippet of the
 //! model file, and any failure exits non-zero.
 
-mod conventions;
-mod lg_graph;
-mod nonlinear;
-
+use bondgraph::graph::GraphFormat;
 use bondgraph::{
-    Failure, analyze, bg_svg, calibrate, compare, count, diagnostics, discover, explain_bg, json,
-    lg_svg, load, output, parse_mode, plot, print, read_source, reproduce, trajectory, with_source,
-    write_file,
+    Failure, analyze, calibrate, check, compare, count, derive, diagnostics, discover, explain_bg,
+    json, load, output, parse_mode, print, read_source, reproduce, simulate, write_file,
 };
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use bondgraph_core::equations::{self, Variables};
-use bondgraph_core::model::Model;
-use bondgraph_core::scenario::Record;
-use bondgraph_core::{DiagnosticKind, causality, graph, laws, modes};
+use bondgraph_core::DiagnosticKind;
+use bondgraph_core::equations::Variables;
 use clap::{Parser, Subcommand, ValueEnum};
 
 /// Bond-graph models in, state equations out.
@@ -256,14 +250,7 @@ enum StatesArg {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum GraphFormat {
-    Text,
-    Dot,
-    Svg,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub(crate) enum Format {
+enum Format {
     Text,
     Latex,
     Json,
@@ -336,43 +323,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Command::Check { model } => {
             let (model, source) = load(&model)?;
-            if model.is_nonlinear() {
-                return nonlinear::check(&model, &source);
-            }
-            let reachable = modes::reachable(&model, &equations::Options::default())
-                .map_err(|d| with_source(d, &source))?;
-            let initial = &reachable.modes[0].equations;
-            let mode_count = if reachable.initial.is_empty() {
-                String::new()
-            } else {
-                format!(", {}", count(reachable.modes.len(), "reachable mode"))
-            };
-            let (kind, parts) = match &model.linear_graph {
-                Some(graph) => (
-                    "linear graph",
-                    [
-                        (graph.nodes.len(), "node"),
-                        (graph.branches.len(), "branch"),
-                    ],
-                ),
-                None => (
-                    "model",
-                    [
-                        (model.elements.len(), "element"),
-                        (model.bonds.len(), "bond"),
-                    ],
-                ),
-            };
-            print(&format!(
-                "{}: ok: {kind} '{}' with {}, {}, {}, {} and {}{mode_count}\n",
-                source.name(),
-                model.name,
-                count(parts[0].0, parts[0].1),
-                count(parts[1].0, parts[1].1),
-                count(model.parameters.len(), "parameter"),
-                count(model.inputs.len(), "input"),
-                count(initial.state_count(), "state"),
-            ));
+            print(&format!("{}\n", check::summary(&model, &source)?));
             Ok(())
         }
         Command::Graph {
@@ -382,32 +333,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
         } => {
             let (model, source) = load(&model)?;
             let mode = parse_mode(&model, mode.as_deref(), &source)?;
-            if model.linear_graph.is_some() {
-                return lg_graph::run(&model, &mode, format, &source);
-            }
-            let laws = laws::for_mode(&model, &mode);
-            let causality =
-                causality::assign(&model, &laws).map_err(|d| with_source(d, &source))?;
-            // A graph of a mode whose equations cannot be derived (a zero resistance in
-            // conductance causality) would be a drawing of a model `check` rejects.
-            if !model.is_nonlinear() {
-                equations::derive(&model, &laws, &equations::Options::default())
-                    .map_err(|d| with_source(d, &source))?;
-            }
-            let text = match format {
-                GraphFormat::Text => format!(
-                    "{}\n{}",
-                    graph::describe(&model),
-                    graph::describe_causality(&model, &laws, &causality)
-                ),
-                GraphFormat::Dot => graph::to_dot_titled(
-                    &model,
-                    Some(&causality),
-                    Some(&bg_svg::title(&model, &mode.spec(&model))),
-                ),
-                GraphFormat::Svg => bg_svg::draw(&model, &mode, &causality),
-            };
-            print(&text);
+            print(&bondgraph::graph::render(&model, &mode, &source, format)?);
             Ok(())
         }
         Command::Equations {
@@ -420,84 +346,19 @@ fn run(cli: Cli) -> Result<(), Failure> {
             equilibrium,
         } => {
             let (model, source) = load(&model)?;
-            let mode = parse_mode(&model, mode.as_deref(), &source)?;
-            let options = equations::Options {
-                variables: variables(states, &model),
+            let request = derive::Request {
+                mode,
+                variables: states.map(StatesArg::variables),
+                outputs,
+                at,
+                equilibrium,
             };
-            if model.is_nonlinear() {
-                return nonlinear::equations(&nonlinear::EquationsArgs {
-                    model: &model,
-                    source: &source,
-                    mode: &mode,
-                    options,
-                    format,
-                    outputs: &outputs,
-                    at: at.as_deref(),
-                    equilibrium,
-                });
-            }
-            if equilibrium {
-                return Err(Failure::message(
-                    DiagnosticKind::NotLinear,
-                    "--equilibrium is for nonlinear models; a linear mode's equilibria solve A x + B u + c = 0",
-                ));
-            }
-            let derived =
-                modes::derive(&model, &mode, &options).map_err(|d| with_source(d, &source))?;
-            let equations = &derived.equations;
-            if let Some(at) = &at {
-                // A linear mode's matrices do not depend on the point; the point is checked.
-                let names: Vec<String> = equations.states.iter().map(|s| s.name.clone()).collect();
-                equations::nonlinear::OperatingPoint::parse(&names, &equations.inputs, at)
-                    .map_err(|d| with_source(d, &source))?;
-            }
-            let outputs = outputs
-                .iter()
-                .map(|spec| {
-                    Record::parse_output(&model, spec).map(|(record, spec)| {
-                        let mut output = equations.output(&spec);
-                        output.integral = matches!(record, Record::Integral(_));
-                        output.name = record.name();
-                        output
-                    })
-                })
-                .collect::<Result<Vec<_>, _>>()
-                .map_err(|d| with_source(d, &source))?;
-            let text = match format {
-                Format::Text => {
-                    let mut text = String::new();
-                    if !mode.is_empty() {
-                        text.push_str(&format!("mode {}\n", mode.spec(&model)));
-                    }
-                    text.push_str(&equations.to_text());
-                    if !outputs.is_empty() {
-                        text.push_str("\noutputs:\n");
-                        for output in &outputs {
-                            text.push_str(&format!("  {}\n", equations.output_text(output)));
-                        }
-                    }
-                    if !derived.guards.is_empty() {
-                        text.push_str("\nguards:\n");
-                        for guard in &derived.guards {
-                            let element = &model.element(guard.element).name;
-                            text.push_str(&format!(
-                                "  {element}: {} -> {element}={}\n",
-                                guard.condition_text(equations),
-                                guard.leaves_to.name()
-                            ));
-                        }
-                    }
-                    text.push_str(&conventions::text(&model));
-                    text
-                }
-                Format::Latex => format!(
-                    "{}{}",
-                    conventions::latex_preamble(&model),
-                    equations.to_latex_with_outputs(&outputs)
-                ),
-                Format::Json => json(&equations.to_json(&mode.spec(&model), &outputs))?,
-            };
-            print(&text);
+            let derived = derive::derive(&model, &source, &request)?;
+            print(&match format {
+                Format::Text => derived.text(),
+                Format::Latex => derived.latex(),
+                Format::Json => derived.json()?,
+            });
             Ok(())
         }
         Command::Simulate {
@@ -587,19 +448,13 @@ fn run(cli: Cli) -> Result<(), Failure> {
             format,
         } => {
             let (model, source) = load(&model)?;
-            let options = equations::Options {
-                variables: variables(states, &model),
-            };
-            if model.is_nonlinear() {
-                return nonlinear::modes(&model, &source, &options, format == ModesFormat::Json);
-            }
-            let reachable =
-                modes::reachable(&model, &options).map_err(|d| with_source(d, &source))?;
-            let text = match format {
-                ModesFormat::Text => reachable.to_text(&model),
-                ModesFormat::Json => json(&reachable.to_json(&model))?,
-            };
-            print(&text);
+            let variables = states.map(StatesArg::variables);
+            print(&check::modes(
+                &model,
+                &source,
+                variables,
+                format == ModesFormat::Json,
+            )?);
             Ok(())
         }
     }
@@ -614,50 +469,24 @@ fn simulate(
     plot: Option<&Path>,
     panels: &[String],
 ) -> Result<(), Failure> {
-    let model_source = read_source(model)?;
-    let scenario_source = read_source(scenario)?;
-    let sources = vec![model_source.clone(), scenario_source.clone()];
-    let loaded =
-        bondgraph_core::scenario::load(&scenario_source, &model_source).map_err(|d| Failure {
-            diagnostics: d,
-            sources: sources.clone(),
-        })?;
-    let started = std::time::Instant::now();
-    let trajectory = bondgraph_solver::scenario::run(&loaded, false)
-        .map_err(|e| Failure::message(DiagnosticKind::Simulation, e.to_string()))?;
-    let elapsed = started.elapsed();
+    let run = simulate::simulate(&read_source(model)?, &read_source(scenario)?)?;
     let text = match format {
-        SimulateFormat::Csv => trajectory::to_csv(&trajectory),
-        SimulateFormat::Json => json(&trajectory::to_json(
-            &trajectory,
-            &loaded.model.name,
-            &loaded.name,
-        ))?,
+        SimulateFormat::Csv => run.csv(),
+        SimulateFormat::Json => json(&run.json())?,
     };
     match out {
         Some(path) => write_file(path, &text)?,
         None => print(&text),
     }
     if let Some(path) = plot {
-        let title = format!("{}: scenario {}", loaded.model.name, loaded.name);
-        let panels = plot::panels(&trajectory, panels)
-            .map_err(|e| Failure::message(DiagnosticKind::BadOutput, e))?;
-        // Axes say what each output is and its unit, where the model's units tell them.
-        let mut labelled = trajectory.clone();
-        for name in &mut labelled.output_names {
-            if let Some(record) = loaded.record.iter().find(|r| r.name() == *name) {
-                *name = bondgraph_core::units::label::axis_label(&loaded.model, record);
-            }
-        }
-        let svg = plot::plot_svg(&labelled, &title, &panels)
-            .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot: {e}")))?;
-        write_file(path, &svg)?;
+        write_file(path, &run.plot(panels)?)?;
     }
+    let trajectory = &run.trajectory;
     eprintln!(
         "simulated {} s of '{}' in {:.3} ms: {} events, {} modes, {} segments",
         trajectory.final_time,
-        loaded.name,
-        elapsed.as_secs_f64() * 1e3,
+        run.scenario.name,
+        run.elapsed.as_secs_f64() * 1e3,
         trajectory.stats.events,
         trajectory.stats.modes,
         trajectory.stats.segments
@@ -709,10 +538,4 @@ impl StatesArg {
             StatesArg::Coenergy => Variables::CoEnergy,
         }
     }
-}
-
-/// The variables asked for, or the model's own: co-energy for a linear graph (as Rowell &
-/// Wormley write its states), energy for a bond graph.
-fn variables(states: Option<StatesArg>, model: &Model) -> Variables {
-    states.map_or_else(|| Variables::preferred(model), StatesArg::variables)
 }

@@ -134,7 +134,7 @@ fn every_command(model: &Model, source: &Arc<SourceFile>, mode: &Mode, what: &st
     };
     let answer = SourceFile::new(format!("{what}.answer.ron"), answer_text);
     let mode_arg = (!spec.is_empty()).then_some(spec.as_str());
-    match compare::check(model, source, &answer, mode_arg, false) {
+    match compare::check(model, source, &answer, mode_arg) {
         Ok(compared) if !model.is_nonlinear() => {
             assert!(compared.agrees, "{what}: {}", compared.text);
             assert!(

@@ -10,9 +10,13 @@ symbolic matrices are numpy arrays of strings.
 In a notebook, three lines derive, simulate and plot::
 
     import bondgraph
-    msd = bondgraph.load("models/examples/mass_spring_damper.ron")
-    msd.equations()                      # shown as LaTeX
-    msd.simulate("models/scenarios/...") # shown as a plot, the modes shaded
+    belt = bondgraph.load("models/examples/belt_friction.ron")
+    display(belt.equations(), belt.simulate("models/scenarios/belt_stick_slip.ron"))
+
+The equations show as LaTeX, the simulation as the plot of ``bondgraph simulate --plot``
+with the modes shaded. For teaching, :meth:`Model.explain` words the derivation,
+:meth:`Model.analyze` gives poles, transfer function and Bode plot, and :meth:`Model.compare`
+(or :func:`compare`) checks a student's ``A`` and ``B``.
 
 Problems with a file raise :class:`BondGraphError`, whose ``diagnostics`` name the file,
 line, column and element of each problem.
@@ -22,6 +26,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Union
 
 import numpy as np
@@ -32,13 +37,16 @@ from ._native import BondGraphError, Diagnostic
 __all__ = [
     "Analysis",
     "BondGraphError",
+    "Comparison",
     "Diagnostic",
     "Document",
     "Equations",
+    "Explanation",
     "Model",
     "Simulation",
     "Svg",
     "calibrate",
+    "compare",
     "discover",
     "load",
     "loads",
@@ -49,6 +57,9 @@ __version__ = _native.__version__
 
 # Raised by the bindings, an error always has its diagnostics; one made by hand has none.
 BondGraphError.diagnostics = ()
+# Set only by Model.explain, when the mode's equations cannot be derived: the explanation as
+# far as it got.
+BondGraphError.explanation = None
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -111,6 +122,9 @@ class Svg:
     def __str__(self) -> str:
         return self.text
 
+    def __repr__(self) -> str:
+        return f"<Svg: {len(self.text)} characters>"
+
 
 class Equations:
     """The state equations of one mode, ``bondgraph equations --format json``.
@@ -121,11 +135,16 @@ class Equations:
     nonlinear mode has ``f`` (one string per state) and, at an operating point, its
     Jacobians ``A``, ``B``. ``c`` and ``d`` are column vectors. Any other field of the
     document reads as an attribute too (``states``, ``inputs``, ``mode``, ...).
+
+    ``text`` is what ``bondgraph equations`` prints (with the outputs, the guards and the
+    conventions), ``latex`` the equations a notebook renders and ``latex_document`` what
+    ``--format latex`` prints (the same after a comment saying it needs amsmath).
     """
 
     def __init__(self, native: Any) -> None:
         self.document: Document = _parse(native.json)
         self.latex: str = native.latex
+        self.latex_document: str = native.latex_document
         self.text: str = native.text
 
     def __getattr__(self, name: str) -> Any:
@@ -169,7 +188,8 @@ class Simulation:
     ``t`` holds the sample times (s), ``values`` the recorded outputs (one column per name
     in ``output_names``, ``outputs[name]`` one of them), ``mode`` the index into ``modes``
     of the mode at each sample; ``events``, ``final``, ``intervals`` and ``stats`` are the
-    document's fields. A notebook shows the plot of ``bondgraph simulate --plot``.
+    document's fields. A notebook shows the plot of ``bondgraph simulate --plot``;
+    :meth:`plot` groups outputs into panels, :meth:`to_csv` gives ``--format csv``.
     """
 
     def __init__(self, native: Any) -> None:
@@ -218,12 +238,25 @@ class Simulation:
         """``{segments, events, modes}``: the work the run took."""
         return self.document["stats"]
 
-    def plot(self) -> Svg:
-        """The outputs against time with the modes shaded (``simulate --plot``)."""
-        return Svg(self._native.plot_svg())
+    def plot(self, panels: Optional[Sequence[Union[str, Sequence[str]]]] = None) -> Svg:
+        """The outputs against time with the modes shaded (``simulate --plot``), each axis
+        labelled with what its output is and its unit.
+
+        Args:
+            panels: one entry per panel, top to bottom (``simulate --panel``): a list of
+                recorded outputs, or one string of them separated by commas; default one
+                panel per output.
+        """
+        texts = [p if isinstance(p, str) else ",".join(p) for p in (panels or [])]
+        return Svg(self._native.plot_svg(texts))
+
+    def to_csv(self) -> str:
+        """``simulate --format csv``: a header ``t,mode,<outputs>``, then one row per
+        sample, every number in full precision."""
+        return self._native.csv()
 
     def _repr_svg_(self) -> str:
-        return self._native.plot_svg()
+        return self._native.plot_svg([])
 
     def __repr__(self) -> str:
         return (
@@ -233,15 +266,18 @@ class Simulation:
 
 
 class Analysis:
-    """One linear mode analysed, ``bondgraph analyze --format json``.
+    """One linear mode (or a nonlinear mode's linearisation) analysed, ``bondgraph
+    analyze --format json``.
 
-    The document's fields read as attributes: ``eigenvalues`` (``[{re, im, time_constant,
-    natural_frequency, damping_ratio}]`` in ``eigen_scales``), ``characteristic_polynomial``, ``transfer_function``
-    (``{input, output, numerator, denominator}``, coefficients highest power of ``s``
-    first, denominator monic), ``poles``, ``zeros``, ``dc_gain`` (``None`` for an
-    integrator), ``step`` (rise and settling time, overshoot, final value, from the exact
-    modal solution) and ``notes``. ``poles_complex`` and friends give numpy arrays.
-    A notebook shows the step response; ``bode()`` and ``step()`` give the plots.
+    The document's fields read as attributes: ``eigenvalues`` (``[{re, im}]``, with
+    ``time_constant``, ``natural_frequency`` and ``damping_ratio`` in ``eigen_scales``),
+    ``characteristic_polynomial``, ``transfer_function`` (``{input, output, numerator,
+    denominator}``, coefficients highest power of ``s`` first, denominator monic),
+    ``poles``, ``zeros``, ``dc_gain`` (``None`` for an integrator), ``step`` (rise and
+    settling time, overshoot, final value, from the exact modal solution),
+    ``linearised_at`` and ``notes``. ``poles_complex`` and friends give numpy arrays.
+    A notebook shows the step response; :meth:`bode` and :meth:`step_response` give the
+    plots.
     """
 
     def __init__(self, native: Any) -> None:
@@ -279,9 +315,9 @@ class Analysis:
         svg = self._native.bode_svg
         return None if svg is None else Svg(svg)
 
-    def step(self) -> Optional[Svg]:
+    def step_response(self) -> Optional[Svg]:
         """The exact step response (``analyze --step``), or ``None`` without a transfer
-        function."""
+        function. (``step`` is the document's step metrics.)"""
         svg = self._native.step_svg
         return None if svg is None else Svg(svg)
 
@@ -296,6 +332,69 @@ class Analysis:
             f"<Analysis of {self.document.get('model', '?')}: "
             f"{len(self.document.get('eigenvalues', []))} eigenvalues>"
         )
+
+
+class Explanation:
+    """The derivation of one mode in words (``bondgraph explain``): for a bond graph the
+    causality assignment step by step and what the derivation then did, for a linear graph
+    the normal tree, its primary and secondary variables, the cut-set and loop equations.
+
+    ``text`` is what the command prints; in Markdown (``format="markdown"``) a notebook
+    renders it.
+    """
+
+    def __init__(self, text: str, format: str) -> None:
+        self.text = text
+        self.format = format
+
+    def _repr_markdown_(self) -> Optional[str]:
+        return self.text if self.format == "markdown" else None
+
+    def _repr_pretty_(self, printer: Any, cycle: bool) -> None:
+        printer.text(self.text)
+
+    def __str__(self) -> str:
+        return self.text
+
+    def __repr__(self) -> str:
+        first = self.text.splitlines()[0] if self.text else ""
+        return f"<Explanation ({self.format}): {first}>"
+
+
+class Comparison:
+    """A student's ``A`` and ``B`` checked against a model (``bondgraph compare``).
+
+    ``verdict`` is ``"equal"``, ``"similar"`` (equal up to a change of state variables,
+    ``changes`` says which) or ``"different"`` (``first_difference`` says where);
+    ``agrees`` is whether it is equal or similar (the command's exit code 0). ``text`` is
+    what the command prints, ``document`` its ``--format json``; the document's fields
+    (``transformation``, ``characteristic_polynomial``, ``notes``, ...) read as attributes.
+    """
+
+    def __init__(self, native: Any) -> None:
+        self.document: Document = _parse(native.json)
+        self.text: str = native.text
+        self.agrees: bool = native.agrees
+
+    @property
+    def verdict(self) -> str:
+        """``"equal"``, ``"similar"`` or ``"different"``."""
+        return self.document["verdict"]
+
+    def __getattr__(self, name: str) -> Any:
+        document = self.__dict__.get("document", {})
+        if name not in document:
+            raise AttributeError(name)
+        return document[name]
+
+    def _repr_pretty_(self, printer: Any, cycle: bool) -> None:
+        printer.text(self.text)
+
+    def __str__(self) -> str:
+        return self.text
+
+    def __repr__(self) -> str:
+        return f"<Comparison: {self.verdict}>"
 
 
 class Model:
@@ -344,6 +443,7 @@ class Model:
         states: Optional[str] = None,
         outputs: Sequence[str] = (),
         at: Optional[Union[str, Dict[str, float]]] = None,
+        equilibrium: bool = False,
     ) -> Equations:
         """``bondgraph equations``: the state equations of one mode.
 
@@ -356,17 +456,43 @@ class Model:
                 ``"across:spring"``, ``"integral:flow:mass"``, ...
             at: an operating point, ``"x=1,F=2"`` or ``{"x": 1, "F": 2}``: a nonlinear
                 mode's Jacobians are evaluated there.
+            equilibrium: search a nonlinear mode's equilibrium ``f(x, u) = 0`` (the inputs
+                as ``at`` gives them, starting from its states) and linearise there.
         """
         if isinstance(outputs, str):
             outputs = [outputs]
-        if isinstance(at, dict):
-            at = ",".join(f"{k}={v!r}" for k, v in at.items())
-        return Equations(self._native.equations(mode, states, list(outputs), at))
+        return Equations(
+            self._native.equations(mode, states, list(outputs), _point(at), equilibrium)
+        )
+
+    def graph(self, mode: Optional[str] = None, format: str = "text") -> str:
+        """``bondgraph graph``: the graph of one mode as ``"text"`` (elements, bonds and
+        causality; a linear graph's nodes, branches and normal tree), ``"dot"`` (Graphviz)
+        or ``"svg"``."""
+        return self._native.graph(mode, format)
 
     def diagram(self, mode: Optional[str] = None) -> Svg:
         """``bondgraph graph --format svg``: a bond graph with its half-arrows, causal
         strokes and bond numbers, or a linear graph with its normal tree."""
-        return Svg(self._native.graph_svg(mode))
+        return Svg(self._native.graph(mode, "svg"))
+
+    def explain(self, mode: Optional[str] = None, format: str = "text") -> Explanation:
+        """``bondgraph explain``: the derivation of one mode in words, as a teacher would do
+        it on the board, as ``"text"`` or ``"markdown"`` (rendered by a notebook).
+
+        Where the mode's causality can be assigned but its equations cannot be derived,
+        raises :class:`BondGraphError` saying why, with the explanation as far as it got
+        in the error's ``explanation``.
+        """
+        return Explanation(self._native.explain(mode, format), format)
+
+    def compare(self, answer: PathLike, mode: Optional[str] = None) -> Comparison:
+        """``bondgraph compare``: checks an answer's ``A`` and ``B`` (an answer file's path,
+        or its RON text ``Answer(states: [...], A: [[...]], B: [[...]])``) against this
+        model's equations of ``mode`` (default the initial one)."""
+        if isinstance(answer, os.PathLike) or not _looks_like_ron(answer):
+            return Comparison(self._native.compare_file(os.fspath(answer), mode))
+        return Comparison(self._native.compare_text(answer, "<answer>", mode))
 
     def analyze(
         self,
@@ -389,16 +515,15 @@ class Model:
             equilibrium: search the equilibrium (from ``at``, or from zero) and linearise
                 there.
         """
-        if isinstance(at, dict):
-            at = ",".join(f"{k}={v!r}" for k, v in at.items())
-        return Analysis(self._native.analyze(mode, input, output, at, equilibrium))
+        return Analysis(self._native.analyze(mode, input, output, _point(at), equilibrium))
 
-    def dot(self, mode: Optional[str] = None) -> Optional[str]:
-        """``bondgraph graph --format dot`` of a bond graph, with its causal strokes."""
-        return self._native.graph_dot(mode)
+    def dot(self, mode: Optional[str] = None) -> str:
+        """``bondgraph graph --format dot``: a bond graph with its causal strokes, a linear
+        graph with its normal tree (bold) and links (dashed)."""
+        return self._native.graph(mode, "dot")
 
-    def _repr_svg_(self) -> Optional[str]:
-        return self._native.graph_svg(None)
+    def _repr_svg_(self) -> str:
+        return self._native.graph(None, "svg")
 
     def simulate(self, scenario: PathLike) -> Simulation:
         """``bondgraph simulate``: runs a scenario, given as a file path or as RON text."""
@@ -411,9 +536,19 @@ class Model:
         return f"<Model {self.name!r} ({kind}) from {self.file}>"
 
 
+def _point(at: Optional[Union[str, Dict[str, float]]]) -> Optional[str]:
+    """An operating point as ``--at`` takes it: ``"x=1,F=2"`` from ``{"x": 1, "F": 2}``."""
+    if isinstance(at, dict):
+        return ",".join(f"{k}={v!r}" for k, v in at.items())
+    return at
+
+
 def _looks_like_ron(text: str) -> bool:
-    stripped = text.lstrip()
-    return "\n" in text or stripped.startswith(("Scenario", "(", "//", "Model", "LinearGraph"))
+    """Whether ``text`` is RON rather than a file's path: not an existing file, and either
+    several lines or a RON value's opening (``Scenario(``, ``Answer(``, ``(``, ``//``)."""
+    if os.path.exists(text):
+        return False
+    return "\n" in text or re.match(r"\s*(//|/\*|\(|[A-Za-z_]\w*\s*\()", text) is not None
 
 
 def load(path: PathLike) -> Model:
@@ -424,6 +559,14 @@ def load(path: PathLike) -> Model:
 def loads(text: str, name: str = "<string>") -> Model:
     """Checks a model given as RON text; ``name`` is the file name diagnostics give."""
     return Model(_native.NativeModel.loads(text, name))
+
+
+def compare(model: Union["Model", PathLike], answer: PathLike, mode: Optional[str] = None) -> Comparison:
+    """``bondgraph compare MODEL ANSWER``: :meth:`Model.compare` of ``model`` (a
+    :class:`Model` or a model file's path)."""
+    if not isinstance(model, Model):
+        model = load(model)
+    return model.compare(answer, mode)
 
 
 def _paths(data: Union[PathLike, Iterable[PathLike]]) -> List[str]:
@@ -462,15 +605,21 @@ def discover(
     data: Union[PathLike, Iterable[PathLike]],
     experiment: Optional[PathLike] = None,
     extensions: Optional[PathLike] = None,
+    out: Optional[PathLike] = None,
 ) -> Document:
     """``bondgraph discover --format json``: what ``model`` gets wrong on the measured
     ``data`` (one CSV file or several), and which candidate extension explains it.
 
     ``experiment`` defaults to ``experiment.ron`` beside the model, ``extensions`` to the
-    folder ``extensions/`` beside it. The document has ``observed``, ``noise`` (``None``
-    when the data cannot estimate it), ``noise_source`` (where it came from),
-    ``pure_error``, ``lack_of_fit``, ``baseline``, ``ranking`` (best first), ``selected``,
-    ``indistinguishable`` and ``gain``, as the command line prints them.
+    folder ``extensions/`` beside it; several data files are joined (time series: one run
+    each, held out one at a time). With ``out``, the report, the JSON, the selected
+    extended model and the residual plots are written there too (``discover --out``).
+
+    The document has ``observed``, ``noise`` (``None`` when the data cannot estimate it),
+    ``noise_source`` (where it came from), ``pure_error``, ``lack_of_fit``, ``baseline``
+    (with the ``evaluations`` its fits took), ``ranking`` (best first; each with its
+    ``verdict`` and ``evaluations``), ``selected``, ``indistinguishable`` and ``gain``, as
+    the command line prints them.
     """
     return _parse(
         _native.discover(
@@ -478,5 +627,6 @@ def discover(
             _paths(data),
             None if experiment is None else os.fspath(experiment),
             None if extensions is None else os.fspath(extensions),
+            None if out is None else os.fspath(out),
         )
     )

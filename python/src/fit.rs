@@ -1,67 +1,19 @@
 //! Models against measured data and the main job: `calibrate`, `discover`, `reproduce`.
 //!
-//! The same steps as the command line, by the same code (the `bondgraph` library's
-//! `calibrate::inputs`, `discover::library` and `reproduce::reproduce_all`): the experiment
-//! beside the model (or the one given), the data files joined, every extension of the
-//! library checked against the base model; the result is the command's JSON document.
+//! The same library calls as the command line (`calibrate::calibrate`,
+//! `discover::inputs(..).discover(..)`, `reproduce::reproduce_all`): the experiment beside
+//! the model (or the one given), the data files joined, every extension of the library
+//! checked against the base model; the result is the command's JSON document.
 
 use std::path::{Path, PathBuf};
 
-use bondgraph::calibrate::inputs;
-use bondgraph::discover::{discover_failure, library};
-use bondgraph_core::diagnostics::DiagnosticKind;
-use bondgraph_fit::calibration;
-use bondgraph_fit::discover::Settings;
+use bondgraph::{discover as command, json};
 use pyo3::prelude::*;
 
-use crate::error::{Failure, guard};
-use crate::model::json;
+use crate::error::guard;
 
-/// The data files, at least one.
-fn data_paths(command: &str, data: &[String]) -> Result<Vec<PathBuf>, Failure> {
-    if data.is_empty() {
-        return Err(Failure::message(
-            DiagnosticKind::Io,
-            format!("{command} needs at least one data file"),
-        ));
-    }
-    Ok(data.iter().map(PathBuf::from).collect())
-}
-
-fn run_calibrate(
-    model: &str,
-    data: &[String],
-    experiment: Option<&str>,
-) -> Result<String, Failure> {
-    let data = data_paths("calibrate", data)?;
-    let (base, experiment_source, experiment, dataset) =
-        inputs(Path::new(model), experiment.map(Path::new), &data)?;
-    let result = calibration::calibrate(&base, &experiment, &dataset, &Settings::default())
-        .map_err(|e| discover_failure(e, &[&experiment_source, &base]))?;
-    json(&result)
-}
-
-fn run_discover(
-    model: &str,
-    data: &[String],
-    experiment: Option<&str>,
-    extensions: Option<&str>,
-) -> Result<String, Failure> {
-    let data = data_paths("discover", data)?;
-    let (base, experiment_source, experiment, dataset) =
-        inputs(Path::new(model), experiment.map(Path::new), &data)?;
-    let folder = Path::new(model).parent().unwrap_or(Path::new("."));
-    let extensions = extensions.map_or_else(|| folder.join("extensions"), PathBuf::from);
-    let candidates = library(&base, &extensions)?;
-    let discovery = bondgraph_fit::discover::discover(
-        &base,
-        &experiment,
-        &dataset,
-        &candidates,
-        &Settings::default(),
-    )
-    .map_err(|e| discover_failure(e, &[&experiment_source, &base]))?;
-    json(&discovery)
+fn paths(data: &[String]) -> Vec<PathBuf> {
+    data.iter().map(PathBuf::from).collect()
 }
 
 /// `bondgraph calibrate --format json`.
@@ -73,21 +25,41 @@ pub fn calibrate(
     data: Vec<String>,
     experiment: Option<String>,
 ) -> PyResult<String> {
-    guard(py, || run_calibrate(&model, &data, experiment.as_deref()))
+    guard(py, || {
+        let result = bondgraph::calibrate::calibrate(
+            Path::new(&model),
+            experiment.as_deref().map(Path::new),
+            &paths(&data),
+        )?;
+        json(&result)
+    })
 }
 
-/// `bondgraph discover --format json`.
+/// `bondgraph discover --format json` (with `--out`: the report, the JSON, the extended
+/// model and the residual plots written there too).
 #[pyfunction]
-#[pyo3(signature = (model, data, experiment=None, extensions=None))]
+#[pyo3(signature = (model, data, experiment=None, extensions=None, out=None))]
 pub fn discover(
     py: Python<'_>,
     model: String,
     data: Vec<String>,
     experiment: Option<String>,
     extensions: Option<String>,
+    out: Option<String>,
 ) -> PyResult<String> {
     guard(py, || {
-        run_discover(&model, &data, experiment.as_deref(), extensions.as_deref())
+        let inputs = command::inputs(
+            Path::new(&model),
+            &paths(&data),
+            experiment.as_deref().map(Path::new),
+            extensions.as_deref().map(Path::new),
+        )?;
+        let discovery = inputs.discover(&|| {})?;
+        let text = json(&discovery)?;
+        if let Some(out) = &out {
+            command::write_outputs(Path::new(out), &discovery, &text)?;
+        }
+        Ok(text)
     })
 }
 

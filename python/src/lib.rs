@@ -14,6 +14,7 @@
 mod error;
 mod fit;
 mod model;
+mod results;
 
 use pyo3::prelude::*;
 
@@ -25,9 +26,10 @@ fn bondgraph_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add("BondGraphError", py.get_type::<error::BondGraphError>())?;
     module.add_class::<error::PyDiagnostic>()?;
     module.add_class::<model::PyModel>()?;
-    module.add_class::<model::PyEquations>()?;
-    module.add_class::<model::PyTrajectory>()?;
-    module.add_class::<model::PyAnalysis>()?;
+    module.add_class::<results::PyEquations>()?;
+    module.add_class::<results::PyTrajectory>()?;
+    module.add_class::<results::PyAnalysis>()?;
+    module.add_class::<results::PyComparison>()?;
     module.add_function(wrap_pyfunction!(fit::calibrate, module)?)?;
     module.add_function(wrap_pyfunction!(fit::discover, module)?)?;
     module.add_function(wrap_pyfunction!(fit::reproduce, module)?)?;

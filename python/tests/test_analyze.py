@@ -41,8 +41,10 @@ def test_plots_are_the_command_lines(cli, tmp_path):
     bode, step = tmp_path / "bode.svg", tmp_path / "step.svg"
     cli.run("analyze", path, "--bode", str(bode), "--step", str(step))
     assert ours.bode().text == bode.read_text()
-    assert ours.step().text == step.read_text()
-    assert ours._repr_svg_() == ours.step().text
+    assert ours.step_response().text == step.read_text()
+    assert ours._repr_svg_() == ours.step_response().text
+    # `step` is the document's field, the metrics of the exact step response.
+    assert ours.step == cli.json("analyze", path)["step"]
     assert str(ours) == cli.run("analyze", path).stdout
 
 
@@ -66,3 +68,36 @@ def test_a_bond_graph_draws_itself(cli):
     model = bondgraph.load(path)
     assert model.diagram().text == cli.run("graph", path, "--format", "svg").stdout
     assert model._repr_svg_() == model.diagram().text
+
+
+@pytest.mark.parametrize("angle", [0.3, math.pi])
+def test_a_nonlinear_model_is_linearised_at_a_point(cli, angle):
+    # The pendulum: dp/dt = -m g l sin(q), dq/dt = p/(m l^2), m = l = 1, g = 9.81. At the
+    # angle q0 the Jacobian is [[0, -g cos q0], [1, 0]]: eigenvalues +-sqrt(-g cos q0),
+    # a swing at sqrt(g cos q0) rad/s hanging, a fall at e^(sqrt(g) t) upside down.
+    path = rel(EXAMPLES / "nonlinear" / "pendulum.ron")
+    model = bondgraph.load(path)
+    names = model.equations().state_names
+    theta = next(n for n in names if n.startswith("q"))
+    ours = model.analyze(at={theta: angle})
+    assert ours.document == cli.json("analyze", path, "--at", f"{theta}={angle!r}")
+    expected = np.sqrt(complex(-9.81 * math.cos(angle)))
+    np.testing.assert_allclose(
+        np.sort_complex(ours.eigenvalues_complex),
+        np.sort_complex([-expected, expected]),
+        rtol=1e-12,
+        atol=1e-12,
+    )
+
+
+def test_the_equilibrium_search_starts_from_the_point_given(cli):
+    # Started near the top, Newton finds the upright equilibrium q = pi, whose
+    # linearisation has the real pair +-sqrt(g).
+    path = rel(EXAMPLES / "nonlinear" / "pendulum.ron")
+    model = bondgraph.load(path)
+    theta = next(n for n in model.equations().state_names if n.startswith("q"))
+    ours = model.analyze(at=f"{theta}=3.0", equilibrium=True)
+    assert ours.document == cli.json("analyze", path, "--at", f"{theta}=3.0", "--equilibrium")
+    np.testing.assert_allclose(
+        np.sort(ours.eigenvalues_complex.real), [-math.sqrt(9.81), math.sqrt(9.81)], rtol=1e-9
+    )

@@ -113,3 +113,97 @@ def test_missing_file():
 
 def test_error_is_an_exception_subclass():
     assert issubclass(bondgraph.BondGraphError, Exception)
+
+
+MSD = EXAMPLES.parent / "teaching" / "mass_spring_damper.ron"
+
+
+@pytest.mark.parametrize(
+    "answer,line",
+    [
+        (
+            'Answer(\n    states: ["p_mass", "q_spring"],\n    A: [["-b/m", "-k"],\n'
+            '        ["1/m", "0 + zeta"]],\n    B: [["1"], ["0"]],\n)\n',
+            4,
+        ),
+        ('Answer(\n  A: [["0"]],\n  B: 3,\n)\n', 3),
+    ],
+    ids=["unknown-symbol", "not-a-matrix"],
+)
+def test_a_bad_answer_is_located_in_its_file(cli, tmp_path, answer, line):
+    path = tmp_path / "answer.ron"
+    path.write_text(answer)
+    model = bondgraph.load(rel(MSD))
+    with pytest.raises(bondgraph.BondGraphError) as caught:
+        model.compare(path)
+    done = cli.run("compare", rel(MSD), str(path), ok=False)
+    assert done.returncode == 2
+    assert str(caught.value) == done.stderr.strip()
+    (diagnostic,) = caught.value.diagnostics
+    assert (diagnostic.file, diagnostic.line) == (str(path), line)
+    assert cli_locations(done.stderr) == [(str(path), line, diagnostic.column)]
+    # Given as text, the answer is the file "<answer>".
+    with pytest.raises(bondgraph.BondGraphError) as caught:
+        model.compare(answer)
+    assert [(d.file, d.line) for d in caught.value.diagnostics] == [("<answer>", line)]
+
+
+def test_a_nonlinear_model_has_no_answer_to_compare():
+    pendulum = bondgraph.load(rel(EXAMPLES / "nonlinear" / "pendulum.ron"))
+    with pytest.raises(bondgraph.BondGraphError, match="is nonlinear"):
+        pendulum.compare('Answer(A: [["0"]], B: [["0"]])')
+
+
+SHORT = """Model(
+    name: "short",
+    parameters: { "R": (value: 0.0), "C": (value: 1.0) },
+    inputs: { "E": () },
+    elements: {
+        "source": Se(effort: "E"),
+        "j": One,
+        "wire": R(resistance: "R"),
+        "cap": C(compliance: "C"),
+    },
+    bonds: [("source", "j"), ("j", "wire"), ("j", "cap")],
+)
+"""
+
+
+def test_an_underivable_mode_is_explained_as_far_as_it_goes(cli, tmp_path):
+    # A source straight across a zero resistance: the causality can be assigned (the
+    # resistor in conductance causality) but its flow E/R cannot be formed.
+    path = tmp_path / "short.ron"
+    path.write_text(SHORT)
+    model = bondgraph.load(path)
+    with pytest.raises(bondgraph.BondGraphError) as caught:
+        model.explain()
+    done = cli.run("explain", str(path), ok=False)
+    assert done.returncode == 1
+    assert caught.value.explanation == done.stdout
+    assert str(caught.value) == done.stderr.strip()
+    (diagnostic,) = caught.value.diagnostics
+    assert (diagnostic.file, diagnostic.line, diagnostic.element) == (str(path), 8, "wire")
+    assert "resistance is zero" in diagnostic.message
+    # The same mode's graph is refused, as `check` refuses the model.
+    with pytest.raises(bondgraph.BondGraphError, match="resistance is zero"):
+        model.graph()
+    assert bondgraph.BondGraphError("by hand").explanation is None
+
+
+@pytest.mark.parametrize(
+    "call,message",
+    [
+        (lambda m: m.explain(format="html"), 'format must be "text" or "markdown", not "html"'),
+        (lambda m: m.graph(format="png"), 'format must be "text" or "dot" or "svg", not "png"'),
+        (lambda m: m.explain(mode="nobody=stuck"), "nobody"),
+        (lambda m: m.graph(mode="nobody=stuck"), "nobody"),
+        (lambda m: m.compare("no/such/answer.ron"), "cannot read"),
+        (lambda m: m.analyze(at="nobody=1"), "nobody"),
+    ],
+)
+def test_bad_teaching_arguments_raise(call, message):
+    model = bondgraph.load(rel(EXAMPLES / "mass_spring_damper.ron"))
+    with pytest.raises(bondgraph.BondGraphError) as caught:
+        call(model)
+    assert message in str(caught.value)
+    assert caught.value.diagnostics

@@ -18,3 +18,4 @@ def test_tour_notebook_runs():
     shown = [o.get("data", {}) for o in outputs if o.output_type in ("execute_result", "display_data")]
     assert any("text/latex" in d for d in shown), "equations show as LaTeX"
     assert any("image/svg+xml" in d for d in shown), "simulations and diagrams show as SVG"
+    assert any("text/markdown" in d for d in shown), "explanations in Markdown render"

@@ -90,3 +90,29 @@ def test_plots_are_svg():
     lg = bondgraph.load(rel(EXAMPLES / "rlc.lg.ron"))
     assert lg._repr_svg_().lstrip().startswith("<svg")
     assert lg.diagram().text == lg._repr_svg_()
+
+
+@pytest.mark.parametrize("model,scenario", RUNS, ids=lambda p: p.stem)
+def test_csv_and_plot_are_the_command_lines(cli, tmp_path, model, scenario):
+    ours = bondgraph.load(rel(model)).simulate(rel(scenario))
+    plot = tmp_path / "plot.svg"
+    csv = cli.run("simulate", rel(model), "--scenario", rel(scenario), "--plot", str(plot)).stdout
+    assert ours.to_csv() == csv
+    assert ours.plot().text == plot.read_text()
+    assert ours._repr_svg_() == plot.read_text()
+
+
+def test_panels_are_the_command_lines(cli, tmp_path):
+    # The teaching folder's mass-spring-damper release, in three panels as its README draws it.
+    teaching = EXAMPLES.parent / "teaching"
+    model, scenario = rel(teaching / "mass_spring_damper.ron"), rel(teaching / "scenarios" / "msd_release.ron")
+    panels = ["flow:mass", "effort:spring", "energy:mass,energy:spring,energy:stored,energy:dissipated"]
+    plot = tmp_path / "plot.svg"
+    args = [arg for panel in panels for arg in ("--panel", panel)]
+    cli.run("simulate", model, "--scenario", scenario, "--plot", str(plot), *args)
+    run = bondgraph.load(model).simulate(scenario)
+    assert run.plot(panels).text == plot.read_text()
+    as_lists = [["flow:mass"], ["effort:spring"], panels[2].split(",")]
+    assert run.plot(as_lists).text == plot.read_text()
+    with pytest.raises(bondgraph.BondGraphError, match="nobody"):
+        run.plot(["flow:nobody"])

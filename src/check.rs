@@ -1,0 +1,98 @@
+//! `bondgraph check` and `bondgraph modes`: what a model is, and the modes it reaches.
+//!
+//! Here rather than in the binary so that the Python bindings give the command line's
+//! summary and documents, from the same code.
+
+use std::sync::Arc;
+
+use bondgraph_core::equations::{self, Variables};
+use bondgraph_core::model::Model;
+use bondgraph_core::modes;
+use bondgraph_core::source::SourceFile;
+
+use crate::{Failure, count, json, with_source};
+
+/// The one-line summary `bondgraph check` prints (without its newline): the kind of model,
+/// its size, its states and how many modes it reaches.
+///
+/// # Errors
+/// A failure when some reachable mode has no equations.
+pub fn summary(model: &Model, source: &Arc<SourceFile>) -> Result<String, Failure> {
+    let options = equations::Options::default();
+    let located = |d| with_source(d, source);
+    let (states, reached, switching) = if model.is_nonlinear() {
+        let reachable = modes::reachable_nonlinear(model, &options).map_err(located)?;
+        let states = reachable.modes.first().map(|m| m.equations.state_count());
+        (states, reachable.modes.len(), !reachable.initial.is_empty())
+    } else {
+        let reachable = modes::reachable(model, &options).map_err(located)?;
+        let states = reachable.modes.first().map(|m| m.equations.state_count());
+        (states, reachable.modes.len(), !reachable.initial.is_empty())
+    };
+    let (kind, parts) = match (&model.linear_graph, model.is_nonlinear()) {
+        (Some(graph), false) => (
+            "linear graph",
+            [
+                (graph.nodes.len(), "node"),
+                (graph.branches.len(), "branch"),
+            ],
+        ),
+        (_, nonlinear) => (
+            if nonlinear {
+                "nonlinear model"
+            } else {
+                "model"
+            },
+            [
+                (model.elements.len(), "element"),
+                (model.bonds.len(), "bond"),
+            ],
+        ),
+    };
+    let modes = if switching {
+        format!(", {}", count(reached, "reachable mode"))
+    } else {
+        String::new()
+    };
+    Ok(format!(
+        "{}: ok: {kind} '{}' with {}, {}, {}, {} and {}{modes}",
+        source.name(),
+        model.name,
+        count(parts[0].0, parts[0].1),
+        count(parts[1].0, parts[1].1),
+        count(model.parameters.len(), "parameter"),
+        count(model.inputs.len(), "input"),
+        count(states.unwrap_or(0), "state"),
+    ))
+}
+
+/// `bondgraph modes`: every mode reachable from the initial one, its states and guards
+/// (in `variables`, the model's own if `None`), as text or as the JSON document.
+///
+/// # Errors
+/// A failure when some reachable mode has no equations.
+pub fn modes(
+    model: &Model,
+    source: &Arc<SourceFile>,
+    variables: Option<Variables>,
+    as_json: bool,
+) -> Result<String, Failure> {
+    let options = equations::Options {
+        variables: variables.unwrap_or_else(|| Variables::preferred(model)),
+    };
+    let located = |d| with_source(d, source);
+    if model.is_nonlinear() {
+        let reachable = modes::reachable_nonlinear(model, &options).map_err(located)?;
+        return if as_json {
+            json(&reachable.to_json(model))
+        } else {
+            Ok(reachable.to_text(model))
+        };
+    }
+    let reachable = modes::reachable(model, &options).map_err(located)?;
+    if as_json {
+        json(&reachable.to_json(model))
+    } else {
+        Ok(reachable.to_text(model))
+    }
+}

@@ -1,0 +1,265 @@
+//! `bondgraph equations`: the state equations of one mode (linear, or nonlinear at an
+//! operating point or an equilibrium), its output equations and guards, as text, LaTeX or
+//! JSON.
+//!
+//! Built here rather than in the binary so that the Python bindings show the very text,
+//! LaTeX and JSON the command line prints, from the same code.
+
+use std::sync::Arc;
+
+use bondgraph_core::DiagnosticKind;
+use bondgraph_core::equations::nonlinear::{NonlinearOutput, OperatingPoint};
+use bondgraph_core::equations::{self, OutputEquation, Variables};
+use bondgraph_core::guards::Guard;
+use bondgraph_core::model::Model;
+use bondgraph_core::modes::{self, ModeEquations, NonlinearModeEquations};
+use bondgraph_core::scenario::Record;
+use bondgraph_core::source::SourceFile;
+use bondgraph_solver::equilibrium::{self, Equilibrium};
+
+use crate::{Failure, conventions, json, parse_mode, with_source};
+
+/// What `bondgraph equations` is asked.
+#[derive(Clone, Debug, Default)]
+pub struct Request {
+    /// The mode (`fr=stuck,string=taut`); the initial mode if `None`.
+    pub mode: Option<String>,
+    /// Energy or co-energy states; the model's own ([`Variables::preferred`]) if `None`.
+    pub variables: Option<Variables>,
+    /// Output equations to add: `effort:ELEMENT`, `integral:flow:mass`, ...
+    pub outputs: Vec<String>,
+    /// An operating point `NAME=VALUE,...`: a nonlinear mode's Jacobians are evaluated
+    /// there (a linear mode's matrices do not depend on it; it is checked all the same).
+    pub at: Option<String>,
+    /// Search a nonlinear mode's equilibrium (from `at`, or from zero) and linearise there.
+    pub equilibrium: bool,
+}
+
+/// The equations of one mode, ready to be written in any of the three formats.
+pub struct Derived {
+    /// `mode SPEC`, when the model has switching elements.
+    mode_line: Option<String>,
+    /// The `guards:` lines, already worded with the elements' names.
+    guards: Vec<String>,
+    /// The `conventions:` block (possibly empty).
+    conventions: String,
+    /// The LaTeX comment saying what the matrices need.
+    preamble: String,
+    spec: String,
+    kind: Kind,
+    /// A nonlinear mode's operating point (given, or the equilibrium found).
+    point: Option<OperatingPoint>,
+    /// The equilibrium found, when one was searched.
+    found: Option<Equilibrium>,
+}
+
+enum Kind {
+    Linear {
+        // Boxed: the two kinds of equations differ much in size.
+        derived: Box<ModeEquations>,
+        outputs: Vec<OutputEquation>,
+    },
+    Nonlinear {
+        derived: Box<NonlinearModeEquations>,
+        outputs: Vec<NonlinearOutput>,
+    },
+}
+
+/// Derives the mode `request` names of `model` (read from `source`, which diagnostics
+/// point into).
+///
+/// # Errors
+/// A failure for an unknown mode, output or point, a mode without equations, an equilibrium
+/// asked of a linear model, or an equilibrium search that does not converge.
+pub fn derive(
+    model: &Model,
+    source: &Arc<SourceFile>,
+    request: &Request,
+) -> Result<Derived, Failure> {
+    let mode = parse_mode(model, request.mode.as_deref(), source)?;
+    let options = equations::Options {
+        variables: request
+            .variables
+            .unwrap_or_else(|| Variables::preferred(model)),
+    };
+    let located = |d| with_source(d, source);
+    let (mut point, mut found) = (None, None);
+    let kind = if model.is_nonlinear() {
+        let derived = modes::derive_nonlinear(model, &mode, &options).map_err(located)?;
+        let eq = &derived.equations;
+        let outputs = parse_outputs(model, &request.outputs, |record, spec| NonlinearOutput {
+            integral: matches!(record, Record::Integral(_)),
+            name: record.name(),
+            ..eq.output(spec)
+        })
+        .map_err(located)?;
+        let names: Vec<String> = eq.states.iter().map(|s| s.name.clone()).collect();
+        point = request
+            .at
+            .as_deref()
+            .map(|text| OperatingPoint::parse(&names, &eq.inputs, text))
+            .transpose()
+            .map_err(located)?;
+        if request.equilibrium {
+            let start = point
+                .clone()
+                .unwrap_or_else(|| OperatingPoint::zero(names.len(), eq.inputs.len()));
+            let equilibrium = equilibrium::find(eq, &start)
+                .map_err(|e| Failure::message(DiagnosticKind::Simulation, e.to_string()))?;
+            point = Some(equilibrium.point.clone());
+            found = Some(equilibrium);
+        }
+        Kind::Nonlinear {
+            derived: Box::new(derived),
+            outputs,
+        }
+    } else {
+        if request.equilibrium {
+            return Err(Failure::message(
+                DiagnosticKind::NotLinear,
+                "--equilibrium is for nonlinear models; a linear mode's equilibria solve A x + B u + c = 0",
+            ));
+        }
+        let derived = modes::derive(model, &mode, &options).map_err(located)?;
+        let eq = &derived.equations;
+        if let Some(at) = &request.at {
+            // A linear mode's matrices do not depend on the point; the point is checked.
+            let names: Vec<String> = eq.states.iter().map(|s| s.name.clone()).collect();
+            OperatingPoint::parse(&names, &eq.inputs, at).map_err(located)?;
+        }
+        let outputs = parse_outputs(model, &request.outputs, |record, spec| {
+            let mut output = eq.output(spec);
+            output.integral = matches!(record, Record::Integral(_));
+            output.name = record.name();
+            output
+        })
+        .map_err(located)?;
+        Kind::Linear {
+            derived: Box::new(derived),
+            outputs,
+        }
+    };
+    let guards = match &kind {
+        Kind::Linear { derived, .. } => guard_lines(model, &derived.guards, |g| {
+            g.condition_text(&derived.equations)
+        }),
+        Kind::Nonlinear { derived, .. } => guard_lines(model, &derived.guards, |g| {
+            g.condition_text(&derived.equations)
+        }),
+    };
+    Ok(Derived {
+        mode_line: (!mode.is_empty()).then(|| format!("mode {}\n", mode.spec(model))),
+        guards,
+        conventions: conventions::text(model),
+        preamble: conventions::latex_preamble(model),
+        spec: mode.spec(model),
+        kind,
+        point,
+        found,
+    })
+}
+
+/// The outputs `specs` names, each made by `make` from its record and specification.
+fn parse_outputs<T>(
+    model: &Model,
+    specs: &[String],
+    make: impl Fn(&Record, &equations::OutputSpec) -> T,
+) -> Result<Vec<T>, bondgraph_core::diagnostics::Diagnostics> {
+    specs
+        .iter()
+        .map(|spec| Record::parse_output(model, spec).map(|(record, spec)| make(&record, &spec)))
+        .collect()
+}
+
+/// `ELEMENT: CONDITION -> ELEMENT=MODE` for each guard.
+fn guard_lines<E>(
+    model: &Model,
+    guards: &[Guard<E>],
+    condition: impl Fn(&Guard<E>) -> String,
+) -> Vec<String> {
+    guards
+        .iter()
+        .map(|guard| {
+            let element = &model.element(guard.element).name;
+            format!(
+                "{element}: {} -> {element}={}",
+                condition(guard),
+                guard.leaves_to.name()
+            )
+        })
+        .collect()
+}
+
+impl Derived {
+    /// The text `bondgraph equations` prints: the mode, the equations (at the point, for
+    /// a nonlinear mode), the equilibrium found, the outputs, the guards and the
+    /// conventions.
+    pub fn text(&self) -> String {
+        let mut text = self.mode_line.clone().unwrap_or_default();
+        let outputs: Vec<String> = match &self.kind {
+            Kind::Linear { derived, outputs } => {
+                text.push_str(&derived.equations.to_text());
+                outputs
+                    .iter()
+                    .map(|o| derived.equations.output_text(o))
+                    .collect()
+            }
+            Kind::Nonlinear { derived, outputs } => {
+                text.push_str(&derived.equations.to_text(self.point.as_ref()));
+                if let Some(found) = &self.found {
+                    text.push_str(&format!(
+                        "\nequilibrium: f = 0 to {:e} after {} Newton iterations\n",
+                        found.residual, found.iterations
+                    ));
+                }
+                outputs
+                    .iter()
+                    .map(|o| derived.equations.output_text(o))
+                    .collect()
+            }
+        };
+        for (heading, lines) in [("outputs", outputs), ("guards", self.guards.clone())] {
+            if !lines.is_empty() {
+                text.push_str(&format!("\n{heading}:\n"));
+                for line in lines {
+                    text.push_str(&format!("  {line}\n"));
+                }
+            }
+        }
+        text.push_str(&self.conventions);
+        text
+    }
+
+    /// The equations in LaTeX (amsmath), without the comment that opens `--format latex`:
+    /// what a notebook renders.
+    pub fn latex_body(&self) -> String {
+        match &self.kind {
+            Kind::Linear { derived, outputs } => derived.equations.to_latex_with_outputs(outputs),
+            Kind::Nonlinear { derived, outputs } => {
+                derived.equations.to_latex_with_outputs(outputs)
+            }
+        }
+    }
+
+    /// `--format latex`: the comment saying what the matrices need, then the equations.
+    pub fn latex(&self) -> String {
+        format!("{}{}", self.preamble, self.latex_body())
+    }
+
+    /// `--format json`.
+    ///
+    /// # Errors
+    /// Only if the document cannot be serialised.
+    pub fn json(&self) -> Result<String, Failure> {
+        match &self.kind {
+            Kind::Linear { derived, outputs } => {
+                json(&derived.equations.to_json(&self.spec, outputs))
+            }
+            Kind::Nonlinear { derived, outputs } => json(&derived.equations.to_json(
+                &self.spec,
+                outputs,
+                self.point.as_ref(),
+            )),
+        }
+    }
+}
