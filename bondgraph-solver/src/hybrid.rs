@@ -1103,21 +1103,23 @@ impl<'s, 'm> Stepper<'s, 'm> {
             &mut samples,
         );
         self.take_steps(samples, self.t)?;
-        // An event's time is a double: the first one at or after the root, with the state
-        // taken there too, so that state and inputs agree at the event. (The root itself
-        // may be closer to the segment's start than the spacing of doubles there: a belt's
-        // speed rising at 1e9 m/s² gains 8e-14 m/s in the 8e-23 s from 1 µs to a root that
-        // rounds back to 1 µs; the state moved on and the input did not, the contact's
-        // velocity read -8e-14 m/s, and each segment found the root again.)
+        // An event's state is the root's, where its guard is exactly at its threshold, and its
+        // time the root's rounded to a double. A root closer to the segment's start than the
+        // spacing of doubles there rounds back to the start; time must still advance, or each
+        // segment finds the root again (a belt's speed rising at 1e9 m/s² gains 8e-14 m/s in
+        // the 8e-23 s from 1 µs to such a root: time stood still while state and inputs
+        // disagreed, and the same stick was declined until 'time stopped advancing'). Such an
+        // event lands on the next double, its state still the root's: taken there instead, a
+        // stiff state would move on by what it changes in an ulp of time (the flagship's tip,
+        // with a time constant of 4e-18 s, went through zero velocity and back, and read as
+        // slipping both ways).
         let (crossing, stop, stop_time) = match located {
             events::Located::Crossing(c) => {
                 let mut time = self.t + c.tau;
-                if time - self.t < c.tau {
-                    time = time.next_up();
+                if c.tau > 0.0 && time <= self.t {
+                    time = self.t.next_up();
                 }
-                let time = time.min(end);
-                let stop = (time - self.t).max(0.0);
-                (Some(events::Crossing { tau: stop, ..c }), stop, time)
+                (Some(c), c.tau, time.min(end))
             }
             events::Located::Clear(reached) if reached < length => {
                 (None, reached, self.t + reached)
