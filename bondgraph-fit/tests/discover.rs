@@ -19,7 +19,6 @@ use bondgraph_core::source::SourceFile;
 use bondgraph_fit::data::{self, Dataset};
 use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};
 use bondgraph_fit::experiment::Experiment;
-use bondgraph_fit::global::Search;
 use bondgraph_fit::synthetic::{self, Noise};
 
 /// The measurement noise put on the synthetic runs, rad/s (as `data/step.csv` has).
@@ -101,19 +100,23 @@ fn shaft_spring() -> Candidate {
     Candidate::new(&motor(), &Extension::load(&source).unwrap()).unwrap()
 }
 
-/// `discover` with a quarter of the default screening and one local fit per face, to keep
-/// the tests short (a run is simulated at every evaluation; the command line's default search
-/// is tested on `data/step.csv` in tests/cli.rs).
+/// `discover` with the default search, as the command line runs it. (With a quarter of its
+/// screening the base model's refit of the brake-loaded run once stopped on the face where the
+/// Coulomb torque meets the breakaway torque, RMSE 0.117 rad/s against the rescaled optimum's
+/// 0.050, after a change in event location moved the search's path.)
 fn run(dataset: &Dataset) -> Discovery {
     run_with(dataset, &library())
 }
 
 fn run_with(dataset: &Dataset, candidates: &[Candidate]) -> Discovery {
-    let settings = Settings {
-        search: Search::GLOBAL.beside_a_known_fit(),
-        ..Settings::default()
-    };
-    discover::discover(&motor(), &experiment(), dataset, candidates, &settings).unwrap()
+    discover::discover(
+        &motor(),
+        &experiment(),
+        dataset,
+        candidates,
+        &Settings::default(),
+    )
+    .unwrap()
 }
 
 fn ranked<'a>(discovery: &'a Discovery, id: &str) -> &'a discover::Ranked {
