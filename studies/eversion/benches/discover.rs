@@ -103,7 +103,7 @@ fn bench(c: &mut Criterion) {
     let names: Vec<String> = ["F_C_ge", "b", "F_S_ge"].map(String::from).to_vec();
     let mut evaluator = predictor.evaluator(&names).unwrap();
     // Alternate two parameter sets, as a calibration does, so nothing is reused but the modes.
-    let values = [[9.125, 1250.0, 11.7], [11.45, 101.7, 11.47]];
+    let values = [[9.125, 1250.0, 11.7], [0.5, 2300.0, 11.6]];
     let mut k = 0;
     c.bench_function("predict Table III (27 steady states)", |b| {
         b.iter(|| {
