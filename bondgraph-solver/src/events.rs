@@ -87,7 +87,8 @@ fn oscillation_spacing(value: Complex64) -> f64 {
 
 /// Bracketing samples over `(from, to]` for a mode with these eigenvalues: each decaying
 /// time scale `1/|λ|` sampled geometrically while it is active (from 0.02 to 40 time
-/// constants after the segment's start), every oscillation sixteen times a period while it
+/// constants after the segment's start), each growing one likewise until it has grown by
+/// `e^700`, every oscillation sixteen times a period while it
 /// lasts, and the stretch uniformly (sixteen intervals). An oscillation is sampled for at
 /// most [`OSCILLATION_SAMPLES`]: a stretch longer than its [`sampled_horizon`] is for the
 /// caller to cut.
@@ -103,9 +104,18 @@ pub fn sample_times(values: &[Complex64], from: f64, to: f64) -> Vec<f64> {
         } else {
             to
         };
-        if v.re < 0.0 {
+        // A decaying scale is sampled while it lasts; a growing one until it has grown by
+        // e^700, close to the largest double: a guard it drives crosses zero on its own time
+        // scale (a contact's creep that runs away at 1e17/s reaches the slip speed within
+        // attoseconds), and a sample of the uniform stretch beyond would read infinity.
+        let active = if v.re > 0.0 {
+            (700.0 / v.re).min(to)
+        } else {
+            lasts
+        };
+        if v.re != 0.0 {
             let mut t = 0.02 / rate;
-            while t < lasts {
+            while t < active {
                 times.push(t);
                 t *= 1.8;
             }

@@ -8,6 +8,8 @@
 use bondgraph_core::equations::OutputSpec;
 use bondgraph_core::model::{self, Model};
 use bondgraph_core::modes::Mode;
+use bondgraph_core::scenario;
+use bondgraph_core::source::SourceFile;
 use bondgraph_solver::steady::{SteadySettings, steady_state};
 use bondgraph_solver::{Output, Simulator};
 
@@ -66,6 +68,51 @@ fn weakening_faster_than_viscosity_grows_runs_away_to_sliding() {
     let t1 = (1.0 + 9.5 * (0.1 + 1e-9f64)).ln() / 9.5;
     assert_eq!(events[1].1, "contact=slip+", "{events:?}");
     assert!((events[1].0 - t1).abs() < 1e-9, "{events:?} vs {t1}");
+}
+
+#[test]
+fn a_light_block_runs_away_to_sliding_within_attoseconds() {
+    // The same block with m = 1e-12 kg (the flagship's tip weighs 5e-15 kg), pushed by a
+    // force ramped at 100 N/s up to 3 N: it breaks away at F = F_S, t₀ = 0.02 s, and creeping
+    // runs away at 9.5/m = 9.5e12 /s, so it reaches the slip speed v_s within a few
+    // hundred time constants, 1e-11 s; sliding at 3 N it settles at (3 - 1)/0.5 = 4 m/s.
+    // Sampled only on the ramp's scale of milliseconds, the creep read infinity first.
+    let text = r#"Model(
+        name: "light_stribeck_block",
+        parameters: {
+            "m": (value: 1.0e-12), "F_S": (value: 2.0), "F_C": (value: 1.0),
+            "b": (value: 0.5), "v_s": (value: 0.1), "dv": (value: 1.0e-9),
+        },
+        inputs: {"F": ()},
+        elements: {
+            "push": Se(effort: "F"),
+            "v": One,
+            "block": I(inertance: "m"),
+            "contact": Friction(breakaway: "F_S", coulomb: "F_C", viscous: "b", dead_band: "dv", stribeck: "v_s"),
+        },
+        bonds: [("push", "v"), ("v", "block"), ("v", "contact")],
+    )"#;
+    let model = SourceFile::new("light_stribeck_block.ron", text.to_string());
+    let scenario = scenario::load(
+        &SourceFile::new(
+            "push.ron",
+            r#"Scenario(name: "push", inputs: {"F": Ramp(slope: 100.0, ceiling: 3.0)},
+                initial_mode: "contact=stuck", duration: 0.1, record: ["flow:block"],
+                sample: 0.01)"#
+                .to_string(),
+        ),
+        &model,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let run = bondgraph_solver::scenario::run(&scenario, false).unwrap_or_else(|e| panic!("{e}"));
+    let events: Vec<(f64, &str)> = run.events.iter().map(|e| (e.t, e.to.as_str())).collect();
+    assert_eq!(events.len(), 2, "{events:?}");
+    assert_eq!(events[0].1, "contact=creep+", "{events:?}");
+    assert!((events[0].0 - 0.02).abs() < 1e-15, "{events:?}");
+    assert_eq!(events[1].1, "contact=slip+", "{events:?}");
+    assert!(events[1].0 - events[0].0 < 1e-11, "{events:?}");
+    let last = run.times.len() - 1;
+    assert!((run.value(last, 0).unwrap() - 4.0).abs() < 1e-12);
 }
 
 #[test]
