@@ -53,17 +53,6 @@ impl Search {
         local_fits: 0,
         every_face: false,
     };
-
-    /// A lighter search for a model whose starts already include a good fit (a candidate
-    /// started from the base model's optimum): a quarter of the screening, one local fit per
-    /// face.
-    pub fn beside_a_known_fit(self) -> Self {
-        Self {
-            screened: self.screened / 4,
-            local_fits: self.local_fits.min(1),
-            every_face: self.every_face,
-        }
-    }
 }
 
 impl Default for Search {

@@ -265,9 +265,11 @@ fn hidden_pressure_dependent_friction_is_reported_as_aliased() {
 /// Stribeck velocity the tip creeps at `(A P_s - F_S)/(b - (F_S - F_C)/v_st)`, rising from
 /// zero at breakaway, where the Coulomb model jumps to `(F_S - F_C)/b` and rises with slope
 /// `A/b`; no refit of `F_S`, `F_C` and `b` draws both the creeping rows and the sliding ones.
+/// (Seed 102's optimum, `F_C` 2.6 N below `F_S`, was missed when candidates screened a
+/// quarter as many points as the base model.)
 #[test]
 fn hidden_velocity_weakening_is_found() {
-    for seed in [20, 21] {
+    for seed in [20, 21, 102] {
         let (id, parameter, lo, hi) = VELOCITY_WEAKENING;
         let v_st = draw(seed, lo, hi);
         let d = discover_hidden(Some((id, parameter, v_st)), seed);
