@@ -168,11 +168,12 @@ fn motor_detection_rate() {
             .filter(|&seed| {
                 let (_, parameter, lo, hi) = HIDDEN[index];
                 let value = draw(seed, lo, hi);
-                found(
-                    Some(id),
-                    value,
-                    &discover_hidden(Some((id, parameter, value)), seed),
-                )
+                let d = discover_hidden(Some((id, parameter, value)), seed);
+                let ok = found(Some(id), value, &d);
+                if !ok && std::env::var("DETECTION_VERBOSE").is_ok() {
+                    println!("{id} = {value}, seed {seed}: missed\n{}", d.summary());
+                }
+                ok
             })
             .count();
         println!("{id}: {hits}/20");
