@@ -223,7 +223,8 @@ pub struct Ranked {
     /// Predictions of every row made by its fit and its folds' refits: the search's cost.
     pub evaluations: usize,
     /// What the data says of it: `selected`, `indistinguishable`, `qualifies`,
-    /// `not significant`, `aliased with the base` or `no effect on this data`.
+    /// `not significant`, `aliased with the base`, `no effect on this data` or
+    /// `worse than the base` (its bounds keep it from containing the base model here).
     pub verdict: String,
 }
 
@@ -951,6 +952,9 @@ fn cell_text(value: f64) -> String {
     }
 }
 
+/// The verdict of a candidate that fits worse than the base model it contains.
+const WORSE_THAN_THE_BASE: &str = "worse than the base";
+
 /// Whether the candidate's own parameters' Jacobian columns lie in the span of the base
 /// parameters' (so the base refit can mimic its effect): the relative norm of what the
 /// projection leaves, below 2%. Base columns that others already span (two thresholds tied
@@ -1318,6 +1322,14 @@ pub fn discover_with_progress(
         .zip(&assessed)
         .map(|(c, a)| aliased_with_base(&a.fit, p0, c.parameters.len()))
         .collect();
+    // A candidate contains the base model at its own parameters' no-effect values, and its
+    // search starts there, so it cannot fit worse; if it does, those values are not without
+    // effect on these rows (a flow ceiling whose highest value is below speeds the data
+    // reach), and the candidate is not the base model extended here.
+    let worse: Vec<bool> = assessed
+        .iter()
+        .map(|a| a.fit.sse > baseline.fit.sse * (1.0 + 1e-6))
+        .collect();
     let tried = untestable.iter().filter(|u| !**u).count().max(1);
     let level = settings.alpha / tried as f64;
     let p_values: Vec<f64> = assessed
@@ -1494,6 +1506,8 @@ pub fn discover_with_progress(
                 "aliased with the base"
             } else if qualifies[i] {
                 "qualifies"
+            } else if worse[i] {
+                WORSE_THAN_THE_BASE
             } else {
                 "not significant"
             };
@@ -1719,6 +1733,26 @@ impl Discovery {
                 "\nno effect on this data (untestable here): {}",
                 self.untestable.join(", ")
             );
+        }
+        let worse: Vec<&Ranked> = self
+            .ranking
+            .iter()
+            .filter(|r| r.verdict == WORSE_THAN_THE_BASE)
+            .collect();
+        if !worse.is_empty() {
+            let _ = writeln!(
+                s,
+                "\nworse than the base model even at their no-effect values, so within their \
+                 bounds they cannot contain it on this data (widen the bounds in the extension \
+                 file):"
+            );
+            for r in worse {
+                let _ = writeln!(
+                    s,
+                    "  {}: RMSE {:.3} against the base model's {:.3}",
+                    r.id, r.rmse_fit, self.baseline.rmse_fit
+                );
+            }
         }
         s
     }

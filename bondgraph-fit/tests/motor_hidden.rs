@@ -21,8 +21,10 @@ use std::path::PathBuf;
 
 use crate::motor::{self, library, motor};
 use bondgraph_core::model;
+use bondgraph_core::model::extension::Extension;
+use bondgraph_core::source::SourceFile;
 use bondgraph_fit::data::{self, Dataset};
-use bondgraph_fit::discover::{self, Discovery, Settings};
+use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};
 use bondgraph_fit::experiment::Experiment;
 use bondgraph_fit::synthetic::{self, Noise};
 
@@ -156,6 +158,73 @@ fn hidden_brake_loading_is_carried_by_the_torque_constant_and_friction() {
 fn nothing_hidden_nothing_selected() {
     let d = discover_hidden(None, 4);
     assert!(found(None, 0.0, &d), "{}", d.summary());
+}
+
+/// A speed ceiling of at most 10 rad/s on the bundled `steady.csv`, whose shaft turns at up to
+/// 21.45 rad/s: at no value within its bounds does it contain the base model there, so it
+/// fits worse, and is said to. Every row measured faster than 10 rad/s is predicted at 10 at
+/// most, which bounds its RMSE below by `sqrt(Σ (w - 10)² / n)` over those rows.
+#[test]
+fn a_candidate_whose_bounds_exclude_the_base_model_is_worse_than_the_base() {
+    let experiment = experiment();
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let dataset = data::read_file(
+        &root.join("models/examples/geared_motor/data/steady.csv"),
+        &experiment,
+    )
+    .unwrap();
+    let ceiling = SourceFile::new(
+        "shaft-speed-ceiling.ron",
+        r#"Extension(
+    id: "shaft-speed-ceiling",
+    cause: "a governor that holds the shaft below a top speed",
+    evidence: "the speed at the highest voltage",
+    parameters: {
+        "w_max": (value: 10.0, unit: "rad/s", bounds: (1.0, 10.0), description: "top speed"),
+    },
+    elements: {
+        "governor": FlowLimit(max_flow: "w_max"),
+    },
+    bonds: [("shaft", "governor")],
+)"#
+        .to_string(),
+    );
+    let mut candidates = library();
+    candidates.push(Candidate::new(&motor(), &Extension::load(&ceiling).unwrap()).unwrap());
+    let d = discover::discover(
+        &motor(),
+        &experiment,
+        &dataset,
+        &candidates,
+        &Settings::default(),
+    )
+    .unwrap();
+    let ranked = d
+        .ranking
+        .iter()
+        .find(|r| r.id == "shaft-speed-ceiling")
+        .unwrap();
+    let speeds: Vec<f64> = dataset.rows.iter().map(|r| r.observed[0]).collect();
+    let floor = (speeds
+        .iter()
+        .filter(|&&w| w > 10.0)
+        .map(|w| (w - 10.0).powi(2))
+        .sum::<f64>()
+        / speeds.len() as f64)
+        .sqrt();
+    assert!(floor > 1.0, "{floor}");
+    assert!(ranked.rmse_fit >= floor, "{} < {floor}", ranked.rmse_fit);
+    assert!(ranked.rmse_fit > d.baseline.rmse_fit);
+    assert_eq!(ranked.verdict, "worse than the base", "{}", d.summary());
+    assert!(
+        d.summary().contains("shaft-speed-ceiling: RMSE"),
+        "{}",
+        d.summary()
+    );
+    // The library's candidates contain the base model: none is worse.
+    for r in d.ranking.iter().filter(|r| r.id != "shaft-speed-ceiling") {
+        assert_ne!(r.verdict, "worse than the base", "{}", r.id);
+    }
 }
 
 #[test]
