@@ -260,23 +260,7 @@ impl Segment<'_> {
     /// The eigen-coordinates `z(τ)` of the state, for a modal segment (`None` otherwise):
     /// guards precomputed in eigen-coordinates evaluate from these directly.
     pub fn modal_state(&mut self, tau: f64) -> Option<&[Complex64]> {
-        match self {
-            Segment::Modal(s) => {
-                let m = s.modal;
-                for j in 0..s.z0.len() {
-                    s.scratch[j] = coordinate(
-                        m.eigen.values[j],
-                        m.inverse_values[j],
-                        tau,
-                        s.z0[j],
-                        s.w0[j],
-                        s.w1[j],
-                    );
-                }
-                Some(&s.scratch[..s.z0.len()])
-            }
-            Segment::Exponential(_) => None,
-        }
+        self.each_coordinate(tau, coordinate)
     }
 
     /// The rates of change of the eigen-coordinates at `τ`, for a modal segment (`None`
@@ -284,11 +268,22 @@ impl Segment<'_> {
     /// so that a decayed stiff component, whose `λ z` all but cancels `w₀ + w₁ τ`, gives its
     /// true rate `-w₁/λ` instead of that cancellation's rounding.
     pub fn modal_rate(&mut self, tau: f64) -> Option<&[Complex64]> {
+        self.each_coordinate(tau, coordinate_rate)
+    }
+
+    /// `of(λ_j, 1/λ_j, τ, z₀_j, w₀_j, w₁_j)` for every eigen-coordinate, in the scratch
+    /// space, for a modal segment (`None` otherwise).
+    #[inline]
+    fn each_coordinate(
+        &mut self,
+        tau: f64,
+        of: impl Fn(Complex64, Complex64, f64, Complex64, Complex64, Complex64) -> Complex64,
+    ) -> Option<&[Complex64]> {
         match self {
             Segment::Modal(s) => {
                 let m = s.modal;
                 for j in 0..s.z0.len() {
-                    s.scratch[j] = coordinate_rate(
+                    s.scratch[j] = of(
                         m.eigen.values[j],
                         m.inverse_values[j],
                         tau,
