@@ -16,6 +16,12 @@
 //! over any stretch where a bound of every guard (`events/envelope.rs`) shows that none can
 //! reach zero.
 //!
+//! The samples stop early once a bound of every guard clears the rest of the stretch: looked
+//! at before the first sample, then at doubling multiples of the slowest decaying time
+//! constant. A segment that settles away from every guard (a contact sliding on, a string
+//! taut under a steady pull) then costs a few samples of its start instead of every time
+//! scale across the whole segment: what a steady-state search spends most of its time on.
+//!
 //! # Complexity
 //! `O(s · (n² + g))` for `s` samples (typically a hundred, at most 10,000 per oscillation),
 //! `n` states and `g` guards, plus a few dozen evaluations per refinement.
@@ -24,7 +30,7 @@ mod envelope;
 
 use num_complex::Complex64;
 
-use crate::numeric::NumericMode;
+use crate::numeric::{NumericMode, dot};
 use crate::propagate::Segment;
 use envelope::Envelope;
 
@@ -130,7 +136,7 @@ pub fn sample_times(values: &[Complex64], from: f64, to: f64) -> Vec<f64> {
     times.extend((1..16).map(|k| from + k as f64 * uniform));
     times.push(to);
     times.retain(|t| *t > from && *t <= to);
-    times.sort_by(f64::total_cmp);
+    times.sort_unstable_by(f64::total_cmp);
     times.dedup();
     times
 }
@@ -165,36 +171,21 @@ pub fn first_crossing(
         return Located::Clear(length);
     }
     let n = segment.dimension();
-    let mut x = vec![0.0; n];
-    let mut u = vec![0.0; u0.len()];
     // In eigen-coordinates each guard is Re(Σ_j c_j z_j(τ)) + a + b τ with c = G V,
     // a = H u₀ + R u₁ + k and b = H u₁: no change of coordinates per evaluation.
-    let modal: Option<Vec<(Vec<Complex64>, f64, f64)>> = segment.vectors().map(|v| {
-        mode.guards
-            .iter()
-            .map(|g| {
-                let c = (0..n)
-                    .map(|j| (0..n).map(|i| v[(i, j)] * g.row.state[i]).sum())
-                    .collect();
-                let a = crate::numeric::dot(&g.row.input, u0)
-                    + crate::numeric::dot(&g.row.rate, u1)
-                    + g.row.constant;
-                (c, a, crate::numeric::dot(&g.row.input, u1))
-            })
-            .collect()
-    });
+    let modal = segment.vectors().map(|_| ModalGuards::new(mode, n, u0, u1));
+    // The state and inputs at `τ`, for a segment that is not modal.
+    let (mut x, mut u) = if modal.is_some() {
+        (Vec::new(), Vec::new())
+    } else {
+        (vec![0.0; n], vec![0.0; u0.len()])
+    };
     let mut evaluate = |segment: &mut Segment<'_>, tau: f64, values: &mut Vec<f64>| {
         values.clear();
         if let Some(guards) = &modal
             && let Some(z) = segment.modal_state(tau)
         {
-            values.extend(guards.iter().map(|(c, a, b)| {
-                let mut sum = a + b * tau;
-                for (cj, zj) in c.iter().zip(z) {
-                    sum += cj.re * zj.re - cj.im * zj.im;
-                }
-                sum
-            }));
+            guards.values(z, tau, values);
             return;
         }
         segment.state_into(tau, &mut x);
@@ -218,21 +209,17 @@ pub fn first_crossing(
     // between two samples (a contact's relative velocity touching zero for a few
     // milliseconds of a long swing, when the belt is fast): negative at both samples, it has
     // a maximum between them where its rate changes sign from rising to falling.
-    let mut x_rate = vec![0.0; n];
-    let mut u_rate = vec![0.0; u0.len()];
+    let (mut x_rate, mut u_rate) = if modal.is_some() {
+        (Vec::new(), Vec::new())
+    } else {
+        (vec![0.0; n], vec![0.0; u0.len()])
+    };
     let mut slopes = |segment: &mut Segment<'_>, tau: f64, out: &mut Vec<f64>| {
         out.clear();
-        // In eigen-coordinates a guard's rate is Re(Σ_j c_j ż_j(τ)) + b.
         if let Some(guards) = &modal
             && let Some(rates) = segment.modal_rate(tau)
         {
-            out.extend(guards.iter().map(|(c, _, b)| {
-                let mut sum = *b;
-                for (cj, rj) in c.iter().zip(rates) {
-                    sum += cj.re * rj.re - cj.im * rj.im;
-                }
-                sum
-            }));
+            guards.rates(rates, out);
             return;
         }
         segment.state_into(tau, &mut x_rate);
@@ -265,16 +252,24 @@ pub fn first_crossing(
             }
         }
     }
+    // Bounds of each guard over stretches of a modal segment.
+    let envelopes: Option<Vec<Envelope>> = match (segment.modal_terms(), &modal) {
+        (Some(terms), Some(guards)) => Some(
+            (0..guards.offsets.len())
+                .map(|i| {
+                    let (a, b) = guards.offsets[i];
+                    Envelope::new(guards.coefficients(i), a, b, &terms)
+                })
+                .collect(),
+        ),
+        _ => None,
+    };
     // Where the samples start: at zero, or past the stretches where no guard can reach
     // zero, in strides that double while they stay clear.
     let mut from = 0.0;
     if window < length
-        && let (Some(terms), Some(guards)) = (segment.modal_terms(), &modal)
+        && let Some(envelopes) = &envelopes
     {
-        let envelopes: Vec<Envelope> = guards
-            .iter()
-            .map(|(c, a, b)| Envelope::new(c, *a, *b, &terms))
-            .collect();
         let mut stride = window;
         while from < length {
             let to = (from + stride).min(length);
@@ -319,19 +314,60 @@ pub fn first_crossing(
     }
     let mut previous_tau = from;
     let values = mode.propagator.eigenvalues();
+    // The rest of the stretch is passed over once a bound shows that no guard can reach
+    // zero in it: looked at first, then at doubling multiples of the slowest decaying time
+    // constant (where the transients that kept the bound above zero have died down).
+    let mut next_look = from;
+    let slowest = values
+        .iter()
+        .filter(|v| v.re < 0.0 && v.re.is_finite())
+        .map(|v| -v.re)
+        .fold(f64::INFINITY, f64::min);
+    let mut look_every = if slowest.is_finite() {
+        0.25 / slowest
+    } else {
+        (to - from) / 16.0
+    };
     for tau in stretches
         .iter()
         .flat_map(|&(start, end)| sample_times(values, start, end))
     {
+        if previous_tau >= next_look {
+            if let Some(envelopes) = &envelopes
+                && rest_is_clear(envelopes, previous_tau, to, armed, arm_below)
+            {
+                for (i, below) in arm_below.iter().enumerate() {
+                    if *below >= 0.0 {
+                        armed[i] = true;
+                    }
+                }
+                return Located::Clear(to);
+            }
+            next_look = from + look_every;
+            look_every *= 2.0;
+        }
         *samples += 1;
-        evaluate(segment, tau, &mut current);
-        let dipping = (0..current.len()).any(|i| armed[i] && previous[i] < 0.0);
-        if dipping {
+        let dipping = (0..previous.len()).any(|i| armed[i] && previous[i] < 0.0);
+        if dipping
+            && let Some(guards) = &modal
+            && let Some((z, rates)) = segment.modal_state_and_rate(tau)
+        {
+            // Both at once, from one evaluation of the exponentials.
+            current.clear();
+            guards.values(z, tau, &mut current);
+            current_slopes.clear();
+            guards.rates(rates, &mut current_slopes);
+            if previous_slopes.is_empty() {
+                slopes(segment, previous_tau, &mut previous_slopes);
+            }
+        } else if dipping {
+            evaluate(segment, tau, &mut current);
             if previous_slopes.is_empty() {
                 slopes(segment, previous_tau, &mut previous_slopes);
             }
             slopes(segment, tau, &mut current_slopes);
         } else {
+            evaluate(segment, tau, &mut current);
             current_slopes.clear();
         }
         let mut best: Option<Crossing> = None;
@@ -407,6 +443,79 @@ pub fn first_crossing(
         previous_tau = tau;
     }
     Located::Clear(to)
+}
+
+/// A mode's guards in the eigen-coordinates of one segment: guard `i` is
+/// `Re(Σ_j c_ij z_j(τ)) + a_i + b_i τ` with `c = G V`, `a = H u₀ + R u₁ + k`, `b = H u₁`.
+struct ModalGuards<'m> {
+    /// `c`, a guard's coefficients after another's (`n` each).
+    c: &'m [Complex64],
+    /// `(a_i, b_i)`.
+    offsets: Vec<(f64, f64)>,
+    n: usize,
+}
+
+impl<'m> ModalGuards<'m> {
+    fn new(mode: &'m NumericMode, n: usize, u0: &[f64], u1: &[f64]) -> Self {
+        let offsets = mode
+            .guards
+            .iter()
+            .map(|g| {
+                let a = dot(&g.row.input, u0) + dot(&g.row.rate, u1) + g.row.constant;
+                (a, dot(&g.row.input, u1))
+            })
+            .collect();
+        ModalGuards {
+            c: &mode.modal_guards,
+            offsets,
+            n,
+        }
+    }
+
+    /// Guard `i`'s coefficients `c_i`.
+    fn coefficients(&self, i: usize) -> &[Complex64] {
+        &self.c[i * self.n..(i + 1) * self.n]
+    }
+
+    /// The guards' values at `τ` from the coordinates `z(τ)`, appended to `out`.
+    fn values(&self, z: &[Complex64], tau: f64, out: &mut Vec<f64>) {
+        out.extend(self.offsets.iter().enumerate().map(|(i, (a, b))| {
+            let mut sum = a + b * tau;
+            for (cj, zj) in self.coefficients(i).iter().zip(z) {
+                sum += cj.re * zj.re - cj.im * zj.im;
+            }
+            sum
+        }));
+    }
+
+    /// The guards' rates from the coordinates' rates `ż(τ)`, appended to `out`.
+    fn rates(&self, rates: &[Complex64], out: &mut Vec<f64>) {
+        out.extend(self.offsets.iter().enumerate().map(|(i, (_, b))| {
+            let mut sum = *b;
+            for (cj, rj) in self.coefficients(i).iter().zip(rates) {
+                sum += cj.re * rj.re - cj.im * rj.im;
+            }
+            sum
+        }));
+    }
+}
+
+/// Whether no guard can reach zero over `[t0, t1]` by its bound, and every guard not yet
+/// armed will be armed by then (its level is zero, so a value below zero arms it): the
+/// samples of that stretch cannot change what is found.
+fn rest_is_clear(
+    envelopes: &[Envelope],
+    t0: f64,
+    t1: f64,
+    armed: &[bool],
+    arm_below: &[f64],
+) -> bool {
+    t0 < t1
+        && armed
+            .iter()
+            .zip(arm_below)
+            .all(|(armed, below)| *armed || *below >= 0.0)
+        && envelopes.iter().all(|e| e.upper_bound(t0, t1) < 0.0)
 }
 
 /// Refines a bracket `[a, b]` with `f(a) < 0 <= f(b)` by Brent's method (inverse quadratic

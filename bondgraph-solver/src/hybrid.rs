@@ -1005,6 +1005,11 @@ impl<'s, 'm> Stepper<'s, 'm> {
         &self.recorder.events
     }
 
+    /// The events so far, ending the run.
+    pub fn into_events(self) -> Vec<Event> {
+        self.recorder.events
+    }
+
     /// Advances to `until` or to the first event before it, whichever comes first; returns
     /// whether it stopped at an event (the new mode already entered).
     ///

@@ -24,6 +24,7 @@ use bondgraph_core::model::{ElementId, ElementKind, ElementMode, Model};
 use bondgraph_core::modes::{Mode, ModeEquations, NonlinearModeEquations};
 use bondgraph_core::symbolic::expr::Sym;
 use nalgebra::{DMatrix, DVector};
+use num_complex::Complex64;
 use std::sync::Arc;
 
 use crate::nonlinear::{NonlinearNumeric, RowProgram, StorageLawTape};
@@ -228,6 +229,9 @@ pub struct NumericMode {
     pub c: DVector<f64>,
     /// Its guards, in the derivation's order.
     pub guards: Vec<NumericGuard>,
+    /// Each guard's state row in eigen-coordinates, `G V`, one guard after another (empty
+    /// when propagation is not modal): event location evaluates guards from there.
+    pub(crate) modal_guards: Vec<Complex64>,
     /// The requested outputs in this mode.
     pub outputs: Vec<Row>,
     /// Every one-port that exchanges energy without storing it (sources, resistors, friction
@@ -288,7 +292,7 @@ impl NumericMode {
             row
         };
 
-        let guards = derived
+        let guards: Vec<NumericGuard> = derived
             .guards
             .iter()
             .map(|g| NumericGuard {
@@ -329,16 +333,19 @@ impl NumericMode {
                 })
             })
             .collect();
+        let propagator = Propagator::new(&a, &b, &c);
+        let modal_guards = modal_guard_rows(&propagator, &guards);
         NumericMode {
             spec: derived.mode.spec(model),
             mode: derived.mode.clone(),
             state_names: eq.states.iter().map(|s| s.name.clone()).collect(),
-            propagator: Propagator::new(&a, &b, &c),
+            propagator,
             a,
             b,
             c,
             e,
             guards,
+            modal_guards,
             outputs,
             ports,
             reconstruct_state,
@@ -400,6 +407,7 @@ impl NumericMode {
             b,
             c,
             guards,
+            modal_guards: Vec::new(),
             outputs,
             ports: Vec::new(),
             reconstruct_state,
@@ -423,19 +431,38 @@ impl NumericMode {
 
     /// The mode's states from the full state, conserving momentum where bodies merge.
     pub fn project(&self, full: &[f64], u: &[f64]) -> Vec<f64> {
-        let full = DVector::from_column_slice(full);
-        let u = DVector::from_column_slice(u);
-        let free = full - &self.reconstruct_input * u - &self.reconstruct_constant;
-        (&self.projection * free).iter().copied().collect()
+        // (Rᵀ W R)⁻¹ Rᵀ W (full - S u - s), without temporaries: it runs at every event.
+        let (n, size) = self.projection.shape();
+        let mut x = vec![0.0; n];
+        for (k, full_k) in full.iter().enumerate().take(size) {
+            let mut free = *full_k;
+            for (j, uj) in u.iter().enumerate() {
+                free -= self.reconstruct_input[(k, j)] * uj;
+            }
+            free -= self.reconstruct_constant[k];
+            for (i, xi) in x.iter_mut().enumerate() {
+                *xi += self.projection[(i, k)] * free;
+            }
+        }
+        x
     }
 
     /// The full state from the mode's states.
     pub fn reconstruct(&self, x: &[f64], u: &[f64]) -> Vec<f64> {
-        let x = DVector::from_column_slice(x);
-        let u = DVector::from_column_slice(u);
-        (&self.reconstruct_state * x + &self.reconstruct_input * u + &self.reconstruct_constant)
-            .iter()
-            .copied()
+        (0..self.reconstruct_state.nrows())
+            .map(|k| {
+                let state: f64 = x
+                    .iter()
+                    .enumerate()
+                    .map(|(j, xj)| self.reconstruct_state[(k, j)] * xj)
+                    .sum();
+                let input: f64 = u
+                    .iter()
+                    .enumerate()
+                    .map(|(j, uj)| self.reconstruct_input[(k, j)] * uj)
+                    .sum();
+                state + input + self.reconstruct_constant[k]
+            })
             .collect()
     }
 
@@ -540,6 +567,25 @@ impl NumericMode {
 }
 
 /// `R`, `S`, `s` and the projection `(Rᵀ W R)⁻¹ Rᵀ W` of a mode's storage energy forms.
+/// `G V`: each guard's state row times the eigenvectors of a modal propagator, guard after
+/// guard (empty for one that is not modal).
+fn modal_guard_rows(propagator: &Propagator, guards: &[NumericGuard]) -> Vec<Complex64> {
+    let Propagator::Modal(modal) = propagator else {
+        return Vec::new();
+    };
+    let v = &modal.eigen().vectors;
+    let n = v.nrows();
+    let mut rows = Vec::with_capacity(n * guards.len());
+    for g in guards {
+        rows.extend((0..n).map(|j| {
+            (0..n)
+                .map(|i| v[(i, j)] * g.row.state[i])
+                .sum::<Complex64>()
+        }));
+    }
+    rows
+}
+
 fn reconstruction(
     storage: &Storage,
     storage_energy: &[(bondgraph_core::model::ElementId, LinearForm)],

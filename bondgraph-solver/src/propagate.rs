@@ -123,10 +123,13 @@ impl Propagator {
             return None;
         };
         let n = x.len();
-        let to_c =
-            |v: &[f64]| DVector::from_iterator(v.len(), v.iter().map(|&x| Complex64::new(x, 0.0)));
-        let z = &m.eigen.inverse * to_c(x);
-        let w = &m.input * to_c(u) + &m.affine;
+        let mut z = vec![Complex64::new(0.0, 0.0); n];
+        let mut w = vec![Complex64::new(0.0, 0.0); n];
+        times_real(&m.eigen.inverse, x, &mut z);
+        times_real(&m.input, u, &mut w);
+        for (wj, cj) in w.iter_mut().zip(m.affine.iter()) {
+            *wj += cj;
+        }
         let mut position = vec![Complex64::new(0.0, 0.0); n];
         let mut rate = vec![Complex64::new(0.0, 0.0); n];
         for j in 0..n {
@@ -152,18 +155,20 @@ impl Propagator {
         match self {
             Propagator::Modal(m) => {
                 let n = x0.len();
-                let to_c = |v: &[f64]| {
-                    DVector::from_iterator(v.len(), v.iter().map(|&x| Complex64::new(x, 0.0)))
-                };
-                let z0 = &m.eigen.inverse * to_c(x0);
-                let w0 = &m.input * to_c(u0) + &m.affine;
-                let w1 = &m.input * to_c(u1);
+                let zero = Complex64::new(0.0, 0.0);
+                let (mut z0, mut w0, mut w1) = (vec![zero; n], vec![zero; n], vec![zero; n]);
+                times_real(&m.eigen.inverse, x0, &mut z0);
+                times_real(&m.input, u0, &mut w0);
+                for (wj, cj) in w0.iter_mut().zip(m.affine.iter()) {
+                    *wj += cj;
+                }
+                times_real(&m.input, u1, &mut w1);
                 Segment::Modal(ModalSegment {
                     modal: m,
-                    z0: z0.iter().copied().collect(),
-                    w0: w0.iter().copied().collect(),
-                    w1: w1.iter().copied().collect(),
-                    scratch: vec![Complex64::new(0.0, 0.0); n],
+                    z0,
+                    w0,
+                    w1,
+                    scratch: vec![zero; 2 * n],
                 })
             }
             Propagator::Exponential(e) => Segment::Exponential(ExponentialSegment {
@@ -271,6 +276,13 @@ impl Segment<'_> {
         self.each_coordinate(tau, coordinate_rate)
     }
 
+    /// The eigen-coordinates and their rates at `τ`, `(z(τ), ż(τ))`, for a modal segment
+    /// (`None` otherwise): [`Segment::modal_state`] and [`Segment::modal_rate`] sharing one
+    /// evaluation of the φ-functions, as event location samples both.
+    pub fn modal_state_and_rate(&mut self, tau: f64) -> Option<(&[Complex64], &[Complex64])> {
+        self.each_coordinate_pair(tau, coordinate_and_rate)
+    }
+
     /// `of(λ_j, 1/λ_j, τ, z₀_j, w₀_j, w₁_j)` for every eigen-coordinate, in the scratch
     /// space, for a modal segment (`None` otherwise).
     #[inline]
@@ -301,13 +313,32 @@ impl Segment<'_> {
     /// The eigen-coordinates of the state and of its integral at `τ`, `(z(τ), ∫₀^τ z)`, for a
     /// modal segment (`None` otherwise).
     pub fn modal_state_and_integral(&mut self, tau: f64) -> Option<(&[Complex64], &[Complex64])> {
+        self.each_coordinate_pair(tau, coordinate_and_integral)
+    }
+
+    /// Two quantities `of(λ_j, 1/λ_j, τ, z₀_j, w₀_j, w₁_j)` for every eigen-coordinate, the
+    /// first of each in the first half of the scratch space and the second in the second,
+    /// for a modal segment (`None` otherwise).
+    #[inline]
+    fn each_coordinate_pair(
+        &mut self,
+        tau: f64,
+        of: impl Fn(
+            Complex64,
+            Complex64,
+            f64,
+            Complex64,
+            Complex64,
+            Complex64,
+        ) -> (Complex64, Complex64),
+    ) -> Option<(&[Complex64], &[Complex64])> {
         match self {
             Segment::Modal(s) => {
                 let n = s.z0.len();
                 let m = s.modal;
                 s.scratch.resize(2 * n, Complex64::new(0.0, 0.0));
                 for j in 0..n {
-                    let (z, integral) = coordinate_and_integral(
+                    let (first, second) = of(
                         m.eigen.values[j],
                         m.inverse_values[j],
                         tau,
@@ -315,11 +346,10 @@ impl Segment<'_> {
                         s.w0[j],
                         s.w1[j],
                     );
-                    s.scratch[j] = z;
-                    s.scratch[n + j] = integral;
+                    s.scratch[j] = first;
+                    s.scratch[n + j] = second;
                 }
-                let (z, integral) = s.scratch.split_at(n);
-                Some((z, integral))
+                Some(s.scratch.split_at(n))
             }
             Segment::Exponential(_) => None,
         }
@@ -448,6 +478,30 @@ fn coordinate_rate(
     lambda * e * z0 + e * w0 + w1 * phi1 * tau
 }
 
+/// `(coordinate, its rate)`: [`coordinate`] and [`coordinate_rate`] from one evaluation of
+/// the φ-functions, with their shortcuts for decayed components.
+#[inline]
+fn coordinate_and_rate(
+    lambda: Complex64,
+    inverse: Complex64,
+    tau: f64,
+    z0: Complex64,
+    w0: Complex64,
+    w1: Complex64,
+) -> (Complex64, Complex64) {
+    if lambda.im == 0.0 && lambda.re * tau < -745.0 {
+        return (
+            -(w0 * inverse) - w1 * (inverse + tau) * inverse,
+            -(w1 * inverse),
+        );
+    }
+    let [e, phi1, phi2, _] = phis(lambda * tau);
+    (
+        e * z0 + w0 * phi1 * tau + w1 * phi2 * (tau * tau),
+        lambda * e * z0 + e * w0 + w1 * phi1 * tau,
+    )
+}
+
 /// `(coordinate, ∫₀^τ coordinate)`, with the same shortcut for decayed components:
 /// `∫ = -z₀/λ - w₀ (1/λ + τ)/λ - w₁ ((1/λ + τ)/λ + τ²/2)/λ`.
 #[inline]
@@ -471,6 +525,17 @@ fn coordinate_and_integral(
         e * z0 + w0 * phi1 * tau + w1 * phi2 * (tau * tau),
         z0 * phi1 * tau + w0 * phi2 * (tau * tau) + w1 * phi3 * (tau * tau * tau),
     )
+}
+
+/// `M v` for a complex matrix and a real vector, into `out`.
+fn times_real(m: &DMatrix<Complex64>, v: &[f64], out: &mut [Complex64]) {
+    for (i, slot) in out.iter_mut().enumerate() {
+        let mut sum = Complex64::new(0.0, 0.0);
+        for (j, vj) in v.iter().enumerate() {
+            sum += m[(i, j)] * Complex64::new(*vj, 0.0);
+        }
+        *slot = sum;
+    }
 }
 
 fn to_real(vectors: &DMatrix<Complex64>, z: &[Complex64], out: &mut [f64]) {
@@ -579,10 +644,16 @@ mod tests {
                 (rate - expected).norm() < 1e-12 * expected.norm().max(1.0),
                 "{rate} {expected}"
             );
+            // Both from one evaluation of the exponentials: exactly what each gives alone.
+            let both = coordinate_and_rate(lambda, 1.0 / lambda, tau, z0, w0, w1);
+            assert_eq!(both, (z, rate));
         }
         let (lambda, inverse) = (c(-2.5e17, 0.0), c(-4e-18, 0.0));
         let rate = coordinate_rate(lambda, inverse, 1e-3, z0, w0, w1);
         assert_eq!(rate, -(w1 * inverse));
+        let z = coordinate(lambda, inverse, 1e-3, z0, w0, w1);
+        let both = coordinate_and_rate(lambda, inverse, 1e-3, z0, w0, w1);
+        assert_eq!(both, (z, rate));
     }
 
     #[test]

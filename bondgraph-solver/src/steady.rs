@@ -240,7 +240,7 @@ pub fn steady_state(
             drift: drift_outputs,
             mode: mode.spec.clone(),
             time: stepper.time(),
-            events: stepper.events().to_vec(),
+            events: stepper.into_events(),
         });
     }
 }

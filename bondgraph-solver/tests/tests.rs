@@ -3,6 +3,7 @@
 mod analysis;
 mod energy;
 mod energy_records;
+mod event_bounds;
 mod fig6;
 mod flagship;
 mod flow_limit;

@@ -23,11 +23,27 @@ const SMALL: f64 = 1e-6;
 
 /// A guard's terms in one modal segment, to bound it over stretches of the segment.
 pub(super) struct Envelope {
-    /// `(c_j, [λ_j, z₀, w₀, w₁])` for the coordinates the guard depends on.
-    terms: Vec<(Complex64, [Complex64; 4])>,
+    /// The coordinates the guard depends on, their pieces worked out once.
+    terms: Vec<Term>,
     /// The guard's terms in the inputs: `a + b τ`.
     a: f64,
     b: f64,
+}
+
+/// One coordinate's share `Re(c z(τ))` of a guard, in both of its forms.
+struct Term {
+    /// `|λ|`, which decides the form for a stretch ending at `t₁`: `|λ| t₁ <= SMALL`.
+    rate: f64,
+    /// `Re λ`.
+    growth: f64,
+    /// As a parabola: `Re(c z₀)`, `Re(c w₀)`, `Re(c w₁)/2`, and the sizes `|c| |z₀|`,
+    /// `|c| |w₀|`, `|c| |w₁|`.
+    parabola: [f64; 3],
+    parabola_size: [f64; 3],
+    /// As a wave on a line: `Re(c L)`, `Re(c M)`, the wave's amplitude `|c K|`, and the
+    /// sizes of the line's terms (`|c| (|L| + |z₀|) + |c K|` and `|c| |M|`); `None` for a
+    /// zero eigenvalue, which is always a parabola.
+    wave: Option<([f64; 2], f64, [f64; 2])>,
 }
 
 impl Envelope {
@@ -39,7 +55,29 @@ impl Envelope {
                 .iter()
                 .zip(terms)
                 .filter(|(cj, _)| cj.norm() != 0.0)
-                .map(|(cj, t)| (*cj, *t))
+                .map(|(c, &[lambda, z0, w0, w1])| {
+                    let cn = c.norm();
+                    let rate = lambda.norm();
+                    let wave = (rate != 0.0).then(|| {
+                        let inverse = 1.0 / lambda;
+                        let m = -(w1 * inverse);
+                        let l = -((w0 + w1 * inverse) * inverse);
+                        let k = z0 - l;
+                        let amplitude = (c * k).norm();
+                        (
+                            [(c * l).re, (c * m).re],
+                            amplitude,
+                            [cn * (l.norm() + z0.norm()) + amplitude, cn * m.norm()],
+                        )
+                    });
+                    Term {
+                        rate,
+                        growth: lambda.re,
+                        parabola: [(c * z0).re, (c * w0).re, 0.5 * (c * w1).re],
+                        parabola_size: [cn * z0.norm(), cn * w0.norm(), cn * w1.norm()],
+                        wave,
+                    }
+                })
                 .collect(),
             a,
             b,
@@ -54,32 +92,23 @@ impl Envelope {
         let mut p = [self.a, self.b, 0.0];
         let mut size = [self.a.abs(), self.b.abs(), 0.0];
         let mut waves = 0.0;
-        for (c, [lambda, z0, w0, w1]) in &self.terms {
-            let r = lambda.norm();
-            let cn = c.norm();
-            if r * t1 <= SMALL {
-                p[0] += (c * z0).re;
-                p[1] += (c * w0).re;
-                p[2] += 0.5 * (c * w1).re;
-                size[0] += cn * z0.norm();
-                size[1] += cn * w0.norm();
-                size[2] += cn * w1.norm();
-                waves += 2.0
-                    * cn
-                    * r
-                    * t1
-                    * (z0.norm() + t1 * w0.norm() / 2.0 + t1 * t1 * w1.norm() / 6.0);
-            } else {
-                let inverse = 1.0 / lambda;
-                let m = -(w1 * inverse);
-                let l = -((w0 + w1 * inverse) * inverse);
-                let k = z0 - l;
-                p[0] += (c * l).re;
-                p[1] += (c * m).re;
-                let amplitude = (c * k).norm();
-                size[0] += cn * (l.norm() + z0.norm()) + amplitude;
-                size[1] += cn * m.norm();
-                waves += amplitude * (lambda.re * t0).exp().max((lambda.re * t1).exp());
+        for term in &self.terms {
+            match term.wave {
+                Some((line, amplitude, line_size)) if term.rate * t1 > SMALL => {
+                    p[0] += line[0];
+                    p[1] += line[1];
+                    size[0] += line_size[0];
+                    size[1] += line_size[1];
+                    waves += amplitude * (term.growth * t0).exp().max((term.growth * t1).exp());
+                }
+                _ => {
+                    let [z0, w0, w1] = term.parabola_size;
+                    for k in 0..3 {
+                        p[k] += term.parabola[k];
+                        size[k] += term.parabola_size[k];
+                    }
+                    waves += 2.0 * term.rate * t1 * (z0 + t1 * w0 / 2.0 + t1 * t1 * w1 / 6.0);
+                }
             }
         }
         let q = |t: f64| p[0] + p[1] * t + p[2] * t * t;
