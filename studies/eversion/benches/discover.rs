@@ -18,6 +18,10 @@ use bondgraph_fit::predict::Predictor;
 use bondgraph_fit::synthetic::{self, Noise};
 use criterion::{Criterion, criterion_group, criterion_main};
 
+/// The allocator the `bondgraph` binary runs with, so that these figures are a user's.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
