@@ -100,6 +100,10 @@ fn oscillation_spacing(value: Complex64) -> f64 {
 /// caller to cut.
 pub fn sample_times(values: &[Complex64], from: f64, to: f64) -> Vec<f64> {
     let mut times = Vec::with_capacity(96);
+    // Each time scale gives an increasing run of times; `runs` marks where each ends, and
+    // the runs are merged rather than sorted.
+    let mut runs = vec![0];
+    let inside = |t: &f64| *t > from && *t <= to;
     for v in values {
         let rate = v.norm();
         if rate == 0.0 || !rate.is_finite() {
@@ -122,22 +126,66 @@ pub fn sample_times(values: &[Complex64], from: f64, to: f64) -> Vec<f64> {
         if v.re != 0.0 {
             let mut t = 0.02 / rate;
             while t < active {
-                times.push(t);
+                if inside(&t) {
+                    times.push(t);
+                }
                 t *= 1.8;
             }
+            runs.push(times.len());
         }
         if v.im != 0.0 && lasts > from {
             let spacing = oscillation_spacing(*v);
             let count = (((lasts - from) / spacing) as usize).min(OSCILLATION_SAMPLES);
-            times.extend((1..=count).map(|k| from + k as f64 * spacing));
+            times.extend(
+                (1..=count)
+                    .map(|k| from + k as f64 * spacing)
+                    .filter(inside),
+            );
+            runs.push(times.len());
         }
     }
     let uniform = (to - from) / 16.0;
-    times.extend((1..16).map(|k| from + k as f64 * uniform));
+    times.extend((1..16).map(|k| from + k as f64 * uniform).filter(inside));
     times.push(to);
-    times.retain(|t| *t > from && *t <= to);
-    times.sort_unstable_by(f64::total_cmp);
+    runs.push(times.len());
+    let mut times = merge_runs(times, runs);
     times.dedup();
+    times
+}
+
+/// The increasing runs `times[runs[k]..runs[k + 1]]` merged into one increasing sequence,
+/// pairwise.
+fn merge_runs(mut times: Vec<f64>, mut runs: Vec<usize>) -> Vec<f64> {
+    runs.dedup();
+    let mut merged = Vec::with_capacity(times.len());
+    while runs.len() > 2 {
+        merged.clear();
+        let mut ends = vec![0];
+        for pair in runs.windows(3).step_by(2) {
+            let (left, right) = (&times[pair[0]..pair[1]], &times[pair[1]..pair[2]]);
+            let (mut i, mut j) = (0, 0);
+            while i < left.len() && j < right.len() {
+                if left[i] <= right[j] {
+                    merged.push(left[i]);
+                    i += 1;
+                } else {
+                    merged.push(right[j]);
+                    j += 1;
+                }
+            }
+            merged.extend_from_slice(&left[i..]);
+            merged.extend_from_slice(&right[j..]);
+            ends.push(merged.len());
+        }
+        // An odd run out stays as it is.
+        if runs.len().is_multiple_of(2) {
+            let last = runs[runs.len() - 2];
+            merged.extend_from_slice(&times[last..]);
+            ends.push(merged.len());
+        }
+        std::mem::swap(&mut times, &mut merged);
+        runs = ends;
+    }
     times
 }
 
@@ -618,6 +666,27 @@ mod tests {
         let root = refine(0.0, 5.0, f(0.0), f(5.0), f);
         assert!((root - (1.0f64 / 0.3).ln()).abs() < 1e-15);
         assert!(f(root) >= 0.0);
+    }
+
+    #[test]
+    fn merged_runs_are_the_sorted_times() {
+        // Five increasing runs of different lengths, one empty, overlapping and tied.
+        let runs: [&[f64]; 5] = [
+            &[0.1, 0.4, 0.9],
+            &[],
+            &[0.05, 0.4, 0.5, 2.0, 3.0],
+            &[1.0],
+            &[0.2, 0.3, 0.35, 0.9],
+        ];
+        let mut times = Vec::new();
+        let mut ends = vec![0];
+        for run in runs {
+            times.extend_from_slice(run);
+            ends.push(times.len());
+        }
+        let mut sorted = times.clone();
+        sorted.sort_by(f64::total_cmp);
+        assert_eq!(merge_runs(times, ends), sorted);
     }
 
     #[test]
