@@ -11,17 +11,17 @@ use bondgraph::{
 };
 
 use std::io::Write;
-
-/// Fits evaluate thousands of steady states, each a handful of short-lived vectors: a
-/// thread-caching allocator takes a fifth off their time.
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use bondgraph_core::DiagnosticKind;
 use bondgraph_core::equations::Variables;
 use clap::{Parser, Subcommand, ValueEnum};
+
+/// Fits evaluate thousands of steady states, each a handful of short-lived vectors: a
+/// thread-caching allocator takes a fifth off their time.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 /// Bond-graph models in, state equations out.
 #[derive(Parser, Debug)]

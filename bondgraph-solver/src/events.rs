@@ -221,7 +221,10 @@ pub fn first_crossing(
     let n = segment.dimension();
     // In eigen-coordinates each guard is Re(Σ_j c_j z_j(τ)) + a + b τ with c = G V,
     // a = H u₀ + R u₁ + k and b = H u₁: no change of coordinates per evaluation.
-    let modal = segment.vectors().map(|_| ModalGuards::new(mode, n, u0, u1));
+    let modal = segment
+        .vectors()
+        .is_some()
+        .then(|| ModalGuards::new(mode, n, u0, u1));
     // The state and inputs at `τ`, for a segment that is not modal.
     let (mut x, mut u) = if modal.is_some() {
         (Vec::new(), Vec::new())

@@ -433,6 +433,11 @@ impl NumericMode {
     pub fn project(&self, full: &[f64], u: &[f64]) -> Vec<f64> {
         // (Rᵀ W R)⁻¹ Rᵀ W (full - S u - s), without temporaries: it runs at every event.
         let (n, size) = self.projection.shape();
+        debug_assert_eq!(
+            full.len(),
+            size,
+            "a full state has every storage element's value"
+        );
         let mut x = vec![0.0; n];
         for (k, full_k) in full.iter().enumerate().take(size) {
             let mut free = *full_k;
@@ -566,7 +571,6 @@ impl NumericMode {
     }
 }
 
-/// `R`, `S`, `s` and the projection `(Rᵀ W R)⁻¹ Rᵀ W` of a mode's storage energy forms.
 /// `G V`: each guard's state row times the eigenvectors of a modal propagator, guard after
 /// guard (empty for one that is not modal).
 fn modal_guard_rows(propagator: &Propagator, guards: &[NumericGuard]) -> Vec<Complex64> {
@@ -586,6 +590,7 @@ fn modal_guard_rows(propagator: &Propagator, guards: &[NumericGuard]) -> Vec<Com
     rows
 }
 
+/// `R`, `S`, `s` and the projection `(Rᵀ W R)⁻¹ Rᵀ W` of a mode's storage energy forms.
 fn reconstruction(
     storage: &Storage,
     storage_energy: &[(bondgraph_core::model::ElementId, LinearForm)],

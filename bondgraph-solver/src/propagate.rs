@@ -47,6 +47,14 @@ impl Modal {
     pub fn eigen(&self) -> &Eigen {
         &self.eigen
     }
+
+    /// The forcing in eigen-coordinates, `V⁻¹ (B u + c)`, into `out`.
+    fn forcing_into(&self, u: &[f64], out: &mut [Complex64]) {
+        times_real(&self.input, u, out);
+        for (wj, cj) in out.iter_mut().zip(self.affine.iter()) {
+            *wj += cj;
+        }
+    }
 }
 
 /// The data of propagation by the augmented matrix exponential.
@@ -126,10 +134,7 @@ impl Propagator {
         let mut z = vec![Complex64::new(0.0, 0.0); n];
         let mut w = vec![Complex64::new(0.0, 0.0); n];
         times_real(&m.eigen.inverse, x, &mut z);
-        times_real(&m.input, u, &mut w);
-        for (wj, cj) in w.iter_mut().zip(m.affine.iter()) {
-            *wj += cj;
-        }
+        m.forcing_into(u, &mut w);
         let mut position = vec![Complex64::new(0.0, 0.0); n];
         let mut rate = vec![Complex64::new(0.0, 0.0); n];
         for j in 0..n {
@@ -158,10 +163,7 @@ impl Propagator {
                 let zero = Complex64::new(0.0, 0.0);
                 let (mut z0, mut w0, mut w1) = (vec![zero; n], vec![zero; n], vec![zero; n]);
                 times_real(&m.eigen.inverse, x0, &mut z0);
-                times_real(&m.input, u0, &mut w0);
-                for (wj, cj) in w0.iter_mut().zip(m.affine.iter()) {
-                    *wj += cj;
-                }
+                m.forcing_into(u0, &mut w0);
                 times_real(&m.input, u1, &mut w1);
                 Segment::Modal(ModalSegment {
                     modal: m,
