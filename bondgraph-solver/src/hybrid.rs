@@ -32,7 +32,7 @@ mod crossing;
 mod integrate;
 mod stall;
 mod step_guards;
-use crate::numeric::{NumericGuard, NumericMode, Storage, dot};
+use crate::numeric::{ModeForms, NumericGuard, NumericMode, Storage, dot};
 use crossing::{Crossed, Trigger};
 use num_complex::Complex64;
 pub use stall::{STALLED_SEGMENTS, Stall};
@@ -343,6 +343,9 @@ pub struct Simulator<'m> {
     /// The parameter values substituted, indexed like [`Model::values`].
     values: Vec<f64>,
     symbolic: ModeCache<'m>,
+    /// Each linear mode's symbolic pieces, kept when the parameter values change.
+    forms: HashMap<Mode, Arc<ModeForms>>,
+    /// Each mode with the current values in.
     numeric: HashMap<Mode, Arc<NumericMode>>,
     settings: Settings,
     /// Energies recorded after the outputs, by name.
@@ -358,6 +361,7 @@ impl<'m> Simulator<'m> {
             outputs,
             values: model.values.clone(),
             symbolic: ModeCache::new(model, Options::default()),
+            forms: HashMap::new(),
             numeric: HashMap::new(),
             settings: Settings::default(),
             energy_columns: Vec::new(),
@@ -456,19 +460,21 @@ impl<'m> Simulator<'m> {
             self.numeric.insert(mode.clone(), numeric.clone());
             return Ok(numeric);
         }
-        let derived = self.symbolic.get(mode).map_err(SimError::Derivation)?;
-        let forms: Vec<_> = self
-            .outputs
-            .iter()
-            .map(|o| derived.equations.output(&o.spec).row)
-            .collect();
-        let numeric = Arc::new(NumericMode::new(
-            self.model,
-            &self.values,
-            &self.storage,
-            &derived,
-            &forms,
-        ));
+        let forms = match self.forms.get(mode) {
+            Some(forms) => forms.clone(),
+            None => {
+                let derived = self.symbolic.get(mode).map_err(SimError::Derivation)?;
+                let outputs: Vec<_> = self
+                    .outputs
+                    .iter()
+                    .map(|o| derived.equations.output(&o.spec).row)
+                    .collect();
+                let forms = Arc::new(ModeForms::new(self.model, &derived, &outputs));
+                self.forms.insert(mode.clone(), forms.clone());
+                forms
+            }
+        };
+        let numeric = Arc::new(NumericMode::from_forms(&forms, &self.values, &self.storage));
         self.numeric.insert(mode.clone(), numeric.clone());
         Ok(numeric)
     }

@@ -17,7 +17,6 @@
 //! rate's impulse would make it. Every row (guards, outputs, ports) and the maps to and from
 //! the full state are rewritten in `x'` once, here, so nothing downstream sees `E`.
 
-use bondgraph_core::equations::StateEquations;
 use bondgraph_core::guards::Watched;
 use bondgraph_core::linear::{LinearForm, Var};
 use bondgraph_core::model::{ElementId, ElementKind, ElementMode, Model};
@@ -26,6 +25,10 @@ use bondgraph_core::symbolic::expr::Sym;
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 use std::sync::Arc;
+
+mod forms;
+
+pub use forms::ModeForms;
 
 use crate::nonlinear::{NonlinearNumeric, RowProgram, StorageLawTape};
 use crate::propagate::Propagator;
@@ -263,27 +266,37 @@ impl NumericMode {
         derived: &ModeEquations,
         outputs: &[LinearForm],
     ) -> Self {
-        let eq: &StateEquations = &derived.equations;
-        let (n, m) = (eq.states.len(), eq.inputs.len());
-        let evaluate = |rows: Vec<Vec<bondgraph_core::symbolic::RatFunc>>, columns: usize| {
-            DMatrix::from_fn(rows.len(), columns, |i, j| rows[i][j].eval(values))
+        Self::from_forms(&ModeForms::new(model, derived, outputs), values, storage)
+    }
+
+    /// Puts the parameter `values` (indexed like [`Model::values`]) into a mode's forms,
+    /// gathered once ([`ModeForms`]): what a calibration does at every trial.
+    pub fn from_forms(forms: &ModeForms, values: &[f64], storage: &Storage) -> Self {
+        let (n, m) = (forms.state_names.len(), forms.inputs);
+        let evaluate = |entries: &[forms::Entry], columns: usize| {
+            let mut matrix = DMatrix::zeros(n, columns);
+            for (i, j, value) in entries {
+                matrix[(*i, *j)] = value.eval(values);
+            }
+            matrix
         };
-        let a = evaluate(eq.a(), n);
-        let mut b = evaluate(eq.b(), m);
-        let c = DVector::from_iterator(n, eq.c().iter().map(|e| e.eval(values)));
-        let e = evaluate(eq.e(), m);
+        let a = evaluate(&forms.a, n);
+        let mut b = evaluate(&forms.b, m);
+        let c = DVector::from_column_slice(evaluate(&forms.c, 1).as_slice());
+        let e = evaluate(&forms.e, m);
         let with_rates = e.iter().any(|x| *x != 0.0);
         if with_rates {
             b += &a * &e;
         }
 
         let (reconstruct_state, mut reconstruct_input, reconstruct_constant, projection) =
-            reconstruction(storage, eq.storage_energy(), n, m, values);
+            reconstruction(storage, &forms.storage_energy, n, m, values);
         if with_rates {
             reconstruct_input += &reconstruct_state * &e;
         }
         // A row in x becomes a row in x' = x - E u: its input part gains (state part)·E.
-        let in_carried = |mut row: Row| {
+        let row = |form: &LinearForm| {
+            let mut row = Row::from_form(form, n, m, values);
             if with_rates {
                 for j in 0..m {
                     row.input[j] += (0..n).map(|i| row.state[i] * e[(i, j)]).sum::<f64>();
@@ -292,7 +305,7 @@ impl NumericMode {
             row
         };
 
-        let guards: Vec<NumericGuard> = derived
+        let guards: Vec<NumericGuard> = forms
             .guards
             .iter()
             .map(|g| NumericGuard {
@@ -300,45 +313,26 @@ impl NumericMode {
                 leaves_to: g.leaves_to,
                 requires_hold: g.requires_hold,
                 watched: g.watched,
-                row: in_carried(Row::from_form(&g.function(), n, m, values)),
+                row: row(&g.function),
             })
             .collect();
-        let outputs = outputs
+        let outputs = forms.outputs.iter().map(row).collect();
+        let ports = forms
+            .ports
             .iter()
-            .map(|form| in_carried(Row::from_form(form, n, m, values)))
-            .collect();
-        let ports = model
-            .element_ids()
-            .filter_map(|id| {
-                let source = match model.element(id).kind {
-                    ElementKind::EffortSource(_) | ElementKind::FlowSource(_) => true,
-                    ElementKind::Resistor(_)
-                    | ElementKind::Friction(_)
-                    | ElementKind::FlowLimit(_) => false,
-                    _ => return None,
-                };
-                let bond = model.element(id).bonds[0];
-                let sign =
-                    bondgraph_core::symbolic::RatFunc::integer(model.bond(bond).sign_into(id));
-                Some(Port {
-                    element: id,
-                    source,
-                    effort: in_carried(Row::from_form(eq.bond_effort(bond), n, m, values)),
-                    flow: in_carried(Row::from_form(
-                        &eq.bond_flow(bond).scaled(&sign),
-                        n,
-                        m,
-                        values,
-                    )),
-                })
+            .map(|p| Port {
+                element: p.element,
+                source: p.source,
+                effort: row(&p.effort),
+                flow: row(&p.flow),
             })
             .collect();
         let propagator = Propagator::new(&a, &b, &c);
         let modal_guards = modal_guard_rows(&propagator, &guards);
         NumericMode {
-            spec: derived.mode.spec(model),
-            mode: derived.mode.clone(),
-            state_names: eq.states.iter().map(|s| s.name.clone()).collect(),
+            spec: forms.spec.clone(),
+            mode: forms.mode.clone(),
+            state_names: forms.state_names.clone(),
             propagator,
             a,
             b,
