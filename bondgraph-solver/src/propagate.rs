@@ -444,7 +444,8 @@ impl ExponentialSegment<'_> {
 /// One eigen-coordinate at `τ`: `e^{λτ} z₀ + τ φ₁(λτ) w₀ + τ² φ₂(λτ) w₁`. Once a real
 /// eigenvalue's component has decayed to nothing (`λτ < -745`, where `e^{λτ}` is exactly zero
 /// in floating point) this is `-w₀/λ - w₁ (1/λ + τ)/λ`, with no exponential or division: the
-/// stiff components of a mode spend almost all their time there.
+/// stiff components of a mode spend almost all their time there. A real eigenvalue's
+/// φ-functions are real, and multiply as such (half the multiplications of complex ones).
 #[inline]
 fn coordinate(
     lambda: Complex64,
@@ -456,6 +457,10 @@ fn coordinate(
 ) -> Complex64 {
     if lambda.im == 0.0 && lambda.re * tau < -745.0 {
         return -(w0 * inverse) - w1 * (inverse + tau) * inverse;
+    }
+    if lambda.im == 0.0 {
+        let [e, phi1, phi2, _] = real_phis(lambda.re * tau);
+        return z0 * e + w0 * phi1 * tau + w1 * phi2 * (tau * tau);
     }
     let [e, phi1, phi2, _] = phis(lambda * tau);
     e * z0 + w0 * phi1 * tau + w1 * phi2 * (tau * tau)
@@ -476,6 +481,10 @@ fn coordinate_rate(
     if lambda.im == 0.0 && lambda.re * tau < -745.0 {
         return -(w1 * inverse);
     }
+    if lambda.im == 0.0 {
+        let [e, phi1, _, _] = real_phis(lambda.re * tau);
+        return z0 * (lambda.re * e) + w0 * e + w1 * phi1 * tau;
+    }
     let [e, phi1, _, _] = phis(lambda * tau);
     lambda * e * z0 + e * w0 + w1 * phi1 * tau
 }
@@ -495,6 +504,13 @@ fn coordinate_and_rate(
         return (
             -(w0 * inverse) - w1 * (inverse + tau) * inverse,
             -(w1 * inverse),
+        );
+    }
+    if lambda.im == 0.0 {
+        let [e, phi1, phi2, _] = real_phis(lambda.re * tau);
+        return (
+            z0 * e + w0 * phi1 * tau + w1 * phi2 * (tau * tau),
+            z0 * (lambda.re * e) + w0 * e + w1 * phi1 * tau,
         );
     }
     let [e, phi1, phi2, _] = phis(lambda * tau);
