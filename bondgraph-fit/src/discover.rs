@@ -807,19 +807,25 @@ pub(crate) fn fit_best(
         .iter()
         .flat_map(|&i| train[i].observed.iter().copied())
         .collect();
-    let mut residuals = |x: &[f64]| -> Option<Vec<f64>> {
-        evaluator.set(x);
-        let predictions = evaluator.predict(train).ok()?;
-        Some(
-            kept.iter()
-                .flat_map(|&i| predictions[i].observed.iter().copied())
-                .zip(&measured)
-                .map(|(p, m)| p - m)
-                .collect(),
-        )
+    // Each search running side by side predicts with an evaluator of its own.
+    let template = &*evaluator;
+    let measured = &measured;
+    let residuals = || -> global::Residuals<'_> {
+        let mut evaluator = template.fork();
+        Box::new(move |x: &[f64]| {
+            evaluator.set(x);
+            let predictions = evaluator.predict(train).ok()?;
+            Some(
+                kept.iter()
+                    .flat_map(|&i| predictions[i].observed.iter().copied())
+                    .zip(measured)
+                    .map(|(p, m)| p - m)
+                    .collect(),
+            )
+        })
     };
     let result = global::least_squares(
-        &mut residuals,
+        &residuals,
         starts,
         bounds,
         orderings,

@@ -19,11 +19,15 @@
 //! and keeps the best face's optimum, which is then *polished* on all parameters (so that a
 //! threshold the data does not pin, the breakaway force above the tied Coulomb force, gets
 //! its interval, and standard errors come from the full Jacobian). Nothing is random: a fit
-//! is a function of its data.
+//! is a function of its data. The faces, and the local fits on each, run side by side
+//! (each with a residual function of its own, as an evaluator caches the modes it has
+//! derived), and their outcomes are taken in order, so threads change only the time.
 
 use bondgraph_core::linear::Var;
 use bondgraph_core::model::{ElementKind, Friction, Model};
 use bondgraph_core::symbolic::RatFunc;
+
+use rayon::prelude::*;
 
 use crate::calibrate::{self, CalibrationError, Fit, Settings};
 
@@ -155,14 +159,21 @@ pub const BASINS_KEPT: usize = 2;
 /// are one basin.
 const SAME_BASIN: f64 = 1e-3;
 
-/// Minimises the sum of squared `residuals(values)` over the box `bounds` subject to
-/// `orderings`, searching as `search` says from `starts` (every start is tried, on the face
-/// it lies on).
+/// A function of the parameters giving the residuals, `None` where the model cannot be
+/// evaluated; it may keep caches (the modes derived so far), so it is called mutably.
+pub type Residuals<'a> = Box<dyn FnMut(&[f64]) -> Option<Vec<f64>> + 'a>;
+
+/// Minimises the sum of squared residuals over the box `bounds` subject to `orderings`,
+/// searching as `search` says from `starts` (every start is tried, on the face it lies on).
+///
+/// The faces, and the local fits on each, are searched side by side, each with its own
+/// residual function from `residuals`; their outcomes are taken in order, so the result
+/// is the same however many threads run them.
 ///
 /// # Errors
 /// When no start and no screened point can be evaluated, or a bound is not a finite interval.
-pub fn least_squares(
-    residuals: &mut dyn FnMut(&[f64]) -> Option<Vec<f64>>,
+pub fn least_squares<'a>(
+    residuals: &(dyn Fn() -> Residuals<'a> + Sync),
     starts: &[&[f64]],
     bounds: &[(f64, f64)],
     orderings: &[Ordering],
@@ -180,25 +191,46 @@ pub fn least_squares(
             faces.push(face);
         }
     }
+    // Each face screened, then its local fits, face by face side by side.
+    let searched: Vec<(Reduced, Vec<Result<Fit, CalibrationError>>)> = faces
+        .par_iter()
+        .filter_map(|face| {
+            // None: the tied parameters' bounds do not overlap.
+            let reduced = Reduced::new(bounds, face)?;
+            let mut face_starts: Vec<Vec<f64>> = starts
+                .iter()
+                .filter(|s| face_of(s, bounds, orderings) == *face)
+                .map(|s| reduced.project(s))
+                .collect();
+            let mut screening = residuals();
+            face_starts.extend(screen(
+                &mut |u: &[f64]| screening(&reduced.expand(u)),
+                &reduced.bounds,
+                search,
+            ));
+            let fits = face_starts
+                .par_iter()
+                .map(|start| {
+                    let mut local = residuals();
+                    calibrate::least_squares(
+                        &mut |u: &[f64]| local(&reduced.expand(u)),
+                        start,
+                        &reduced.bounds,
+                        settings,
+                    )
+                })
+                .collect();
+            Some((reduced, fits))
+        })
+        .collect();
     let mut evaluations = 0;
     let mut best: Option<(Fit, Reduced)> = None;
     let mut optima: Vec<(f64, Vec<f64>)> = Vec::new();
     let mut failure = None;
-    for face in &faces {
-        let Some(reduced) = Reduced::new(bounds, face) else {
-            continue; // the tied parameters' bounds do not overlap
-        };
-        let mut on_face = |u: &[f64]| residuals(&reduced.expand(u));
-        let mut face_starts: Vec<Vec<f64>> = starts
-            .iter()
-            .filter(|s| face_of(s, bounds, orderings) == *face)
-            .map(|s| reduced.project(s))
-            .collect();
-        let screened = screen(&mut on_face, &reduced.bounds, search);
+    for (reduced, fits) in searched {
         evaluations += search.screened;
-        face_starts.extend(screened);
-        for start in &face_starts {
-            match calibrate::least_squares(&mut on_face, start, &reduced.bounds, settings) {
+        for result in fits {
+            match result {
                 Ok(fit) => {
                     evaluations += fit.evaluations;
                     optima.push((fit.sse, reduced.expand(&fit.values)));
@@ -221,7 +253,7 @@ pub fn least_squares(
     // Polish on every parameter from the face's optimum: the tied parameters part where the
     // data allows it, and the errors come from the full Jacobian.
     let start = reduced.expand(&face_fit.values);
-    let mut fit = calibrate::least_squares(residuals, &start, bounds, settings)?;
+    let mut fit = calibrate::least_squares(&mut residuals(), &start, bounds, settings)?;
     fit.evaluations += evaluations;
     errors_on_the_face(&mut fit, &face_fit, &reduced);
     optima.push((f64::NEG_INFINITY, fit.values.clone()));
@@ -513,7 +545,7 @@ mod tests {
         let start = [0.0, 25.0, 15.0];
         let ties = [Ordering { lower: 0, upper: 2 }];
         let global = least_squares(
-            &mut contact,
+            &|| Box::new(contact),
             &[&start],
             &bounds,
             &ties,
@@ -533,6 +565,38 @@ mod tests {
             (lo - 9.0).abs() < 0.01 && (hi - 10.0).abs() < 0.01,
             "{lo} {hi}"
         );
+    }
+
+    #[test]
+    fn the_search_is_the_same_on_one_thread_and_on_several() {
+        // Faces and local fits run side by side; their outcomes are taken in order, so the
+        // optimum, the basins and the count of evaluations cannot depend on the threads.
+        let bounds = [(0.0, 30.0), (0.1, 50.0), (0.0, 30.0)];
+        let starts: [&[f64]; 2] = [&[0.0, 25.0, 15.0], &[20.0, 1.0, 20.0]];
+        let ties = [Ordering { lower: 0, upper: 2 }];
+        let on = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| {
+                    least_squares(
+                        &|| Box::new(contact),
+                        &starts,
+                        &bounds,
+                        &ties,
+                        &Search::GLOBAL,
+                        &Settings::default(),
+                    )
+                    .unwrap()
+                })
+        };
+        let (one, four) = (on(1), on(4));
+        assert_eq!(one.fit.values, four.fit.values);
+        assert_eq!(one.fit.sse.to_bits(), four.fit.sse.to_bits());
+        assert_eq!(one.fit.evaluations, four.fit.evaluations);
+        assert_eq!(one.basins, four.basins);
+        assert_eq!(one.basins.len(), 2, "{:?}", one.basins);
     }
 
     #[test]
@@ -583,7 +647,7 @@ mod tests {
         let ties = [Ordering { lower: 0, upper: 2 }];
         let on_face = [9.0, 2.0, 9.0];
         let fit = least_squares(
-            &mut contact,
+            &|| Box::new(contact),
             &[&on_face],
             &bounds,
             &ties,

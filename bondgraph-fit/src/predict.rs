@@ -317,7 +317,21 @@ impl<'p> Session<'p> {
     }
 }
 
-impl Evaluator<'_> {
+impl<'p> Evaluator<'p> {
+    /// A new evaluator of the same parameters with the same limits, to predict alongside
+    /// this one (on another thread): it derives its modes afresh.
+    pub fn fork(&self) -> Evaluator<'p> {
+        Evaluator {
+            predictor: self.predictor,
+            sessions: self
+                .sessions
+                .iter()
+                .map(|s| Session::new(s.variant, s.slots.clone()))
+                .collect(),
+            settings: self.settings,
+        }
+    }
+
     /// Sets the values of the evaluator's parameters (in the order they were named).
     ///
     /// # Panics
