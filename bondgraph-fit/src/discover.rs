@@ -814,7 +814,7 @@ pub(crate) fn fit_best(
         let mut evaluator = template.fork();
         Box::new(move |x: &[f64]| {
             evaluator.set(x);
-            let predictions = evaluator.predict(train).ok()?;
+            let predictions = evaluator.predict_all(train)?;
             Some(
                 kept.iter()
                     .flat_map(|&i| predictions[i].observed.iter().copied())
@@ -1260,7 +1260,7 @@ impl Models<'_> {
         for assessment in assessed {
             let values = &assessment.fit.values[..p];
             evaluator.set(values);
-            let Ok(predictions) = evaluator.predict(self.rows) else {
+            let Some(predictions) = evaluator.predict_all(self.rows) else {
                 continue;
             };
             let sse: f64 = predictions

@@ -371,51 +371,68 @@ impl<'p> Evaluator<'p> {
         if let Some(drive) = &self.predictor.drive {
             return self.predict_runs(drive, rows);
         }
-        let experiment = &self.predictor.experiment;
         rows.iter()
             .map(|row| {
-                let session = &mut self.sessions[self.predictor.mask(row)];
-                let variant = session.variant;
-                let mut inputs = vec![0.0; variant.model.inputs.len()];
-                for (k, condition) in experiment.conditions.iter().enumerate() {
-                    if let (Some(input), Some(cell)) = (variant.inputs[k], row.conditions[k]) {
-                        inputs[input] = condition.factor * cell;
-                    }
-                }
-                let located = |reason: String| ExperimentError::Row {
-                    file: row.file.to_string(),
-                    row: row.row,
-                    cells: describe(experiment, row),
-                    reason,
-                };
-                check_friction_levels(&variant.model, &session.values, &inputs).map_err(located)?;
-                let storage = session.simulator.storage().len();
-                let steady = steady_state(
-                    &mut session.simulator,
-                    &inputs,
-                    variant.initial.clone(),
-                    vec![0.0; storage],
-                    &self.settings,
-                )
-                .map_err(|e| located(e.to_string()))?;
-                let observed: Vec<f64> = steady
-                    .outputs
-                    .iter()
-                    .zip(&experiment.observed)
-                    .map(|(y, o)| y / o.factor)
-                    .collect();
-                if let Some(k) = observed.iter().position(|v| !v.is_finite()) {
-                    return Err(located(format!(
-                        "the predicted `{}` is not a finite number",
-                        experiment.observed[k].column
-                    )));
-                }
-                Ok(Prediction {
-                    observed,
-                    mode: steady.mode,
-                })
+                self.predict_steady(row)
+                    .map_err(|failure| ExperimentError::Row {
+                        file: row.file.to_string(),
+                        row: row.row,
+                        cells: describe(&self.predictor.experiment, row),
+                        reason: failure.to_string(),
+                    })
             })
             .collect()
+    }
+
+    /// Every row's prediction, or `None` as soon as one row has none: what a fit's trial
+    /// values need, which are rejected whole, without the words of why.
+    pub fn predict_all(&mut self, rows: &[Measurement]) -> Option<Vec<Prediction>> {
+        if let Some(drive) = &self.predictor.drive {
+            return self
+                .predict_runs(drive, rows)
+                .into_iter()
+                .map(Result::ok)
+                .collect();
+        }
+        rows.iter()
+            .map(|row| self.predict_steady(row).ok())
+            .collect()
+    }
+
+    /// One row's steady state.
+    fn predict_steady(&mut self, row: &Measurement) -> Result<Prediction, RowFailure> {
+        let experiment = &self.predictor.experiment;
+        let session = &mut self.sessions[self.predictor.mask(row)];
+        let variant = session.variant;
+        let mut inputs = vec![0.0; variant.model.inputs.len()];
+        for (k, condition) in experiment.conditions.iter().enumerate() {
+            if let (Some(input), Some(cell)) = (variant.inputs[k], row.conditions[k]) {
+                inputs[input] = condition.factor * cell;
+            }
+        }
+        check_friction_levels(&variant.model, &session.values, &inputs)?;
+        let storage = session.simulator.storage().len();
+        let steady = steady_state(
+            &mut session.simulator,
+            &inputs,
+            variant.initial.clone(),
+            vec![0.0; storage],
+            &self.settings,
+        )
+        .map_err(RowFailure::Steady)?;
+        let observed: Vec<f64> = steady
+            .outputs
+            .iter()
+            .zip(&experiment.observed)
+            .map(|(y, o)| y / o.factor)
+            .collect();
+        if let Some(k) = observed.iter().position(|v| !v.is_finite()) {
+            return Err(RowFailure::NotFinite(experiment.observed[k].column.clone()));
+        }
+        Ok(Prediction {
+            observed,
+            mode: steady.mode,
+        })
     }
 
     /// A time series' rows, run by run: each stretch of consecutive rows from one file with
@@ -485,7 +502,7 @@ pub fn describe(experiment: &Experiment, row: &Measurement) -> String {
 /// A friction contact must break away at or above its Coulomb force, and neither may be
 /// negative: parameter values a calibration tries can violate this where the model file's
 /// values did not, and the contact then has no consistent mode.
-fn check_friction_levels(model: &Model, values: &[f64], inputs: &[f64]) -> Result<(), String> {
+fn check_friction_levels(model: &Model, values: &[f64], inputs: &[f64]) -> Result<(), RowFailure> {
     let level = |form: &bondgraph_core::linear::LinearForm| -> f64 {
         form.terms()
             .iter()
@@ -507,14 +524,41 @@ fn check_friction_levels(model: &Model, values: &[f64], inputs: &[f64]) -> Resul
                 level(&friction.coulomb.value),
             );
             if f_c < 0.0 || f_s < f_c {
-                return Err(format!(
-                    "friction contact '{}': breakaway {f_s} N and Coulomb {f_c} N, but F_S >= F_C >= 0",
-                    element.name
-                ));
+                return Err(RowFailure::FrictionLevels {
+                    contact: element.name.clone(),
+                    f_s,
+                    f_c,
+                });
             }
         }
     }
     Ok(())
+}
+
+/// Why a row has no steady state, put into words only for a caller that reports it.
+#[derive(Debug)]
+enum RowFailure {
+    /// A contact's breakaway force below its Coulomb force, or a negative Coulomb force.
+    FrictionLevels { contact: String, f_s: f64, f_c: f64 },
+    /// The search failed or did not settle.
+    Steady(bondgraph_solver::steady::SteadyError),
+    /// This observed column's prediction is not a finite number.
+    NotFinite(String),
+}
+
+impl std::fmt::Display for RowFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RowFailure::FrictionLevels { contact, f_s, f_c } => write!(
+                f,
+                "friction contact '{contact}': breakaway {f_s} N and Coulomb {f_c} N, but F_S >= F_C >= 0"
+            ),
+            RowFailure::Steady(error) => write!(f, "{error}"),
+            RowFailure::NotFinite(column) => {
+                write!(f, "the predicted `{column}` is not a finite number")
+            }
+        }
+    }
 }
 
 /// Where the parameter `name` sits in the model's values.

@@ -87,3 +87,39 @@ fn steady_states_of_a_linear_motor_by_hand() {
         assert!((p[1] - i * 1e3).abs() < 1e-9 * i * 1e3, "{p:?} vs {i}");
     }
 }
+
+#[test]
+fn a_fit_takes_every_row_or_none() {
+    // `predict_all` is what a fit's trial values get: every row's steady state (the same as
+    // `predict_each`'s, and the hand value w = N K V / (R_a b + N² K²)), or nothing at all
+    // once one row has none. With a negative armature resistance the motor runs away
+    // (L J s² + (R_a J + L b) s + ... has a negative middle coefficient): no row settles,
+    // and `predict_each` says why, at the row.
+    let text = "Experiment(\n    kind: Steady,\n    conditions: [(\"V_V\", \"V\", 1.0)],\n    observed: [(\"w_rad_s\", \"flow:load_inertia\", 1.0)],\n)";
+    let experiment = Experiment::parse("motor.ron", text).unwrap();
+    let (model, source) = motor();
+    let predictor = Predictor::new(model, &source, &experiment).unwrap();
+    let rows = data::read("d.csv", "V_V,w_rad_s\n12,0\n6,0\n", &experiment)
+        .unwrap()
+        .rows;
+    let mut evaluator = predictor.evaluator(&["R_a".to_string()]).unwrap();
+    evaluator.set(&[2.4]);
+    let all = evaluator.predict_all(&rows).expect("every row settles");
+    for ((row, p), each) in rows.iter().zip(&all).zip(evaluator.predict_each(&rows)) {
+        let w = 10.0 * 0.05 * row.conditions[0].unwrap() / (2.4 * 0.001 + 0.25);
+        assert!((p.observed[0] - w).abs() < 1e-9 * w, "{p:?} vs {w}");
+        assert_eq!(p.observed, each.unwrap().observed);
+    }
+    evaluator.set(&[-1.0]);
+    assert!(evaluator.predict_all(&rows).is_none());
+    let each = evaluator.predict_each(&rows);
+    let Err(error) = &each[0] else {
+        panic!("a runaway motor has no steady state: {each:?}")
+    };
+    let text = error.to_string();
+    assert!(
+        text.contains("d.csv") && text.contains("V_V = 12"),
+        "{text}"
+    );
+    assert!(text.contains("does not decay"), "{text}");
+}
