@@ -99,10 +99,32 @@ fn oscillation_spacing(value: Complex64) -> f64 {
 /// most [`OSCILLATION_SAMPLES`]: a stretch longer than its [`sampled_horizon`] is for the
 /// caller to cut.
 pub fn sample_times(values: &[Complex64], from: f64, to: f64) -> Vec<f64> {
-    let mut times = Vec::with_capacity(96);
+    let mut buffers = SampleBuffers::default();
+    sample_times_into(values, from, to, &mut buffers);
+    buffers.times
+}
+
+/// The buffers [`sample_times`] fills, kept from one stretch to the next.
+#[derive(Debug, Default)]
+struct SampleBuffers {
+    /// The times, once merged.
+    times: Vec<f64>,
+    /// Where each increasing run of `times` ends, before merging.
+    runs: Vec<usize>,
+    /// A merging round's output and its runs' ends.
+    merged: Vec<f64>,
+    ends: Vec<usize>,
+}
+
+/// [`sample_times`] into `buffers.times`.
+fn sample_times_into(values: &[Complex64], from: f64, to: f64, buffers: &mut SampleBuffers) {
+    let times = &mut buffers.times;
+    times.clear();
     // Each time scale gives an increasing run of times; `runs` marks where each ends, and
     // the runs are merged rather than sorted.
-    let mut runs = vec![0];
+    let runs = &mut buffers.runs;
+    runs.clear();
+    runs.push(0);
     let inside = |t: &f64| *t > from && *t <= to;
     for v in values {
         let rate = v.norm();
@@ -148,19 +170,24 @@ pub fn sample_times(values: &[Complex64], from: f64, to: f64) -> Vec<f64> {
     times.extend((1..16).map(|k| from + k as f64 * uniform).filter(inside));
     times.push(to);
     runs.push(times.len());
-    let mut times = merge_runs(times, runs);
-    times.dedup();
-    times
+    merge_runs(buffers);
+    buffers.times.dedup();
 }
 
-/// The increasing runs `times[runs[k]..runs[k + 1]]` merged into one increasing sequence,
-/// pairwise.
-fn merge_runs(mut times: Vec<f64>, mut runs: Vec<usize>) -> Vec<f64> {
+/// The increasing runs `times[runs[k]..runs[k + 1]]` of `buffers` merged into one
+/// increasing sequence, pairwise, in `buffers.times`.
+fn merge_runs(buffers: &mut SampleBuffers) {
+    let SampleBuffers {
+        times,
+        runs,
+        merged,
+        ends,
+    } = buffers;
     runs.dedup();
-    let mut merged = Vec::with_capacity(times.len());
     while runs.len() > 2 {
         merged.clear();
-        let mut ends = vec![0];
+        ends.clear();
+        ends.push(0);
         for pair in runs.windows(3).step_by(2) {
             let (left, right) = (&times[pair[0]..pair[1]], &times[pair[1]..pair[2]]);
             let (mut i, mut j) = (0, 0);
@@ -183,10 +210,35 @@ fn merge_runs(mut times: Vec<f64>, mut runs: Vec<usize>) -> Vec<f64> {
             merged.extend_from_slice(&times[last..]);
             ends.push(merged.len());
         }
-        std::mem::swap(&mut times, &mut merged);
-        runs = ends;
+        std::mem::swap(times, merged);
+        std::mem::swap(runs, ends);
     }
-    times
+}
+
+/// Buffers event location reuses from segment to segment: a steady-state search locates
+/// events in thousands of short segments, and allocating them for each was a tenth of its
+/// time. Keep one per simulation (it holds no state between calls).
+#[derive(Debug, Default)]
+pub struct Scratch {
+    previous: Vec<f64>,
+    current: Vec<f64>,
+    previous_slopes: Vec<f64>,
+    current_slopes: Vec<f64>,
+    /// The guards' values or rates at a refinement's trial point.
+    probe: Vec<f64>,
+    from_zero: Vec<bool>,
+    offsets: Vec<(f64, f64)>,
+    envelopes: Vec<Envelope>,
+    terms: Vec<[Complex64; 4]>,
+    stretches: Vec<(f64, f64)>,
+    samples: SampleBuffers,
+    /// The state at the segment's start.
+    start_state: Vec<f64>,
+    /// The state and inputs at a sample, and at a rate's, for a segment that is not modal.
+    x: Vec<f64>,
+    u: Vec<f64>,
+    x_rate: Vec<f64>,
+    u_rate: Vec<f64>,
 }
 
 /// The first crossing of an armed guard in `(0, length]`, arming guards seen below their
@@ -197,7 +249,7 @@ fn merge_runs(mut times: Vec<f64>, mut runs: Vec<usize>) -> Vec<f64> {
 /// The inputs are `u₀ + u₁ τ` over the segment. `window` is how long a stretch the samples
 /// may follow ([`sampled_horizon`], or `length` where the segment must not be cut).
 ///
-/// Each bracketing sample taken is counted in `samples`.
+/// Each bracketing sample taken is counted in `samples`; `scratch` lends the buffers.
 ///
 /// # Returns
 /// The crossing, or how far no guard reaches zero: `length`, or, when `window < length`,
@@ -214,23 +266,43 @@ pub fn first_crossing(
     armed: &mut [bool],
     arm_below: &[f64],
     samples: &mut u64,
+    scratch: &mut Scratch,
 ) -> Located {
     if mode.guards.is_empty() || length <= 0.0 {
         return Located::Clear(length);
     }
+    let Scratch {
+        previous,
+        current,
+        previous_slopes,
+        current_slopes,
+        probe,
+        from_zero,
+        offsets,
+        envelopes,
+        terms,
+        stretches,
+        samples: times,
+        start_state,
+        x,
+        u,
+        x_rate,
+        u_rate,
+    } = scratch;
     let n = segment.dimension();
     // In eigen-coordinates each guard is Re(Σ_j c_j z_j(τ)) + a + b τ with c = G V,
     // a = H u₀ + R u₁ + k and b = H u₁: no change of coordinates per evaluation.
     let modal = segment
         .vectors()
         .is_some()
-        .then(|| ModalGuards::new(mode, n, u0, u1));
+        .then(|| ModalGuards::new(mode, n, u0, u1, offsets));
     // The state and inputs at `τ`, for a segment that is not modal.
-    let (mut x, mut u) = if modal.is_some() {
-        (Vec::new(), Vec::new())
-    } else {
-        (vec![0.0; n], vec![0.0; u0.len()])
-    };
+    if modal.is_none() {
+        x.resize(n, 0.0);
+        u.resize(u0.len(), 0.0);
+        x_rate.resize(n, 0.0);
+        u_rate.resize(u0.len(), 0.0);
+    }
     let mut evaluate = |segment: &mut Segment<'_>, tau: f64, values: &mut Vec<f64>| {
         values.clear();
         if let Some(guards) = &modal
@@ -239,14 +311,13 @@ pub fn first_crossing(
             guards.values(z, tau, values);
             return;
         }
-        segment.state_into(tau, &mut x);
+        segment.state_into(tau, x);
         for (k, slot) in u.iter_mut().enumerate() {
             *slot = u0[k] + u1[k] * tau;
         }
-        values.extend(mode.guards.iter().map(|g| g.row.eval(&x, &u, u1)));
+        values.extend(mode.guards.iter().map(|g| g.row.eval(x, u, u1)));
     };
-    let mut previous = Vec::with_capacity(mode.guards.len());
-    evaluate(segment, 0.0, &mut previous);
+    evaluate(segment, 0.0, previous);
     // An armed guard already at zero fires at once (an event exactly at a breakpoint).
     if let Some(i) = (0..previous.len()).find(|&i| armed[i] && previous[i] >= 0.0) {
         return Located::Crossing(Crossing { guard: i, tau: 0.0 });
@@ -260,11 +331,6 @@ pub fn first_crossing(
     // between two samples (a contact's relative velocity touching zero for a few
     // milliseconds of a long swing, when the belt is fast): negative at both samples, it has
     // a maximum between them where its rate changes sign from rising to falling.
-    let (mut x_rate, mut u_rate) = if modal.is_some() {
-        (Vec::new(), Vec::new())
-    } else {
-        (vec![0.0; n], vec![0.0; u0.len()])
-    };
     let mut slopes = |segment: &mut Segment<'_>, tau: f64, out: &mut Vec<f64>| {
         out.clear();
         if let Some(guards) = &modal
@@ -273,28 +339,29 @@ pub fn first_crossing(
             guards.rates(rates, out);
             return;
         }
-        segment.state_into(tau, &mut x_rate);
+        segment.state_into(tau, x_rate);
         for (k, slot) in u_rate.iter_mut().enumerate() {
             *slot = u0[k] + u1[k] * tau;
         }
         out.extend(
             mode.guards
                 .iter()
-                .map(|g| mode.row_rate(&g.row, &x_rate, &u_rate, u1)),
+                .map(|g| mode.row_rate(&g.row, x_rate, u_rate, u1)),
         );
     };
-    let mut current = Vec::with_capacity(mode.guards.len());
-    let (mut previous_slopes, mut current_slopes) = (Vec::new(), Vec::new());
+    previous_slopes.clear();
+    current_slopes.clear();
     // A guard at zero (to rounding) that is falling is left at once: armed now, as if seen
     // below zero, or a dip shorter than the first sample (a string that goes slack and is
     // pulled taut again within milliseconds) would never arm it.
-    let mut from_zero = vec![false; previous.len()];
+    from_zero.clear();
+    from_zero.resize(previous.len(), false);
     if (0..previous.len()).any(|i| !armed[i] && arm_below[i] >= 0.0) {
-        slopes(segment, 0.0, &mut previous_slopes);
-        let mut x0 = vec![0.0; n];
-        segment.state_into(0.0, &mut x0);
+        slopes(segment, 0.0, previous_slopes);
+        start_state.resize(n, 0.0);
+        segment.state_into(0.0, start_state);
         for i in 0..previous.len() {
-            let level = 1e-9 * mode.guards[i].row.magnitude(&x0, u0, u1);
+            let level = 1e-9 * mode.guards[i].row.magnitude(start_state, u0, u1);
             if !armed[i] && arm_below[i] >= 0.0 && previous[i] <= level && previous_slopes[i] < 0.0
             {
                 armed[i] = true;
@@ -304,22 +371,26 @@ pub fn first_crossing(
         }
     }
     // Bounds of each guard over stretches of a modal segment.
-    let envelopes: Option<Vec<Envelope>> = match (segment.modal_terms(), &modal) {
-        (Some(terms), Some(guards)) => Some(
-            (0..guards.offsets.len())
-                .map(|i| {
-                    let (a, b) = guards.offsets[i];
-                    Envelope::new(guards.coefficients(i), a, b, &terms)
-                })
-                .collect(),
-        ),
-        _ => None,
+    let bounded = match &modal {
+        Some(guards) if segment.modal_terms_into(terms) => {
+            envelopes.truncate(guards.offsets.len());
+            for i in 0..guards.offsets.len() {
+                let (a, b) = guards.offsets[i];
+                match envelopes.get_mut(i) {
+                    Some(envelope) => envelope.reset(guards.coefficients(i), a, b, terms),
+                    None => envelopes.push(Envelope::new(guards.coefficients(i), a, b, terms)),
+                }
+            }
+            true
+        }
+        _ => false,
     };
+    let envelopes: Option<&[Envelope]> = bounded.then_some(envelopes.as_slice());
     // Where the samples start: at zero, or past the stretches where no guard can reach
     // zero, in strides that double while they stay clear.
     let mut from = 0.0;
     if window < length
-        && let Some(envelopes) = &envelopes
+        && let Some(envelopes) = envelopes
     {
         let mut stride = window;
         while from < length {
@@ -327,7 +398,7 @@ pub fn first_crossing(
             if envelopes.iter().all(|e| e.upper_bound(from, to) < 0.0) {
                 from = to;
                 stride *= 2.0;
-                evaluate(segment, from, &mut current);
+                evaluate(segment, from, current);
                 for i in 0..current.len() {
                     if current[i] < arm_below[i] {
                         armed[i] = true;
@@ -343,14 +414,14 @@ pub fn first_crossing(
             return Located::Clear(length);
         }
         if from > 0.0 {
-            evaluate(segment, from, &mut previous);
+            evaluate(segment, from, previous);
             previous_slopes.clear();
         }
     }
     let to = (from + window).min(length);
     // A cut segment's samples are taken in stretches that double from 1/256 of it, so
     // that a crossing early in it does not cost all 10,000 samples of its oscillation.
-    let mut stretches = Vec::new();
+    stretches.clear();
     let mut end = from;
     let mut piece = if window < length {
         (to - from) / 256.0
@@ -379,119 +450,118 @@ pub fn first_crossing(
     } else {
         (to - from) / 16.0
     };
-    for tau in stretches
-        .iter()
-        .flat_map(|&(start, end)| sample_times(values, start, end))
-    {
-        if previous_tau >= next_look {
-            if let Some(envelopes) = &envelopes
-                && rest_is_clear(envelopes, previous_tau, to, armed, arm_below)
-            {
-                for (i, below) in arm_below.iter().enumerate() {
-                    if *below >= 0.0 {
-                        armed[i] = true;
-                    }
-                }
-                return Located::Clear(to);
-            }
-            next_look = from + look_every;
-            look_every *= 2.0;
-        }
-        *samples += 1;
-        let dipping = (0..previous.len()).any(|i| armed[i] && previous[i] < 0.0);
-        if dipping
-            && let Some(guards) = &modal
-            && let Some((z, rates)) = segment.modal_state_and_rate(tau)
-        {
-            // Both at once, from one evaluation of the exponentials.
-            current.clear();
-            guards.values(z, tau, &mut current);
-            current_slopes.clear();
-            guards.rates(rates, &mut current_slopes);
-            if previous_slopes.is_empty() {
-                slopes(segment, previous_tau, &mut previous_slopes);
-            }
-        } else if dipping {
-            evaluate(segment, tau, &mut current);
-            if previous_slopes.is_empty() {
-                slopes(segment, previous_tau, &mut previous_slopes);
-            }
-            slopes(segment, tau, &mut current_slopes);
-        } else {
-            evaluate(segment, tau, &mut current);
-            current_slopes.clear();
-        }
-        let mut best: Option<Crossing> = None;
-        for i in 0..current.len() {
-            if !(armed[i] && previous[i] < 0.0) {
-                continue;
-            }
-            // Rising at the first sample and falling at the second, the guard peaks between
-            // them: its first zero, if any, is before the peak (a bracket that ends at or
-            // above zero would otherwise give Brent's method two roots to choose from).
-            let mut bracket = (current[i] >= 0.0).then_some((tau, current[i]));
-            if previous_slopes[i] > 0.0 && current_slopes[i] < 0.0 {
-                let mut rates = Vec::with_capacity(current.len());
-                let peak = refine(
-                    previous_tau,
-                    tau,
-                    -previous_slopes[i],
-                    -current_slopes[i],
-                    |t| {
-                        slopes(segment, t, &mut rates);
-                        -rates[i]
-                    },
-                );
-                let mut values = Vec::with_capacity(current.len());
-                evaluate(segment, peak, &mut values);
-                if values[i] >= 0.0 {
-                    bracket = Some((peak, values[i]));
-                }
-                // A peak below zero is not the last: the rates found one of several extrema,
-                // and a guard at or above zero at the second sample still crossed.
-            }
-            if let Some((end, value)) = bracket {
-                let mut values = Vec::with_capacity(current.len());
-                let (mut start, mut f_start) = (previous_tau, previous[i]);
-                if from_zero[i] && previous_tau == 0.0 {
-                    // Armed at zero: start the bracket where the guard is below zero, or
-                    // Brent's method would find the zero it starts from.
-                    let mut probe = end;
-                    loop {
-                        probe *= 0.5;
-                        evaluate(segment, probe, &mut values);
-                        if values[i] < 0.0 || probe < f64::MIN_POSITIVE {
-                            break;
+    for &(start, end) in stretches.iter() {
+        sample_times_into(values, start, end, times);
+        for &tau in &times.times {
+            if previous_tau >= next_look {
+                if let Some(envelopes) = envelopes
+                    && rest_is_clear(envelopes, previous_tau, to, armed, arm_below)
+                {
+                    for (i, below) in arm_below.iter().enumerate() {
+                        if *below >= 0.0 {
+                            armed[i] = true;
                         }
                     }
-                    if values[i] >= 0.0 {
-                        continue;
+                    return Located::Clear(to);
+                }
+                next_look = from + look_every;
+                look_every *= 2.0;
+            }
+            *samples += 1;
+            let dipping = (0..previous.len()).any(|i| armed[i] && previous[i] < 0.0);
+            if dipping
+                && let Some(guards) = &modal
+                && let Some((z, rates)) = segment.modal_state_and_rate(tau)
+            {
+                // Both at once, from one evaluation of the exponentials.
+                current.clear();
+                guards.values(z, tau, current);
+                current_slopes.clear();
+                guards.rates(rates, current_slopes);
+                if previous_slopes.is_empty() {
+                    slopes(segment, previous_tau, previous_slopes);
+                }
+            } else if dipping {
+                evaluate(segment, tau, current);
+                if previous_slopes.is_empty() {
+                    slopes(segment, previous_tau, previous_slopes);
+                }
+                slopes(segment, tau, current_slopes);
+            } else {
+                evaluate(segment, tau, current);
+                current_slopes.clear();
+            }
+            let mut best: Option<Crossing> = None;
+            for i in 0..current.len() {
+                if !(armed[i] && previous[i] < 0.0) {
+                    continue;
+                }
+                // Rising at the first sample and falling at the second, the guard peaks
+                // between them: its first zero, if any, is before the peak (a bracket that
+                // ends at or above zero would otherwise give Brent's method two roots to
+                // choose from).
+                let mut bracket = (current[i] >= 0.0).then_some((tau, current[i]));
+                if previous_slopes[i] > 0.0 && current_slopes[i] < 0.0 {
+                    let peak = refine(
+                        previous_tau,
+                        tau,
+                        -previous_slopes[i],
+                        -current_slopes[i],
+                        |t| {
+                            slopes(segment, t, probe);
+                            -probe[i]
+                        },
+                    );
+                    evaluate(segment, peak, probe);
+                    if probe[i] >= 0.0 {
+                        bracket = Some((peak, probe[i]));
                     }
-                    (start, f_start) = (probe, values[i]);
+                    // A peak below zero is not the last: the rates found one of several
+                    // extrema, and a guard at or above zero at the second sample still
+                    // crossed.
                 }
-                let root = refine(start, end, f_start, value, |t| {
-                    evaluate(segment, t, &mut values);
-                    values[i]
-                });
-                if best.is_none_or(|b| root < b.tau) {
-                    best = Some(Crossing {
-                        guard: i,
-                        tau: root,
+                if let Some((end, value)) = bracket {
+                    let (mut start, mut f_start) = (previous_tau, previous[i]);
+                    if from_zero[i] && previous_tau == 0.0 {
+                        // Armed at zero: start the bracket where the guard is below zero, or
+                        // Brent's method would find the zero it starts from.
+                        let mut at = end;
+                        loop {
+                            at *= 0.5;
+                            evaluate(segment, at, probe);
+                            if probe[i] < 0.0 || at < f64::MIN_POSITIVE {
+                                break;
+                            }
+                        }
+                        if probe[i] >= 0.0 {
+                            continue;
+                        }
+                        (start, f_start) = (at, probe[i]);
+                    }
+                    let root = refine(start, end, f_start, value, |t| {
+                        evaluate(segment, t, probe);
+                        probe[i]
                     });
+                    if best.is_none_or(|b| root < b.tau) {
+                        best = Some(Crossing {
+                            guard: i,
+                            tau: root,
+                        });
+                    }
                 }
             }
-        }
-        if let Some(crossing) = best {
-            return Located::Crossing(crossing);
-        }
-        std::mem::swap(&mut previous_slopes, &mut current_slopes);
-        for i in 0..current.len() {
-            if current[i] < arm_below[i] {
-                armed[i] = true;
+            if let Some(crossing) = best {
+                return Located::Crossing(crossing);
             }
+            std::mem::swap(previous_slopes, current_slopes);
+            for i in 0..current.len() {
+                if current[i] < arm_below[i] {
+                    armed[i] = true;
+                }
+            }
+            std::mem::swap(previous, current);
+            previous_tau = tau;
         }
-        std::mem::swap(&mut previous, &mut current);
-        previous_tau = tau;
     }
     Located::Clear(to)
 }
@@ -502,20 +572,25 @@ struct ModalGuards<'m> {
     /// `c`, a guard's coefficients after another's (`n` each).
     c: &'m [Complex64],
     /// `(a_i, b_i)`.
-    offsets: Vec<(f64, f64)>,
+    offsets: &'m [(f64, f64)],
     n: usize,
 }
 
 impl<'m> ModalGuards<'m> {
-    fn new(mode: &'m NumericMode, n: usize, u0: &[f64], u1: &[f64]) -> Self {
-        let offsets = mode
-            .guards
-            .iter()
-            .map(|g| {
-                let a = dot(&g.row.input, u0) + dot(&g.row.rate, u1) + g.row.constant;
-                (a, dot(&g.row.input, u1))
-            })
-            .collect();
+    /// The guards of `mode` over a segment with inputs `u₀ + u₁ τ`, their offsets in the
+    /// buffer `offsets`.
+    fn new(
+        mode: &'m NumericMode,
+        n: usize,
+        u0: &[f64],
+        u1: &[f64],
+        offsets: &'m mut Vec<(f64, f64)>,
+    ) -> Self {
+        offsets.clear();
+        offsets.extend(mode.guards.iter().map(|g| {
+            let a = dot(&g.row.input, u0) + dot(&g.row.rate, u1) + g.row.constant;
+            (a, dot(&g.row.input, u1))
+        }));
         ModalGuards {
             c: &mode.modal_guards,
             offsets,
@@ -689,7 +764,13 @@ mod tests {
         }
         let mut sorted = times.clone();
         sorted.sort_by(f64::total_cmp);
-        assert_eq!(merge_runs(times, ends), sorted);
+        let mut buffers = SampleBuffers {
+            times,
+            runs: ends,
+            ..SampleBuffers::default()
+        };
+        merge_runs(&mut buffers);
+        assert_eq!(buffers.times, sorted);
     }
 
     #[test]

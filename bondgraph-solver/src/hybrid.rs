@@ -350,6 +350,8 @@ pub struct Simulator<'m> {
     settings: Settings,
     /// Energies recorded after the outputs, by name.
     energy_columns: Vec<(String, EnergyColumn)>,
+    /// Event location's buffers, kept from segment to segment and run to run.
+    scratch: events::Scratch,
 }
 
 impl<'m> Simulator<'m> {
@@ -365,6 +367,7 @@ impl<'m> Simulator<'m> {
             numeric: HashMap::new(),
             settings: Settings::default(),
             energy_columns: Vec::new(),
+            scratch: events::Scratch::default(),
         }
     }
 
@@ -1112,6 +1115,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
             &mut self.armed,
             &self.arm_below,
             &mut samples,
+            &mut self.simulator.scratch,
         );
         self.take_steps(samples, self.t)?;
         // An event's state is the root's, where its guard is exactly at its threshold, and its

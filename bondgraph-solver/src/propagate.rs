@@ -360,13 +360,22 @@ impl Segment<'_> {
     /// Each eigen-coordinate's eigenvalue and terms `[λ, z₀, w₀, w₁]` of a modal segment
     /// (`None` otherwise), for bounds on a guard over a stretch of the segment.
     pub fn modal_terms(&self) -> Option<Vec<[Complex64; 4]>> {
+        let mut terms = Vec::new();
+        self.modal_terms_into(&mut terms).then_some(terms)
+    }
+
+    /// [`Segment::modal_terms`] into `terms`; false (and `terms` empty) for a segment that
+    /// is not modal.
+    pub fn modal_terms_into(&self, terms: &mut Vec<[Complex64; 4]>) -> bool {
+        terms.clear();
         match self {
-            Segment::Modal(s) => Some(
-                (0..s.z0.len())
-                    .map(|j| [s.modal.eigen.values[j], s.z0[j], s.w0[j], s.w1[j]])
-                    .collect(),
-            ),
-            Segment::Exponential(_) => None,
+            Segment::Modal(s) => {
+                terms.extend(
+                    (0..s.z0.len()).map(|j| [s.modal.eigen.values[j], s.z0[j], s.w0[j], s.w1[j]]),
+                );
+                true
+            }
+            Segment::Exponential(_) => false,
         }
     }
 

@@ -22,6 +22,7 @@ use num_complex::Complex64;
 const SMALL: f64 = 1e-6;
 
 /// A guard's terms in one modal segment, to bound it over stretches of the segment.
+#[derive(Debug)]
 pub(super) struct Envelope {
     /// The coordinates the guard depends on, their pieces worked out once.
     terms: Vec<Term>,
@@ -31,6 +32,7 @@ pub(super) struct Envelope {
 }
 
 /// One coordinate's share `Re(c z(τ))` of a guard, in both of its forms.
+#[derive(Debug)]
 struct Term {
     /// `|λ|`, which decides the form for a stretch ending at `t₁`: `|λ| t₁ <= SMALL`.
     rate: f64,
@@ -50,12 +52,24 @@ impl Envelope {
     /// The guard `a + b τ + Re Σ c_j z_j(τ)` of a segment with coordinate terms `terms`
     /// (from [`crate::propagate::Segment::modal_terms`]).
     pub fn new(c: &[Complex64], a: f64, b: f64, terms: &[[Complex64; 4]]) -> Self {
-        Envelope {
-            terms: c
-                .iter()
-                .zip(terms)
-                .filter(|(cj, _)| cj.norm() != 0.0)
-                .map(|(c, &[lambda, z0, w0, w1])| {
+        let mut envelope = Envelope {
+            terms: Vec::with_capacity(c.len()),
+            a,
+            b,
+        };
+        envelope.reset(c, a, b, terms);
+        envelope
+    }
+
+    /// Makes this the envelope [`Envelope::new`] would make, keeping its allocation: one
+    /// is made for every guard of every segment.
+    pub fn reset(&mut self, c: &[Complex64], a: f64, b: f64, terms: &[[Complex64; 4]]) {
+        self.a = a;
+        self.b = b;
+        self.terms.clear();
+        self.terms
+            .extend(c.iter().zip(terms).filter(|(cj, _)| cj.norm() != 0.0).map(
+                |(c, &[lambda, z0, w0, w1])| {
                     let cn = c.norm();
                     let rate = lambda.norm();
                     let wave = (rate != 0.0).then(|| {
@@ -77,11 +91,8 @@ impl Envelope {
                         parabola_size: [cn * z0.norm(), cn * w0.norm(), cn * w1.norm()],
                         wave,
                     }
-                })
-                .collect(),
-            a,
-            b,
-        }
+                },
+            ));
     }
 
     /// An upper bound of the guard over `[t0, t1]` (`0 <= t0 < t1`); not finite when
