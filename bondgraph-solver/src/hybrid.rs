@@ -33,6 +33,7 @@ mod integrate;
 mod stall;
 mod step_guards;
 use crate::numeric::{ModeForms, NumericGuard, NumericMode, Storage, dot};
+use crate::propagate::SegmentBuffers;
 use crossing::{Crossed, Trigger};
 use num_complex::Complex64;
 pub use stall::{STALLED_SEGMENTS, Stall};
@@ -352,6 +353,8 @@ pub struct Simulator<'m> {
     energy_columns: Vec<(String, EnergyColumn)>,
     /// Event location's buffers, kept from segment to segment and run to run.
     scratch: events::Scratch,
+    /// The last segment's vectors, for the next.
+    segment_buffers: SegmentBuffers,
 }
 
 impl<'m> Simulator<'m> {
@@ -368,6 +371,7 @@ impl<'m> Simulator<'m> {
             settings: Settings::default(),
             energy_columns: Vec::new(),
             scratch: events::Scratch::default(),
+            segment_buffers: SegmentBuffers::default(),
         }
     }
 
@@ -1088,7 +1092,8 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let length = end - self.t;
         let (u0, u1) = self.inputs_at(self.t);
         let current = self.mode.clone();
-        let mut segment = current.propagator.start(&self.x, &u0, &u1);
+        let buffers = std::mem::take(&mut self.simulator.segment_buffers);
+        let mut segment = current.propagator.start_in(&self.x, &u0, &u1, buffers);
         self.stats.segments += 1;
         // Guards are located only as far as their samples follow the mode's oscillations:
         // the segment ends there, and the next one samples on from its end. (An oscillation
@@ -1144,8 +1149,12 @@ impl<'s, 'm> Stepper<'s, 'm> {
 
         let n = self.x.len();
         let mut state = vec![0.0; n];
-        let mut integral_state = vec![0.0; n];
         let integrals_wanted = self.simulator.outputs.iter().any(|o| o.integral);
+        let mut integral_state = if integrals_wanted {
+            vec![0.0; n]
+        } else {
+            Vec::new()
+        };
         if let Some(sample) = self.sample {
             let mode_index = self.recorder.mode_index(&current.spec);
             // In eigen-coordinates each output is Re(Σ c_j z_j(τ)) + a + b τ (and its integral
@@ -1257,6 +1266,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
                     integrated(&current.outputs[k], &integral_state, &u0, &u1, stop);
             }
         }
+        self.simulator.segment_buffers = segment.into_buffers();
         // At the event's double, or exactly on the end of the segment (not a rounding
         // error short of it).
         self.t = stop_time;

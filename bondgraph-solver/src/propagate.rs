@@ -157,11 +157,34 @@ impl Propagator {
 
     /// Starts a segment from state `x0` with inputs `u₀ + u₁ τ`.
     pub fn start(&self, x0: &[f64], u0: &[f64], u1: &[f64]) -> Segment<'_> {
+        self.start_in(x0, u0, u1, SegmentBuffers::default())
+    }
+
+    /// [`Propagator::start`] in the vectors of an earlier segment
+    /// ([`Segment::into_buffers`]): a simulation starts thousands of short segments.
+    pub fn start_in(
+        &self,
+        x0: &[f64],
+        u0: &[f64],
+        u1: &[f64],
+        buffers: SegmentBuffers,
+    ) -> Segment<'_> {
         match self {
             Propagator::Modal(m) => {
                 let n = x0.len();
                 let zero = Complex64::new(0.0, 0.0);
-                let (mut z0, mut w0, mut w1) = (vec![zero; n], vec![zero; n], vec![zero; n]);
+                let SegmentBuffers {
+                    mut z0,
+                    mut w0,
+                    mut w1,
+                    mut scratch,
+                } = buffers;
+                for v in [&mut z0, &mut w0, &mut w1] {
+                    v.clear();
+                    v.resize(n, zero);
+                }
+                scratch.clear();
+                scratch.resize(2 * n, zero);
                 times_real(&m.eigen.inverse, x0, &mut z0);
                 m.forcing_into(u0, &mut w0);
                 times_real(&m.input, u1, &mut w1);
@@ -170,7 +193,7 @@ impl Propagator {
                     z0,
                     w0,
                     w1,
-                    scratch: vec![zero; 2 * n],
+                    scratch,
                 })
             }
             Propagator::Exponential(e) => Segment::Exponential(ExponentialSegment {
@@ -190,6 +213,15 @@ pub enum Segment<'p> {
     Modal(ModalSegment<'p>),
     /// By the augmented exponential.
     Exponential(ExponentialSegment<'p>),
+}
+
+/// The vectors a modal segment works in, handed on from one segment to the next.
+#[derive(Clone, Debug, Default)]
+pub struct SegmentBuffers {
+    z0: Vec<Complex64>,
+    w0: Vec<Complex64>,
+    w1: Vec<Complex64>,
+    scratch: Vec<Complex64>,
 }
 
 /// A modal segment: the eigen-coordinates of the initial state and the forcing.
@@ -212,6 +244,19 @@ pub struct ExponentialSegment<'p> {
 }
 
 impl Segment<'_> {
+    /// The segment's vectors, for the next one ([`Propagator::start_in`]).
+    pub fn into_buffers(self) -> SegmentBuffers {
+        match self {
+            Segment::Modal(s) => SegmentBuffers {
+                z0: s.z0,
+                w0: s.w0,
+                w1: s.w1,
+                scratch: s.scratch,
+            },
+            Segment::Exponential(_) => SegmentBuffers::default(),
+        }
+    }
+
     /// The state at local time `τ` into `out`.
     pub fn state_into(&mut self, tau: f64, out: &mut [f64]) {
         match self {
