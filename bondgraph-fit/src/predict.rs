@@ -116,7 +116,11 @@ impl Predictor {
             experiment: experiment.clone(),
             variants,
             absent_columns,
-            settings: SteadySettings::default(),
+            // Predictions need where each row settles, not the events on the way.
+            settings: SteadySettings {
+                events: false,
+                ..SteadySettings::default()
+            },
             drive: Drive::load(experiment, source)?,
         })
     }

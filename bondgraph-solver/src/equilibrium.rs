@@ -246,7 +246,11 @@ pub fn steady_by_integration(
                     .collect(),
                 mode: mode.spec.clone(),
                 time: stepper.time(),
-                events: stepper.events().to_vec(),
+                events: if settings.events {
+                    stepper.events()
+                } else {
+                    Vec::new()
+                },
             });
         }
         window *= 2.0;

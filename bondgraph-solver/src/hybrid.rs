@@ -576,12 +576,16 @@ impl<'m> Simulator<'m> {
         let crossed = trigger.as_ref().map(|trigger| trigger.crossed);
         let crossed = crossed.as_ref();
         let mut tried: Vec<Mode> = Vec::new();
-        let mut switched: Vec<String> = Vec::new();
-        let mut previous: Option<(String, String, String)> =
-            trigger.map(|trigger| (trigger.mode.spec.clone(), trigger.element, trigger.reason));
+        let mut switched_ids: Vec<ElementId> = Vec::new();
+        let mut previous: Option<(Arc<NumericMode>, ElementId, Why)> =
+            trigger.map(|trigger| (trigger.mode.clone(), trigger.element, trigger.why));
         let mut mode = candidate;
         loop {
             if tried.contains(&mode) {
+                let mut switched: Vec<String> = switched_ids
+                    .iter()
+                    .map(|&id| self.model.element(id).name.clone())
+                    .collect();
                 switched.sort();
                 switched.dedup();
                 let sizes = self.mode_counts(&switched);
@@ -597,13 +601,13 @@ impl<'m> Simulator<'m> {
                 if let Some(found) =
                     self.search_consistent(&tried[0], &switched, full, u, rate, crossed)?
                 {
-                    recorder.event(
+                    recorder.event(Recorded {
                         t,
-                        last.spec.clone(),
-                        found.spec.clone(),
-                        switched.join(","),
-                        "no single switch is consistent; this combination is".into(),
-                    );
+                        from: last,
+                        to: found.clone(),
+                        element: Switched::Elements(switched.join(",")),
+                        why: None,
+                    });
                     return Ok(found);
                 }
                 let specs = tried.iter().map(|m| m.spec(self.model)).collect();
@@ -615,8 +619,14 @@ impl<'m> Simulator<'m> {
             }
             tried.push(mode.clone());
             let numeric = self.mode(&mode)?;
-            if let Some((from, element, reason)) = previous.take() {
-                recorder.event(t, from, numeric.spec.clone(), element, reason);
+            if let Some((from, element, why)) = previous.take() {
+                recorder.event(Recorded {
+                    t,
+                    from,
+                    to: numeric.clone(),
+                    element: Switched::Element(element),
+                    why: Some(why),
+                });
             }
             let x = numeric.project(full, u);
             let mut next = None;
@@ -629,16 +639,16 @@ impl<'m> Simulator<'m> {
                 }
                 next = Some((
                     numeric.mode.with(guard.element, guard.leaves_to),
-                    self.model.element(guard.element).name.clone(),
-                    reason(guard, false),
+                    guard.element,
+                    Why::of(guard, false),
                 ));
                 break;
             }
             match next {
                 None => return Ok(numeric),
-                Some((mode_next, element, reason)) => {
-                    switched.push(element.clone());
-                    previous = Some((numeric.spec.clone(), element, reason));
+                Some((mode_next, element, why)) => {
+                    switched_ids.push(element);
+                    previous = Some((numeric, element, why));
                     mode = mode_next;
                 }
             }
@@ -854,7 +864,7 @@ pub struct Stepper<'s, 'm> {
     energy: Option<EnergyBalance>,
     /// The element and reason of the last crossing found, and whether its switch was
     /// declined, for a stalled run's message.
-    last_crossing: Option<(String, String, bool)>,
+    last_crossing: Option<(ElementId, Why, bool)>,
     /// Steps taken: integration steps and event-location samples.
     steps: u64,
 }
@@ -1013,14 +1023,24 @@ impl<'s, 'm> Stepper<'s, 'm> {
         &self.armed
     }
 
+    /// The number of events so far.
+    pub fn event_count(&self) -> usize {
+        self.recorder.events.len()
+    }
+
     /// The events so far.
-    pub fn events(&self) -> &[Event] {
-        &self.recorder.events
+    pub fn events(&self) -> Vec<Event> {
+        let model = self.simulator.model;
+        self.recorder
+            .events
+            .iter()
+            .map(|e| e.to_event(model))
+            .collect()
     }
 
     /// The events so far, ending the run.
     pub fn into_events(self) -> Vec<Event> {
-        self.recorder.events
+        self.events()
     }
 
     /// Advances to `until` or to the first event before it, whichever comes first; returns
@@ -1044,9 +1064,12 @@ impl<'s, 'm> Stepper<'s, 'm> {
             if switched {
                 return Ok(true);
             }
-            let (crossing, declined) = match self.last_crossing.take() {
-                Some((element, reason, declined)) => (Some((element, reason)), declined),
-                None => (None, false),
+            let last_crossing = self.last_crossing.take();
+            let declined = last_crossing.is_some_and(|(_, _, declined)| declined);
+            let model = self.simulator.model;
+            let crossing = || {
+                last_crossing
+                    .map(|(element, why, _)| (model.element(element).name.clone(), why.to_string()))
             };
             if let Some(cause) = progress.after_segment(before, self.t, crossing, declined) {
                 return Err(SimError::Stalled {
@@ -1286,9 +1309,8 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let (u, rate) = self.inputs_at(t);
         let full = current.reconstruct(&self.x, &u);
         let guard = &current.guards[crossing.guard];
-        let element = self.simulator.model.element(guard.element).name.clone();
         if guard.requires_hold && !self.simulator.can_hold(&current, guard, &full, &u, &rate)? {
-            self.last_crossing = Some((element, reason(guard, true), true));
+            self.last_crossing = Some((guard.element, Why::of(guard, true), true));
             // Static friction cannot hold (or a flow limit would hold back nothing): no
             // switch. The guard rests until it has been left again by more than rounding,
             // and the contact slips on to its next guard (through zero velocity).
@@ -1310,8 +1332,8 @@ impl<'s, 'm> Stepper<'s, 'm> {
             t,
             Some(Trigger {
                 mode: &current,
-                element,
-                reason: reason(guard, true),
+                element: guard.element,
+                why: Why::of(guard, true),
                 crossed: Crossed {
                     element: guard.element,
                     watched: guard.watched,
@@ -1371,13 +1393,14 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let span =
             self.recent.back().copied().unwrap_or(t) - self.recent.front().copied().unwrap_or(t);
         if self.recent.len() == settings.chatter_events && span < window {
+            let model = self.simulator.model;
             let mut elements: Vec<String> = self
                 .recorder
                 .events
                 .iter()
                 .rev()
                 .take(settings.chatter_events)
-                .map(|e| e.element.clone())
+                .map(|e| e.to_event(model).element)
                 .collect();
             elements.sort();
             elements.dedup();
@@ -1402,6 +1425,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
         }
         let names = self.simulator.storage.names.clone();
         let mut trajectory = self.recorder.finish(
+            self.simulator.model,
             self.t,
             names.into_iter().zip(full).collect(),
             self.mode.spec.clone(),
@@ -1456,28 +1480,85 @@ fn integrated(
         + row.constant * tau
 }
 
-/// Why a guard switched, in words.
-fn reason(guard: &NumericGuard, crossed: bool) -> String {
-    let how = if crossed { "" } else { " (at entry)" };
-    let what = match (guard.watched, guard.leaves_to) {
-        (Watched::HoldingForce, ElementMode::SlipPositive) => {
-            "holding force reached the breakaway force"
+/// Why a guard switched its element, put into words only when an event is read: a
+/// steady-state search records events by the thousand and reads none of them.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Why {
+    watched: Watched,
+    leaves_to: ElementMode,
+    /// Crossed while the mode ran, rather than found entered when the mode began.
+    crossed: bool,
+}
+
+impl Why {
+    fn of(guard: &NumericGuard, crossed: bool) -> Self {
+        Why {
+            watched: guard.watched,
+            leaves_to: guard.leaves_to,
+            crossed,
         }
-        (Watched::HoldingForce, _) => "holding force reached minus the breakaway force",
-        (Watched::RelativeVelocity, ElementMode::Stuck) => {
-            "relative velocity entered the dead band and static friction holds"
+    }
+}
+
+impl fmt::Display for Why {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let what = match (self.watched, self.leaves_to) {
+            (Watched::HoldingForce, ElementMode::SlipPositive) => {
+                "holding force reached the breakaway force"
+            }
+            (Watched::HoldingForce, _) => "holding force reached minus the breakaway force",
+            (Watched::RelativeVelocity, ElementMode::Stuck) => {
+                "relative velocity entered the dead band and static friction holds"
+            }
+            (Watched::RelativeVelocity, _) => "relative velocity passed through zero",
+            (Watched::StribeckVelocity, ElementMode::SlipPositive | ElementMode::SlipNegative) => {
+                "relative velocity passed the Stribeck velocity"
+            }
+            (Watched::StribeckVelocity, _) => "relative velocity fell below the Stribeck velocity",
+            (Watched::Tension, _) => "tension fell to zero",
+            (Watched::SlackLength, _) => "slack taken up",
+            (Watched::LimitedFlow, _) => "flow reached its limit",
+            (Watched::RestrainingEffort, _) => "restraining effort fell to zero",
+        };
+        let how = if self.crossed { "" } else { " (at entry)" };
+        write!(f, "{what}{how}")
+    }
+}
+
+/// The element an event switched: one, or a combination found together (by name, joined).
+#[derive(Clone, Debug)]
+enum Switched {
+    Element(ElementId),
+    Elements(String),
+}
+
+/// An event as recorded: the modes themselves, worded as an [`Event`] when read.
+#[derive(Clone, Debug)]
+struct Recorded {
+    t: f64,
+    from: Arc<NumericMode>,
+    to: Arc<NumericMode>,
+    element: Switched,
+    /// `None`: no single switch was consistent and this combination was.
+    why: Option<Why>,
+}
+
+impl Recorded {
+    fn to_event(&self, model: &Model) -> Event {
+        Event {
+            t: self.t,
+            from: self.from.spec.clone(),
+            to: self.to.spec.clone(),
+            element: match &self.element {
+                Switched::Element(id) => model.element(*id).name.clone(),
+                Switched::Elements(names) => names.clone(),
+            },
+            reason: self.why.map_or_else(
+                || "no single switch is consistent; this combination is".to_string(),
+                |why| why.to_string(),
+            ),
         }
-        (Watched::RelativeVelocity, _) => "relative velocity passed through zero",
-        (Watched::StribeckVelocity, ElementMode::SlipPositive | ElementMode::SlipNegative) => {
-            "relative velocity passed the Stribeck velocity"
-        }
-        (Watched::StribeckVelocity, _) => "relative velocity fell below the Stribeck velocity",
-        (Watched::Tension, _) => "tension fell to zero",
-        (Watched::SlackLength, _) => "slack taken up",
-        (Watched::LimitedFlow, _) => "flow reached its limit",
-        (Watched::RestrainingEffort, _) => "restraining effort fell to zero",
-    };
-    format!("{what}{how}")
+    }
 }
 
 /// Collects samples, modes and events.
@@ -1488,7 +1569,7 @@ struct Recorder {
     sample_modes: Vec<usize>,
     modes: Vec<String>,
     intervals: Vec<(f64, f64, usize)>,
-    events: Vec<Event>,
+    events: Vec<Recorded>,
     /// The first sample with an output that is not finite: its time, mode index and the
     /// outputs concerned.
     non_finite: Option<(f64, usize, Vec<usize>)>,
@@ -1548,18 +1629,13 @@ impl Recorder {
         }
     }
 
-    fn event(&mut self, t: f64, from: String, to: String, element: String, reason: String) {
-        self.events.push(Event {
-            t,
-            from,
-            to,
-            element,
-            reason,
-        });
+    fn event(&mut self, event: Recorded) {
+        self.events.push(event);
     }
 
     fn finish(
         mut self,
+        model: &Model,
         end: f64,
         final_state: Vec<(String, f64)>,
         final_mode: String,
@@ -1575,7 +1651,7 @@ impl Recorder {
             sample_modes: self.sample_modes,
             modes: self.modes,
             intervals: self.intervals,
-            events: self.events,
+            events: self.events.iter().map(|e| e.to_event(model)).collect(),
             final_time: end,
             final_state,
             final_mode,

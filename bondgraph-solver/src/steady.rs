@@ -28,6 +28,9 @@ pub struct SteadySettings {
     /// Give up after this many mode changes: a cycle (stick-slip) that has not settled by
     /// then will not, and simulating it to `max_time` can take minutes.
     pub max_mode_changes: usize,
+    /// Whether [`Steady::events`] lists the events on the way (a fit needs only where the
+    /// search settles, and wording thousands of events was a few percent of its time).
+    pub events: bool,
 }
 
 impl Default for SteadySettings {
@@ -36,6 +39,7 @@ impl Default for SteadySettings {
             max_time: 1.0e4,
             zero_eigenvalue: 1e-9,
             max_mode_changes: 10_000,
+            events: true,
         }
     }
 }
@@ -51,7 +55,7 @@ pub struct Steady {
     pub mode: String,
     /// When it was judged settled.
     pub time: f64,
-    /// The events on the way.
+    /// The events on the way (none unless [`SteadySettings::events`]).
     pub events: Vec<Event>,
 }
 
@@ -134,7 +138,7 @@ pub fn steady_state(
         if stepper.time() > settings.max_time {
             return Err(not_steady(&stepper, "it had not settled".into()));
         }
-        if stepper.events().len() > settings.max_mode_changes {
+        if stepper.event_count() > settings.max_mode_changes {
             return Err(not_steady(
                 &stepper,
                 format!(
@@ -240,7 +244,11 @@ pub fn steady_state(
             drift: drift_outputs,
             mode: mode.spec.clone(),
             time: stepper.time(),
-            events: stepper.into_events(),
+            events: if settings.events {
+                stepper.into_events()
+            } else {
+                Vec::new()
+            },
         });
     }
 }

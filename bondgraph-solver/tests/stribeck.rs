@@ -71,6 +71,32 @@ fn weakening_faster_than_viscosity_grows_runs_away_to_sliding() {
 }
 
 #[test]
+fn a_search_asked_for_no_events_settles_in_the_same_place() {
+    // The runaway block above, its two events not kept: the same steady state, bit for bit.
+    let model = block(3.0, 0.5);
+    let kept = settle(&model);
+    let outputs = vec![Output {
+        name: "flow:block".into(),
+        spec: OutputSpec::parse(&model, "flow:block").unwrap(),
+        integral: false,
+    }];
+    let quiet = steady_state(
+        &mut Simulator::new(&model, outputs),
+        &[],
+        Mode::initial(&model),
+        vec![0.0],
+        &SteadySettings {
+            events: false,
+            ..SteadySettings::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(kept.events.len(), 2);
+    assert!(quiet.events.is_empty());
+    assert_eq!((quiet.outputs, quiet.mode), (kept.outputs, kept.mode));
+}
+
+#[test]
 fn a_light_block_runs_away_to_sliding_within_attoseconds() {
     // The same block with m = 1e-12 kg (the flagship's tip weighs 5e-15 kg), pushed by a
     // force ramped at 100 N/s up to 3 N: it breaks away at F = F_S, t₀ = 0.02 s, and creeping

@@ -12,13 +12,15 @@
 use bondgraph_core::guards::Watched;
 use bondgraph_core::model::ElementId;
 
+use std::sync::Arc;
+
 use crate::numeric::{NumericGuard, NumericMode};
 
 /// The mode an event leaves, the element that switched and why, and the guard crossed.
 pub(super) struct Trigger<'a> {
-    pub mode: &'a NumericMode,
-    pub element: String,
-    pub reason: String,
+    pub mode: &'a Arc<NumericMode>,
+    pub element: ElementId,
+    pub why: super::Why,
     pub crossed: Crossed,
 }
 

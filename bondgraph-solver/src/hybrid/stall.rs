@@ -76,11 +76,12 @@ impl Progress {
     /// After a segment from `before` to `after` that found `crossing` (element and reason,
     /// `declined` if its switch was refused): the stall, once more than
     /// [`STALLED_SEGMENTS`] in a row made no progress.
+    /// The crossing is put into words only for a stall.
     pub fn after_segment(
         &mut self,
         before: f64,
         after: f64,
-        crossing: Option<(String, String)>,
+        crossing: impl FnOnce() -> Option<(String, String)>,
         declined: bool,
     ) -> Option<Stall> {
         if after > before {
@@ -88,9 +89,9 @@ impl Progress {
             return None;
         }
         self.count += 1;
-        (self.count > STALLED_SEGMENTS).then_some(Stall::Segments {
+        (self.count > STALLED_SEGMENTS).then(|| Stall::Segments {
             count: self.count,
-            crossing,
+            crossing: crossing(),
             declined,
         })
     }
@@ -110,10 +111,10 @@ mod tests {
             ))
         };
         for _ in 0..STALLED_SEGMENTS {
-            assert_eq!(progress.after_segment(0.5, 0.5, crossing(), true), None);
+            assert_eq!(progress.after_segment(0.5, 0.5, crossing, true), None);
         }
         let stall = progress
-            .after_segment(0.5, 0.5, crossing(), true)
+            .after_segment(0.5, 0.5, crossing, true)
             .expect("stalled");
         assert_eq!(
             stall.to_string(),
@@ -126,15 +127,15 @@ mod tests {
     fn progress_resets_the_count() {
         let mut progress = Progress::default();
         for _ in 0..STALLED_SEGMENTS {
-            assert_eq!(progress.after_segment(1.0, 1.0, None, false), None);
+            assert_eq!(progress.after_segment(1.0, 1.0, || None, false), None);
         }
-        assert_eq!(progress.after_segment(1.0, 1.5, None, false), None);
+        assert_eq!(progress.after_segment(1.0, 1.5, || None, false), None);
         for _ in 0..STALLED_SEGMENTS {
-            assert_eq!(progress.after_segment(1.5, 1.5, None, false), None);
+            assert_eq!(progress.after_segment(1.5, 1.5, || None, false), None);
         }
         assert_eq!(
             progress
-                .after_segment(1.5, 1.5, None, false)
+                .after_segment(1.5, 1.5, || None, false)
                 .map(|s| s.to_string()),
             Some("1001 segments in a row ended where they began".into())
         );
