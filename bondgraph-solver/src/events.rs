@@ -32,7 +32,7 @@ use num_complex::Complex64;
 
 use crate::numeric::{NumericMode, dot};
 use crate::propagate::Segment;
-use envelope::Envelope;
+use envelope::{Coordinate, Envelope};
 
 /// A guard reaching zero.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -230,6 +230,7 @@ pub struct Scratch {
     offsets: Vec<(f64, f64)>,
     envelopes: Vec<Envelope>,
     terms: Vec<[Complex64; 4]>,
+    coordinates: Vec<Coordinate>,
     stretches: Vec<(f64, f64)>,
     samples: SampleBuffers,
     /// The state at the segment's start.
@@ -281,6 +282,7 @@ pub fn first_crossing(
         offsets,
         envelopes,
         terms,
+        coordinates,
         stretches,
         samples: times,
         start_state,
@@ -373,12 +375,15 @@ pub fn first_crossing(
     // Bounds of each guard over stretches of a modal segment.
     let bounded = match &modal {
         Some(guards) if segment.modal_terms_into(terms) => {
+            coordinates.clear();
+            coordinates.extend(terms.iter().map(|t| Coordinate::of(*t)));
             envelopes.truncate(guards.offsets.len());
             for i in 0..guards.offsets.len() {
                 let (a, b) = guards.offsets[i];
+                let c = guards.coefficients(i);
                 match envelopes.get_mut(i) {
-                    Some(envelope) => envelope.reset(guards.coefficients(i), a, b, terms),
-                    None => envelopes.push(Envelope::new(guards.coefficients(i), a, b, terms)),
+                    Some(envelope) => envelope.reset(c, a, b, coordinates),
+                    None => envelopes.push(Envelope::new(c, a, b, coordinates)),
                 }
             }
             true

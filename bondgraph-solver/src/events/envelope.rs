@@ -48,51 +48,88 @@ struct Term {
     wave: Option<([f64; 2], f64, [f64; 2])>,
 }
 
-impl Envelope {
-    /// The guard `a + b τ + Re Σ c_j z_j(τ)` of a segment with coordinate terms `terms`
+/// One eigen-coordinate's pieces, `λ`, `z₀`, `w₀`, `w₁`, and for `λ ≠ 0` its line
+/// `L + M τ` and wave `K`, with their sizes: worked out once per segment and shared by
+/// every guard's envelope (only the guard's coefficient differs).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Coordinate {
+    lambda: Complex64,
+    z0: Complex64,
+    w0: Complex64,
+    w1: Complex64,
+    /// `|λ|`.
+    rate: f64,
+    /// `|z₀|`, `|w₀|`, `|w₁|`.
+    sizes: [f64; 3],
+    /// `(L, M, K, |L|, |M|)`; `None` for a zero eigenvalue.
+    line: Option<(Complex64, Complex64, Complex64, f64, f64)>,
+}
+
+impl Coordinate {
+    /// The coordinate of terms `[λ, z₀, w₀, w₁]`
     /// (from [`crate::propagate::Segment::modal_terms`]).
-    pub fn new(c: &[Complex64], a: f64, b: f64, terms: &[[Complex64; 4]]) -> Self {
+    pub fn of([lambda, z0, w0, w1]: [Complex64; 4]) -> Self {
+        let rate = lambda.norm();
+        let line = (rate != 0.0).then(|| {
+            let inverse = 1.0 / lambda;
+            let m = -(w1 * inverse);
+            let l = -((w0 + w1 * inverse) * inverse);
+            (l, m, z0 - l, l.norm(), m.norm())
+        });
+        Coordinate {
+            lambda,
+            z0,
+            w0,
+            w1,
+            rate,
+            sizes: [z0.norm(), w0.norm(), w1.norm()],
+            line,
+        }
+    }
+}
+
+impl Envelope {
+    /// The guard `a + b τ + Re Σ c_j z_j(τ)` of a segment with these coordinates.
+    pub fn new(c: &[Complex64], a: f64, b: f64, coordinates: &[Coordinate]) -> Self {
         let mut envelope = Envelope {
             terms: Vec::with_capacity(c.len()),
             a,
             b,
         };
-        envelope.reset(c, a, b, terms);
+        envelope.reset(c, a, b, coordinates);
         envelope
     }
 
     /// Makes this the envelope [`Envelope::new`] would make, keeping its allocation: one
     /// is made for every guard of every segment.
-    pub fn reset(&mut self, c: &[Complex64], a: f64, b: f64, terms: &[[Complex64; 4]]) {
+    pub fn reset(&mut self, c: &[Complex64], a: f64, b: f64, coordinates: &[Coordinate]) {
         self.a = a;
         self.b = b;
         self.terms.clear();
-        self.terms
-            .extend(c.iter().zip(terms).filter(|(cj, _)| cj.norm() != 0.0).map(
-                |(c, &[lambda, z0, w0, w1])| {
+        self.terms.extend(
+            c.iter()
+                .zip(coordinates)
+                .filter(|(cj, _)| cj.norm() != 0.0)
+                .map(|(c, z)| {
                     let cn = c.norm();
-                    let rate = lambda.norm();
-                    let wave = (rate != 0.0).then(|| {
-                        let inverse = 1.0 / lambda;
-                        let m = -(w1 * inverse);
-                        let l = -((w0 + w1 * inverse) * inverse);
-                        let k = z0 - l;
+                    let [z0_size, w0_size, w1_size] = z.sizes;
+                    let wave = z.line.map(|(l, m, k, l_size, m_size)| {
                         let amplitude = (c * k).norm();
                         (
                             [(c * l).re, (c * m).re],
                             amplitude,
-                            [cn * (l.norm() + z0.norm()) + amplitude, cn * m.norm()],
+                            [cn * (l_size + z0_size) + amplitude, cn * m_size],
                         )
                     });
                     Term {
-                        rate,
-                        growth: lambda.re,
-                        parabola: [(c * z0).re, (c * w0).re, 0.5 * (c * w1).re],
-                        parabola_size: [cn * z0.norm(), cn * w0.norm(), cn * w1.norm()],
+                        rate: z.rate,
+                        growth: z.lambda.re,
+                        parabola: [(c * z.z0).re, (c * z.w0).re, 0.5 * (c * z.w1).re],
+                        parabola_size: [cn * z0_size, cn * w0_size, cn * w1_size],
                         wave,
                     }
-                },
-            ));
+                }),
+        );
     }
 
     /// An upper bound of the guard over `[t0, t1]` (`0 <= t0 < t1`); not finite when
@@ -152,7 +189,7 @@ mod tests {
             [c(0.0, w), c(-0.005, 0.0), c(0.0, 0.0), c(0.0, 0.0)],
             [c(0.0, -w), c(-0.005, 0.0), c(0.0, 0.0), c(0.0, 0.0)],
         ];
-        Envelope::new(&[c(1.0, 0.0); 3], 0.0, 0.0, &terms)
+        Envelope::new(&[c(1.0, 0.0); 3], 0.0, 0.0, &terms.map(Coordinate::of))
     }
 
     #[test]
@@ -172,7 +209,7 @@ mod tests {
             [c(-1.0, 3.0), c(-1.0, 0.0), c(0.0, 0.0), c(0.0, 0.0)],
             [c(-1.0, -3.0), c(-1.0, 0.0), c(0.0, 0.0), c(0.0, 0.0)],
         ];
-        let envelope = Envelope::new(&[c(1.0, 0.0); 2], -0.5, 0.0, &terms);
+        let envelope = Envelope::new(&[c(1.0, 0.0); 2], -0.5, 0.0, &terms.map(Coordinate::of));
         let bound = envelope.upper_bound(2.0, 5.0);
         let expected = -0.5 + 2.0 * (-2.0f64).exp();
         assert!(
@@ -191,7 +228,7 @@ mod tests {
             [lambda, z0, w0, w1],
             [lambda.conj(), z0.conj(), w0.conj(), w1.conj()],
         ];
-        let envelope = Envelope::new(&[c(0.5, 0.0); 2], 0.1, -0.01, &terms);
+        let envelope = Envelope::new(&[c(0.5, 0.0); 2], 0.1, -0.01, &terms.map(Coordinate::of));
         let exact = |t: f64| {
             let l = -(w0 + w1 / lambda) / lambda;
             let z = (lambda * t).exp() * (z0 - l) + l - w1 / lambda * t;
