@@ -336,6 +336,10 @@ fn quoted(names: &[String]) -> String {
         .join(", ")
 }
 
+/// Modes looked up by value, hashed fast (a fit looks one up at every event): the keys are
+/// the model's own modes, never an adversary's.
+type ModeMap<V> = HashMap<Mode, V, foldhash::fast::FixedState>;
+
 /// Simulates one model: caches its modes across runs.
 pub struct Simulator<'m> {
     model: &'m Model,
@@ -345,9 +349,9 @@ pub struct Simulator<'m> {
     values: Vec<f64>,
     symbolic: ModeCache<'m>,
     /// Each linear mode's symbolic pieces, kept when the parameter values change.
-    forms: HashMap<Mode, Arc<ModeForms>>,
+    forms: ModeMap<Arc<ModeForms>>,
     /// Each mode with the current values in.
-    numeric: HashMap<Mode, Arc<NumericMode>>,
+    numeric: ModeMap<Arc<NumericMode>>,
     settings: Settings,
     /// Energies recorded after the outputs, by name.
     energy_columns: Vec<(String, EnergyColumn)>,
@@ -366,8 +370,8 @@ impl<'m> Simulator<'m> {
             outputs,
             values: model.values.clone(),
             symbolic: ModeCache::new(model, Options::default()),
-            forms: HashMap::new(),
-            numeric: HashMap::new(),
+            forms: ModeMap::default(),
+            numeric: ModeMap::default(),
             settings: Settings::default(),
             energy_columns: Vec::new(),
             scratch: events::Scratch::default(),
