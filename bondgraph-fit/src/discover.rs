@@ -568,38 +568,21 @@ fn fit_on_all(
     // one local fit per face) missed velocity weakening in 3 of 20 synthetic sets and fluid
     // displacement on Table III. A candidate none of whose parameters is in use is the base
     // model on these rows: it is refitted locally from the base model's optimum.
-    //
-    // An own parameter whose no-effect value is flat (moved a little, it changes no
-    // prediction: a Stribeck velocity inside the dead band, a supply ceiling above every
-    // flow) cannot leave it in a local fit, whose steps follow the slope, so such a start is
-    // tried again with the parameter at the other end of its bounds: from the base model's
-    // other basin that reaches velocity weakening's optimum on Table III, 0.3087 mm/s, which
-    // the screening alone missed (its basin is narrow).
-    let mut evaluator = predictor.evaluator(&names)?;
-    limit_to_settling(&mut evaluator);
-    let mut probes = 0;
     let (starts, search) = match warm {
         None => (vec![active(&file_start)], settings.search),
         Some((warm_names, basins)) => {
-            let mut starts: Vec<Vec<f64>> = Vec::new();
-            for basin in basins {
-                let mut start = file_start.clone();
-                for (name, value) in warm_names.iter().zip(basin) {
-                    if let Some(j) = all_names.iter().position(|n| n == name) {
-                        start[j] = *value;
+            let starts: Vec<Vec<f64>> = basins
+                .iter()
+                .map(|basin| {
+                    let mut start = file_start.clone();
+                    for (name, value) in warm_names.iter().zip(basin) {
+                        if let Some(j) = all_names.iter().position(|n| n == name) {
+                            start[j] = *value;
+                        }
                     }
-                }
-                let far = flat_own_parameters_moved(
-                    &mut evaluator,
-                    rows,
-                    &start,
-                    (&all_bounds, own, &all_names),
-                    &active,
-                    &mut probes,
-                );
-                starts.push(active(&start));
-                starts.extend(far);
-            }
+                    active(&start)
+                })
+                .collect();
             if names.len() == all_names.len() - own.len() {
                 (starts[..1].to_vec(), Search::LOCAL)
             } else {
@@ -607,8 +590,10 @@ fn fit_on_all(
             }
         }
     };
+    let mut evaluator = predictor.evaluator(&names)?;
+    limit_to_settling(&mut evaluator);
     let start_refs: Vec<&[f64]> = starts.iter().map(Vec::as_slice).collect();
-    let Searched { mut fit, basins } = fit_best(
+    let Searched { fit, basins } = fit_best(
         &mut evaluator,
         rows,
         None,
@@ -617,7 +602,6 @@ fn fit_on_all(
         (&orderings, &search),
         settings,
     )?;
-    fit.evaluations += probes;
     evaluator.set(&fit.values);
     let predictions: Vec<(f64, String)> = evaluator
         .predict_each(rows)
@@ -709,55 +693,6 @@ fn assess_candidate(
         settings,
     )?;
     Ok((fitted.assessment, false))
-}
-
-/// `start` (every parameter, idle ones included) with each own parameter that is flat there
-/// moved to the far end of its bounds, as active parameters; `None` when none is flat.
-/// Flat: a step of a thousandth of its bounds' width changes no row's prediction. Each
-/// prediction made is counted in `evaluations`.
-fn flat_own_parameters_moved(
-    evaluator: &mut Evaluator<'_>,
-    rows: &[Measurement],
-    start: &[f64],
-    (bounds, own, names): (&[(f64, f64)], &[String], &[String]),
-    active: &dyn Fn(&[f64]) -> Vec<f64>,
-    evaluations: &mut usize,
-) -> Option<Vec<f64>> {
-    let mut predict = |values: &[f64]| -> Option<Vec<f64>> {
-        *evaluations += 1;
-        evaluator.set(&active(values));
-        let predictions = evaluator.predict_all(rows)?;
-        Some(predictions.into_iter().flat_map(|p| p.observed).collect())
-    };
-    let at_start = predict(start)?;
-    let mut far = start.to_vec();
-    let mut moved = false;
-    for (j, name) in names.iter().enumerate() {
-        let (lo, hi) = bounds[j];
-        if !own.contains(name) || hi <= lo {
-            continue;
-        }
-        let step = 1e-3 * (hi - lo);
-        let mut nudged = start.to_vec();
-        nudged[j] = if start[j] + step <= hi {
-            start[j] + step
-        } else {
-            start[j] - step
-        };
-        // An idle parameter (in no row's model) is not searched at all.
-        if active(&nudged) == active(start) {
-            continue;
-        }
-        if predict(&nudged).as_ref() == Some(&at_start) {
-            far[j] = if start[j] - lo <= hi - start[j] {
-                hi
-            } else {
-                lo
-            };
-            moved = true;
-        }
-    }
-    moved.then(|| active(&far))
 }
 
 /// The held-out errors of a model fitted on all rows: leave one level out of a condition

@@ -9,8 +9,7 @@
 //! `b = 101.7 N·s/m`), 0.2341 with the channel's fluid displacement and 0.2414 with the
 //! channel's sheath drag. A local fit from the model file's values stops on another branch,
 //! `F_C_ge = 0` with `b = 2364 N·s/m` (RMSE 0.3482), and with it the verdict: no candidate
-//! then passes the corrected F-test. Velocity weakening's optimum, 0.3087, lies on that other
-//! branch.
+//! then passes the corrected F-test.
 
 use std::sync::OnceLock;
 
@@ -81,28 +80,6 @@ fn at_the_global_optima_the_channel_effect_is_beyond_the_noise() {
         ["ac-fluid-displacement", "ac-sheath-drag"].contains(&selected),
         "{selected}"
     );
-}
-
-#[test]
-fn velocity_weakening_reaches_its_global_optimum_off_the_face() {
-    // Its optimum lies in the base model's other basin: F_C_ge = 0, b = 2364 N·s/m and the
-    // Stribeck velocity near the top of its bounds (the independent search: 0.3087 mm/s).
-    // From its no-effect value (the dead band) the Stribeck velocity moves no prediction,
-    // so a local fit cannot leave it, and the screening misses the narrow basin: the fit
-    // must also start with it at the far end of its bounds. The gain is not beyond the
-    // noise (p = 0.05), so it is not selected.
-    let d = table3();
-    let weakening = candidate(d, "velocity-weakening-friction");
-    assert!(weakening.rmse_fit <= 0.3088, "{}", weakening.rmse_fit);
-    let v_st = weakening.params["v_st"].value;
-    assert!(v_st > 4.5e-3, "v_st = {v_st}");
-    let tried = d.ranking.len() - d.untestable.len();
-    assert!(
-        weakening.p_value > 0.01 / tried as f64,
-        "p = {}",
-        weakening.p_value
-    );
-    assert_ne!(d.selected.as_deref(), Some("velocity-weakening-friction"));
 }
 
 #[test]
