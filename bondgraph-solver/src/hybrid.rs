@@ -1208,30 +1208,33 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 .energy_columns
                 .iter()
                 .any(|(_, c)| c.needs_books());
+            // One sample's values, the buffer reused from sample to sample.
+            let mut values: Vec<f64> = Vec::new();
             while self.next_sample as f64 * sample <= self.t + stop {
                 let time = self.next_sample as f64 * sample;
                 let tau = (time - self.t).max(0.0);
-                let values = match (&modal, segment.modal_state_and_integral(tau)) {
-                    (Some(coefficients), Some((z, iz))) => self
-                        .simulator
-                        .outputs
-                        .iter()
-                        .zip(coefficients)
-                        .enumerate()
-                        .map(|(k, (output, (c, a, b)))| {
-                            let re = |w: &[Complex64]| -> f64 {
-                                c.iter()
-                                    .zip(w)
-                                    .map(|(x, y)| x.re * y.re - x.im * y.im)
-                                    .sum()
-                            };
-                            if output.integral {
-                                self.integrals[k] + re(iz) + a * tau + b * tau * tau / 2.0
-                            } else {
-                                re(z) + a + b * tau
-                            }
-                        })
-                        .collect(),
+                values.clear();
+                match (&modal, segment.modal_state_and_integral(tau)) {
+                    (Some(coefficients), Some((z, iz))) => values.extend(
+                        self.simulator
+                            .outputs
+                            .iter()
+                            .zip(coefficients)
+                            .enumerate()
+                            .map(|(k, (output, (c, a, b)))| {
+                                let re = |w: &[Complex64]| -> f64 {
+                                    c.iter()
+                                        .zip(w)
+                                        .map(|(x, y)| x.re * y.re - x.im * y.im)
+                                        .sum()
+                                };
+                                if output.integral {
+                                    self.integrals[k] + re(iz) + a * tau + b * tau * tau / 2.0
+                                } else {
+                                    re(z) + a + b * tau
+                                }
+                            }),
+                    ),
                     _ => {
                         segment.state_and_integral_into(
                             tau,
@@ -1241,7 +1244,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
                         for (k, slot) in u.iter_mut().enumerate() {
                             *slot = u0[k] + u1[k] * tau;
                         }
-                        self.simulator.output_values(
+                        values.extend(self.simulator.output_values(
                             &current,
                             &state,
                             &u,
@@ -1251,10 +1254,9 @@ impl<'s, 'm> Stepper<'s, 'm> {
                             &u0,
                             &u1,
                             tau,
-                        )
+                        ));
                     }
-                };
-                let mut values: Vec<f64> = values;
+                }
                 if !self.simulator.energy_columns.is_empty() {
                     segment.state_and_integral_into(tau, &mut energy_state, None);
                     for (k, slot) in u.iter_mut().enumerate() {
@@ -1274,7 +1276,8 @@ impl<'s, 'm> Stepper<'s, 'm> {
                         (supplied, dissipated),
                     ));
                 }
-                self.recorder.sample_in(time, mode_index, values);
+                self.recorder
+                    .sample_in(time, mode_index, values.iter().copied());
                 self.next_sample += 1;
             }
         }
