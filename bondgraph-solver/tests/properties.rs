@@ -454,7 +454,17 @@ fn the_cases_the_properties_once_failed_on_still_hold() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
+    // The same 96 cases every run, for a CI that says the same thing twice. Drawn afresh,
+    // about one seed in ten (19, 26, 31, 44, 52 and 68 of 11..=70) gives a friction case
+    // that runs for minutes rather than fails: the energy books integrate each segment on
+    // panels that follow every oscillation, up to 200 000 of them, and a lightly damped
+    // swing over long segments costs millions of evaluations (`energy::integrate_segment`).
+    // `PROPTEST_RNG_SEED=19` still draws others (that one is slow), to explore.
+    #![proptest_config(ProptestConfig {
+        cases: 96,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(1),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn friction_contacts_keep_their_books_and_their_guards(
