@@ -592,6 +592,19 @@ mod tests {
                 })
         };
         let (one, four) = (on(1), on(4));
+        // The data's own optimum, on either thread count: F_C = 9, b = 2 (the data were
+        // made with them), F_S in [9, 10).
+        assert!(one.fit.sse < 1e-12, "{:?}", one.fit);
+        assert!(
+            (one.fit.values[0] - 9.0).abs() < 1e-6,
+            "{:?}",
+            one.fit.values
+        );
+        assert!(
+            (one.fit.values[1] - 2.0).abs() < 1e-6,
+            "{:?}",
+            one.fit.values
+        );
         assert_eq!(one.fit.values, four.fit.values);
         assert_eq!(one.fit.sse.to_bits(), four.fit.sse.to_bits());
         assert_eq!(one.fit.evaluations, four.fit.evaluations);

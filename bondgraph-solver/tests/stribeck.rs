@@ -93,6 +93,8 @@ fn a_search_asked_for_no_events_settles_in_the_same_place() {
     .unwrap();
     assert_eq!(kept.events.len(), 2);
     assert!(quiet.events.is_empty());
+    // Sliding at 3 N: 3 - 1 - 0.5 v = 0, v = 4 m/s.
+    assert!((quiet.outputs[0] - 4.0).abs() < 1e-9, "{:?}", quiet.outputs);
     assert_eq!((quiet.outputs, quiet.mode), (kept.outputs, kept.mode));
 }
 
