@@ -1,0 +1,146 @@
+//! Held-out errors: each fold refitted from the full fit's basins, scored on what it left
+//! out; and a candidate's assessment, which skips its folds when it predicts as the base does.
+
+use std::sync::Arc;
+
+use bondgraph_core::model::Model;
+use bondgraph_core::source::SourceFile;
+use rayon::prelude::*;
+
+use super::fit::{Assessment, FittedOnAll, fit_best, fit_on_all, limit_to_settling};
+use super::{Candidate, DiscoverError, Settings};
+use crate::data::Measurement;
+use crate::experiment::Experiment;
+use crate::global::Search;
+use crate::predict::Predictor;
+
+/// Two models whose fits predict every row within this of each other are one model on the
+/// data: a fiftieth of the smallest measurement noise the project works with.
+pub(super) const SAME_PREDICTION_MM_S: f64 = 1e-3;
+
+/// A candidate fitted and cross-validated; `true` with it when it is not cross-validated and
+/// takes the base model's held-out errors instead: when its fit predicts every row as the
+/// base model's fit does (`base_predictions`, within [`SAME_PREDICTION_MM_S`]). At its best
+/// it is then the base model on this data: its own parameters change no prediction
+/// (friction at a contact the data never has, a ceiling above every row), or only as a
+/// refit of the base's parameters would (an alias), so its folds would refit the base model.
+pub(super) fn assess_candidate(
+    candidate: &Candidate,
+    experiment: &Experiment,
+    rows: &[Measurement],
+    warm: (&[String], &[Vec<f64>]),
+    base_predictions: &[f64],
+    settings: &Settings,
+) -> Result<(Assessment, bool), DiscoverError> {
+    let mut fitted = fit_on_all(
+        &candidate.model,
+        &candidate.source,
+        experiment,
+        rows,
+        &candidate.parameters,
+        Some(warm),
+        settings,
+    )?;
+    let same_as_base = fitted
+        .assessment
+        .predictions
+        .iter()
+        .zip(base_predictions)
+        .all(|(a, b)| (a - b).abs() <= SAME_PREDICTION_MM_S);
+    if same_as_base {
+        return Ok((fitted.assessment, true));
+    }
+    cross_validate(
+        &candidate.model,
+        &candidate.source,
+        experiment,
+        rows,
+        &mut fitted,
+        settings,
+    )?;
+    Ok((fitted.assessment, false))
+}
+
+/// The held-out errors of a model fitted on all rows: leave one level out of a condition
+/// column, then k-fold, each fold refitted ([`crate::folds`]).
+pub(super) fn cross_validate(
+    model: &Model,
+    source: &Arc<SourceFile>,
+    experiment: &Experiment,
+    rows: &[Measurement],
+    fitted: &mut FittedOnAll,
+    settings: &Settings,
+) -> Result<(), DiscoverError> {
+    let FittedOnAll {
+        assessment,
+        bounds,
+        orderings,
+        basins,
+    } = fitted;
+    let predictor = Predictor::new(model.clone(), source, experiment)?;
+    // What each fold simulates (a time series: whole runs) and which residuals it keeps.
+    let pick = |indices: &[usize]| -> (Vec<Measurement>, Vec<usize>) {
+        let simulated = crate::folds::simulated(experiment, rows, indices);
+        let picked = simulated.rows.iter().map(|&i| rows[i].clone()).collect();
+        (picked, simulated.kept)
+    };
+    let folds: Vec<_> = crate::folds::folds(experiment, rows, settings.folds)
+        .into_iter()
+        .map(|fold| (pick(&fold.train), pick(&fold.test)))
+        .collect();
+    // A fold refits locally from each basin the full data's search found (its optimum
+    // first), each start on its own face, and keeps the best: as the whole search would, it
+    // may change basin when the rows held out favoured one, without screening again. Folds
+    // are independent, each with its own evaluator, and run side by side.
+    let starts: Vec<&[f64]> = basins.iter().map(Vec::as_slice).collect();
+    let scored: Vec<Result<HeldOut, DiscoverError>> = folds
+        .par_iter()
+        .map(|((train, train_kept), (test, test_kept))| {
+            let mut evaluator = predictor.evaluator(&assessment.names)?;
+            limit_to_settling(&mut evaluator);
+            let fit = fit_best(
+                &mut evaluator,
+                train,
+                Some(train_kept),
+                &starts,
+                bounds,
+                (orderings, &Search::LOCAL),
+                settings,
+            )?
+            .fit;
+            evaluator.set(&fit.values);
+            let predictions = evaluator.predict_each(test);
+            let mut held_out = HeldOut {
+                evaluations: fit.evaluations,
+                ..HeldOut::default()
+            };
+            for &i in test_kept {
+                match &predictions[i] {
+                    Ok(p) => {
+                        held_out.sse += (p.observed[0] - test[i].observed[0]).powi(2);
+                        held_out.count += 1;
+                    }
+                    Err(_) => held_out.unsettled += 1,
+                }
+            }
+            Ok(held_out)
+        })
+        .collect();
+    for held_out in scored {
+        let held_out = held_out?;
+        assessment.evaluations += held_out.evaluations;
+        assessment.heldout_sse += held_out.sse;
+        assessment.heldout_count += held_out.count;
+        assessment.unsettled += held_out.unsettled;
+    }
+    Ok(())
+}
+
+/// What one fold's refit scores on its held-out rows.
+#[derive(Default)]
+struct HeldOut {
+    sse: f64,
+    count: usize,
+    unsettled: usize,
+    evaluations: usize,
+}
