@@ -48,7 +48,9 @@ mod fit;
 mod procedure;
 mod residuals;
 mod results;
+mod separation;
 mod summary;
+mod verdicts;
 
 pub use candidate::Candidate;
 pub use fit::fitted_names;

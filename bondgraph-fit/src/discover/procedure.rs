@@ -8,30 +8,26 @@ use bondgraph_core::model::{self, Model};
 use bondgraph_core::source::SourceFile;
 use rayon::prelude::*;
 
-use super::alias::{aliased_with_base, no_effect, reproduced_by_base};
-use super::cross_validation::{SAME_PREDICTION_MM_S, assess_candidate, cross_validate};
+use super::cross_validation::{assess_candidate, cross_validate};
 use super::fit::{Assessment, FittedOnAll, fit_on_all, limit_to_settling};
 use super::residuals::residuals;
+use super::verdicts::Verdicts;
 use super::*;
 use crate::data::{Dataset, Measurement};
 use crate::experiment::Experiment;
 use crate::noise::{self, NoiseLevel};
 use crate::predict::Predictor;
-use crate::stats;
-
-/// The verdict of a candidate that fits worse than the base model it contains.
-pub(super) const WORSE_THAN_THE_BASE: &str = "worse than the base";
 
 /// A model with fitted values, ready to predict any condition.
-struct Fitted<'a> {
-    model: &'a Model,
-    source: &'a Arc<SourceFile>,
-    names: &'a [String],
-    values: &'a [f64],
+pub(super) struct Fitted<'a> {
+    pub(super) model: &'a Model,
+    pub(super) source: &'a Arc<SourceFile>,
+    pub(super) names: &'a [String],
+    pub(super) values: &'a [f64],
 }
 
 impl Fitted<'_> {
-    fn predict(
+    pub(super) fn predict(
         &self,
         experiment: &Experiment,
         rows: &[Measurement],
@@ -49,16 +45,51 @@ impl Fitted<'_> {
 }
 
 /// What every fit of one discovery shares.
-struct Models<'a> {
-    base_model: &'a Model,
-    base: &'a Arc<SourceFile>,
-    experiment: &'a Experiment,
-    rows: &'a [Measurement],
-    candidates: &'a [Candidate],
-    settings: &'a Settings,
+pub(super) struct Models<'a> {
+    pub(super) base_model: &'a Model,
+    pub(super) base: &'a Arc<SourceFile>,
+    pub(super) experiment: &'a Experiment,
+    pub(super) rows: &'a [Measurement],
+    pub(super) candidates: &'a [Candidate],
+    pub(super) settings: &'a Settings,
 }
 
 impl Models<'_> {
+    /// The base model and every candidate fitted and cross-validated; then, when a
+    /// candidate's fit shows the base model a better basin than its own search found (a
+    /// candidate contains the base model, so its base parameters can), the base refitted
+    /// from there and the candidates from the new base fit, once.
+    fn fit_all(
+        &self,
+        done: &(dyn Fn() + Sync),
+    ) -> Result<(Assessment, Vec<Assessment>), DiscoverError> {
+        let fit_base = |warm: Option<(&[String], &[Vec<f64>])>| {
+            fit_on_all(
+                self.base_model,
+                self.base,
+                self.experiment,
+                self.rows,
+                &[],
+                warm,
+                self.settings,
+            )
+        };
+        let (baseline, assessed) = self.fit_base_and_candidates(fit_base(None)?, done)?;
+        let Some(start) = self.better_base_start(&baseline, &assessed)? else {
+            return Ok((baseline, assessed));
+        };
+        let basins = [start, baseline.fit.values.clone()];
+        let refitted = fit_base(Some((baseline.names.as_slice(), basins.as_slice())))?;
+        self.fit_base_and_candidates(refitted, &|| {})
+    }
+
+    /// `'id'` of candidate `selected`, or `the base model`.
+    pub(super) fn name(&self, selected: Option<usize>) -> String {
+        selected.map_or("the base model".to_string(), |s| {
+            format!("'{}'", self.candidates[s].id)
+        })
+    }
+
     /// Cross-validates the base model's fit and fits and cross-validates every candidate
     /// from it, side by side: the base model's assessment, and the candidates' in order.
     fn fit_base_and_candidates(
@@ -190,9 +221,6 @@ pub fn discover_with_progress(
         });
     }
     let base_model = model::load_source(base)?;
-    let observed = experiment.observed[0].column.as_str();
-    let n = rows.len() as f64;
-    let base_fitted = fit_on_all(&base_model, base, experiment, rows, &[], None, settings)?;
     let models = Models {
         base_model: &base_model,
         base,
@@ -201,259 +229,46 @@ pub fn discover_with_progress(
         candidates,
         settings,
     };
-    let (mut baseline, mut assessed) = models.fit_base_and_candidates(base_fitted, done)?;
-    // A candidate contains the base model, so its fit's base parameters may show the base a
-    // better basin than its own search found: refit the base from there, and the candidates
-    // from the new base fit, once.
-    if let Some(start) = models.better_base_start(&baseline, &assessed)? {
-        let basins = [start, baseline.fit.values.clone()];
-        let warm = (baseline.names.as_slice(), basins.as_slice());
-        let refitted = fit_on_all(
-            &base_model,
-            base,
-            experiment,
-            rows,
-            &[],
-            Some(warm),
-            settings,
-        )?;
-        (baseline, assessed) = models.fit_base_and_candidates(refitted, &|| {})?;
-    }
-    let p0 = baseline.names.len();
-
-    // Verdicts.
-    let untestable: Vec<bool> = candidates
-        .iter()
-        .zip(&assessed)
-        .map(|(c, a)| no_effect(c, a))
-        .collect();
-    let aliased: Vec<bool> = candidates
-        .iter()
-        .zip(&assessed)
-        .map(|(c, a)| {
-            aliased_with_base(&a.fit, p0, c.parameters.len()) || reproduced_by_base(c, a, &baseline)
-        })
-        .collect();
-    // A candidate contains the base model at its own parameters' no-effect values, and its
-    // search starts there, so it cannot fit worse; if it does, those values are not without
-    // effect on these rows (a flow ceiling whose highest value is below speeds the data
-    // reach), and the candidate is not the base model extended here.
-    let worse: Vec<bool> = assessed
-        .iter()
-        .map(|a| a.fit.sse > baseline.fit.sse * (1.0 + 1e-6))
-        .collect();
-    let tried = untestable.iter().filter(|u| !**u).count().max(1);
-    let level = settings.alpha / tried as f64;
-    let p_values: Vec<f64> = assessed
-        .iter()
-        .map(|a| {
-            let k = (a.names.len() - p0) as f64;
-            let dof = n - a.names.len() as f64;
-            if k == 0.0 || dof <= 0.0 || a.fit.sse >= baseline.fit.sse {
-                return 1.0;
-            }
-            let f = ((baseline.fit.sse - a.fit.sse) / k) / (a.fit.sse.max(1e-300) / dof);
-            stats::f_survival(f, k, dof)
-        })
-        .collect();
-    let qualifies: Vec<bool> = (0..candidates.len())
-        .map(|i| {
-            !untestable[i]
-                && assessed[i].unsettled == 0
-                && p_values[i] < level
-                && assessed[i].aicc() < baseline.aicc()
-                && assessed[i].rmse_heldout() < baseline.rmse_heldout()
-        })
-        .collect();
-    let selected = (0..candidates.len())
-        .filter(|&i| qualifies[i])
-        .min_by(|&a, &b| {
-            assessed[a]
-                .rmse_heldout()
-                .total_cmp(&assessed[b].rmse_heldout())
-        });
+    let (baseline, assessed) = models.fit_all(done)?;
+    let verdicts = Verdicts::judge(candidates, &assessed, &baseline, settings.alpha);
+    let selected = verdicts.selected;
     let best = selected.map_or(&baseline, |i| &assessed[i]);
-    let best_name = selected.map_or("the base model".to_string(), |s| {
-        format!("'{}'", candidates[s].id)
-    });
-    // Samples of a run at the same input levels are not replicates.
-    let replicates = if experiment.time().is_none() {
-        noise::pure_error(rows, 0)
-    } else {
-        None
-    };
-    let noise_level = NoiseLevel::estimate(
-        experiment.noise,
-        replicates,
-        noise::Residual {
-            sse: best.fit.sse,
-            dof: n - best.names.len() as f64,
-            model: &best_name,
-            scale: noise::root_mean_square(rows, 0),
-        },
+    let noise_level = noise_level(experiment, rows, best, &models.name(selected));
+    let lack_of_fit = noise::lack_of_fit(
+        &noise_level,
+        baseline.fit.sse,
+        rows.len(),
+        baseline.names.len(),
     );
-    let lack_of_fit = noise::lack_of_fit(&noise_level, baseline.fit.sse, rows.len(), p0);
     let noise = noise_level.sd;
-    let indistinguishable: Vec<usize> = match selected {
-        // Those that also explain the effect (their F-test passes) and fit no worse than the
-        // selected one beyond the noise: held-out scores are left out here, since they
-        // measure extrapolation, in which aliased models can differ by the luck of a fold.
-        Some(s) => (0..candidates.len())
-            .filter(|&i| {
-                i != s
-                    && !untestable[i]
-                    && p_values[i] < level
-                    // Without a noise level, only a fit at least as good.
-                    && assessed[i].fit.sse - assessed[s].fit.sse
-                        <= 4.0 * noise.map_or(0.0, |sd| sd * sd)
-            })
-            .collect(),
-        None => (0..candidates.len())
-            .filter(|&i| aliased[i] && !untestable[i])
-            .collect(),
-    };
-
-    // What would separate them: a steady condition, or where along the recorded run.
-    let probes = crate::probes::probes(experiment, rows);
-    let runs = rows
-        .iter()
-        .enumerate()
-        .filter(|(i, r)| *i == 0 || rows[i - 1].file != r.file)
-        .count();
-    let nowhere = match (experiment.time(), runs) {
-        (None, _) => "no steady",
-        (Some(_), 1) => "nothing along the recorded run",
-        (Some(_), _) => "nothing along the recorded runs",
-    };
-    let reference = match selected {
-        Some(s) => Fitted {
-            model: &candidates[s].model,
-            source: &candidates[s].source,
-            names: &assessed[s].names,
-            values: &assessed[s].fit.values,
-        },
-        None => Fitted {
-            model: &base_model,
-            source: base,
-            names: &baseline.names,
-            values: &baseline.fit.values,
-        },
-    };
-    let reference_predictions = reference.predict(experiment, &probes)?;
-    let mut separation = Vec::new();
-    for &i in &indistinguishable {
-        let other = Fitted {
-            model: &candidates[i].model,
-            source: &candidates[i].source,
-            names: &assessed[i].names,
-            values: &assessed[i].fit.values,
-        };
-        let predictions = other.predict(experiment, &probes)?;
-        let (k, difference) = predictions
-            .iter()
-            .zip(&reference_predictions)
-            .map(|(a, b)| if (a - b).is_nan() { 0.0 } else { (a - b).abs() })
-            .enumerate()
-            .fold(
-                (0, 0.0),
-                |(bk, bd), (k, d)| if d > bd { (k, d) } else { (bk, bd) },
-            );
-        let against = selected.map_or("the base model".to_string(), |s| {
-            format!("'{}'", candidates[s].id)
-        });
-        let measurement = if let Some(sd) = noise
-            && difference > 3.0 * sd
-        {
-            format!(
-                "`{observed}` at {}: '{}' predicts {:.4}, {against} {:.4} ({:.1} noise levels apart)",
-                crate::probes::describe(experiment, &probes[k]),
-                candidates[i].id,
-                predictions[k],
-                reference_predictions[k],
-                difference / sd
-            )
-        } else if noise.is_none() && difference > SAME_PREDICTION_MM_S {
-            format!(
-                "`{observed}` at {}: '{}' predicts {:.4}, {against} {:.4} (the largest difference; \
-                 with no noise level it is not judged in noise levels)",
-                crate::probes::describe(experiment, &probes[k]),
-                candidates[i].id,
-                predictions[k],
-                reference_predictions[k],
-            )
-        } else {
-            format!(
-                "{nowhere} `{observed}` tells '{}' from {against} (they differ by at most {:.4}); {}",
-                candidates[i].id,
-                difference,
-                candidates[i]
-                    .evidence
-                    .as_deref()
-                    .unwrap_or("a measurement of the effect itself is needed")
-            )
-        };
-        separation.push(Separation {
-            id: candidates[i].id.clone(),
-            measurement,
-        });
-    }
-
-    // Ranking.
-    let mut order: Vec<usize> = (0..candidates.len()).collect();
-    order.sort_by(|&a, &b| {
-        assessed[a]
-            .rmse_heldout()
-            .total_cmp(&assessed[b].rmse_heldout())
-    });
-    let ranking = order
-        .iter()
-        .map(|&i| {
-            let verdict = if Some(i) == selected {
-                "selected"
-            } else if indistinguishable.contains(&i) {
-                "indistinguishable"
-            } else if untestable[i] {
-                "no effect on this data"
-            } else if aliased[i] {
-                "aliased with the base"
-            } else if qualifies[i] {
-                "qualifies"
-            } else if worse[i] {
-                WORSE_THAN_THE_BASE
-            } else {
-                "not significant"
-            };
-            Ranked {
-                id: candidates[i].id.clone(),
-                params: assessed[i].estimates(),
-                rmse_fit: assessed[i].rmse_fit(),
-                rmse_heldout: assessed[i].rmse_heldout(),
-                score: assessed[i].aicc() - baseline.aicc(),
-                p_value: p_values[i],
-                evaluations: assessed[i].evaluations,
-                verdict: verdict.to_string(),
-            }
-        })
-        .collect();
-
-    let regimes: Vec<String> = baseline
-        .modes
-        .iter()
-        .map(|m| experiment.regime(m))
-        .collect();
-    let residuals_before = residuals(experiment, 0, rows, &baseline.predictions, &regimes, noise);
+    let indistinguishable = verdicts.indistinguishable(&assessed, noise);
+    let separation =
+        models.separations(&baseline, &assessed, selected, &indistinguishable, noise)?;
+    let ranking = ranking(
+        candidates,
+        &assessed,
+        &baseline,
+        &verdicts,
+        &indistinguishable,
+    );
+    let regimes =
+        |a: &Assessment| -> Vec<String> { a.modes.iter().map(|m| experiment.regime(m)).collect() };
+    let base_regimes = regimes(&baseline);
+    let residuals_before = residuals(
+        experiment,
+        0,
+        rows,
+        &baseline.predictions,
+        &base_regimes,
+        noise,
+    );
     let residuals_after = selected.map(|s| {
-        let regimes: Vec<String> = assessed[s]
-            .modes
-            .iter()
-            .map(|m| experiment.regime(m))
-            .collect();
         residuals(
             experiment,
             0,
             rows,
             &assessed[s].predictions,
-            &regimes,
+            &regimes(&assessed[s]),
             noise,
         )
     });
@@ -471,32 +286,16 @@ pub fn discover_with_progress(
             measured: r.observed[0],
             baseline: baseline.predictions[i],
             selected: selected.map(|s| assessed[s].predictions[i]),
-            regime: regimes[i].clone(),
+            regime: base_regimes[i].clone(),
         })
         .collect();
-    let extended_model = match selected {
-        Some(s) => {
-            let edit = Edit {
-                remove: Vec::new(),
-                parameters: assessed[s]
-                    .names
-                    .iter()
-                    .cloned()
-                    .zip(assessed[s].fit.values.iter().copied())
-                    .collect(),
-            };
-            Some(
-                edit::apply(&candidates[s].source, &edit)?
-                    .text()
-                    .to_string(),
-            )
-        }
-        None => None,
-    };
+    let extended_model = selected
+        .map(|s| extended_model(&candidates[s], &assessed[s]))
+        .transpose()?;
     Ok(Discovery {
         data: data_name.to_string(),
         rows: rows.len(),
-        observed: observed.to_string(),
+        observed: experiment.observed[0].column.clone(),
         noise,
         noise_source: noise_level.source,
         pure_error: noise_level.pure_error,
@@ -516,7 +315,7 @@ pub fn discover_with_progress(
             .collect(),
         separation,
         untestable: (0..candidates.len())
-            .filter(|&i| untestable[i])
+            .filter(|&i| verdicts.untestable[i])
             .map(|i| candidates[i].id.clone())
             .collect(),
         gain: Gain {
@@ -528,4 +327,74 @@ pub fn discover_with_progress(
         table,
         extended_model,
     })
+}
+
+/// The noise level the verdicts are judged against: the experiment's declared one, else
+/// the pure error of replicated steady conditions, else the residual of `best` (named
+/// `best_name`).
+fn noise_level(
+    experiment: &Experiment,
+    rows: &[Measurement],
+    best: &Assessment,
+    best_name: &str,
+) -> NoiseLevel {
+    // Samples of a run at the same input levels are not replicates.
+    let replicates = if experiment.time().is_none() {
+        noise::pure_error(rows, 0)
+    } else {
+        None
+    };
+    NoiseLevel::estimate(
+        experiment.noise,
+        replicates,
+        noise::Residual {
+            sse: best.fit.sse,
+            dof: rows.len() as f64 - best.names.len() as f64,
+            model: best_name,
+            scale: noise::root_mean_square(rows, 0),
+        },
+    )
+}
+
+/// The candidates best held-out RMSE first, each with its verdict.
+fn ranking(
+    candidates: &[Candidate],
+    assessed: &[Assessment],
+    baseline: &Assessment,
+    verdicts: &Verdicts,
+    indistinguishable: &[usize],
+) -> Vec<Ranked> {
+    let mut order: Vec<usize> = (0..candidates.len()).collect();
+    order.sort_by(|&a, &b| {
+        assessed[a]
+            .rmse_heldout()
+            .total_cmp(&assessed[b].rmse_heldout())
+    });
+    order
+        .iter()
+        .map(|&i| Ranked {
+            id: candidates[i].id.clone(),
+            params: assessed[i].estimates(),
+            rmse_fit: assessed[i].rmse_fit(),
+            rmse_heldout: assessed[i].rmse_heldout(),
+            score: assessed[i].aicc() - baseline.aicc(),
+            p_value: verdicts.p_values[i],
+            evaluations: assessed[i].evaluations,
+            verdict: verdicts.word(i, indistinguishable).to_string(),
+        })
+        .collect()
+}
+
+/// The selected candidate's model file with its fitted values written in.
+fn extended_model(candidate: &Candidate, fitted: &Assessment) -> Result<String, DiscoverError> {
+    let edit = Edit {
+        remove: Vec::new(),
+        parameters: fitted
+            .names
+            .iter()
+            .cloned()
+            .zip(fitted.fit.values.iter().copied())
+            .collect(),
+    };
+    Ok(edit::apply(&candidate.source, &edit)?.text().to_string())
 }

@@ -1,6 +1,6 @@
 //! Discovery as text: what the base model gets wrong, the candidates, the selection, the gain.
 
-use super::procedure::WORSE_THAN_THE_BASE;
+use super::verdicts::WORSE_THAN_THE_BASE;
 use super::{Discovery, Estimate, Ranked, Residuals};
 use crate::noise;
 

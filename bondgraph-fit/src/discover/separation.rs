@@ -1,0 +1,102 @@
+//! What would separate two candidates the data cannot tell apart: a steady condition where
+//! their fitted models' predictions differ by more than three noise levels (searched over a
+//! grid wider than the data's), or where along the recorded run they differ most; or, when
+//! no observation separates them, what the extension's file says would show its effect.
+
+use super::cross_validation::SAME_PREDICTION_MM_S;
+use super::fit::Assessment;
+use super::procedure::{Fitted, Models};
+use super::{DiscoverError, Separation};
+
+impl Models<'_> {
+    /// For each of `indistinguishable`, the measurement that would tell it from the
+    /// selected candidate (or, when none is, from the base model).
+    pub(super) fn separations(
+        &self,
+        baseline: &Assessment,
+        assessed: &[Assessment],
+        selected: Option<usize>,
+        indistinguishable: &[usize],
+        noise: Option<f64>,
+    ) -> Result<Vec<Separation>, DiscoverError> {
+        let (experiment, rows, candidates) = (self.experiment, self.rows, self.candidates);
+        let observed = experiment.observed[0].column.as_str();
+        let probes = crate::probes::probes(experiment, rows);
+        let runs = rows
+            .iter()
+            .enumerate()
+            .filter(|(i, r)| *i == 0 || rows[i - 1].file != r.file)
+            .count();
+        let nowhere = match (experiment.time(), runs) {
+            (None, _) => "no steady",
+            (Some(_), 1) => "nothing along the recorded run",
+            (Some(_), _) => "nothing along the recorded runs",
+        };
+        let fitted = |i: usize| Fitted {
+            model: &candidates[i].model,
+            source: &candidates[i].source,
+            names: &assessed[i].names,
+            values: &assessed[i].fit.values,
+        };
+        let reference = match selected {
+            Some(s) => fitted(s),
+            None => Fitted {
+                model: self.base_model,
+                source: self.base,
+                names: &baseline.names,
+                values: &baseline.fit.values,
+            },
+        };
+        let reference_predictions = reference.predict(experiment, &probes)?;
+        let against = self.name(selected);
+        let mut separation = Vec::new();
+        for &i in indistinguishable {
+            let predictions = fitted(i).predict(experiment, &probes)?;
+            let (k, difference) = predictions
+                .iter()
+                .zip(&reference_predictions)
+                .map(|(a, b)| if (a - b).is_nan() { 0.0 } else { (a - b).abs() })
+                .enumerate()
+                .fold(
+                    (0, 0.0),
+                    |(bk, bd), (k, d)| if d > bd { (k, d) } else { (bk, bd) },
+                );
+            let measurement = if let Some(sd) = noise
+                && difference > 3.0 * sd
+            {
+                format!(
+                    "`{observed}` at {}: '{}' predicts {:.4}, {against} {:.4} ({:.1} noise levels apart)",
+                    crate::probes::describe(experiment, &probes[k]),
+                    candidates[i].id,
+                    predictions[k],
+                    reference_predictions[k],
+                    difference / sd
+                )
+            } else if noise.is_none() && difference > SAME_PREDICTION_MM_S {
+                format!(
+                    "`{observed}` at {}: '{}' predicts {:.4}, {against} {:.4} (the largest difference; \
+                     with no noise level it is not judged in noise levels)",
+                    crate::probes::describe(experiment, &probes[k]),
+                    candidates[i].id,
+                    predictions[k],
+                    reference_predictions[k],
+                )
+            } else {
+                format!(
+                    "{nowhere} `{observed}` tells '{}' from {against} (they differ by at most {:.4}); {}",
+                    candidates[i].id,
+                    difference,
+                    candidates[i]
+                        .evidence
+                        .as_deref()
+                        .unwrap_or("a measurement of the effect itself is needed")
+                )
+            };
+            separation.push(Separation {
+                id: candidates[i].id.clone(),
+                measurement,
+            });
+        }
+        Ok(separation)
+    }
+}
