@@ -11,6 +11,7 @@ mod examples;
 mod hardening;
 mod linear_graph_diagnostics;
 mod linear_graphs;
+mod new_systems;
 mod nonlinear;
 mod paper;
 mod scenarios;

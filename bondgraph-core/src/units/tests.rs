@@ -283,7 +283,22 @@ fn a_linear_graph_circuit_takes_currents_as_through_variables() {
     );
 }
 
-/// Every shipped model, and each with each of its extensions, passes the check.
+/// Extensions written as issue 31 asks, for what the library cannot read yet, each with
+/// the error it gives today: a linear-graph fragment, a Stribeck velocity at its no-effect
+/// value zero. Whoever makes one pass takes it off this list.
+const AWAITING_THE_LIBRARY: &[(&str, &str)] = &[
+    ("thermal/extensions/radiation.ron", "branches"),
+    ("thermal/extensions/natural-convection.ron", "branches"),
+    ("thermal/extensions/heater-lead-loss.ron", "branches"),
+    ("thermal/extensions/contact-resistance.ron", "branches"),
+    (
+        "actuator/extensions/stribeck-weakening.ron",
+        "must be positive",
+    ),
+];
+
+/// Every shipped model, and each with each of its extensions, passes the check (those
+/// awaiting the library fail as listed).
 #[test]
 fn every_shipped_model_and_extension_passes() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models");
@@ -323,17 +338,39 @@ fn every_shipped_model_and_extension_passes() {
                     let name = p.file_name().unwrap().to_string_lossy();
                     name.ends_with(".ron")
                         && !name.contains(".lg.")
-                        && (name == "robot.ron" || name == "geared_motor.ron")
+                        && [
+                            "robot.ron",
+                            "geared_motor.ron",
+                            "two_tank.ron",
+                            "actuator.ron",
+                            "thermal.ron",
+                        ]
+                        .contains(&name.as_ref())
                 })
                 .unwrap();
             let base = crate::source::SourceFile::new(
                 base.display().to_string(),
                 std::fs::read_to_string(&base).unwrap(),
             );
-            let extension = model::extension::Extension::read(path).unwrap();
-            let merged = model::extension::merge(&base, &[extension]).unwrap();
-            if let Err(error) = merged.load() {
-                panic!("{} + {}: {error}", base.name(), path.display());
+            let outcome = model::extension::Extension::read(path)
+                .map_err(|e| e.to_string())
+                .and_then(|extension| {
+                    model::extension::merge(&base, &[extension]).map_err(|e| e.to_string())
+                })
+                .and_then(|merged| merged.load().map(|_| ()).map_err(|e| e.to_string()));
+            let awaiting = AWAITING_THE_LIBRARY
+                .iter()
+                .find(|(file, _)| path.ends_with(file));
+            match (outcome, awaiting) {
+                (Ok(()), None) => {}
+                (Err(error), None) => panic!("{} + {}: {error}", base.name(), path.display()),
+                (Err(error), Some((_, expected))) => {
+                    assert!(error.contains(expected), "{}: {error}", path.display());
+                }
+                (Ok(()), Some(_)) => panic!(
+                    "{} now passes: take it off AWAITING_THE_LIBRARY",
+                    path.display()
+                ),
             }
             checked += 1;
         }
