@@ -7,7 +7,9 @@
 //!
 //! - [`dimension`]: a dimension as exponents of the SI base dimensions;
 //! - [`names`]: the unit symbols and SI prefixes;
-//! - [`parse`](mod@parse): unit strings to dimensions;
+//! - [`scale`]: exact factors to SI units (`kPa` is 1000 Pa, `rpm` 2π/60 rad/s);
+//! - [`parse`](mod@parse): unit strings to dimensions and factors;
+//! - [`convert`]: values between a file's units and SI;
 //! - [`format`]: dimensions back to readable units;
 //! - [`infer`]: the dimension of an expression, and sums of different quantities;
 //! - [`domain`]: which effort and flow make a bond mechanical, electrical, ...;
@@ -17,6 +19,7 @@
 //!   every model (bond graph, linear graph, extended), so `bondgraph check` reports it.
 
 pub mod check;
+pub mod convert;
 pub mod dimension;
 pub mod domain;
 pub mod format;
@@ -24,12 +27,13 @@ pub mod infer;
 pub mod label;
 pub mod names;
 pub mod parse;
+pub mod scale;
 pub mod solve;
 
 pub use check::BondDimensions;
 pub use dimension::Dim;
 pub use domain::Domain;
-pub use parse::{UnitError, parse_unit};
+pub use parse::{Unit, UnitError, parse_scaled, parse_unit};
 
 #[cfg(test)]
 mod tests;

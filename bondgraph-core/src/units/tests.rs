@@ -459,3 +459,47 @@ fn states_are_described_in_their_domain_words() {
         ["p_mass momentum", "q_spring displacement"]
     );
 }
+
+#[test]
+fn decimal_powers_parse_as_exact_rationals() {
+    // An orifice: Q = K sqrt(P), K in m^3/(s*Pa^0.5).
+    let orifice = |unit: &str| {
+        format!(
+            r#"Model(name: "orifice",
+    parameters: {{"K": (value: 1e-6, unit: "{unit}"), "A": (value: 1e-3, unit: "m^2"), "m": (value: 1.0, unit: "kg")}},
+    inputs: {{"F": (unit: "N")}},
+    elements: {{"force": Se(effort: "F"), "v": One, "mass": I(inertance: "m")}},
+    bonds: [("force", "v"), ("v", "mass")])"#
+        )
+    };
+    for unit in [
+        "m^3/(s*Pa^0.5)",
+        "m^3/(s*(Pa^0.5))",
+        "m^3/s/Pa^(0.5)",
+        "m^3*s^-1*Pa^-0.5",
+        "m^1.5",
+        "s^-0.5",
+        "m^(1/2)",
+        "m^(3/2)",
+        "Pa^0.25",
+    ] {
+        model::load_str("orifice.ron", &orifice(unit)).unwrap_or_else(|e| panic!("{unit}: {e}"));
+    }
+    let problem = |unit: &str| rejected(&orifice(unit)).first().message.clone();
+    assert_eq!(
+        problem("Pa^0.5.2"),
+        "parameter 'K' has unit \"Pa^0.5.2\": unexpected '.2'"
+    );
+    assert_eq!(
+        problem("Pa^1."),
+        "parameter 'K' has unit \"Pa^1.\": a decimal point needs digits after it in '^1.'"
+    );
+    assert_eq!(
+        problem("Pa^.5"),
+        "parameter 'K' has unit \"Pa^.5\": a power needs a number in '^.5'"
+    );
+    assert_eq!(
+        problem("m^0.1"),
+        "parameter 'K' has unit \"m^0.1\": a power finer than twelfths cannot be kept exactly in '^0.1'"
+    );
+}
