@@ -709,6 +709,121 @@ fn an_input_with_a_scaled_unit_is_refused_naming_the_factor_and_the_si_unit() {
     model::load_str("tank.ron", &with_input("N/m^2")).unwrap();
 }
 
+// ---------------------------------------------------------------------------------------
+// Which law is blamed, a linear graph's words, decimal powers.
+// ---------------------------------------------------------------------------------------
+
+/// A half car: heave and pitch of one body, the front and rear suspension points at lever
+/// arms `a` (front) and `b` (rear) from the centre of mass: `TF(ratio: "a")` from the pitch
+/// (N*m, rad/s) to the front point (N, m/s), so `a` must be a length. `front_arm_unit` is
+/// the front arm's unit.
+fn half_car(front_arm_unit: &str) -> String {
+    format!(
+        r#"Model(name: "half_car",
+    parameters: {{
+        "m": (value: 500.0, unit: "kg"),
+        "J": (value: 800.0, unit: "kg*m^2"),
+        "a": (value: 1.2, unit: "{front_arm_unit}"),
+        "b": (value: 1.5, unit: "m"),
+        "k_f": (value: 2e4, unit: "N/m"),
+        "k_r": (value: 2e4, unit: "N/m"),
+    }},
+    inputs: {{"v_f": (unit: "m/s"), "v_r": (unit: "m/s")}},
+    elements: {{
+        "heave": One,
+        "body": I(inertance: "m"),
+        "pitch": One,
+        "inertia": I(inertance: "J"),
+        "front_arm": TF(ratio: "a"),
+        "rear_arm": TF(ratio: "b"),
+        "front": Zero,
+        "rear": Zero,
+        "front_spring": C(stiffness: "k_f"),
+        "rear_spring": C(stiffness: "k_r"),
+        "road_f": Sf(flow: "v_f"),
+        "road_r": Sf(flow: "v_r"),
+    }},
+    bonds: [("heave", "body"), ("pitch", "inertia"),
+            ("pitch", "front_arm"), ("front_arm", "front"),
+            ("pitch", "rear_arm"), ("rear_arm", "rear"),
+            ("heave", "front"), ("heave", "rear"),
+            ("front", "front_spring"), ("rear", "rear_spring"),
+            ("road_f", "front"), ("road_r", "rear")])"#
+    )
+}
+
+#[test]
+fn a_wrong_front_lever_arm_is_blamed_on_the_front_arm() {
+    model::load_str("half_car.ron", &half_car("m")).unwrap();
+    for wrong in ["1", "m^2", "kg"] {
+        let error = rejected(&half_car(wrong));
+        assert_eq!(error.0.len(), 1, "{wrong}: {error}");
+        let first = error.first();
+        assert_eq!(first.kind, DiagnosticKind::UnitMismatch);
+        assert_eq!(
+            first.element.as_deref(),
+            Some("front_arm"),
+            "{wrong}: {error}"
+        );
+        assert_eq!(first.location.as_ref().unwrap().line, 16, "{wrong}");
+        assert_eq!(
+            first.message,
+            format!(
+                "transformer 'front_arm': ratio 'a' is in {wrong} but a TF between these bonds needs m"
+            )
+        );
+    }
+}
+
+/// A tank filled by a pump and drained through a valve, as a linear graph: `tank` is an
+/// A-type whose capacitance is in `capacitance_unit` (m^3/Pa is right).
+fn lg_tank(capacitance_unit: &str, pump: &str) -> String {
+    format!(
+        r#"LinearGraph(name: "tank",
+    parameters: {{"C_h": (value: 1e-6, unit: "{capacitance_unit}"), "R_h": (value: 1e8, unit: "Pa*s/m^3")}},
+    inputs: {{"Q": (unit: "m^3/s"), "P": (unit: "Pa")}},
+    ground: "g",
+    branches: {{
+        "pump": ThroughSource(value: "{pump}", from: "g", to: "p"),
+        "tank": A(capacitance: "C_h", from: "p", to: "g"),
+        "valve": D(resistance: "R_h", from: "p", to: "g"),
+    }})"#
+    )
+}
+
+#[test]
+fn a_linear_graphs_unit_errors_speak_its_own_words() {
+    model::load_str("tank.lg.ron", &lg_tank("m^3/Pa", "Q")).unwrap();
+    let error = rejected(&lg_tank("kg", "Q"));
+    assert_eq!(error.0.len(), 1, "{error}");
+    assert_eq!(error.first().location.as_ref().unwrap().line, 7);
+    assert_eq!(
+        error.first().message,
+        "A-type 'tank': capacitance 'C_h' is in kg but an A-type on a hydraulic branch needs m^3/Pa"
+    );
+    // A pressure given as the through source's value: a through source needs a flow.
+    let error = rejected(&lg_tank("m^3/Pa", "P"));
+    assert_eq!(error.first().location.as_ref().unwrap().line, 6, "{error}");
+    let message = &error.first().message;
+    assert!(
+        message.starts_with(
+            "through source 'pump': value 'P' is in Pa, a pressure, where a through source needs a through variable: force (N)"
+        ),
+        "{message}"
+    );
+    // The mass-spring-damper as a linear graph: a mass used as a stiffness.
+    let error = rejected(&lg_msd("m"));
+    assert_eq!(
+        error.first().message,
+        "T-type 'spring': stiffness 'm' is in kg but a T-type on a mechanical translational branch needs N/m"
+    );
+    for message in error.0.iter().map(|d| d.message.as_str()) {
+        for word in ["inertance", "an I ", "a C ", "bond", "effort", "flow"] {
+            assert!(!message.contains(word), "{word}: {message}");
+        }
+    }
+}
+
 #[test]
 fn decimal_powers_parse_as_exact_rationals() {
     // An orifice: Q = K sqrt(P), K in m^3/(s*Pa^0.5).
