@@ -17,3 +17,4 @@ mod scenarios;
 mod snapshots;
 mod support;
 mod teaching;
+mod units;

@@ -101,6 +101,24 @@ pub struct Parameter {
     pub si_unit: Option<String>,
 }
 
+impl Parameter {
+    /// `k = 200 N/m (0.2 N/mm)`: the value in SI units, and as written where that differs.
+    pub fn in_si_text(&self) -> String {
+        let number = crate::units::scale::factor_text;
+        let unit = |u: &Option<String>| u.as_ref().map_or(String::new(), |u| format!(" {u}"));
+        let mut text = format!(
+            "{} = {}{}",
+            self.name,
+            number(self.value),
+            unit(&self.si_unit)
+        );
+        if let Some(written) = self.as_written {
+            text.push_str(&format!(" ({}{})", number(written), unit(&self.unit)));
+        }
+        text
+    }
+}
+
 /// A named input (a time-varying quantity that drives sources).
 #[derive(Clone, Debug)]
 pub struct Input {
