@@ -101,6 +101,78 @@ mod tests {
         }
     }
 
+    /// A unit string made of symbols, numbers, operators and powers, as files write them.
+    fn unit_string() -> impl proptest::strategy::Strategy<Value = String> {
+        use proptest::prelude::*;
+        let symbol = prop::sample::select(vec![
+            "m", "mm", "kPa", "L", "min", "h", "rpm", "deg", "%", "g", "kg", "N", "degC", "°C",
+            "µs", "kWh", "bar", "atm", "1000", "0.5", "Ω", "t", "rev",
+        ]);
+        let power = prop::sample::select(vec!["", "", "^2", "^-1", "²", "⁻³", "^3"]);
+        let op = prop::sample::select(vec!["*", "/", " ", "·"]);
+        (
+            (symbol.clone(), power.clone()),
+            prop::collection::vec((op, symbol, power), 0..4),
+            any::<bool>(),
+        )
+            .prop_map(|((s0, p0), rest, grouped)| {
+                let mut text = format!("{s0}{p0}");
+                for (op, s, p) in rest {
+                    text.push_str(&format!("{op}{s}{p}"));
+                }
+                if grouped {
+                    text = format!("1/({text})");
+                }
+                text
+            })
+    }
+
+    proptest::proptest! {
+        // The same cases every run; `PROPTEST_RNG_SEED` draws others, to explore.
+        #![proptest_config(proptest::prelude::ProptestConfig {
+            cases: 512,
+            rng_seed: proptest::test_runner::RngSeed::Fixed(1),
+            ..proptest::prelude::ProptestConfig::default()
+        })]
+
+        /// What an edit writes in a file's unit reads back as exactly the SI value it was
+        /// given, for every unit without a root; and the SI spelling is an SI unit of the
+        /// same dimension.
+        #[test]
+        fn a_value_written_in_any_unit_reads_back_exactly(
+            text in unit_string(),
+            mantissa in 1i64..1_000_000,
+            decade in -6i32..6,
+            negative in proptest::prelude::any::<bool>(),
+        ) {
+            let Ok(unit) = parse_scaled(&text) else {
+                return Ok(());
+            };
+            let si = unit.si_text(&text);
+            let spelt = parse_scaled(&si).unwrap();
+            proptest::prop_assert!(spelt.is_si() && spelt.dim == unit.dim, "{text}: {si}");
+            let written = format!("{}{mantissa}e{decade}", if negative { "-" } else { "" });
+            let value: f64 = written.parse().unwrap();
+            let x = unit.to_si(value, Some(&written));
+            proptest::prop_assume!(x.is_finite() && x != 0.0);
+            let back = unit.from_si(x);
+            proptest::prop_assert_eq!(unit.to_si(back.parse().unwrap(), Some(&back)), x, "{} in {}: {}", x, text, back);
+        }
+    }
+
+    #[test]
+    fn a_huge_power_is_refused_not_wrapped_around() {
+        for (text, part) in [
+            ("m⁹⁹⁹⁹⁹⁹⁹⁹⁹⁹⁹", "⁹⁹⁹⁹⁹⁹⁹⁹⁹⁹⁹"),
+            ("m^99999999999999999999", "^99999999999999999999"),
+            ("(m^100000)^100000", "^100000"),
+        ] {
+            let error = parse_scaled(text).unwrap_err();
+            assert_eq!(error.part, part, "{text}");
+            assert_eq!(error.reason, "a power too large in", "{text}");
+        }
+    }
+
     #[test]
     fn a_unit_is_said_in_si_words() {
         let words = |text: &str| parse_scaled(text).unwrap().in_si_words(text);

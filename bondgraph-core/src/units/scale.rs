@@ -369,25 +369,24 @@ impl Scale {
     /// Whether every base's part stays within 1e±[`MAX_DECADES`], so that the exact parts
     /// can be computed.
     pub fn in_range(&self) -> bool {
-        let decades = |base: &BigInt, e: Ratio| {
-            let log = base
-                .to_f64()
-                .map(f64::log10)
-                .filter(|l| l.is_finite())
-                .unwrap_or(base.bits() as f64 * 2f64.log10());
-            log * e.to_f64()
+        let alone = |base: &BigInt, e: Ratio| Scale {
+            bases: BTreeMap::from([(base.clone(), e)]),
+            pi: Ratio::ZERO,
         };
         self.bases
             .iter()
-            .all(|(b, e)| decades(b, *e).abs() <= MAX_DECADES)
+            .all(|(b, e)| alone(b, *e).decades().abs() <= MAX_DECADES)
             && (self.pi.to_f64() * std::f64::consts::PI.log10()).abs() <= MAX_DECADES
     }
 
     /// The exact part (integer exponents, π as the double nearest it) and the rest, which
     /// only roots leave: `(Π base^floor(e) · PI^floor(e_π), Π base^fract(e) · π^fract(e_π))`
-    /// with the rest as a double (exactly 1 when there is none). Call only when
-    /// [`Scale::in_range`].
-    fn split(&self) -> (Exact, f64) {
+    /// with the rest as a double (exactly 1 when there is none). `None` unless
+    /// [`Scale::in_range`], where the exact part would be too large to compute.
+    fn split(&self) -> Option<(Exact, f64)> {
+        if !self.in_range() {
+            return None;
+        }
         let mut num = BigInt::one();
         let mut den = BigInt::one();
         // The rest: Π base^(fract·L) under one root of order L, the lcm of the denominators.
@@ -438,7 +437,22 @@ impl Scale {
         if self.pi.fract().num != 0 {
             rest *= std::f64::consts::PI.powf(self.pi.fract().to_f64());
         }
-        (exact, rest)
+        Some((exact, rest))
+    }
+
+    /// The factor's power of ten, roughly; for a factor beyond [`Scale::in_range`].
+    fn decades(&self) -> f64 {
+        let log = |base: &BigInt| {
+            base.to_f64()
+                .map(f64::log10)
+                .filter(|l| l.is_finite())
+                .unwrap_or(base.bits() as f64 * 2f64.log10())
+        };
+        self.bases
+            .iter()
+            .map(|(b, e)| log(b) * e.to_f64())
+            .sum::<f64>()
+            + self.pi.to_f64() * std::f64::consts::PI.log10()
     }
 
     /// The factor as the nearest double (to a unit in the last place or two, for a root).
@@ -446,16 +460,21 @@ impl Scale {
         self.apply(&Exact::new(BigInt::one(), BigInt::one()))
     }
 
-    /// `value·factor`, rounded once (twice for a factor with a root).
+    /// `value·factor`, rounded once (twice for a factor with a root); beyond
+    /// [`Scale::in_range`], infinite or zero.
     pub fn apply(&self, value: &Exact) -> f64 {
-        let (exact, rest) = self.split();
+        let Some((exact, rest)) = self.split() else {
+            return value.to_f64() * 10f64.powf(self.decades());
+        };
         let product = value.times(&exact).to_f64();
         if rest == 1.0 { product } else { product * rest }
     }
 
     /// `value·factor + offset`, rounded once when the factor has no root.
     pub fn apply_with_offset(&self, value: &Exact, offset: &Exact) -> f64 {
-        let (exact, rest) = self.split();
+        let Some((exact, rest)) = self.split() else {
+            return self.apply(value) + offset.to_f64();
+        };
         if rest == 1.0 {
             value.times(&exact).plus(offset).to_f64()
         } else {
@@ -470,7 +489,9 @@ impl Scale {
         let reads_back = |text: &str| {
             Exact::decimal(text).map(|v| self.apply_with_offset(&v, offset)) == Some(si)
         };
-        let (exact, rest) = self.split();
+        let Some((exact, rest)) = self.split() else {
+            return format!("{:?}", si / 10f64.powf(self.decades()));
+        };
         // The value as written, exactly where the factor has no root.
         let target = Exact::of_f64(si).plus(&Exact::new(-offset.num.clone(), offset.den.clone()));
         let approximate = match exact.recip() {
@@ -632,6 +653,12 @@ mod tests {
         // A decimal is factored: 0.3048 = 3048/10000 = 2^3·3·127/(2^4·5^4).
         assert_eq!(Scale::decimal("0.3048").unwrap().to_f64(), 0.3048);
         assert_eq!(Scale::decimal("0"), None);
+        // Beyond 1e±700 the exact part is not computed: the value is out of any double's
+        // range anyway.
+        let huge = Scale::power_of_ten(1_000_000_000_000);
+        assert!(!huge.in_range());
+        assert_eq!(huge.to_f64(), f64::INFINITY);
+        assert_eq!(huge.pow(Ratio::integer(-1)).unwrap().to_f64(), 0.0);
     }
 
     #[test]
