@@ -7,6 +7,8 @@
 
 use std::sync::Arc;
 
+use serde::Serialize;
+
 use bondgraph_core::DiagnosticKind;
 use bondgraph_core::equations::nonlinear::{NonlinearOutput, OperatingPoint};
 use bondgraph_core::equations::{self, OutputEquation, Variables};
@@ -51,6 +53,36 @@ pub struct Derived {
     point: Option<OperatingPoint>,
     /// The equilibrium found, when one was searched.
     found: Option<Equilibrium>,
+    /// The model's parameters, in SI units and as written.
+    parameters: Vec<ParameterJson>,
+    /// `k = 200 N/m (0.2 N/mm)` for each parameter whose unit is not SI.
+    converted: Vec<String>,
+}
+
+/// A parameter in the JSON document: its SI value and unit, and as written where its unit
+/// is not SI.
+#[derive(Serialize)]
+struct ParameterJson {
+    name: String,
+    value: f64,
+    unit: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    as_written: Option<AsWritten>,
+}
+
+/// A value as the model file writes it.
+#[derive(Serialize)]
+struct AsWritten {
+    value: f64,
+    unit: String,
+}
+
+/// The equations' JSON document with the parameters added.
+#[derive(Serialize)]
+struct WithParameters<'a, T: Serialize> {
+    #[serde(flatten)]
+    equations: T,
+    parameters: &'a [ParameterJson],
 }
 
 enum Kind {
@@ -156,6 +188,25 @@ pub fn derive(
         kind,
         point,
         found,
+        parameters: model
+            .parameters
+            .iter()
+            .map(|p| ParameterJson {
+                name: p.name.clone(),
+                value: p.value,
+                unit: p.si_unit.clone(),
+                as_written: p
+                    .as_written
+                    .zip(p.unit.clone())
+                    .map(|(value, unit)| AsWritten { value, unit }),
+            })
+            .collect(),
+        converted: model
+            .parameters
+            .iter()
+            .filter(|p| p.as_written.is_some())
+            .map(|p| p.in_si_text())
+            .collect(),
     })
 }
 
@@ -218,7 +269,14 @@ impl Derived {
                     .collect()
             }
         };
-        for (heading, lines) in [("outputs", outputs), ("guards", self.guards.clone())] {
+        for (heading, lines) in [
+            ("outputs", outputs),
+            ("guards", self.guards.clone()),
+            (
+                "parameters in SI units (as written in the file)",
+                self.converted.clone(),
+            ),
+        ] {
             if !lines.is_empty() {
                 text.push_str(&format!("\n{heading}:\n"));
                 for line in lines {
@@ -241,25 +299,37 @@ impl Derived {
         }
     }
 
-    /// `--format latex`: the comment saying what the matrices need, then the equations.
+    /// `--format latex`: the comment saying what the matrices need (and the parameters
+    /// converted to SI units), then the equations.
     pub fn latex(&self) -> String {
-        format!("{}{}", self.preamble, self.latex_body())
+        let mut converted = String::new();
+        if !self.converted.is_empty() {
+            converted.push_str("% parameters in SI units (as written in the file):\n");
+            for line in &self.converted {
+                converted.push_str(&format!("% {line}\n"));
+            }
+        }
+        format!("{}{converted}{}", self.preamble, self.latex_body())
     }
 
-    /// `--format json`.
+    /// `--format json`: the equations' document, with `parameters` added (SI values and
+    /// units, and `as_written` where the file's unit is not SI).
     ///
     /// # Errors
     /// Only if the document cannot be serialised.
     pub fn json(&self) -> Result<String, Failure> {
+        let parameters = &self.parameters;
         match &self.kind {
-            Kind::Linear { derived, outputs } => {
-                json(&derived.equations.to_json(&self.spec, outputs))
-            }
-            Kind::Nonlinear { derived, outputs } => json(&derived.equations.to_json(
-                &self.spec,
-                outputs,
-                self.point.as_ref(),
-            )),
+            Kind::Linear { derived, outputs } => json(&WithParameters {
+                equations: derived.equations.to_json(&self.spec, outputs),
+                parameters,
+            }),
+            Kind::Nonlinear { derived, outputs } => json(&WithParameters {
+                equations: derived
+                    .equations
+                    .to_json(&self.spec, outputs, self.point.as_ref()),
+                parameters,
+            }),
         }
     }
 }

@@ -18,3 +18,4 @@ mod scenarios;
 mod snapshots;
 mod support;
 mod teaching;
+mod units;

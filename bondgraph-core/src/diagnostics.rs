@@ -93,7 +93,8 @@ pub enum DiagnosticKind {
     /// that expands too far, a simulation that would record too many samples.
     TooLarge,
     /// A parameter's or input's `unit` string that names something that is not a unit
-    /// (`"N*s/furlong"`), or does not parse.
+    /// (`"N*s/furlong"`), or does not parse; or an input's unit with a factor or offset to
+    /// SI (`"kPa"`), as inputs take SI values.
     UnknownUnit,
     /// Units that disagree: an expression that adds a force to a velocity, or an element
     /// whose parameter does not have the unit its law needs on its bond (a mass used as a

@@ -80,19 +80,43 @@ pub struct Model {
 pub struct Parameter {
     /// The name used in expressions.
     pub name: String,
-    /// Its value (finite).
+    /// Its value (finite), in SI units: the file's value converted from its unit.
     pub value: f64,
     /// Its unit, as written.
     pub unit: Option<String>,
     /// What it is.
     pub description: Option<String>,
     /// The range a calibration may move it in, `(low, high)` with `low < high` and the value
-    /// inside, if the file gives one.
+    /// inside, if the file gives one; in SI units, like `value`.
     pub bounds: Option<(f64, f64)>,
     /// Its symbol in [`Model::symbols`].
     pub symbol: Symbol,
     /// The span of its name in the file.
     pub span: Span,
+    /// The value as written in the file, where its unit is not an SI one (`0.2` of
+    /// `value: 0.2, unit: "N/mm"`, whose `value` is 200); `value` is the SI value.
+    pub as_written: Option<f64>,
+    /// The SI unit `value` (and `bounds`) are in, spelt like `unit` (`N/m` for `N/mm`);
+    /// `unit` itself when that is SI.
+    pub si_unit: Option<String>,
+}
+
+impl Parameter {
+    /// `k = 200 N/m (0.2 N/mm)`: the value in SI units, and as written where that differs.
+    pub fn in_si_text(&self) -> String {
+        let number = crate::units::scale::factor_text;
+        let unit = |u: &Option<String>| u.as_ref().map_or(String::new(), |u| format!(" {u}"));
+        let mut text = format!(
+            "{} = {}{}",
+            self.name,
+            number(self.value),
+            unit(&self.si_unit)
+        );
+        if let Some(written) = self.as_written {
+            text.push_str(&format!(" ({}{})", number(written), unit(&self.unit)));
+        }
+        text
+    }
 }
 
 /// A named input (a time-varying quantity that drives sources).

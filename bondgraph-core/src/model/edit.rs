@@ -16,6 +16,9 @@
 //! [`Edit`] is a list of text replacements: an element's entry and every bond that touches
 //! it are cut out (whole lines when they stand on their own lines), and a parameter's
 //! `value` is replaced by the shortest text that reads back as exactly the same `f64`.
+//! Values set are in SI units, like every value once a file is read; one is written in the
+//! parameter's own unit (250 N/m as `0.25` beside `N/mm`), so that reading the edited file
+//! gives it back exactly ([`crate::units::Unit::from_si`]).
 //!
 //! # Example
 //! ```
@@ -55,7 +58,7 @@ use super::validate::suggest;
 pub struct Edit {
     /// Element names: each element, and every bond that touches it, is removed.
     pub remove: Vec<String>,
-    /// New values of existing parameters, by name.
+    /// New values of existing parameters, by name, in SI units.
     pub parameters: Vec<(String, f64)>,
 }
 
@@ -268,7 +271,10 @@ pub(crate) fn apply_located(
             let span = entry
                 .field("value")
                 .map_or(entry.value_span, |f| f.value_span);
-            replacements.push((span, number(*value)));
+            replacements.push((
+                span,
+                in_file_unit(*value, raw.parameters[i].1.unit.as_deref()),
+            ));
         }
     }
     if !problems.is_empty() {
@@ -325,6 +331,16 @@ fn unknown_parameter(raw: &RawModel, name: &str, location: Location) -> Diagnost
         diagnostic = diagnostic.note(format!("did you mean '{suggestion}'?"));
     }
     diagnostic
+}
+
+/// The text to write for SI value `value` of a parameter whose unit is `unit`: in that
+/// unit, as reading the file converts it back to exactly `value` (`0.25` for 250 N/m in
+/// `N/mm`); [`number`] where the unit is SI, absent or not a unit (which loading reports).
+fn in_file_unit(value: f64, unit: Option<&str>) -> String {
+    match unit.map(crate::units::parse_scaled) {
+        Some(Ok(unit)) => unit.from_si(value),
+        _ => number(value),
+    }
 }
 
 /// The text that reads back as exactly `value`: Rust's shortest round-trip form (`5.0`,

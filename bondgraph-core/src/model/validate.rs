@@ -22,6 +22,7 @@ use crate::model::raw::{RawElement, RawModel};
 use crate::model::source_map::{EntrySpans, SourceMap};
 use crate::source::{SourceFile, Span};
 use crate::symbolic::{RatFunc, SymbolTable};
+use crate::units::Unit;
 use crate::units::check::Convention;
 
 mod laws;
@@ -103,14 +104,15 @@ pub(crate) fn validate_as(
         if let Some(bounds) = raw_parameter.bounds {
             v.check_bounds(name, raw_parameter.value, bounds, index);
         }
-        v.check_unit(
+        let unit = v.check_unit(
             "parameter",
             name,
             raw_parameter.unit.as_deref(),
             &map.parameters,
             index,
         );
-        parameters.push((name.clone(), raw_parameter.clone(), span));
+        let in_si = v.in_si(name, raw_parameter, unit.as_ref(), index);
+        parameters.push((name.clone(), raw_parameter.clone(), in_si, span));
     }
     let mut inputs = Vec::new();
     for (index, (name, raw_input)) in raw.inputs.iter().enumerate() {
@@ -118,7 +120,10 @@ pub(crate) fn validate_as(
         if !v.check_name(name, "input", span) || !v.check_unique(&mut seen, name, "input", span) {
             continue;
         }
-        v.check_unit("input", name, raw_input.unit.as_deref(), &map.inputs, index);
+        let unit = v.check_unit("input", name, raw_input.unit.as_deref(), &map.inputs, index);
+        if let (Some(unit), Some(written)) = (unit, raw_input.unit.as_deref()) {
+            v.check_input_unit(name, &unit, written, index);
+        }
         inputs.push(Input {
             name: name.clone(),
             unit: raw_input.unit.clone(),
@@ -127,21 +132,23 @@ pub(crate) fn validate_as(
         });
     }
 
-    let symbols = SymbolTable::new(parameters.iter().map(|(n, _, _)| n.clone()));
+    let symbols = SymbolTable::new(parameters.iter().map(|(n, _, _, _)| n.clone()));
     let mut values = vec![f64::NAN; symbols.len()];
     let parameters: Vec<Parameter> = parameters
         .into_iter()
-        .map(|(name, raw_parameter, span)| {
+        .map(|(name, raw_parameter, in_si, span)| {
             let symbol = symbols.get(&name).expect("every parameter has a symbol");
-            values[symbol.index()] = raw_parameter.value;
+            values[symbol.index()] = in_si.value;
             Parameter {
                 name,
-                value: raw_parameter.value,
+                value: in_si.value,
                 unit: raw_parameter.unit,
                 description: raw_parameter.description,
-                bounds: raw_parameter.bounds,
+                bounds: in_si.bounds,
                 symbol,
                 span,
+                as_written: in_si.as_written,
+                si_unit: in_si.si_unit,
             }
         })
         .collect();
@@ -295,6 +302,25 @@ pub(crate) fn validate_as(
     }
 }
 
+/// A parameter's numbers in SI units.
+struct InSi {
+    value: f64,
+    bounds: Option<(f64, f64)>,
+    /// The value as written, where the unit is not SI.
+    as_written: Option<f64>,
+    /// The SI unit of `value`.
+    si_unit: Option<String>,
+}
+
+/// The two numbers of a `bounds: (low, high)` as written.
+fn bound_texts(text: &str) -> Option<(&str, &str)> {
+    let inner = text.trim().strip_prefix('(')?.strip_suffix(')')?;
+    let mut parts = inner.split(',').map(str::trim).filter(|p| !p.is_empty());
+    let low = parts.next()?;
+    let high = parts.next()?;
+    parts.next().is_none().then_some((low, high))
+}
+
 /// What expressions may name.
 struct Scope<'a> {
     symbols: &'a SymbolTable,
@@ -350,7 +376,7 @@ impl Validator<'_> {
         );
     }
 
-    /// A `unit` string must parse ([`crate::units::parse_unit`]).
+    /// A `unit` string must parse ([`crate::units::parse_scaled`]): the unit, if it does.
     fn check_unit(
         &mut self,
         what: &str,
@@ -358,16 +384,13 @@ impl Validator<'_> {
         unit: Option<&str>,
         entries: &[EntrySpans],
         index: usize,
-    ) {
-        let Some(unit) = unit else { return };
-        let Err(error) = crate::units::parse_unit(unit) else {
-            return;
+    ) -> Option<Unit> {
+        let unit = unit?;
+        let error = match crate::units::parse_scaled(unit) {
+            Ok(parsed) => return Some(parsed),
+            Err(error) => error,
         };
-        let span = entries
-            .get(index)
-            .and_then(|e| e.fields.iter().find(|f| f.name == "unit"))
-            .map(|f| f.string_content.unwrap_or(f.value_span))
-            .unwrap_or_else(|| self.entry_span(entries, index));
+        let span = self.unit_span(entries, index);
         self.problems.push(
             Diagnostic::new(
                 DiagnosticKind::UnknownUnit,
@@ -377,6 +400,104 @@ impl Validator<'_> {
             .element(name)
             .note("write units with SI symbols and prefixes, '*', '/' and '^': \"N*s/m\", \"kg*m^2\", \"kPa\""),
         );
+        None
+    }
+
+    /// The span of the `unit` string of entry `index`.
+    fn unit_span(&self, entries: &[EntrySpans], index: usize) -> Span {
+        entries
+            .get(index)
+            .and_then(|e| e.fields.iter().find(|f| f.name == "unit"))
+            .map(|f| f.string_content.unwrap_or(f.value_span))
+            .unwrap_or_else(|| self.entry_span(entries, index))
+    }
+
+    /// An input's values come in SI units (scenarios, experiments, `--at`): its unit must
+    /// be an SI one, without a factor or an offset.
+    fn check_input_unit(&mut self, name: &str, unit: &Unit, written: &str, index: usize) {
+        if unit.is_si() {
+            return;
+        }
+        let span = self.unit_span(&self.map.inputs, index);
+        self.problems.push(
+            Diagnostic::new(
+                DiagnosticKind::UnknownUnit,
+                format!(
+                    "input '{name}' has unit {}: inputs take SI values in scenarios, experiments and --at; declare it in \"{}\"",
+                    unit.in_si_words(written),
+                    unit.si_text(written)
+                ),
+            )
+            .at(&self.file, span)
+            .element(name),
+        );
+    }
+
+    /// A parameter's value and bounds in SI units, converted from its unit as written in
+    /// the file (the decimals themselves, so that `0.501` kN is exactly 501 N); a value
+    /// that over- or underflows once converted is reported at the value.
+    fn in_si(
+        &mut self,
+        name: &str,
+        raw: &crate::model::raw::RawParameter,
+        unit: Option<&Unit>,
+        index: usize,
+    ) -> InSi {
+        let plain = InSi {
+            value: raw.value,
+            bounds: raw.bounds,
+            as_written: None,
+            si_unit: raw.unit.clone(),
+        };
+        let (Some(unit), Some(written_unit)) = (unit, raw.unit.as_deref()) else {
+            return plain;
+        };
+        let si_unit = unit.si_text(written_unit);
+        if unit.is_si() || !raw.value.is_finite() {
+            return InSi {
+                si_unit: Some(si_unit),
+                ..plain
+            };
+        }
+        let value_span = self.field_value_span(&self.map.parameters, index, "value");
+        let text = value_span.and_then(|span| self.file.text().get(span.start..span.end));
+        let value = unit.to_si(raw.value, text);
+        let shown = text.map_or_else(|| raw.value.to_string(), str::to_string);
+        let problem = if !value.is_finite() {
+            Some("which is too large in SI units")
+        } else if value == 0.0 && raw.value != 0.0 && unit.offset.is_none() {
+            Some("which underflows to 0 in SI units")
+        } else {
+            None
+        };
+        if let Some(problem) = problem {
+            let span = value_span.unwrap_or_else(|| self.entry_span(&self.map.parameters, index));
+            self.problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::InvalidValue,
+                    format!(
+                        "parameter '{name}' has value {shown} {written_unit}, {problem} ({si_unit}) for a 64-bit floating-point number"
+                    ),
+                )
+                .at(&self.file, span)
+                .element(name)
+                .note("write the value in a unit nearer its size"),
+            );
+        }
+        let bounds = raw.bounds.map(|(low, high)| {
+            let texts = self
+                .field_value_span(&self.map.parameters, index, "bounds")
+                .and_then(|span| self.file.text().get(span.start..span.end))
+                .and_then(bound_texts);
+            let (low_text, high_text) = texts.unzip();
+            (unit.to_si(low, low_text), unit.to_si(high, high_text))
+        });
+        InSi {
+            value,
+            bounds,
+            as_written: Some(raw.value),
+            si_unit: Some(si_unit),
+        }
     }
 
     fn field_value_span(&self, entries: &[EntrySpans], index: usize, field: &str) -> Option<Span> {

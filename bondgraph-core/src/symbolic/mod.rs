@@ -30,7 +30,7 @@
 //! - `print`: plain-text and LaTeX rendering;
 //! - [`expr`]: symbolic expressions for nonlinear laws, with exact coefficients.
 
-mod decimal;
+pub(crate) mod decimal;
 pub mod expr;
 mod gcd;
 mod modgcd;

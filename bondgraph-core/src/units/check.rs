@@ -19,8 +19,22 @@
 //!    have no unit are skipped.
 //! 5. Last, every bond whose effort and flow are both known must carry a power.
 //!
-//! The order decides which of two disagreeing laws is blamed: sources, then the laws in
-//! file order, as a reader would check them.
+//! # Which law is wrong
+//! Where laws disagree around a loop (a front and a rear lever arm on one pitching body),
+//! the law applied last is the one that finds the disagreement, which says nothing about
+//! which law is wrong. So when the check finds problems, it checks the model again without
+//! each field's laws in turn: if exactly one field leaves every other law agreeing, that
+//! field is blamed, its laws checked against what the rest of the model makes of its bonds.
+//! Otherwise (no single field explains every problem, or several do equally well) the
+//! problems are reported as found, in the order above: sources, then the laws in file
+//! order, as a reader would check them. A field is reported at most once (a transformer's
+//! ratio relates both the efforts and the flows of its bonds).
+//!
+//! # Words
+//! A linear graph is checked through the bond graph it translates to, but reported in its
+//! own words ([`Convention::LinearGraph`]): branches of A-, T- and D-type with their
+//! capacitance, inductance, stiffness, resistance or conductance, and through and across
+//! variables where the bond graph has efforts and flows.
 
 use std::collections::HashMap;
 
@@ -58,9 +72,16 @@ enum Law {
 }
 
 /// One law of one element, with its expression.
+#[derive(Clone)]
 struct Constraint {
     element: ElementId,
     field: &'static str,
+    /// The element as the file calls it: `inertia 'mass'`, `A-type 'tank'`.
+    who: String,
+    /// The field as the file calls it: `inertance`, `capacitance`.
+    field_word: &'static str,
+    /// The element's kind as the file writes it, for "an I on ...": `I`, `A-type`.
+    keyword: &'static str,
     text: String,
     expr: Expr,
     /// The span of the expression text in the file.
@@ -104,17 +125,35 @@ pub(crate) fn check(
             units.insert(name.as_str(), (dim, unit.as_str()));
         }
     }
-    let mut checker = Checker {
-        model,
-        units,
-        solver: Solver::new(2 * model.bonds.len()),
-        problems: Vec::new(),
-        convention,
+    let constraints = constraints(model, raw, map, convention);
+    let run = |without: Option<Field>| {
+        let mut checker = Checker {
+            model,
+            units: &units,
+            solver: Solver::new(2 * model.bonds.len()),
+            problems: Vec::new(),
+            blamed: Vec::new(),
+            convention,
+        };
+        checker.junctions();
+        let mut laws: Vec<Constraint> = constraints
+            .iter()
+            .filter(|c| Some((c.element, c.field)) != without)
+            .cloned()
+            .collect();
+        checker.solve(&mut laws);
+        checker.powers();
+        checker
     };
-    checker.junctions();
-    let mut constraints = checker.constraints(raw, map);
-    checker.solve(&mut constraints);
-    checker.powers();
+    let found = run(None);
+    let checker = if found.problems.is_empty() {
+        found
+    } else {
+        match blame(&constraints, &found.blamed, &run) {
+            Some(blamed) => blamed,
+            None => found,
+        }
+    };
     let dimensions = (0..model.bonds.len())
         .map(|b| BondDimensions {
             effort: checker.solver.get(effort(b)),
@@ -124,11 +163,263 @@ pub(crate) fn check(
     (checker.problems, dimensions)
 }
 
+/// The laws of every element of `model`, in file order, worded as `convention` says.
+fn constraints(
+    model: &Model,
+    raw: &RawModel,
+    map: &SourceMap,
+    convention: Convention,
+) -> Vec<Constraint> {
+    let mut out = Vec::new();
+    for (index, (name, raw_element)) in raw.elements.iter().enumerate() {
+        let Some(id) = model.element_named(name) else {
+            continue;
+        };
+        let element = model.element(id);
+        let Some(first) = element.bonds.first().map(|b| b.index()) else {
+            continue;
+        };
+        let (e, f) = (effort(first), flow(first));
+        // Two-ports: the bond into the element and the bond out of it.
+        let (port_in, port_out) = {
+            let into = element
+                .bonds
+                .iter()
+                .find(|b| model.bond(**b).to == id)
+                .map(|b| b.index());
+            let out_of = element
+                .bonds
+                .iter()
+                .find(|b| model.bond(**b).from == id)
+                .map(|b| b.index());
+            (into.unwrap_or(first), out_of.unwrap_or(first))
+        };
+        let value = |var, is_effort| Law::Value { var, is_effort };
+        let ratio = |power, k| Law::Ratio {
+            a: e,
+            b: f,
+            power,
+            k,
+        };
+        let per_s = Dim::TIME.recip();
+        let mut laws: Vec<(&'static str, &Option<String>, Law, bool)> = Vec::new();
+        let some = |s: &String| Some(s.clone());
+        let owned: Vec<Option<String>>;
+        match raw_element {
+            RawElement::Se { effort: text } => {
+                owned = vec![some(text)];
+                laws.push(("effort", &owned[0], value(e, true), true));
+            }
+            RawElement::Sf { flow: text } => {
+                owned = vec![some(text)];
+                laws.push(("flow", &owned[0], value(f, false), true));
+            }
+            RawElement::I {
+                inertance,
+                flow: law,
+            } => {
+                laws.push(("inertance", inertance, ratio(1, per_s), false));
+                laws.push(("flow", law, value(f, false), false));
+            }
+            RawElement::C {
+                compliance,
+                stiffness,
+                effort: law,
+            } => {
+                laws.push(("compliance", compliance, ratio(-1, Dim::TIME), false));
+                laws.push(("stiffness", stiffness, ratio(1, Dim::TIME), false));
+                laws.push(("effort", law, value(e, true), false));
+            }
+            RawElement::TensionOnly {
+                compliance,
+                stiffness,
+                ..
+            } => {
+                laws.push(("compliance", compliance, ratio(-1, Dim::TIME), false));
+                laws.push(("stiffness", stiffness, ratio(1, Dim::TIME), false));
+            }
+            RawElement::R {
+                resistance,
+                effort: effort_law,
+                flow: flow_law,
+            } => {
+                laws.push(("resistance", resistance, ratio(1, Dim::NONE), false));
+                laws.push(("effort", effort_law, value(e, true), false));
+                laws.push(("flow", flow_law, value(f, false), false));
+            }
+            RawElement::Conductance { conductance } => {
+                owned = vec![some(conductance)];
+                laws.push(("conductance", &owned[0], ratio(-1, Dim::NONE), false));
+            }
+            RawElement::TF { ratio: text } => {
+                owned = vec![some(text)];
+                let (i, o) = (port_in, port_out);
+                let two = |a, b| Law::Ratio {
+                    a,
+                    b,
+                    power: 1,
+                    k: Dim::NONE,
+                };
+                laws.push(("ratio", &owned[0], two(effort(i), effort(o)), true));
+                laws.push(("ratio", &owned[0], two(flow(o), flow(i)), true));
+            }
+            RawElement::GY { ratio: text } | RawElement::ReciprocalGY { ratio: text } => {
+                owned = vec![some(text)];
+                let power = if matches!(raw_element, RawElement::GY { .. }) {
+                    1
+                } else {
+                    -1
+                };
+                let (i, o) = (port_in, port_out);
+                let two = |a, b| Law::Ratio {
+                    a,
+                    b,
+                    power,
+                    k: Dim::NONE,
+                };
+                laws.push(("ratio", &owned[0], two(effort(i), flow(o)), true));
+                laws.push(("ratio", &owned[0], two(effort(o), flow(i)), true));
+            }
+            RawElement::Friction {
+                breakaway,
+                coulomb,
+                viscous,
+                dead_band,
+                stribeck,
+                ..
+            } => {
+                owned = vec![some(breakaway), some(coulomb)];
+                laws.push(("breakaway", &owned[0], value(e, true), true));
+                laws.push(("coulomb", &owned[1], value(e, true), true));
+                laws.push(("dead_band", dead_band, value(f, false), true));
+                laws.push(("stribeck", stribeck, value(f, false), true));
+                laws.push(("viscous", viscous, ratio(1, Dim::NONE), false));
+            }
+            RawElement::FlowLimit { max_flow, .. } => {
+                owned = vec![some(max_flow)];
+                laws.push(("max_flow", &owned[0], value(f, false), true));
+            }
+            RawElement::Zero | RawElement::One => {}
+        }
+        for (field, text, law, early) in laws {
+            let Some(text) = text else { continue };
+            let Ok(expr) = expr::parse(text) else {
+                continue;
+            };
+            let span = map
+                .elements
+                .get(index)
+                .and_then(|entry| entry.fields.iter().find(|f| f.name == field))
+                .map(|f| f.string_content.unwrap_or(f.value_span))
+                .unwrap_or(element.span);
+            let (kind, keyword, field_word) = words(raw_element, field, convention, &element.kind);
+            out.push(Constraint {
+                element: id,
+                field,
+                who: format!("{kind} '{name}'"),
+                field_word,
+                keyword,
+                text: text.clone(),
+                expr,
+                span,
+                law,
+                early,
+                port: first,
+            });
+        }
+    }
+    out
+}
+
+/// How the file names an element, its kind and one of its fields: `(inertia, I,
+/// inertance)` in a bond graph, `(A-type, A-type, capacitance)` for the same law in a
+/// linear graph (see [`crate::model::linear_graph::translate`] for which branch becomes
+/// which element).
+fn words(
+    raw: &RawElement,
+    field: &'static str,
+    convention: Convention,
+    kind: &ElementKind,
+) -> (&'static str, &'static str, &'static str) {
+    if convention == Convention::BondGraph {
+        return (kind.description(), kind.keyword(), field);
+    }
+    let (branch, field_word) = match raw {
+        RawElement::I { .. } => ("A-type", "capacitance"),
+        RawElement::C { .. } => (
+            "T-type",
+            if field == "compliance" {
+                "inductance"
+            } else {
+                field
+            },
+        ),
+        RawElement::Conductance { .. } => ("D-type", "resistance"),
+        RawElement::R { .. } => ("D-type", "conductance"),
+        RawElement::Sf { .. } => ("across source", "value"),
+        RawElement::Se { .. } => ("through source", "value"),
+        RawElement::TF { .. } => ("transformer", field),
+        RawElement::GY { .. } | RawElement::ReciprocalGY { .. } => ("gyrator", field),
+        RawElement::Friction { .. } => ("friction contact", field),
+        RawElement::TensionOnly { .. } => (
+            "tension-only T-type",
+            if field == "compliance" {
+                "inductance"
+            } else {
+                field
+            },
+        ),
+        RawElement::FlowLimit { .. } | RawElement::Zero | RawElement::One => {
+            (kind.description(), field)
+        }
+    };
+    (branch, branch, field_word)
+}
+
+/// A field of an element: the laws it gives are blamed together.
+type Field = (ElementId, &'static str);
+
+/// The one field whose laws, left out, leave every other law agreeing, where the problems
+/// found blamed other fields (`blamed`): a checker with that field's laws checked last,
+/// against the rest of the model (see the module documentation). `None` if there is no
+/// such field, or more than one.
+fn blame<'a>(
+    constraints: &[Constraint],
+    blamed: &[Field],
+    run: &dyn Fn(Option<Field>) -> Checker<'a>,
+) -> Option<Checker<'a>> {
+    let mut fields: Vec<Field> = Vec::new();
+    for c in constraints {
+        if !fields.contains(&(c.element, c.field)) {
+            fields.push((c.element, c.field));
+        }
+    }
+    let mut alone = fields
+        .iter()
+        .filter(|field| run(Some(**field)).problems.is_empty());
+    let field = *alone.next()?;
+    if alone.next().is_some() || blamed == [field] {
+        return None;
+    }
+    let mut checker = run(Some(field));
+    let mut laws: Vec<Constraint> = constraints
+        .iter()
+        .filter(|c| (c.element, c.field) == field)
+        .cloned()
+        .collect();
+    for early in [true, false] {
+        checker.apply(&mut laws, early, usize::MAX);
+    }
+    (!checker.problems.is_empty()).then_some(checker)
+}
+
 struct Checker<'a> {
     model: &'a Model,
-    units: HashMap<&'a str, (Dim, &'a str)>,
+    units: &'a HashMap<&'a str, (Dim, &'a str)>,
     solver: Solver,
     problems: Vec<Diagnostic>,
+    /// The field each problem of a law blames, in order: at most one problem per field.
+    blamed: Vec<Field>,
     convention: Convention,
 }
 
@@ -191,164 +482,6 @@ impl Checker<'_> {
         }
     }
 
-    fn constraints(&self, raw: &RawModel, map: &SourceMap) -> Vec<Constraint> {
-        let mut out = Vec::new();
-        for (index, (name, raw_element)) in raw.elements.iter().enumerate() {
-            let Some(id) = self.model.element_named(name) else {
-                continue;
-            };
-            let element = self.model.element(id);
-            let Some(first) = element.bonds.first().map(|b| b.index()) else {
-                continue;
-            };
-            let (e, f) = (effort(first), flow(first));
-            // Two-ports: the bond into the element and the bond out of it.
-            let (port_in, port_out) = {
-                let into = element
-                    .bonds
-                    .iter()
-                    .find(|b| self.model.bond(**b).to == id)
-                    .map(|b| b.index());
-                let out_of = element
-                    .bonds
-                    .iter()
-                    .find(|b| self.model.bond(**b).from == id)
-                    .map(|b| b.index());
-                (into.unwrap_or(first), out_of.unwrap_or(first))
-            };
-            let value = |var, is_effort| Law::Value { var, is_effort };
-            let ratio = |power, k| Law::Ratio {
-                a: e,
-                b: f,
-                power,
-                k,
-            };
-            let per_s = Dim::TIME.recip();
-            let mut laws: Vec<(&'static str, &Option<String>, Law, bool)> = Vec::new();
-            let some = |s: &String| Some(s.clone());
-            let owned: Vec<Option<String>>;
-            match raw_element {
-                RawElement::Se { effort: text } => {
-                    owned = vec![some(text)];
-                    laws.push(("effort", &owned[0], value(e, true), true));
-                }
-                RawElement::Sf { flow: text } => {
-                    owned = vec![some(text)];
-                    laws.push(("flow", &owned[0], value(f, false), true));
-                }
-                RawElement::I {
-                    inertance,
-                    flow: law,
-                } => {
-                    laws.push(("inertance", inertance, ratio(1, per_s), false));
-                    laws.push(("flow", law, value(f, false), false));
-                }
-                RawElement::C {
-                    compliance,
-                    stiffness,
-                    effort: law,
-                } => {
-                    laws.push(("compliance", compliance, ratio(-1, Dim::TIME), false));
-                    laws.push(("stiffness", stiffness, ratio(1, Dim::TIME), false));
-                    laws.push(("effort", law, value(e, true), false));
-                }
-                RawElement::TensionOnly {
-                    compliance,
-                    stiffness,
-                    ..
-                } => {
-                    laws.push(("compliance", compliance, ratio(-1, Dim::TIME), false));
-                    laws.push(("stiffness", stiffness, ratio(1, Dim::TIME), false));
-                }
-                RawElement::R {
-                    resistance,
-                    effort: effort_law,
-                    flow: flow_law,
-                } => {
-                    laws.push(("resistance", resistance, ratio(1, Dim::NONE), false));
-                    laws.push(("effort", effort_law, value(e, true), false));
-                    laws.push(("flow", flow_law, value(f, false), false));
-                }
-                RawElement::Conductance { conductance } => {
-                    owned = vec![some(conductance)];
-                    laws.push(("conductance", &owned[0], ratio(-1, Dim::NONE), false));
-                }
-                RawElement::TF { ratio: text } => {
-                    owned = vec![some(text)];
-                    let (i, o) = (port_in, port_out);
-                    let two = |a, b| Law::Ratio {
-                        a,
-                        b,
-                        power: 1,
-                        k: Dim::NONE,
-                    };
-                    laws.push(("ratio", &owned[0], two(effort(i), effort(o)), true));
-                    laws.push(("ratio", &owned[0], two(flow(o), flow(i)), true));
-                }
-                RawElement::GY { ratio: text } | RawElement::ReciprocalGY { ratio: text } => {
-                    owned = vec![some(text)];
-                    let power = if matches!(raw_element, RawElement::GY { .. }) {
-                        1
-                    } else {
-                        -1
-                    };
-                    let (i, o) = (port_in, port_out);
-                    let two = |a, b| Law::Ratio {
-                        a,
-                        b,
-                        power,
-                        k: Dim::NONE,
-                    };
-                    laws.push(("ratio", &owned[0], two(effort(i), flow(o)), true));
-                    laws.push(("ratio", &owned[0], two(effort(o), flow(i)), true));
-                }
-                RawElement::Friction {
-                    breakaway,
-                    coulomb,
-                    viscous,
-                    dead_band,
-                    stribeck,
-                    ..
-                } => {
-                    owned = vec![some(breakaway), some(coulomb)];
-                    laws.push(("breakaway", &owned[0], value(e, true), true));
-                    laws.push(("coulomb", &owned[1], value(e, true), true));
-                    laws.push(("dead_band", dead_band, value(f, false), true));
-                    laws.push(("stribeck", stribeck, value(f, false), true));
-                    laws.push(("viscous", viscous, ratio(1, Dim::NONE), false));
-                }
-                RawElement::FlowLimit { max_flow, .. } => {
-                    owned = vec![some(max_flow)];
-                    laws.push(("max_flow", &owned[0], value(f, false), true));
-                }
-                RawElement::Zero | RawElement::One => {}
-            }
-            for (field, text, law, early) in laws {
-                let Some(text) = text else { continue };
-                let Ok(expr) = expr::parse(text) else {
-                    continue;
-                };
-                let span = map
-                    .elements
-                    .get(index)
-                    .and_then(|entry| entry.fields.iter().find(|f| f.name == field))
-                    .map(|f| f.string_content.unwrap_or(f.value_span))
-                    .unwrap_or(element.span);
-                out.push(Constraint {
-                    element: id,
-                    field,
-                    text: text.clone(),
-                    expr,
-                    span,
-                    law,
-                    early,
-                    port: first,
-                });
-            }
-        }
-        out
-    }
-
     fn solve(&mut self, constraints: &mut Vec<Constraint>) {
         loop {
             if self.apply(constraints, true, usize::MAX) || self.power_step() {
@@ -387,7 +520,7 @@ impl Checker<'_> {
                         c.span.start + mismatch.span.end,
                     );
                     let d = self.diagnostic(c, span, mismatch.message);
-                    self.problems.push(d);
+                    self.report(c, d);
                     constraints.remove(index);
                     continue;
                 }
@@ -395,19 +528,48 @@ impl Checker<'_> {
             let c = constraints.remove(index);
             applied += 1;
             if let Some(problem) = self.enforce(&c, dim) {
-                self.problems.push(problem);
+                self.report(&c, problem);
             }
         }
         applied > 0
     }
 
+    /// Records `problem` with `c`'s law, unless its field has a problem already.
+    fn report(&mut self, c: &Constraint, problem: Diagnostic) {
+        let field = (c.element, c.field);
+        if !self.blamed.contains(&field) {
+            self.blamed.push(field);
+            self.problems.push(problem);
+        }
+    }
+
+    /// Whether the file is a linear graph, whose words differ.
+    fn linear_graph(&self) -> bool {
+        self.convention == Convention::LinearGraph
+    }
+
+    /// What the file calls a bond's effort (or flow): a linear graph's through (across)
+    /// variable.
+    fn variable(&self, is_effort: bool) -> &'static str {
+        match (self.linear_graph(), is_effort) {
+            (false, true) => "effort",
+            (false, false) => "flow",
+            (true, true) => "through variable",
+            (true, false) => "across variable",
+        }
+    }
+
+    /// What the file calls a bond.
+    fn bond_word(&self) -> &'static str {
+        if self.linear_graph() {
+            "branch"
+        } else {
+            "bond"
+        }
+    }
+
     /// Applies one constraint whose expression is in `dim`; the diagnostic if it disagrees.
     fn enforce(&mut self, c: &Constraint, dim: Dim) -> Option<Diagnostic> {
-        let who = format!(
-            "{} '{}'",
-            self.model.element(c.element).kind.description(),
-            self.model.element(c.element).name
-        );
         match c.law {
             Law::Value { var, is_effort } => {
                 if c.early
@@ -417,16 +579,17 @@ impl Checker<'_> {
                 }
                 match self
                     .solver
-                    .set(var, dim, format!("the {} of the {who}", c.field))
+                    .set(var, dim, format!("the {} of the {}", c.field_word, c.who))
                 {
                     Ok(_) => None,
                     Err(Conflict::Value(known)) => {
-                        let what = if is_effort { "effort" } else { "flow" };
                         let message = format!(
-                            "{} '{}' is in {} but the bond's {what} is in {} (from {})",
-                            c.field,
+                            "{} '{}' is in {} but the {}'s {} is in {} (from {})",
+                            c.field_word,
                             c.text,
                             self.unit_of(c, dim),
+                            self.bond_word(),
+                            self.variable(is_effort),
                             self.display(known.dim, None),
                             known.by
                         );
@@ -447,7 +610,7 @@ impl Checker<'_> {
                         let hints = self.domain(bond).map_or(&[][..], |d| d.hints);
                         let message = format!(
                             "{} '{}' is in {} but {here} needs {}",
-                            c.field,
+                            c.field_word,
                             c.text,
                             self.unit_of(c, dim),
                             readable_with(needed_dim, hints)
@@ -463,7 +626,7 @@ impl Checker<'_> {
     /// A source's value that is plainly the other kind of variable (a velocity given as an
     /// effort): the message, if so.
     fn implausible(&self, c: &Constraint, dim: Dim, is_effort: bool) -> Option<String> {
-        let lg = self.convention == Convention::LinearGraph;
+        let lg = self.linear_graph();
         let unit = |(u, _): (&str, &str)| parse_unit(u).unwrap_or(Dim::NONE);
         let as_effort = domain::DOMAINS
             .iter()
@@ -471,27 +634,26 @@ impl Checker<'_> {
         let as_flow = domain::DOMAINS
             .iter()
             .find(|d| unit(d.file_flow(lg)) == dim);
-        let kw = self.model.element(c.element).kind.keyword();
-        let article = if kw.starts_with(['I', 'R', 'S', 'A', 'E', 'O']) {
-            "an"
-        } else {
-            "a"
-        };
+        let kw = c.keyword;
+        let article = article(kw);
+        let needs = |is_effort: bool| with_article(self.variable(is_effort));
         match (is_effort, as_effort, as_flow) {
             (true, None, Some(d)) => Some(format!(
-                "{} '{}' is in {}, a {}, where {article} {kw} needs an effort: {}",
-                c.field,
+                "{} '{}' is in {}, a {}, where {article} {kw} needs {}: {}",
+                c.field_word,
                 c.text,
                 self.unit_of(c, dim),
                 d.file_flow(lg).1,
+                needs(true),
                 domain::effort_list(lg)
             )),
             (false, Some(d), None) => Some(format!(
-                "{} '{}' is in {}, a {}, where {article} {kw} needs a flow: {}",
-                c.field,
+                "{} '{}' is in {}, a {}, where {article} {kw} needs {}: {}",
+                c.field_word,
                 c.text,
                 self.unit_of(c, dim),
                 d.file_effort(lg).1,
+                needs(false),
                 domain::flow_list(lg)
             )),
             _ => None,
@@ -501,28 +663,31 @@ impl Checker<'_> {
     /// `a C on a mechanical translational bond`, or what is known of the bond.
     fn context(&self, c: &Constraint, bond: usize) -> String {
         let kind = &self.model.element(c.element).kind;
-        let kw = kind.keyword();
-        let article = if kw.starts_with(['I', 'R', 'S', 'A', 'E', 'O']) {
-            "an"
-        } else {
-            "a"
-        };
+        let kw = c.keyword;
+        let article = article(kw);
         if matches!(
             kind,
             ElementKind::Transformer(_) | ElementKind::Gyrator(_) | ElementKind::Nonlinear(_)
         ) && self.model.element(c.element).bonds.len() == 2
         {
-            return format!("{article} {kw} between these bonds");
+            return if self.linear_graph() {
+                format!("{article} {kw} between its primary and secondary")
+            } else {
+                format!("{article} {kw} between these bonds")
+            };
         }
+        let on = self.bond_word();
         match self.domain(bond) {
-            Some(d) => format!("{article} {kw} on a {} bond", d.name),
+            Some(d) => format!("{article} {kw} on a {} {on}", d.name),
             None => match (self.solver.get(effort(bond)), self.solver.get(flow(bond))) {
                 (Some(e), Some(f)) => format!(
-                    "{article} {kw} on a bond with effort in {} and flow in {}",
+                    "{article} {kw} on a {on} with {} in {} and {} in {}",
+                    self.variable(true),
                     readable(e),
+                    self.variable(false),
                     readable(f)
                 ),
-                _ => format!("{article} {kw} here (as the laws around it make its bond)"),
+                _ => format!("{article} {kw} here (as the laws around it make its {on})"),
             },
         }
     }
@@ -550,11 +715,7 @@ impl Checker<'_> {
         let element = self.model.element(c.element);
         Diagnostic::new(
             DiagnosticKind::UnitMismatch,
-            format!(
-                "{} '{}': {message}",
-                element.kind.description(),
-                element.name
-            ),
+            format!("{}: {message}", c.who),
         )
         .at(&self.model.source, span)
         .element(element.name.clone())
@@ -570,16 +731,17 @@ impl Checker<'_> {
             // In a pseudo bond graph (temperature and heat flow) the product is no power.
             let temperature = Dim::TEMPERATURE;
             let (effort_is_t, flow_is_t) = if lg { (false, true) } else { (true, false) };
+            let why = if lg {
+                "through times across variable being a power"
+            } else {
+                "effort times flow being a power"
+            };
             let result = match (e, f) {
-                (Some(e), None) if !(effort_is_t && e == temperature || lg && e == power) => self
-                    .solver
-                    .set(flow(bond), power.per(e), "effort times flow being a power"),
+                (Some(e), None) if !(effort_is_t && e == temperature || lg && e == power) => {
+                    self.solver.set(flow(bond), power.per(e), why)
+                }
                 (None, Some(f)) if !(flow_is_t && f == temperature || !lg && f == power) => {
-                    self.solver.set(
-                        effort(bond),
-                        power.per(f),
-                        "effort times flow being a power",
-                    )
+                    self.solver.set(effort(bond), power.per(f), why)
                 }
                 _ => Ok(false),
             };
@@ -615,8 +777,10 @@ impl Checker<'_> {
                 Diagnostic::new(
                     DiagnosticKind::UnitMismatch,
                     format!(
-                        "bond {from} -> {to} carries an effort in {} and a flow in {}, whose product {} is not a power (W)",
+                        "bond {from} -> {to} carries {} in {} and {} in {}, whose product {} is not a power (W)",
+                        with_article(self.variable(true)),
                         readable(e),
+                        with_article(self.variable(false)),
                         readable(f),
                         readable(e.times(f))
                     ),
@@ -626,4 +790,18 @@ impl Checker<'_> {
             );
         }
     }
+}
+
+/// The article before an element's keyword: `an I`, `an Se`, `a C`, `an A-type`.
+fn article(keyword: &str) -> &'static str {
+    if keyword.starts_with(['I', 'R', 'S', 'A', 'E', 'O', 'a', 'e', 'i', 'o', 'u']) {
+        "an"
+    } else {
+        "a"
+    }
+}
+
+/// `an effort`, `a flow`, `a through variable`, `an across variable`.
+fn with_article(variable: &str) -> String {
+    format!("{} {variable}", article(variable))
 }

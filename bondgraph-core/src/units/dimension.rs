@@ -2,7 +2,7 @@
 //!
 //! A unit string, a parameter and an expression all come down to one [`Dim`]: the exponents
 //! of kg, m, s, A, K, mol and cd. Only the dimension matters to the checks (a `kPa` is a
-//! pressure like a `Pa`), so scale factors are dropped. The radian is a ratio of lengths and
+//! pressure like a `Pa`); scale factors are kept apart ([`super::scale`]). The radian is a ratio of lengths and
 //! counts as dimensionless, so `rad/s` and `1/s` agree, as do a torque `N*m` and `N*m/rad`.
 //!
 //! Exponents are kept in twelfths, so that square roots (`sqrt(k/m)`), cube roots and the
@@ -19,6 +19,15 @@ pub const BASE_SYMBOLS: [&str; BASE_COUNT] = ["kg", "m", "s", "A", "K", "mol", "
 
 /// Exponents are stored multiplied by this.
 const SCALE: i32 = 12;
+
+/// Why a power of a dimension has no [`Dim`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PowError {
+    /// An exponent would not be a multiple of 1/12.
+    TooFine,
+    /// An exponent would not fit.
+    TooLarge,
+}
 
 /// A physical dimension: the exponent of each SI base dimension, in twelfths.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -104,6 +113,24 @@ impl Dim {
             *o = scaled / den;
         }
         Some(Dim(out))
+    }
+
+    /// The rational power `self^(num/den)` (`den > 0`), or why it has no dimension this
+    /// type can hold.
+    ///
+    /// # Errors
+    /// [`PowError::TooFine`] if some exponent would not be a multiple of 1/12,
+    /// [`PowError::TooLarge`] if one would not fit.
+    pub fn checked_pow(self, num: i64, den: i64) -> Result<Dim, PowError> {
+        let mut out = [0; BASE_COUNT];
+        for (o, x) in out.iter_mut().zip(self.0) {
+            let scaled = i64::from(x).checked_mul(num).ok_or(PowError::TooLarge)?;
+            if den == 0 || scaled % den != 0 {
+                return Err(PowError::TooFine);
+            }
+            *o = i32::try_from(scaled / den).map_err(|_| PowError::TooLarge)?;
+        }
+        Ok(Dim(out))
     }
 
     /// The real power `self^p`, if `p` is a multiple of 1/12 (or `self` is dimensionless).

@@ -1,13 +1,17 @@
 //! Units: what a model file's `unit` strings mean, and whether its laws agree with them.
 //!
-//! Every parameter and input may carry a unit (`"N/m"`, `"Pa*s/m^3"`, `"V*s/rad"`). Nothing
-//! downstream computes with units (values are SI numbers), but a unit says what a
-//! parameter *is*, so a mass used as a stiffness or a velocity used as a force is a mistake
-//! the file itself shows. The modules, one job each:
+//! Every parameter and input may carry a unit (`"N/m"`, `"Pa*s/m^3"`, `"kPa"`). A value
+//! written beside a unit is in that unit, and is converted to SI units when the file is
+//! read; nothing downstream computes with units (values are SI numbers). An input's values
+//! come from scenarios, experiments and `--at` in SI units, so an input's unit must be an
+//! SI one. A unit also says what a parameter *is*, so a mass used as a stiffness or a
+//! velocity used as a force is a mistake the file itself shows. The modules, one job each:
 //!
 //! - [`dimension`]: a dimension as exponents of the SI base dimensions;
 //! - [`names`]: the unit symbols and SI prefixes;
-//! - [`parse`](mod@parse): unit strings to dimensions;
+//! - [`scale`]: exact factors to SI units (`kPa` is 1000 Pa, `rpm` 2π/60 rad/s);
+//! - [`parse`](mod@parse): unit strings to dimensions and factors;
+//! - [`convert`]: values between a file's units and SI, read once when a file is read;
 //! - [`format`]: dimensions back to readable units;
 //! - [`infer`]: the dimension of an expression, and sums of different quantities;
 //! - [`domain`]: which effort and flow make a bond mechanical, electrical, ...;
@@ -17,6 +21,7 @@
 //!   every model (bond graph, linear graph, extended), so `bondgraph check` reports it.
 
 pub mod check;
+pub mod convert;
 pub mod dimension;
 pub mod domain;
 pub mod format;
@@ -24,12 +29,13 @@ pub mod infer;
 pub mod label;
 pub mod names;
 pub mod parse;
+pub mod scale;
 pub mod solve;
 
 pub use check::BondDimensions;
 pub use dimension::Dim;
 pub use domain::Domain;
-pub use parse::{UnitError, parse_unit};
+pub use parse::{Unit, UnitError, parse_scaled, parse_unit};
 
 #[cfg(test)]
 mod tests;

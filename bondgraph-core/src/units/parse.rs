@@ -1,20 +1,31 @@
-//! Unit strings, as model files write them, to a [`Dim`].
+//! Unit strings, as model files write them, to a dimension and a factor to SI.
 //!
 //! ```text
-//! unit    := factor (('*' | '·' | '/' | ' ') factor)*        (left to right: N*s/m is (N*s)/m)
-//! factor  := primary power?
-//! power   := '^' '-'? integer | '^' '(' '-'? integer ('/' integer)? ')' | superscripts (m², s⁻¹)
-//! primary := symbol | number | '(' unit ')'
+//! unit     := factor (('*' | '·' | '/' | ' ') factor)*      (left to right: N*s/m is (N*s)/m)
+//! factor   := primary power?
+//! power    := '^' number | '^' '(' number ('/' integer)? ')' | superscripts (m², s⁻¹)
+//! number   := ('-' | '+')? digits ('.' digits)?              (0.5 is exactly 1/2)
+//! primary  := symbol | positive decimal | '(' unit ')'
 //! ```
 //!
 //! A symbol is a named unit, possibly with an SI prefix ([`super::names`]); a number (`1`,
-//! `1000`) is dimensionless. Anything else is a [`UnitError`] naming the part that is not
-//! understood, so a diagnostic can say which of `N*s/mm2` is wrong.
+//! `1000`) is dimensionless, and scales by its value. A power is an exact rational (`^1.5`
+//! is 3/2) whose denominator divides 12, as [`Dim`] keeps exponents in twelfths. Anything
+//! else is a [`UnitError`] naming the part that is not understood, so a diagnostic can say
+//! which of `N*s/mm2` is wrong.
+//!
+//! [`parse_scaled`] gives the whole [`Unit`]: its dimension, its exact [`Scale`] to SI,
+//! and whether it is a Celsius temperature (`degC` or `°C` alone, offset by 273.15 K; in a
+//! compound unit such as `J/(kg*degC)` a Celsius degree is a temperature difference, the
+//! size of a kelvin).
 
 use std::fmt;
 
-use super::dimension::Dim;
+use num_bigint::BigInt;
+
+use super::dimension::{Dim, PowError};
 use super::names;
+use super::scale::{Exact, Ratio, Scale};
 
 /// A unit string that does not parse, and the part of it that is at fault.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -33,12 +44,32 @@ impl fmt::Display for UnitError {
 
 impl std::error::Error for UnitError {}
 
+/// A unit: its dimension, how many SI units it is, and its offset.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Unit {
+    /// The dimension.
+    pub dim: Dim,
+    /// One of it in coherent SI units of its dimension (`kPa`: 1000 Pa).
+    pub scale: Scale,
+    /// What is added after scaling, in SI units: 273.15 K for a Celsius temperature
+    /// written alone.
+    pub offset: Option<Exact>,
+}
+
 /// The dimension of unit string `text` (`"N*s/m"`, `"kg*m^2"`, `"1/s"`, `"J/(kg*K)"`).
 ///
 /// # Errors
 /// A [`UnitError`] naming the unknown symbol, or the place where the string stops making
 /// sense.
 pub fn parse_unit(text: &str) -> Result<Dim, UnitError> {
+    parse_scaled(text).map(|unit| unit.dim)
+}
+
+/// The [`Unit`] of unit string `text`: `"N/mm"` is kg/s^2 times 1000.
+///
+/// # Errors
+/// As [`parse_unit`]; also a scale too large for a double to hold any value in it.
+pub fn parse_scaled(text: &str) -> Result<Unit, UnitError> {
     let mut parser = Parser {
         chars: text.chars().collect(),
         at: 0,
@@ -50,11 +81,51 @@ pub fn parse_unit(text: &str) -> Result<Dim, UnitError> {
             reason: "empty unit".to_string(),
         });
     }
-    let dim = parser.product()?;
+    let term = parser.product()?;
     parser.skip_spaces();
-    match parser.peek() {
-        None => Ok(dim),
-        Some(_) => Err(parser.error_here("unexpected")),
+    if parser.peek().is_some() {
+        return Err(parser.error_here("unexpected"));
+    }
+    if !term.scale.in_range() {
+        return Err(UnitError {
+            part: text.to_string(),
+            reason: "a scale beyond what a 64-bit floating-point number can hold in".to_string(),
+        });
+    }
+    Ok(Unit {
+        dim: term.dim,
+        scale: term.scale,
+        offset: term
+            .celsius
+            .then(|| Exact::new(BigInt::from(27315), BigInt::from(100))),
+    })
+}
+
+/// What a part of a unit string is.
+struct Term {
+    dim: Dim,
+    scale: Scale,
+    /// A Celsius symbol alone (possibly in parentheses): the only place it is offset.
+    celsius: bool,
+}
+
+impl Term {
+    fn combine(
+        self,
+        other: Term,
+        divide: bool,
+        error: impl Fn() -> UnitError,
+    ) -> Result<Term, UnitError> {
+        let (dim, scale) = if divide {
+            (self.dim.per(other.dim), self.scale.per(&other.scale))
+        } else {
+            (self.dim.times(other.dim), self.scale.times(&other.scale))
+        };
+        Ok(Term {
+            dim,
+            scale: scale.ok_or_else(error)?,
+            celsius: false,
+        })
     }
 }
 
@@ -96,115 +167,195 @@ impl Parser {
         }
     }
 
-    fn product(&mut self) -> Result<Dim, UnitError> {
-        let mut dim = self.factor()?;
+    /// An error naming `chars[start..end]`.
+    fn error_in(&self, start: usize, end: usize, reason: &str) -> UnitError {
+        UnitError {
+            part: self.chars[start..end.min(self.chars.len())]
+                .iter()
+                .collect(),
+            reason: reason.to_string(),
+        }
+    }
+
+    fn product(&mut self) -> Result<Term, UnitError> {
+        let start = self.at;
+        let mut term = self.factor()?;
         loop {
             let spaced = self.skip_spaces();
-            match self.peek() {
+            let divide = match self.peek() {
                 Some('*' | '·') => {
                     self.at += 1;
-                    self.skip_spaces();
-                    dim = dim.times(self.factor()?);
+                    false
                 }
                 Some('/') => {
                     self.at += 1;
-                    self.skip_spaces();
-                    dim = dim.per(self.factor()?);
+                    true
                 }
-                Some(c) if spaced && c != ')' => dim = dim.times(self.factor()?),
-                _ => return Ok(dim),
-            }
+                Some(c) if spaced && c != ')' => false,
+                _ => return Ok(term),
+            };
+            self.skip_spaces();
+            let next = self.factor()?;
+            let end = self.at;
+            term = term.combine(next, divide, || {
+                self.error_in(start, end, "a scale too large to keep in")
+            })?;
         }
     }
 
-    fn factor(&mut self) -> Result<Dim, UnitError> {
+    fn factor(&mut self) -> Result<Term, UnitError> {
         let base = self.primary()?;
-        if self.peek() == Some('^') {
-            self.at += 1;
-            let (num, den) = self.exponent()?;
-            return base
-                .pow_ratio(num, den)
-                .ok_or_else(|| self.error_here("a power too fine to keep exactly before"));
-        }
-        if self
-            .peek()
-            .is_some_and(|c| c == '⁻' || SUPERSCRIPTS.contains(&c))
-        {
-            let negative = self.peek() == Some('⁻');
-            if negative {
-                self.at += 1;
-            }
-            let mut n: i32 = 0;
-            let mut digits = 0;
-            while let Some(d) = self
-                .peek()
-                .and_then(|c| SUPERSCRIPTS.iter().position(|s| *s == c))
-            {
-                n = n.saturating_mul(10).saturating_add(d as i32);
-                digits += 1;
-                self.at += 1;
-            }
-            if digits == 0 {
-                return Err(self.error_here("a superscript minus needs digits before"));
-            }
-            return Ok(base.powi(if negative { -n } else { n }));
-        }
-        Ok(base)
-    }
-
-    fn integer(&mut self) -> Result<i32, UnitError> {
-        let negative = self.peek() == Some('-');
-        if negative || self.peek() == Some('+') {
-            self.at += 1;
-        }
         let start = self.at;
-        while self.peek().is_some_and(|c| c.is_ascii_digit()) {
-            self.at += 1;
+        let power = match self.peek() {
+            Some('^') => {
+                self.at += 1;
+                self.exponent(start)?
+            }
+            Some(c) if c == '⁻' || SUPERSCRIPTS.contains(&c) => self.superscript()?,
+            _ => return Ok(base),
+        };
+        let too_fine = || {
+            self.error_in(
+                start,
+                self.at,
+                "a power finer than twelfths cannot be kept exactly in",
+            )
+        };
+        let too_large = || self.error_in(start, self.at, "a power too large in");
+        // Dim keeps twelfths: a power whose denominator does not divide 12 cannot be kept.
+        if 12 % power.denom() != 0 {
+            return Err(too_fine());
         }
-        if self.at == start {
-            return Err(self.error_here("a power needs an integer before"));
-        }
-        let text: String = self.chars[start..self.at].iter().collect();
-        let n: i32 = text
-            .parse()
-            .map_err(|_| self.error_here("a power too large before"))?;
-        Ok(if negative { -n } else { n })
+        let dim = match base.dim.checked_pow(power.numer(), power.denom()) {
+            Ok(dim) => dim,
+            Err(PowError::TooFine) => return Err(too_fine()),
+            Err(PowError::TooLarge) => return Err(too_large()),
+        };
+        let scale = base.scale.pow(power).ok_or_else(too_large)?;
+        Ok(Term {
+            dim,
+            scale,
+            celsius: false,
+        })
     }
 
-    fn exponent(&mut self) -> Result<(i32, i32), UnitError> {
+    /// `m²`, `s⁻¹`: an integer power in superscripts.
+    fn superscript(&mut self) -> Result<Ratio, UnitError> {
+        let start = self.at;
+        let negative = self.peek() == Some('⁻');
+        if negative {
+            self.at += 1;
+        }
+        let mut n: i64 = 0;
+        let mut digits = 0;
+        while let Some(d) = self
+            .peek()
+            .and_then(|c| SUPERSCRIPTS.iter().position(|s| *s == c))
+        {
+            n = n.saturating_mul(10).saturating_add(d as i64);
+            digits += 1;
+            self.at += 1;
+        }
+        if digits == 0 {
+            return Err(self.error_here("a superscript minus needs digits before"));
+        }
+        if n > i64::from(i32::MAX) {
+            return Err(self.error_in(start, self.at, "a power too large in"));
+        }
+        Ok(Ratio::integer(if negative { -n } else { n }))
+    }
+
+    /// After `^`: `2`, `-1`, `0.5`, `(1/2)`, `(-1.5)`, `(3/-4)`. `start` is the `^`'s
+    /// place, so an error names the whole power as written.
+    fn exponent(&mut self, start: usize) -> Result<Ratio, UnitError> {
         if self.peek() != Some('(') {
-            return Ok((self.integer()?, 1));
+            return self.number(start);
         }
         self.at += 1;
-        let num = self.integer()?;
+        let num = self.number(start)?;
         let den = if self.peek() == Some('/') {
             self.at += 1;
-            self.integer()?
+            self.number(start)?
         } else {
-            1
+            Ratio::ONE
         };
         if self.peek() != Some(')') {
             return Err(self.error_here("a power's ')' is missing before"));
         }
         self.at += 1;
-        if den == 0 {
-            return Err(self.error_here("a power divides by zero before"));
+        if den.is_zero() {
+            return Err(self.error_in(start, self.at, "a power divides by zero in"));
         }
-        Ok((num, den))
+        let quotient = num
+            .numer()
+            .checked_mul(den.denom())
+            .zip(num.denom().checked_mul(den.numer()))
+            .and_then(|(n, d)| Ratio::new(n, d));
+        quotient.ok_or_else(|| self.error_in(start, self.at, "a power too large in"))
     }
 
-    fn primary(&mut self) -> Result<Dim, UnitError> {
+    /// A signed decimal number in a power, exactly: `-0.5` is -1/2.
+    fn number(&mut self, start: usize) -> Result<Ratio, UnitError> {
+        let negative = self.peek() == Some('-');
+        if negative || self.peek() == Some('+') {
+            self.at += 1;
+        }
+        let whole = self.digits();
+        if whole.is_empty() {
+            if self.peek().is_none() {
+                return Err(self.error_here("a power needs a number before"));
+            }
+            // Name the power as far as it goes: `^.5`, `^x`.
+            let mut end = self.at + 1;
+            while self.chars.get(end).is_some_and(|c| is_symbol_char(*c)) {
+                end += 1;
+            }
+            return Err(self.error_in(start, end, "a power needs a number in"));
+        }
+        let mut fraction = String::new();
+        if self.peek() == Some('.') {
+            self.at += 1;
+            fraction = self.digits();
+            if fraction.is_empty() {
+                return Err(self.error_in(
+                    start,
+                    self.at,
+                    "a decimal point needs digits after it in",
+                ));
+            }
+        }
+        let too_large = || self.error_in(start, self.at, "a power too large in");
+        let den = u32::try_from(fraction.len())
+            .ok()
+            .and_then(|k| 10i64.checked_pow(k))
+            .ok_or_else(too_large)?;
+        let num = format!("{whole}{fraction}")
+            .parse::<i64>()
+            .map_err(|_| too_large())?;
+        Ratio::new(if negative { -num } else { num }, den).ok_or_else(too_large)
+    }
+
+    /// The ASCII digits from here on.
+    fn digits(&mut self) -> String {
+        let from = self.at;
+        while self.peek().is_some_and(|c| c.is_ascii_digit()) {
+            self.at += 1;
+        }
+        self.chars[from..self.at].iter().collect()
+    }
+
+    fn primary(&mut self) -> Result<Term, UnitError> {
         match self.peek() {
             Some('(') => {
                 self.at += 1;
                 self.skip_spaces();
-                let dim = self.product()?;
+                let term = self.product()?;
                 self.skip_spaces();
                 if self.peek() != Some(')') {
                     return Err(self.error_here("a ')' is missing before"));
                 }
                 self.at += 1;
-                Ok(dim)
+                Ok(term)
             }
             Some(c) if is_symbol_char(c) => {
                 let start = self.at;
@@ -213,15 +364,96 @@ impl Parser {
                 }
                 let symbol: String = self.chars[start..self.at].iter().collect();
                 if symbol.parse::<f64>().is_ok_and(f64::is_finite) {
-                    return Ok(Dim::NONE);
+                    let scale = Scale::decimal(&symbol).ok_or_else(|| UnitError {
+                        part: symbol.clone(),
+                        reason: "a number in a unit must be a positive decimal, not".to_string(),
+                    })?;
+                    return Ok(Term {
+                        dim: Dim::NONE,
+                        scale,
+                        celsius: false,
+                    });
                 }
-                names::lookup(&symbol).ok_or(UnitError {
+                let named = names::lookup_scaled(&symbol).ok_or(UnitError {
                     part: symbol,
                     reason: "unknown unit".to_string(),
+                })?;
+                Ok(Term {
+                    dim: named.dim,
+                    scale: named.scale,
+                    celsius: named.offset,
                 })
             }
             _ => Err(self.error_here("a unit is missing before")),
         }
+    }
+}
+
+/// The coherent SI unit of unit string `text`, spelt like it: `N/mm` is in `N/m`, `kPa` in
+/// `Pa`, `L/min` in `m^3/s`, `g*cm^2` in `kg*m^2`. Each symbol becomes its SI unit (prefix
+/// dropped), in parentheses where the replacement would otherwise bind differently
+/// (`N*m/rpm` is in `N*m/(rad/s)`); `None` if `text` does not parse.
+pub fn si_spelling(text: &str) -> Option<String> {
+    let unit = parse_scaled(text).ok()?;
+    let chars: Vec<char> = text.chars().collect();
+    let mut out = String::new();
+    let mut at = 0;
+    while at < chars.len() {
+        let c = chars[at];
+        if c == '^' {
+            // A power is copied as written: `^3`, `^-0.5`, `^(1/2)`.
+            let start = at;
+            at += 1;
+            if chars.get(at) == Some(&'(') {
+                while at < chars.len() && chars[at] != ')' {
+                    at += 1;
+                }
+                at = (at + 1).min(chars.len());
+            } else {
+                while chars
+                    .get(at)
+                    .is_some_and(|c| c.is_ascii_digit() || matches!(c, '+' | '-' | '.'))
+                {
+                    at += 1;
+                }
+            }
+            out.extend(&chars[start..at]);
+            continue;
+        }
+        if !is_symbol_char(c) {
+            out.push(c);
+            at += 1;
+            continue;
+        }
+        let start = at;
+        while at < chars.len() && is_symbol_char(chars[at]) {
+            at += 1;
+        }
+        let symbol: String = chars[start..at].iter().collect();
+        let si = if symbol.parse::<f64>().is_ok() {
+            "1"
+        } else {
+            let named = names::lookup_scaled(&symbol)?;
+            names::SI_SPELLING
+                .iter()
+                .find(|(from, _)| *from == named.unprefixed)
+                .map_or(named.unprefixed, |(_, to)| to)
+        };
+        let before = chars[..start].iter().rev().find(|c| !c.is_whitespace());
+        let after = chars.get(at);
+        let powered = after.is_some_and(|c| *c == '^' || *c == '⁻' || SUPERSCRIPTS.contains(c));
+        let wrap = (si.contains('/') && (before == Some(&'/') || powered))
+            || (si.contains('^') && powered);
+        if wrap {
+            out.push_str(&format!("({si})"));
+        } else {
+            out.push_str(si);
+        }
+    }
+    // The spelling must be the same dimension, in SI units; else the plain SI base units.
+    match parse_scaled(&out) {
+        Ok(si) if si.dim == unit.dim && si.scale.is_one() && si.offset.is_none() => Some(out),
+        _ => Some(unit.dim.si()),
     }
 }
 
