@@ -12,6 +12,7 @@ mod hardening;
 mod linear_graph_diagnostics;
 mod linear_graphs;
 mod nonlinear;
+mod overflow;
 mod paper;
 mod scenarios;
 mod snapshots;

@@ -1,0 +1,189 @@
+//! Extreme parameter values through the program (issue 30: items 3, 7, 9 and 15): values
+//! whose intermediate products overflow `f64` are evaluated right, coefficients that
+//! overflow are refused with a located error, no command hangs, and huge numbers print in
+//! scientific notation.
+
+use std::path::PathBuf;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+
+use crate::support::root;
+
+/// A copy of the model file `relative` with `from` replaced by `to`, in a scratch directory.
+fn variant(relative: &str, name: &str, from: &str, to: &str) -> PathBuf {
+    let text = std::fs::read_to_string(root().join(relative)).unwrap();
+    assert!(text.contains(from), "{relative} has no {from:?}");
+    write(name, &text.replacen(from, to, 1))
+}
+
+fn write(name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("bondgraph-overflow-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Runs `bondgraph ARGS`, killing it (and failing the test) after 60 s: these inputs once
+/// made `analyze` loop for ever.
+fn run(args: &[&str]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_bondgraph"))
+        .args(args)
+        .current_dir(root())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the program runs");
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > Duration::from_secs(60) {
+            child.kill().unwrap();
+            panic!("bondgraph {}: still running after 60 s", args.join(" "));
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+fn succeed(args: &[&str]) -> String {
+    let output = run(args);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{args:?}: {stderr}");
+    String::from_utf8(output.stdout).unwrap()
+}
+
+/// The standard error of a clean failure (exit 1, no panic, nothing on standard output).
+fn fail(args: &[&str]) -> String {
+    let output = run(args);
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert_eq!(output.status.code(), Some(1), "{args:?}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(output.stdout.is_empty(), "{args:?}");
+    stderr
+}
+
+fn json(args: &[&str]) -> Value {
+    let text = succeed(args);
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{e}:\n{text}"))
+}
+
+fn close(x: f64, expected: f64, relative: f64) -> bool {
+    (x - expected).abs() <= relative * expected.abs()
+}
+
+fn complex(v: &Value) -> Vec<(f64, f64)> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|z| (z["re"].as_f64().unwrap(), z["im"].as_f64().unwrap()))
+        .collect()
+}
+
+fn numbers(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+/// The line of the first occurrence of `needle` in the file at `path`, 1-based.
+fn line_of(path: &PathBuf, needle: &str) -> usize {
+    let text = std::fs::read_to_string(path).unwrap();
+    let offset = text.find(needle).unwrap();
+    text[..offset].lines().count() + usize::from(text[..offset].ends_with('\n'))
+}
+
+#[test]
+fn a_huge_damper_in_series_leaves_the_small_one() {
+    // m p' = ... with dampers b1, b2 in series: one damper b = b1 b2/(b1 + b2). With
+    // b1 = 1e308, b2 = 3: b = 3/(1 + 3e-308) = 3 to double precision, although b1*b2
+    // overflows. dp/dt = F - (b/m) p with m = 1: the eigenvalue is -b/m = -3, and
+    // P(s)/F(s) = 1/(s + 3): pole -3, no zero, DC gain 1/3; the step response from rest
+    // starts at 0 and settles at 1/3.
+    let model = variant(
+        "models/examples/series_dampers.ron",
+        "series_dampers.ron",
+        "\"b1\": (value: 6.0",
+        "\"b1\": (value: 1e308",
+    );
+    let doc = json(&["analyze", model.to_str().unwrap(), "--format", "json"]);
+    let eigenvalues = complex(&doc["eigenvalues"]);
+    assert_eq!(eigenvalues.len(), 1, "{doc}");
+    assert!(close(eigenvalues[0].0, -3.0, 1e-15), "{eigenvalues:?}");
+    assert_eq!(eigenvalues[0].1, 0.0);
+    assert_eq!(complex(&doc["poles"]).len(), 1);
+    assert!(close(complex(&doc["poles"])[0].0, -3.0, 1e-15), "{doc}");
+    let tf = &doc["transfer_function"];
+    assert_eq!(numbers(&tf["numerator"]), [1.0]);
+    let denominator = numbers(&tf["denominator"]);
+    assert_eq!(denominator[0], 1.0);
+    assert!(close(denominator[1], 3.0, 1e-15), "{denominator:?}");
+    let gain = doc["dc_gain"].as_f64().unwrap();
+    assert!(close(gain, 1.0 / 3.0, 1e-15), "{gain}");
+    assert_eq!(doc["step"]["initial_value"].as_f64(), Some(0.0));
+    let last = doc["step"]["final_value"].as_f64().unwrap();
+    assert!(close(last, 1.0 / 3.0, 1e-15), "{last}");
+    // The text says the same, with no NaN and no integrator.
+    let text = succeed(&["analyze", model.to_str().unwrap()]);
+    assert!(text.contains("initial value y(0+) = 0\n"), "{text}");
+    assert!(
+        text.contains("DC gain G(0) = m*(b1 + b2)/(b1*b2) = 0.333333"),
+        "{text}"
+    );
+    assert!(
+        !text.contains("NaN") && !text.contains("integrator"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_coefficient_that_overflows_is_refused_where_it_is_written() {
+    // L = 1e-310 H is a positive double, but the current's equation divides by it:
+    // dp_inductor/dt has -R/L = -10/1e-310 = -1e311, beyond the largest double (1.8e308).
+    // `check` refuses it at the inductor's line, and so does every command, promptly.
+    let model = variant(
+        "models/examples/rlc.ron",
+        "rlc_tiny_inductance.ron",
+        "\"L\": (value: 0.1",
+        "\"L\": (value: 1e-310",
+    );
+    let path = model.to_str().unwrap();
+    let line = line_of(&model, "\"inductor\": I(");
+    for command in ["check", "equations", "analyze", "modes"] {
+        let error = fail(&[command, path]);
+        assert!(
+            error.contains(&format!("rlc_tiny_inductance.ron:{line}:")),
+            "{command}: {error}"
+        );
+        assert!(error.contains("element 'inductor'"), "{command}: {error}");
+        assert!(error.contains("overflows"), "{command}: {error}");
+        assert!(error.contains("L = 1e-310"), "{command}: {error}");
+    }
+}
+
+#[test]
+fn a_huge_mass_does_not_hang_analyze() {
+    // Two masses with m2 = 1e308 (m1 = 1, k = 50, b = 2.5): the first mass oscillates on the
+    // spring against a wall, s² = -k (m1 + m2)/(m1 m2) to double precision, so the
+    // pair is ±sqrt(50) i; the slow root is -b/(m1 + m2) = -2.5e-308. The DC gain from F
+    // to p_mass1 is m1 k/(b k) = m1/b = 0.4.
+    let model = variant(
+        "models/examples/two_masses.ron",
+        "two_masses_huge.ron",
+        "\"m2\": (value: 3.0",
+        "\"m2\": (value: 1e308",
+    );
+    let doc = json(&["analyze", model.to_str().unwrap(), "--format", "json"]);
+    let poles = complex(&doc["poles"]);
+    assert_eq!(poles.len(), 3, "{poles:?}");
+    let pair: Vec<_> = poles.iter().filter(|z| z.1 != 0.0).collect();
+    assert_eq!(pair.len(), 2, "{poles:?}");
+    for z in pair {
+        assert!(close(z.1.abs(), 50f64.sqrt(), 1e-12), "{poles:?}");
+    }
+    let gain = doc["dc_gain"].as_f64().unwrap();
+    assert!(close(gain, 0.4, 1e-15), "{gain}");
+}
