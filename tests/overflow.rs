@@ -140,6 +140,34 @@ fn a_huge_damper_in_series_leaves_the_small_one() {
 }
 
 #[test]
+fn a_tiny_mass_keeps_the_slow_pole() {
+    // Two masses: det(sI - A) = s^3 + (b/m2) s^2 + k (m1 + m2)/(m1 m2) s + b k/(m1 m2).
+    // With m1 = 1e-300 (m2 = 3, k = 50, b = 2.5) the coefficients span 5e301, and the
+    // roots are, to double precision, a slow real one at -(b k/(m1 m2))/(k (m1 + m2)/(m1 m2))
+    // = -b/(m1 + m2) = -2.5/3 and a fast pair of magnitude sqrt(k (m1 + m2)/(m1 m2))
+    // = sqrt(50/1e-300) = 7.0710678e150. The transfer function from F to p_mass1 cancels
+    // nothing, so its poles are these three.
+    let model = variant(
+        "models/examples/two_masses.ron",
+        "two_masses_tiny.ron",
+        "\"m1\": (value: 1.0",
+        "\"m1\": (value: 1e-300",
+    );
+    let doc = json(&["analyze", model.to_str().unwrap(), "--format", "json"]);
+    let fast = (50.0f64 / 1e-300).sqrt();
+    for field in ["eigenvalues", "poles"] {
+        let values = complex(&doc[field]);
+        assert_eq!(values.len(), 3, "{field}: {values:?}");
+        let slow: Vec<_> = values.iter().filter(|z| z.1 == 0.0).collect();
+        assert_eq!(slow.len(), 1, "{field}: {values:?}");
+        assert!(close(slow[0].0, -2.5 / 3.0, 1e-12), "{field}: {values:?}");
+        for z in values.iter().filter(|z| z.1 != 0.0) {
+            assert!(close(z.0.hypot(z.1), fast, 1e-12), "{field}: {values:?}");
+        }
+    }
+}
+
+#[test]
 fn a_coefficient_that_overflows_is_refused_where_it_is_written() {
     // L = 1e-310 H is a positive double, but the current's equation divides by it:
     // dp_inductor/dt has -R/L = -10/1e-310 = -1e311, beyond the largest double (1.8e308).
@@ -183,6 +211,14 @@ fn a_huge_mass_does_not_hang_analyze() {
     assert_eq!(pair.len(), 2, "{poles:?}");
     for z in pair {
         assert!(close(z.1.abs(), 50f64.sqrt(), 1e-12), "{poles:?}");
+    }
+    // The slow root is far below the matrix's precision (its norm is 50), not below the
+    // characteristic polynomial's: the eigenvalues agree with the poles.
+    for field in ["poles", "eigenvalues"] {
+        let values = complex(&doc[field]);
+        let slow: Vec<_> = values.iter().filter(|z| z.1 == 0.0).collect();
+        assert_eq!(slow.len(), 1, "{field}: {values:?}");
+        assert!(close(slow[0].0, -2.5e-308, 1e-12), "{field}: {values:?}");
     }
     let gain = doc["dc_gain"].as_f64().unwrap();
     assert!(close(gain, 0.4, 1e-15), "{gain}");
