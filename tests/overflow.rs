@@ -223,3 +223,33 @@ fn a_huge_mass_does_not_hang_analyze() {
     let gain = doc["dc_gain"].as_f64().unwrap();
     assert!(close(gain, 0.4, 1e-15), "{gain}");
 }
+
+#[test]
+fn the_duffing_equilibrium_is_found_or_the_failure_said() {
+    // k q + k_3 q³ = F with F = 0 (k = 1, k_3 = 5): the only real equilibrium is q = 0, p = 0.
+    // From q = 1e103, k_3 q³ = 5e309 overflows: the search cannot start there and says so.
+    let duffing = "models/examples/nonlinear/duffing.ron";
+    let error = fail(&[
+        "equations",
+        duffing,
+        "--equilibrium",
+        "--at",
+        "q_spring=1e103",
+    ]);
+    assert!(error.contains("not finite"), "{error}");
+    assert!(error.contains("q_spring = 1e103"), "{error}");
+    // From q = 1e20 Newton's method shrinks q by about 2/3 a step: it reaches 0, not a
+    // point 1e-14 of the start's size away from it.
+    let doc = json(&[
+        "equations",
+        duffing,
+        "--equilibrium",
+        "--at",
+        "q_spring=1e20",
+        "--format",
+        "json",
+    ]);
+    let q = doc["at"]["q_spring"].as_f64().unwrap();
+    let p = doc["at"]["p_mass"].as_f64().unwrap();
+    assert!(q.abs() < 1e-12 && p.abs() < 1e-12, "{q}, {p}");
+}
