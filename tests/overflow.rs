@@ -253,3 +253,19 @@ fn the_duffing_equilibrium_is_found_or_the_failure_said() {
     let p = doc["at"]["p_mass"].as_f64().unwrap();
     assert!(q.abs() < 1e-12 && p.abs() < 1e-12, "{q}, {p}");
 }
+
+#[test]
+fn an_energy_output_is_refused_as_an_output_not_a_record() {
+    // `analyze --output` takes rows of y = C x + D u; an energy is not one, whatever the
+    // element. The message speaks of --output, not of a scenario's record.
+    for output in ["energy:diode", "energy:cap", "power:leak"] {
+        let error = fail(&[
+            "analyze",
+            "models/examples/nonlinear/diode_rc.ron",
+            "--output",
+            output,
+        ]);
+        assert!(error.contains(&format!("--output '{output}'")), "{error}");
+        assert!(!error.contains("record '"), "{error}");
+    }
+}
