@@ -192,6 +192,51 @@ fn a_coefficient_that_overflows_is_refused_where_it_is_written() {
     }
 }
 
+/// A mass `m` pushed by `F`, joined through a lever (transformer) of ratio `r` to a damper
+/// `b`: the damper's force on the mass is `r² b v`, so `dp/dt = F - (r² b/m) p`.
+fn lever(m: &str, r: &str, b: &str) -> String {
+    format!(
+        r#"Model(
+    name: "lever",
+    parameters: {{ "m": (value: {m}), "r": (value: {r}), "b": (value: {b}) }},
+    inputs: {{ "F": () }},
+    elements: {{
+        "force": Se(effort: "F"),
+        "v": One,
+        "mass": I(inertance: "m"),
+        "lever": TF(ratio: "r"),
+        "tip": One,
+        "damper": R(resistance: "b"),
+    }},
+    bonds: [("force", "v"), ("v", "mass"), ("v", "lever"), ("lever", "tip"), ("tip", "damper")],
+)"#
+    )
+}
+
+#[test]
+fn a_huge_lever_ratio_is_refused_or_printed_as_a_number() {
+    // r = 1e308, m = b = 1: r² b/m = 1e616 overflows: refused, at the mass's line (its
+    // state's equation holds the coefficient), without hanging.
+    let path = write("lever_overflow.ron", &lever("1.0", "1e308", "1.0"));
+    for command in ["check", "analyze"] {
+        let error = fail(&[command, path.to_str().unwrap()]);
+        assert!(error.contains("overflows"), "{command}: {error}");
+        assert!(error.contains("element 'mass'"), "{command}: {error}");
+    }
+    // r = 1e308 with m = 1e300 and b = 1e-300: r² b/m = 1e616 · 1e-300/1e300 = 1e16, a
+    // double; the eigenvalue is -1e16. The conventions say the lever amplifies 1e308 times.
+    let path = write("lever_fine.ron", &lever("1e300", "1e308", "1e-300"));
+    let doc = json(&["analyze", path.to_str().unwrap(), "--format", "json"]);
+    let eigenvalues = complex(&doc["eigenvalues"]);
+    assert!(close(eigenvalues[0].0, -1e16, 1e-14), "{eigenvalues:?}");
+    let text = succeed(&["equations", path.to_str().unwrap()]);
+    assert!(
+        text.contains("the flow is amplified 1e308 times and the effort reduced 1e308 times"),
+        "{text}"
+    );
+    assert!(!text.contains("inf"), "{text}");
+}
+
 #[test]
 fn a_huge_mass_does_not_hang_analyze() {
     // Two masses with m2 = 1e308 (m1 = 1, k = 50, b = 2.5): the first mass oscillates on the
