@@ -299,6 +299,41 @@ fn the_duffing_equilibrium_is_found_or_the_failure_said() {
     assert!(q.abs() < 1e-12 && p.abs() < 1e-12, "{q}, {p}");
 }
 
+/// Whether `text` holds a run of at least 20 digits: a number printed in full that should
+/// have been printed in scientific notation.
+fn long_digit_run(text: &str) -> Option<&str> {
+    text.split(|c: char| !c.is_ascii_digit())
+        .find(|run| run.len() >= 20)
+}
+
+#[test]
+fn huge_numbers_print_in_scientific_notation() {
+    // The Duffing oscillator linearised at q = 1e100: the stiffness k + 3 k_3 q² is
+    // k + 3e200 k_3, numerically 1 + 1.5e201; the point prints as 1e100.
+    let text = succeed(&[
+        "equations",
+        "models/examples/nonlinear/duffing.ron",
+        "--at",
+        "q_spring=1e100",
+    ]);
+    assert_eq!(long_digit_run(&text), None, "{text}");
+    assert!(text.contains("q_spring = 1e100"), "{text}");
+    assert!(text.contains("3e200*k_3"), "{text}");
+    assert!(text.contains("e201 ]"), "{text}");
+    // A parameter of 1e200 in check's message: m1*m1 = 1e400 is not a double.
+    let text = std::fs::read_to_string(root().join("models/examples/two_masses.ron")).unwrap();
+    let text = text
+        .replacen("\"m1\": (value: 1.0", "\"m1\": (value: 1e200", 1)
+        .replacen("I(inertance: \"m1\")", "I(inertance: \"m1*m1\")", 1);
+    let model = write("two_masses_square.ron", &text);
+    let error = fail(&["check", model.to_str().unwrap()]);
+    assert_eq!(long_digit_run(&error), None, "{error}");
+    assert!(
+        error.contains("inertance \"m1*m1\" = inf (with m1 = 1e200) must be finite"),
+        "{error}"
+    );
+}
+
 #[test]
 fn an_energy_output_is_refused_as_an_output_not_a_record() {
     // `analyze --output` takes rows of y = C x + D u; an energy is not one, whatever the

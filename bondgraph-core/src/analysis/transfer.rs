@@ -264,7 +264,7 @@ pub fn polynomial_text(coefficients: &[RatFunc], symbols: &SymbolTable) -> Strin
             // An exact decimal of a linearisation prints as its value, not as p/10^16.
             Some((_, den)) if den.to_string().len() > 7 => {
                 let value = c.eval(&[]);
-                (value < 0.0, format!("{}", value.abs()))
+                (value < 0.0, crate::number::shortest(value.abs()))
             }
             _ => c.signed_text(symbols),
         };
