@@ -15,10 +15,14 @@ use bondgraph_core::equations::{self, StateEquations};
 use bondgraph_core::linear::{LinearForm, Var};
 use bondgraph_core::model::Model;
 use bondgraph_core::modes;
+use bondgraph_core::number;
 use bondgraph_core::scenario::Record;
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::symbolic::RatFunc;
-use bondgraph_solver::analysis::{self as numbers, Complex64, Scale, StepMetrics, StepSystem};
+use bondgraph_core::symbolic::Scaled;
+use bondgraph_solver::analysis::{
+    self as numbers, AnalysisError, Complex64, Scale, StepMetrics, StepSystem,
+};
 use serde_json::{Value, json};
 
 use crate::{Failure, json as to_json, load, parse_mode, print, with_source, write_file};
@@ -239,7 +243,16 @@ pub fn analyze(
 
     let analysis = Analysis::new(eq);
     let a = dense(&eq.a(), eq);
-    let eigenvalues = numbers::eigenvalues_of(&a);
+    refuse_non_finite(&prepared, &a, |i, j| {
+        format!(
+            "A[{i}][{j}], the coefficient of {} in d{}/dt,",
+            eq.states[j].name, eq.states[i].name
+        )
+    })?;
+    let eigenvalues = numbers::polished(
+        &numbers::eigenvalues_of(&a).map_err(numbers_failure)?,
+        &analysis.characteristic_scaled(),
+    );
     let channel = match (input, &output) {
         (Some(i), Some((name, row, integral))) => Some((
             eq.inputs[i].clone(),
@@ -248,12 +261,28 @@ pub fn analyze(
         )),
         _ => None,
     };
-    let transfer = channel.as_ref().map(|(input, output, channel)| {
-        let tf = analysis.transfer(channel);
-        let mut transfer = Transfer::new(eq, &analysis, input, output, channel, tf);
-        transfer.units = ChannelUnits::of(model, eq, input, output);
-        transfer
-    });
+    let transfer = match channel.as_ref() {
+        Some((input, output, channel)) => {
+            let tf = analysis.transfer(channel);
+            let mut transfer = Transfer::new(
+                &prepared,
+                &analysis,
+                &eigenvalues,
+                input,
+                output,
+                channel,
+                tf,
+            )?;
+            transfer.units = ChannelUnits::of(model, eq, input, output);
+            if let Err(error) = &transfer.metrics {
+                notes.push(format!(
+                    "no step response: its closed form is not finite in double precision ({error})"
+                ));
+            }
+            Some(transfer)
+        }
+        None => None,
+    };
     let analysis_eigen = eigenvalues;
     Ok(Analyzed {
         prepared,
@@ -297,7 +326,7 @@ impl Analyzed {
         };
         let mut singular = t.poles.clone();
         singular.extend(&t.zeros);
-        let points = numbers::bode(&t.numerator, &t.denominator, &singular);
+        let points = numbers::bode_scaled(&t.numerator_scaled, &t.denominator_scaled, &singular);
         let title = format!(
             "{}: {} from {}",
             self.prepared.equations.model, t.output, t.input
@@ -330,6 +359,40 @@ fn list_or_none(names: &[String]) -> String {
     }
 }
 
+/// A failure naming the first entry of `rows` that is not finite (`name(i, j)` says what the
+/// entry is): a linearisation far from the origin can overflow where the model's own
+/// coefficients, checked when it was derived, do not.
+fn refuse_non_finite(
+    prepared: &Prepared,
+    rows: &[Vec<f64>],
+    name: impl Fn(usize, usize) -> String,
+) -> Result<(), Failure> {
+    for (i, row) in rows.iter().enumerate() {
+        if let Some(j) = row.iter().position(|x| !x.is_finite()) {
+            let at = match &prepared.linearised_at {
+                Some(point) => format!("linearised at {point}, "),
+                None => String::new(),
+            };
+            return Err(Failure::message(
+                DiagnosticKind::InvalidValue,
+                format!(
+                    "{at}{} is {}, which is not a finite double: no analysis",
+                    name(i, j),
+                    number::shortest(row[j])
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn numbers_failure(error: numbers::AnalysisError) -> Failure {
+    Failure::message(
+        DiagnosticKind::Simulation,
+        format!("analysis failed: {error}"),
+    )
+}
+
 fn dense(m: &[Vec<RatFunc>], eq: &StateEquations) -> Vec<Vec<f64>> {
     m.iter()
         .map(|row| row.iter().map(|x| eq.evaluate(x)).collect())
@@ -346,12 +409,16 @@ struct Transfer {
     /// Monic coefficients, highest power first.
     numerator: Vec<f64>,
     denominator: Vec<f64>,
+    /// The same in extended range, for the frequency response.
+    numerator_scaled: Vec<Scaled>,
+    denominator_scaled: Vec<Scaled>,
     poles: Vec<Complex64>,
     zeros: Vec<Complex64>,
     dc_gain: Option<f64>,
     dc_gain_text: Option<String>,
     system: StepSystem,
-    metrics: StepMetrics,
+    /// The step response's metrics, or why its closed form could not be evaluated.
+    metrics: Result<StepMetrics, AnalysisError>,
     units: ChannelUnits,
 }
 
@@ -435,18 +502,32 @@ fn state_record(model: &Model, state: &equations::StateVariable) -> Option<Recor
 }
 
 impl Transfer {
+    /// The transfer function `tf` of `channel` with its numbers: poles are the eigenvalues
+    /// of `A` (and 0 for an integral output) that did not cancel, polished on the
+    /// denominator; zeros the numerator's roots.
     fn new(
-        eq: &StateEquations,
+        prepared: &Prepared,
         analysis: &Analysis,
+        eigenvalues: &[Complex64],
         input: &str,
         output: &str,
         channel: &Channel,
         tf: TransferFunction,
-    ) -> Self {
+    ) -> Result<Self, Failure> {
+        let eq = &prepared.equations;
         let symbols = analysis.symbols();
         let (numerator, denominator) = tf.monic_values(&eq.values);
-        let poles = numbers::roots(&denominator);
-        let zeros = numbers::roots(&numerator);
+        let (numerator_scaled, denominator_scaled) = tf.monic_scaled(&eq.values);
+        let mut modes = eigenvalues.to_vec();
+        if channel.integral {
+            modes.push(Complex64::new(0.0, 0.0));
+        }
+        let poles = numbers::poles(
+            &modes,
+            &tf.cancelled_scaled(&eq.values),
+            &denominator_scaled,
+        );
+        let zeros = numbers::roots_scaled(&numerator_scaled).map_err(numbers_failure)?;
         let (num_last, den_last) = (
             tf.numerator.last().cloned().unwrap_or_default(),
             tf.denominator.last().cloned().unwrap_or_default(),
@@ -462,9 +543,20 @@ impl Transfer {
             f: eq.evaluate(&channel.f),
             integral: channel.integral,
         };
+        let inputs = [
+            ("the input's column of B", &system.b),
+            ("the input's column of E", &system.e),
+            ("the output's row of C", &system.c),
+            ("the output's D and F", &vec![system.d, system.f]),
+        ];
+        for (what, values) in inputs {
+            refuse_non_finite(prepared, std::slice::from_ref(values), |_, j| {
+                format!("entry {j} of {what}")
+            })?;
+        }
         let dc_gain = dc.as_ref().map(|g| g.eval(&eq.values));
         let metrics = numbers::step_metrics(&system, &poles, dc_gain);
-        Transfer {
+        Ok(Transfer {
             input: input.to_string(),
             output: output.to_string(),
             numerator_text: tf.numerator_text(symbols),
@@ -472,6 +564,8 @@ impl Transfer {
             tf,
             numerator,
             denominator,
+            numerator_scaled,
+            denominator_scaled,
             poles,
             zeros,
             dc_gain,
@@ -479,13 +573,19 @@ impl Transfer {
             system,
             metrics,
             units: ChannelUnits::default(),
-        }
+        })
     }
 }
 
 /// The step plot.
 fn step_plot(eq: &StateEquations, t: &Transfer) -> Result<String, Failure> {
-    let horizon = t.metrics.horizon;
+    let metrics = t.metrics.as_ref().map_err(|error| {
+        Failure::message(
+            DiagnosticKind::Simulation,
+            format!("--step: the step response's closed form is not finite in double precision ({error})"),
+        )
+    })?;
+    let horizon = metrics.horizon;
     let times: Vec<f64> = (0..=1000).map(|i| horizon * i as f64 / 1000.0).collect();
     let values = t.system.response().at(&times);
     let points: Vec<(f64, f64)> = times.into_iter().zip(values).collect();
@@ -496,13 +596,8 @@ fn step_plot(eq: &StateEquations, t: &Transfer) -> Result<String, Failure> {
         ),
         None => format!("{}: unit step in {}", eq.model, t.input),
     };
-    crate::analyze_plot::step_svg(
-        &points,
-        t.metrics.final_value,
-        &title,
-        &t.units.output_label,
-    )
-    .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot: {e}")))
+    crate::analyze_plot::step_svg(&points, metrics.final_value, &title, &t.units.output_label)
+        .map_err(|e| Failure::message(DiagnosticKind::Io, format!("cannot plot: {e}")))
 }
 
 struct Report<'a> {
@@ -515,28 +610,7 @@ struct Report<'a> {
 
 /// A number with six significant digits, without trailing zeros: `0.5`, `1.23457e-7`.
 fn g(x: f64) -> String {
-    if x == 0.0 {
-        return "0".to_string();
-    }
-    if !x.is_finite() {
-        return x.to_string();
-    }
-    let exponent = x.abs().log10().floor() as i32;
-    if (-4..6).contains(&exponent) {
-        let decimals = (5 - exponent).max(0) as usize;
-        let text = format!("{x:.decimals$}");
-        let text = if text.contains('.') {
-            text.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            text
-        };
-        if text == "-0" { "0".to_string() } else { text }
-    } else {
-        let text = format!("{x:.5e}");
-        let (mantissa, exp) = text.split_once('e').unwrap_or((&text, "0"));
-        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
-        format!("{mantissa}e{exp}")
-    }
+    number::significant(x, 6)
 }
 
 /// Complex numbers with conjugate pairs joined: `-1 ± 9.94987i`.
@@ -707,7 +781,9 @@ impl Report<'_> {
                 "  DC gain: none (a pole at s = 0: the step response grows without bound)\n",
             ),
         }
-        let m = &t.metrics;
+        let Ok(m) = &t.metrics else {
+            return text;
+        };
         text.push_str(&format!(
             "\nstep response (unit step in {} at t = 0, from rest; exact closed form):\n",
             t.input
@@ -771,8 +847,10 @@ impl Report<'_> {
                 "cancelled": t.tf.cancelled,
             })
         });
-        let step = self.transfer.map(|t| {
-            let m = &t.metrics;
+        let step = self
+            .transfer
+            .and_then(|t| t.metrics.as_ref().ok().map(|m| (t, m)));
+        let step = step.map(|(t, m)| {
             json!({
                 "initial_value": m.initial_value,
                 "final_value": m.final_value,

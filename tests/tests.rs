@@ -13,6 +13,7 @@ mod linear_graph_diagnostics;
 mod linear_graphs;
 mod new_systems;
 mod nonlinear;
+mod overflow;
 mod paper;
 mod scenarios;
 mod snapshots;

@@ -99,7 +99,9 @@ fn two_port(model: &Model, id: ElementId, text: &str, value: Option<f64>) -> Opt
     let input = &model.element(model.bond(bond_in).from).name;
     let output = &model.element(model.bond(bond_out).to).name;
     let keyword = element.kind.keyword();
-    let shown = value.map_or(text.to_string(), |v| format!("{text} = {v}"));
+    let shown = value.map_or(text.to_string(), |v| {
+        format!("{text} = {}", crate::number::shortest(v))
+    });
     let gyrator = matches!(element.kind, ElementKind::Gyrator(_))
         || matches!(&element.kind, ElementKind::Nonlinear(n) if matches!(n.law, NonlinearLaw::Gyrator(_)));
     let name = &element.name;
@@ -112,8 +114,8 @@ fn two_port(model: &Model, id: ElementId, text: &str, value: Option<f64>) -> Opt
     let meaning = match value {
         Some(v) if v.abs() < 1.0 && v != 0.0 => format!(
             ": the flow is reduced {} times and the effort amplified {} times",
-            number(1.0 / v.abs()),
-            number(1.0 / v.abs())
+            reciprocal(v.abs()),
+            reciprocal(v.abs())
         ),
         Some(v) if v.abs() > 1.0 => format!(
             ": the flow is amplified {} times and the effort reduced {} times",
@@ -186,10 +188,32 @@ fn describe_graph(model: &Model, graph: &LinearGraph) -> Vec<String> {
     lines
 }
 
-/// A ratio as people read it: `10`, `2.5`, `3.333`.
+/// A ratio as people read it: `10`, `2.5`, `3.333`, `1.235e8`, `1e308`.
 fn number(x: f64) -> String {
-    let rounded = (x * 1000.0).round() / 1000.0;
-    format!("{rounded}")
+    if (1e-3..1e6).contains(&x.abs()) {
+        let rounded = (x * 1000.0).round() / 1000.0;
+        format!("{rounded}")
+    } else {
+        crate::number::significant(x, 4)
+    }
+}
+
+/// `1/x` for `x > 0` as [`number`] says it, also where `1/x` is beyond the largest double
+/// (`x = 1e-310`: `1e310`).
+fn reciprocal(x: f64) -> String {
+    let r = 1.0 / x;
+    if r.is_finite() {
+        return number(r);
+    }
+    // 1/x = 10^e with e = -log10(x): its mantissa and exponent in decimal.
+    let e = -x.log10();
+    let exponent = e.floor();
+    let mantissa = crate::number::significant(10f64.powf(e - exponent), 4);
+    match mantissa.as_str() {
+        "10" => format!("1e{}", exponent + 1.0),
+        "1" => format!("1e{exponent}"),
+        _ => format!("{mantissa}e{exponent}"),
+    }
 }
 
 #[cfg(test)]
@@ -220,6 +244,43 @@ mod tests {
                  and the effort reduced 4 times",
             ]
         );
+    }
+
+    #[test]
+    fn extreme_ratios_are_said_as_numbers() {
+        // A lever of ratio 1e308 amplifies the flow 1e308 times (1e308 * 1000 overflowed in
+        // the rounding and said "inf"); one of 1e-310 reduces it 1e310 times, beyond the
+        // largest double (1/1e-310 is infinite in f64).
+        for (ratio, words) in [
+            (
+                "1e308",
+                "(r = 1e308): ".to_string()
+                    + "effort on the side of 'a' = r × effort on the side of 'b'; flow to 'b' = r × flow from 'a': the flow is amplified 1e308 times and the effort reduced 1e308 times",
+            ),
+            (
+                "1e-310",
+                "(r = 1e-310): ".to_string()
+                    + "effort on the side of 'a' = r × effort on the side of 'b'; flow to 'b' = r × flow from 'a': the flow is reduced 1e310 times and the effort amplified 1e310 times",
+            ),
+            (
+                "123456789",
+                "(r = 123456789): ".to_string()
+                    + "effort on the side of 'a' = r × effort on the side of 'b'; flow to 'b' = r × flow from 'a': the flow is amplified 1.235e8 times and the effort reduced 1.235e8 times",
+            ),
+        ] {
+            let model = load_str(
+                "lever.ron",
+                &format!(
+                    r#"Model(name: "lever", parameters: {{"r": (value: {ratio}), "m": (value: 1.0)}},
+                    inputs: {{"F": ()}},
+                    elements: {{"a": Se(effort: "F"), "lever": TF(ratio: "r"), "b": I(inertance: "m")}},
+                    bonds: [("a", "lever"), ("lever", "b")])"#
+                ),
+            )
+            .unwrap();
+            let lines = describe(&model);
+            assert_eq!(lines[1], format!("TF 'lever' {words}"));
+        }
     }
 
     #[test]

@@ -63,6 +63,7 @@ pub mod linear;
 pub mod model;
 pub mod modes;
 pub mod normal_tree;
+pub mod number;
 pub mod read;
 pub mod scenario;
 pub mod source;

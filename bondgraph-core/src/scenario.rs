@@ -319,18 +319,26 @@ impl Record {
     /// # Errors
     /// As [`Record::parse`], and a [`DiagnosticKind::BadOutput`] for an energy record.
     pub fn parse_output(model: &Model, text: &str) -> Result<(Self, OutputSpec)> {
-        let record = Self::parse(model, text)?;
-        match record.spec().cloned() {
-            Some(spec) => Ok((record, spec)),
-            None => Err(Diagnostic::new(
+        let not_a_row = || -> crate::diagnostics::Diagnostics {
+            Diagnostic::new(
                 DiagnosticKind::BadOutput,
                 format!(
-                    "output '{}': energies and powers are not rows of the output equations",
+                    "--output '{}': energies and powers are not rows of the output equations y = C x + D u",
                     text.trim()
                 ),
             )
             .note("record them in a scenario (bondgraph simulate) instead")
-            .into()),
+            .into()
+        };
+        // Any energy or power, valid for a scenario's record or not, is the wrong kind of
+        // output here: say that, not what a record would need.
+        if EnergyRecord::parse(model, text.trim()).is_some() {
+            return Err(not_a_row());
+        }
+        let record = Self::parse(model, text)?;
+        match record.spec().cloned() {
+            Some(spec) => Ok((record, spec)),
+            None => Err(not_a_row()),
         }
     }
 

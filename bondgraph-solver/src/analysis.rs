@@ -1,6 +1,14 @@
 //! The numbers of a linear mode's analysis: eigenvalues and their time scales, roots of
 //! polynomials, the exact step response and its metrics, and the frequency response.
 //!
+//! Poles are the eigenvalues of the state matrix that the transfer function keeps
+//! ([`poles`]), not the roots of its denominator: a matrix balances (its eigenvalues come out
+//! to their own precision on stiff modes) where a polynomial's coefficients spanning 1e301
+//! lose the small roots. Polynomials are handled with coefficients in extended range
+//! ([`Scaled`]) and the variable rescaled, so that coefficients beyond `f64` (the
+//! characteristic polynomial of a 1e-300 kg mass) still give their roots and frequency
+//! response; every root is then polished by Newton's method on the polynomial itself.
+//!
 //! The step response is the closed-form solution of `dx/dt = A x + b u + e du/dt`,
 //! `y = c x + d u + f du/dt` from rest under a unit step, evaluated by the exact modal
 //! propagator the simulator uses ([`crate::propagate`]): not a sampled simulation, so a
@@ -8,11 +16,45 @@
 //! rate is an impulse, so `e` makes the state jump to `e` at `0⁺` and `f` puts an impulse of
 //! weight `f` into `y` at `t = 0` (reported, not plotted).
 
+use bondgraph_core::symbolic::Scaled;
 use nalgebra::{DMatrix, DVector};
 pub use num_complex::Complex64;
 
-use crate::linalg;
+use crate::linalg::{self, EigenError};
 use crate::propagate::Propagator;
+
+/// Why the numbers of an analysis could not be computed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AnalysisError {
+    /// A matrix entry or polynomial coefficient is infinite or NaN (or the polynomial's
+    /// coefficients span more than doubles can hold, even rescaled).
+    NonFinite,
+    /// The eigenvalue iteration did not converge within its budget.
+    NoConvergence,
+}
+
+impl std::fmt::Display for AnalysisError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            AnalysisError::NonFinite => write!(
+                f,
+                "a matrix entry or polynomial coefficient is not finite in double precision"
+            ),
+            AnalysisError::NoConvergence => write!(
+                f,
+                "the eigenvalue iteration did not converge in {SCHUR_ITERATIONS} iterations"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for AnalysisError {}
+
+/// The budget of the real Schur iteration where the eigendecomposition fails.
+const SCHUR_ITERATIONS: usize = 10_000;
+
+/// Newton steps that polish a root on its polynomial.
+const POLISH_STEPS: usize = 8;
 
 /// One eigenvalue (or pole) and the time scales it stands for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -42,7 +84,10 @@ impl Scale {
 }
 
 /// The eigenvalues of the square matrix with rows `rows`, as [`eigenvalues`].
-pub fn eigenvalues_of(rows: &[Vec<f64>]) -> Vec<Complex64> {
+///
+/// # Errors
+/// As [`eigenvalues`].
+pub fn eigenvalues_of(rows: &[Vec<f64>]) -> Result<Vec<Complex64>, AnalysisError> {
     eigenvalues(&matrix(rows))
 }
 
@@ -53,21 +98,26 @@ fn matrix(rows: &[Vec<f64>]) -> DMatrix<f64> {
 
 /// The eigenvalues of `a`, sorted by real part then imaginary part; accurate on stiff
 /// matrices ([`linalg::eigen`]), from the real Schur form where `a` is defective.
-pub fn eigenvalues(a: &DMatrix<f64>) -> Vec<Complex64> {
+///
+/// # Errors
+/// [`AnalysisError::NonFinite`] for a matrix with an infinite or NaN entry,
+/// [`AnalysisError::NoConvergence`] when the Schur iteration exhausts its budget.
+pub fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<Complex64>, AnalysisError> {
     if a.nrows() == 0 {
-        return Vec::new();
+        return Ok(Vec::new());
     }
     let mut values = match linalg::eigen(a) {
         Ok(eigen) => eigen.values,
+        Err(EigenError::NonFinite) => return Err(AnalysisError::NonFinite),
         Err(_) => {
             let (balanced, _) = linalg::balance(a);
-            nalgebra::Schur::try_new(balanced, f64::EPSILON, 10_000)
+            nalgebra::Schur::try_new(balanced, f64::EPSILON, SCHUR_ITERATIONS)
                 .map(|s| s.complex_eigenvalues().iter().copied().collect())
-                .unwrap_or_default()
+                .ok_or(AnalysisError::NoConvergence)?
         }
     };
     sort(&mut values);
-    values
+    Ok(values)
 }
 
 /// Sorts, after snapping parts of rounding size (relative to the value) to zero, so that a
@@ -89,20 +139,75 @@ fn sort(values: &mut [Complex64]) {
     });
 }
 
-/// The roots of the polynomial with `coefficients` (highest power first), sorted as
-/// [`eigenvalues`]. Leading zero coefficients are dropped; trailing ones are exact roots at
-/// zero; degrees one and two by formula, higher ones as the companion matrix's eigenvalues.
-pub fn roots(coefficients: &[f64]) -> Vec<Complex64> {
+/// The roots of the polynomial with `coefficients` (highest power first), as
+/// [`roots_scaled`].
+///
+/// # Errors
+/// As [`roots_scaled`].
+pub fn roots(coefficients: &[f64]) -> Result<Vec<Complex64>, AnalysisError> {
+    let scaled: Vec<Scaled> = coefficients.iter().map(|c| Scaled::from_f64(*c)).collect();
+    roots_scaled(&scaled)
+}
+
+/// The roots of the polynomial with `coefficients` (highest power first, in extended
+/// range), sorted as [`eigenvalues`]. Leading zero coefficients are dropped; trailing ones
+/// are exact roots at zero. The variable is rescaled by a power of two (`s = σ t`, σ the
+/// geometric mean of the roots' sizes) so that the coefficients fit in `f64`; degrees one
+/// and two are solved by formula, higher ones as the companion matrix's eigenvalues; every
+/// root is then polished by Newton's method on the polynomial itself.
+///
+/// # Errors
+/// [`AnalysisError::NonFinite`] for a coefficient that is infinite or NaN, or coefficients
+/// that span more than doubles hold even rescaled; [`AnalysisError::NoConvergence`] as
+/// [`eigenvalues`].
+pub fn roots_scaled(coefficients: &[Scaled]) -> Result<Vec<Complex64>, AnalysisError> {
+    if coefficients.iter().any(|c| !c.is_finite()) {
+        return Err(AnalysisError::NonFinite);
+    }
     let start = coefficients
         .iter()
-        .position(|c| *c != 0.0)
+        .position(|c| !c.is_zero())
         .unwrap_or(coefficients.len());
     let mut p = &coefficients[start..];
     let mut out = Vec::new();
-    while p.len() > 1 && p[p.len() - 1] == 0.0 {
+    while p.len() > 1 && p[p.len() - 1].is_zero() {
         out.push(Complex64::new(0.0, 0.0));
         p = &p[..p.len() - 1];
     }
+    if p.len() > 1 {
+        let degree = p.len() - 1;
+        // σ = 2^e with e near log2(|constant/leading|)/degree: the product of the roots'
+        // sizes is |constant/leading|, so σ is their geometric mean.
+        let e = ((p[degree].log2_abs() - p[0].log2_abs()) / degree as f64).round() as i64;
+        let rescaled: Vec<Scaled> = p
+            .iter()
+            .enumerate()
+            .map(|(i, c)| c.times_power_of_two(e * (degree - i) as i64))
+            .collect();
+        let largest = rescaled
+            .iter()
+            .map(|c| c.abs())
+            .fold(Scaled::ZERO, |a, b| if b > a { b } else { a });
+        let unit = largest.log2_abs().round() as i64;
+        let q: Vec<f64> = rescaled.iter().map(|c| c.mantissa_at(unit)).collect();
+        if q[0] == 0.0 || q.iter().any(|c| !c.is_finite()) {
+            return Err(AnalysisError::NonFinite);
+        }
+        let mut found = f64_roots(&q)?;
+        let sigma = Scaled::ONE.times_power_of_two(e).to_f64();
+        for z in &mut found {
+            *z *= sigma;
+        }
+        polish(p, &mut found);
+        out.extend(found);
+    }
+    sort(&mut out);
+    Ok(out)
+}
+
+/// The roots of `p` (highest power first, `p[0] ≠ 0`, coefficients of moderate size).
+fn f64_roots(p: &[f64]) -> Result<Vec<Complex64>, AnalysisError> {
+    let mut out = Vec::new();
     match p.len() {
         0 | 1 => {}
         2 => out.push(Complex64::new(-p[1] / p[0], 0.0)),
@@ -135,11 +240,10 @@ pub fn roots(coefficients: &[f64]) -> Vec<Complex64> {
             for i in 1..degree {
                 companion[(i, i - 1)] = 1.0;
             }
-            out.extend(eigenvalues(&companion));
+            out.extend(eigenvalues(&companion)?);
         }
     }
-    sort(&mut out);
-    out
+    Ok(out)
 }
 
 /// `p(z)` for coefficients highest power first.
@@ -147,6 +251,183 @@ pub fn evaluate(coefficients: &[f64], z: Complex64) -> Complex64 {
     coefficients
         .iter()
         .fold(Complex64::new(0.0, 0.0), |acc, c| acc * z + c)
+}
+
+/// `p(z)` for `z ≠ 0` as `scale · value`, with `|value| ≤ Σ |terms| / scale ≤ degree + 1`:
+/// the polynomial's terms `cₖ zᵏ` divided by the largest term's size before they are
+/// summed, so that neither the coefficients nor the powers overflow. Also returns
+/// `Σ k cₖ zᵏ / scale` (for `p'(z) = that · scale / z`) and `Σ |cₖ zᵏ| / scale`.
+struct Terms {
+    scale: Scaled,
+    value: Complex64,
+    weighted: Complex64,
+    size: f64,
+}
+
+fn terms(p: &[Scaled], z: Complex64) -> Terms {
+    let degree = p.len().saturating_sub(1);
+    let r = Scaled::from_f64(z.norm());
+    let sizes: Vec<Scaled> = p
+        .iter()
+        .enumerate()
+        .map(|(i, c)| c.abs() * r.powi((degree - i) as u32))
+        .collect();
+    let scale = sizes
+        .iter()
+        .copied()
+        .fold(Scaled::ZERO, |a, b| if b > a { b } else { a });
+    let unit = z / z.norm();
+    let mut value = Complex64::new(0.0, 0.0);
+    let mut weighted = Complex64::new(0.0, 0.0);
+    let mut size = 0.0;
+    if scale.is_zero() {
+        return Terms {
+            scale,
+            value,
+            weighted,
+            size,
+        };
+    }
+    for (i, (c, t)) in p.iter().zip(&sizes).enumerate() {
+        let power = (degree - i) as i32;
+        let magnitude = (*t / scale).to_f64();
+        let signed = if *c < Scaled::ZERO {
+            -magnitude
+        } else {
+            magnitude
+        };
+        let term = unit.powi(power) * signed;
+        value += term;
+        weighted += term * f64::from(power);
+        size += magnitude;
+    }
+    Terms {
+        scale,
+        value,
+        weighted,
+        size,
+    }
+}
+
+/// `|p(z)| / Σ |cₖ zᵏ|`: 0 at a root, of rounding size near one, up to 1 elsewhere.
+fn relative_residual(p: &[Scaled], z: Complex64) -> f64 {
+    if z == Complex64::new(0.0, 0.0) {
+        return match p.last() {
+            Some(c) if !c.is_zero() => 1.0,
+            _ => 0.0,
+        };
+    }
+    let t = terms(p, z);
+    if t.size == 0.0 {
+        0.0
+    } else {
+        t.value.norm() / t.size
+    }
+}
+
+/// Newton's step `p(z)/p'(z)`, or `None` where `p'(z)` vanishes.
+fn newton_step(p: &[Scaled], z: Complex64) -> Option<Complex64> {
+    let n = p.len();
+    if n < 2 {
+        return None;
+    }
+    if z == Complex64::new(0.0, 0.0) {
+        let (c0, c1) = (p[n - 1], p[n - 2]);
+        if c1.is_zero() {
+            return None;
+        }
+        return Some(Complex64::new((c0 / c1).to_f64(), 0.0));
+    }
+    let t = terms(p, z);
+    if t.weighted == Complex64::new(0.0, 0.0) {
+        return None;
+    }
+    // p/p' = (value · scale) / (weighted · scale / z) = z · value / weighted.
+    let step = z * (t.value / t.weighted);
+    (step.re.is_finite() && step.im.is_finite()).then_some(step)
+}
+
+/// Polishes each of `roots` by Newton's method on `p` while the relative residual falls,
+/// and only by steps well short of the distance to the next root (so that no root moves
+/// onto another). A real root stays real.
+fn polish(p: &[Scaled], roots: &mut [Complex64]) {
+    let original = roots.to_vec();
+    for (k, z) in roots.iter_mut().enumerate() {
+        let reach = original
+            .iter()
+            .enumerate()
+            .filter(|(j, _)| *j != k)
+            .map(|(_, w)| (*w - original[k]).norm())
+            .fold(f64::INFINITY, f64::min)
+            / 4.0;
+        // At a root to full precision the relative residual is of rounding size; a step
+        // from there would only move the root by rounding noise.
+        let rounding = p.len() as f64 * f64::EPSILON;
+        let mut residual = relative_residual(p, *z);
+        for _ in 0..POLISH_STEPS {
+            if residual <= rounding {
+                break;
+            }
+            let Some(mut step) = newton_step(p, *z) else {
+                break;
+            };
+            if z.im == 0.0 {
+                step.im = 0.0;
+            }
+            let next = *z - step;
+            let next_residual = relative_residual(p, next);
+            if (next - original[k]).norm() > reach || next_residual >= residual {
+                break;
+            }
+            *z = next;
+            residual = next_residual;
+        }
+    }
+}
+
+/// `values` (eigenvalues of a matrix) polished by Newton's method on `polynomial` (its
+/// characteristic polynomial, highest power first), sorted: an eigenvalue far below the
+/// matrix's own precision (`-2.5e-308` beside `±7i`) comes out to the polynomial's.
+pub fn polished(values: &[Complex64], polynomial: &[Scaled]) -> Vec<Complex64> {
+    let mut out = values.to_vec();
+    polish(polynomial, &mut out);
+    sort(&mut out);
+    out
+}
+
+/// The poles of a transfer function whose states have `eigenvalues`: all of them (with an
+/// extra 0 for an integral output, which the caller appends) but the roots of `cancelled`,
+/// the factor that cancelled between numerator and denominator (highest power first; `[1]`
+/// when none did). Which eigenvalues cancelled is read off `cancelled`'s residuals, one
+/// root at a time; the poles kept are then polished on `denominator` (the transfer
+/// function's, highest power first).
+pub fn poles(
+    eigenvalues: &[Complex64],
+    cancelled: &[Scaled],
+    denominator: &[Scaled],
+) -> Vec<Complex64> {
+    let start = cancelled
+        .iter()
+        .position(|c| !c.is_zero())
+        .unwrap_or(cancelled.len());
+    let cancelled = &cancelled[start..];
+    let count = cancelled.len().saturating_sub(1).min(eigenvalues.len());
+    let mut residuals: Vec<(f64, usize)> = eigenvalues
+        .iter()
+        .enumerate()
+        .map(|(i, z)| (relative_residual(cancelled, *z), i))
+        .collect();
+    residuals.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let dropped: Vec<usize> = residuals.iter().take(count).map(|(_, i)| *i).collect();
+    let mut kept: Vec<Complex64> = eigenvalues
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !dropped.contains(i))
+        .map(|(_, z)| *z)
+        .collect();
+    polish(denominator, &mut kept);
+    sort(&mut kept);
+    kept
 }
 
 /// One input-output channel with numbers, for its step response.
@@ -261,11 +542,22 @@ pub struct StepMetrics {
 /// The metrics of the step response of `system`, whose transfer function has `poles` and
 /// DC gain `dc_gain`.
 ///
+/// # Errors
+/// [`AnalysisError::NonFinite`] when the closed form does not give a finite response (a
+/// mode beyond what double precision can propagate), rather than metrics of NaN.
+///
 /// # Complexity
 /// A few thousand evaluations of the closed form, each `O(n²)`, plus bisections.
-pub fn step_metrics(system: &StepSystem, poles: &[Complex64], dc_gain: Option<f64>) -> StepMetrics {
+pub fn step_metrics(
+    system: &StepSystem,
+    poles: &[Complex64],
+    dc_gain: Option<f64>,
+) -> Result<StepMetrics, AnalysisError> {
     let response = system.response();
     let initial_value = response.one(0.0);
+    if !initial_value.is_finite() {
+        return Err(AnalysisError::NonFinite);
+    }
     let stable = poles.iter().all(|p| p.re < 0.0);
     let nonzero: Vec<f64> = poles
         .iter()
@@ -278,7 +570,7 @@ pub fn step_metrics(system: &StepSystem, poles: &[Complex64], dc_gain: Option<f6
         .filter(|r| *r > 0.0)
         .fold(f64::INFINITY, f64::min);
     let fastest = nonzero.iter().copied().fold(0.0, f64::max);
-    let mut horizon = if slowest_decay.is_finite() {
+    let horizon = if slowest_decay.is_finite() {
         8.0 / slowest_decay
     } else if let Some(slowest) = nonzero.iter().copied().reduce(f64::min) {
         // Undamped oscillation: a few periods.
@@ -286,6 +578,8 @@ pub fn step_metrics(system: &StepSystem, poles: &[Complex64], dc_gain: Option<f6
     } else {
         1.0
     };
+    // A mode slower than any time a double holds: look as far as doubles reach.
+    let mut horizon = horizon.min(LONGEST_HORIZON);
     let mut metrics = StepMetrics {
         initial_value,
         horizon,
@@ -293,7 +587,7 @@ pub fn step_metrics(system: &StepSystem, poles: &[Complex64], dc_gain: Option<f6
     };
     let final_value = match (stable, dc_gain) {
         (true, Some(g)) => g,
-        _ => return metrics,
+        _ => return Ok(metrics),
     };
     metrics.final_value = Some(final_value);
     if poles.is_empty() {
@@ -301,10 +595,10 @@ pub fn step_metrics(system: &StepSystem, poles: &[Complex64], dc_gain: Option<f6
         metrics.rise_time = (final_value != 0.0).then_some(0.0);
         metrics.settling_time = Some(0.0);
         metrics.overshoot_percent = (final_value != 0.0).then_some(0.0);
-        return metrics;
+        return Ok(metrics);
     }
     if final_value == 0.0 {
-        return metrics;
+        return Ok(metrics);
     }
     let r = |t: f64| response.one(t) / final_value;
     for _ in 0..8 {
@@ -314,9 +608,17 @@ pub fn step_metrics(system: &StepSystem, poles: &[Complex64], dc_gain: Option<f6
             .iter()
             .map(|y| y / final_value)
             .collect();
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err(AnalysisError::NonFinite);
+        }
         let outside = values.iter().rposition(|v| (v - 1.0).abs() > 0.02);
         if outside == Some(values.len() - 1) {
-            horizon *= 2.0;
+            if horizon >= LONGEST_HORIZON {
+                // Not settled by the end of time in doubles: no metric to give.
+                metrics.horizon = horizon;
+                return Ok(metrics);
+            }
+            horizon = (horizon * 2.0).min(LONGEST_HORIZON);
             continue;
         }
         metrics.horizon = horizon;
@@ -351,15 +653,18 @@ pub fn step_metrics(system: &StepSystem, poles: &[Complex64], dc_gain: Option<f6
         } else {
             metrics.overshoot_percent = Some(0.0);
         }
-        return metrics;
+        return Ok(metrics);
     }
-    metrics
+    Ok(metrics)
 }
+
+/// The longest span the step metrics look at, s: the largest double.
+const LONGEST_HORIZON: f64 = f64::MAX;
 
 /// Evaluation times on `[0, horizon]`: uniform, plus logarithmic from the fastest pole's
 /// time scale so that fast transients are not stepped over.
 fn grid(horizon: f64, fastest: f64) -> Vec<f64> {
-    let mut times: Vec<f64> = (0..=4000).map(|i| horizon * i as f64 / 4000.0).collect();
+    let mut times: Vec<f64> = (0..=4000).map(|i| horizon * (i as f64 / 4000.0)).collect();
     if fastest > 0.0 {
         let start = (0.01 / fastest).min(horizon / 4000.0);
         let decades = (horizon / start).log10();
@@ -375,7 +680,7 @@ fn grid(horizon: f64, fastest: f64) -> Vec<f64> {
 fn bisect(g: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
     let g_lo = g(lo);
     for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
+        let mid = lo + 0.5 * (hi - lo);
         if mid <= lo || mid >= hi {
             break;
         }
@@ -385,7 +690,7 @@ fn bisect(g: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
             hi = mid;
         }
     }
-    0.5 * (lo + hi)
+    lo + 0.5 * (hi - lo)
 }
 
 /// The maximiser of a unimodal `g` on `[lo, hi]`, by golden-section search.
@@ -403,7 +708,7 @@ fn golden_max(g: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
             lo = a;
         }
     }
-    0.5 * (lo + hi)
+    lo + 0.5 * (hi - lo)
 }
 
 /// One point of a Bode plot.
@@ -418,8 +723,42 @@ pub struct BodePoint {
 }
 
 /// The frequency response of `numerator / denominator` (highest power first) over the
-/// frequencies its nonzero poles and zeros span, two decades either side.
+/// frequencies its nonzero poles and zeros span, two decades either side; as
+/// [`bode_scaled`].
 pub fn bode(numerator: &[f64], denominator: &[f64], singularities: &[Complex64]) -> Vec<BodePoint> {
+    let scaled = |p: &[f64]| -> Vec<Scaled> { p.iter().map(|c| Scaled::from_f64(*c)).collect() };
+    bode_scaled(&scaled(numerator), &scaled(denominator), singularities)
+}
+
+/// `N(z)/D(z)` without overflow in between: each polynomial's terms are summed relative
+/// to its largest, and only the ratio of the two scales is rounded to `f64`.
+pub fn ratio_at(numerator: &[Scaled], denominator: &[Scaled], z: Complex64) -> Complex64 {
+    let (direction, scale) = ratio_parts(numerator, denominator, z);
+    direction * scale.to_f64()
+}
+
+/// `N(z)/D(z)` as `direction · scale`, `direction` of moderate size.
+fn ratio_parts(numerator: &[Scaled], denominator: &[Scaled], z: Complex64) -> (Complex64, Scaled) {
+    if z == Complex64::new(0.0, 0.0) {
+        let (n, d) = (
+            numerator.last().copied().unwrap_or(Scaled::ZERO),
+            denominator.last().copied().unwrap_or(Scaled::ZERO),
+        );
+        return (Complex64::new(1.0, 0.0), n / d);
+    }
+    let (n, d) = (terms(numerator, z), terms(denominator, z));
+    (n.value / d.value, n.scale / d.scale)
+}
+
+/// The frequency response of `numerator / denominator` (highest power first, in extended
+/// range) over the frequencies its nonzero poles and zeros span, two decades either side.
+/// Evaluated by [`ratio_at`], so that coefficients and powers of `jω` beyond `f64` do not
+/// overflow.
+pub fn bode_scaled(
+    numerator: &[Scaled],
+    denominator: &[Scaled],
+    singularities: &[Complex64],
+) -> Vec<BodePoint> {
     let magnitudes: Vec<f64> = singularities
         .iter()
         .map(|z| z.norm())
@@ -439,7 +778,8 @@ pub fn bode(numerator: &[f64], denominator: &[f64], singularities: &[Complex64])
     for i in 0..=count {
         let omega = lo * 10f64.powf(decades * i as f64 / count as f64);
         let s = Complex64::new(0.0, omega);
-        let g = evaluate(numerator, s) / evaluate(denominator, s);
+        let (direction, scale) = ratio_parts(numerator, denominator, s);
+        let g = direction * scale.to_f64().signum();
         let mut phase = g.arg().to_degrees();
         if let Some(p) = previous {
             while phase - p > 180.0 {
@@ -452,7 +792,8 @@ pub fn bode(numerator: &[f64], denominator: &[f64], singularities: &[Complex64])
         previous = Some(phase);
         out.push(BodePoint {
             omega,
-            magnitude_db: 20.0 * g.norm().log10(),
+            magnitude_db: 20.0
+                * (direction.norm().log10() + scale.log2_abs() * std::f64::consts::LOG10_2),
             phase_deg: phase,
         });
     }

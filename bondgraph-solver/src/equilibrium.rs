@@ -26,6 +26,11 @@ pub struct Equilibrium {
     pub iterations: usize,
 }
 
+/// Newton iterations [`find`] takes at most. A cubic term far from its root shrinks by only
+/// a third a step: from `q = 1e20` to 1 that is about 115 steps, from 1e-50 down to the
+/// smallest doubles about 600.
+pub const MAX_ITERATIONS: usize = 1000;
+
 /// Why no equilibrium was found.
 #[derive(Clone, Debug, PartialEq)]
 pub enum EquilibriumError {
@@ -38,6 +43,23 @@ pub enum EquilibriumError {
         /// The states' names.
         names: Vec<String>,
     },
+    /// `f` (or the size of its terms) is not finite at the starting point (a term
+    /// overflows), so Newton's method cannot start there.
+    NotFinite {
+        /// The starting states.
+        states: Vec<f64>,
+        /// The states' names.
+        names: Vec<String>,
+    },
+}
+
+fn point_text(names: &[String], states: &[f64]) -> String {
+    names
+        .iter()
+        .zip(states)
+        .map(|(n, v)| format!("{n} = {}", bondgraph_core::number::shortest(*v)))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 impl std::fmt::Display for EquilibriumError {
@@ -47,18 +69,16 @@ impl std::fmt::Display for EquilibriumError {
                 residual,
                 states,
                 names,
-            } => {
-                let at: Vec<String> = names
-                    .iter()
-                    .zip(states)
-                    .map(|(n, v)| format!("{n} = {v}"))
-                    .collect();
-                write!(
-                    f,
-                    "no equilibrium found: Newton's method stopped with |f| = {residual:e} at {}; try another starting point (--at)",
-                    at.join(", ")
-                )
-            }
+            } => write!(
+                f,
+                "no equilibrium found: Newton's method stopped with |f| = {residual:e} at {}; try another starting point (--at)",
+                point_text(names, states)
+            ),
+            EquilibriumError::NotFinite { states, names } => write!(
+                f,
+                "no equilibrium search from {}: f is not finite there (a term overflows double precision); start nearer the equilibrium (--at)",
+                point_text(names, states)
+            ),
         }
     }
 }
@@ -70,10 +90,15 @@ impl std::error::Error for EquilibriumError {}
 ///
 /// Converged when every `|fᵢ|` is below `1e-12` of the size of its terms plus that of its
 /// linear part `Σⱼ |∂fᵢ/∂xⱼ| |xⱼ|` (a term that vanishes at the equilibrium, `sin(q)` at
-/// `q = π`, has no size of its own there).
+/// `q = π`, has no size of its own there) or below the smallest normal double (an
+/// equilibrium at the origin, where every term vanishes with the state); or when the Newton
+/// step would move the state by less than `1e-12` of its largest component. No tolerance
+/// is taken from the starting point: from `q = 1e20` a residual of 1e-14 of the start's
+/// size is still `q = 1e15`, not an equilibrium.
 ///
 /// # Errors
-/// [`EquilibriumError::NotFound`] when 200 iterations do not converge.
+/// [`EquilibriumError::NotFinite`] when `f` overflows at `start`;
+/// [`EquilibriumError::NotFound`] when [`MAX_ITERATIONS`] iterations do not converge.
 pub fn find(
     equations: &NonlinearEquations,
     start: &OperatingPoint,
@@ -118,28 +143,43 @@ pub fn find(
         let mut converged = true;
         for i in 0..n {
             worst = worst.max(out[i].abs());
-            let linear: f64 = (0..n).map(|j| (out[2 * n + i * n + j] * x[j]).abs()).sum();
-            if out[i].abs() > 1e-12 * (out[n + i] + linear) + f64::MIN_POSITIVE {
-                converged = false;
+            let linear: f64 = (0..n)
+                .filter(|&j| x[j] != 0.0)
+                .map(|j| (out[2 * n + i * n + j] * x[j]).abs())
+                .sum();
+            // A size that overflows cannot vouch for f: only a finite one judges it.
+            let tolerance = 1e-12 * (out[n + i] + linear);
+            let small = out[i].abs() <= f64::MIN_POSITIVE
+                || (tolerance.is_finite() && out[i].abs() <= tolerance);
+            converged &= small;
+        }
+        if !converged && worst.is_finite() {
+            // A row whose terms all vanish at the equilibrium (dq/dt = p/m at p = 0) has no
+            // size of its own; there, a Newton step that moves the state by less than 1e-12
+            // of its size says the point is the equilibrium to double precision.
+            let j = DMatrix::from_row_slice(n, n, &out[2 * n..2 * n + n * n]);
+            let f = DVector::from_column_slice(&out[..n]);
+            let size = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if let Some(step) = j.lu().solve(&f) {
+                let moved = step.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                converged = size > 0.0 && moved.is_finite() && moved <= 1e-12 * size;
             }
         }
         (worst, converged)
     };
     tape.eval(&x, &mut scratch, &mut out);
-    // The size of f where the search starts: at an equilibrium at the origin the terms
-    // themselves vanish, and f is judged against this instead.
-    let start_scale: f64 = (0..n)
-        .map(|i| {
-            out[n + i]
-                + (0..n)
-                    .map(|j| (out[2 * n + i * n + j] * x[j]).abs())
-                    .sum::<f64>()
-        })
-        .fold(0.0, f64::max);
+    // f itself must be finite to start from; an infinite slope (a square root at zero) is
+    // for the damped step to cope with.
+    if out[..2 * n].iter().any(|v| !v.is_finite()) {
+        return Err(EquilibriumError::NotFinite {
+            states: x,
+            names: equations.states.iter().map(|s| s.name.clone()).collect(),
+        });
+    }
     let mut lambda = 1e-9;
-    for iteration in 0..200 {
+    for iteration in 0..MAX_ITERATIONS {
         let (worst, converged) = residual(&out, &x);
-        if converged || n == 0 || worst <= 1e-14 * start_scale {
+        if converged || n == 0 {
             return Ok(Equilibrium {
                 point: OperatingPoint::from_values(x, inputs),
                 residual: worst,
@@ -148,7 +188,7 @@ pub fn find(
         }
         let fx = DVector::from_column_slice(&out[..n]);
         let j = DMatrix::from_row_slice(n, n, &out[2 * n..2 * n + n * n]);
-        let cost = fx.norm_squared();
+        let cost = size(&out[..n]);
         let jt = j.transpose();
         let gradient = &jt * &fx;
         let normal = &jt * &j;
@@ -165,7 +205,7 @@ pub fn find(
             let trial: Vec<f64> = x.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
             let mut trial_out = vec![0.0; out.len()];
             tape.eval(&trial, &mut scratch, &mut trial_out);
-            let trial_cost: f64 = trial_out[..n].iter().map(|v| v * v).sum();
+            let trial_cost = size(&trial_out[..n]);
             if trial_cost.is_finite() && trial_cost < cost {
                 x = trial;
                 out = trial_out;
@@ -180,11 +220,11 @@ pub fn find(
         }
     }
     let (worst, converged) = residual(&out, &x);
-    if converged || worst <= 1e-14 * start_scale {
+    if converged {
         return Ok(Equilibrium {
             point: OperatingPoint::from_values(x, inputs),
             residual: worst,
-            iterations: 200,
+            iterations: MAX_ITERATIONS,
         });
     }
     Err(EquilibriumError::NotFound {
@@ -192,6 +232,19 @@ pub fn find(
         states: x,
         names: equations.states.iter().map(|s| s.name.clone()).collect(),
     })
+}
+
+/// `‖f‖₂` without overflow or underflow in the squares: the damped step compares these,
+/// and `|f|²` of 1e-175 is 0 in doubles (the search stalled there, short of convergence).
+fn size(f: &[f64]) -> f64 {
+    if f.iter().any(|v| v.is_nan()) {
+        return f64::NAN;
+    }
+    let largest = f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if largest == 0.0 || !largest.is_finite() {
+        return largest;
+    }
+    largest * f.iter().map(|v| (v / largest).powi(2)).sum::<f64>().sqrt()
 }
 
 fn exact(value: f64) -> bondgraph_core::symbolic::RatFunc {

@@ -176,8 +176,17 @@ pub fn eigen(a: &DMatrix<f64>) -> Result<Eigen, EigenError> {
     })
 }
 
+/// Each scaling step moves a row's and a column's sums 4 times apart, and finite doubles
+/// span 2^2098: more steps than this cannot be needed.
+const MAX_SCALING_STEPS: usize = 1100;
+
 /// Balances `a` by a diagonal similarity of powers of two (Parlett and Reinsch, as LAPACK's
 /// `gebal` without permutations): returns `B = D⁻¹ A D` and the diagonal of `D`.
+///
+/// A row or column whose off-diagonal sum is not finite (an infinite or NaN entry, or finite
+/// entries whose sum overflows) cannot be judged and is left unscaled; callers that need
+/// finite matrices refuse them before ([`eigen`], [`expm`]). Every loop is bounded, so no
+/// input keeps it from returning.
 pub fn balance(a: &DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>) {
     let n = a.nrows();
     let mut b = a.clone();
@@ -191,24 +200,27 @@ pub fn balance(a: &DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>) {
         for i in 0..n {
             let column: f64 = (0..n).filter(|&r| r != i).map(|r| b[(r, i)].abs()).sum();
             let row: f64 = (0..n).filter(|&c| c != i).map(|c| b[(i, c)].abs()).sum();
-            if column == 0.0 || row == 0.0 {
+            let total = column + row;
+            if column == 0.0 || row == 0.0 || !total.is_finite() {
                 continue;
             }
             let mut f = 1.0;
             let mut c = column;
             let mut r = row;
-            let total = c + r;
-            while c < r / RADIX {
+            let mut steps = 0;
+            while c < r / RADIX && steps < MAX_SCALING_STEPS {
                 c *= RADIX * RADIX;
                 r /= RADIX * RADIX;
                 f *= RADIX;
+                steps += 1;
             }
-            while c >= r * RADIX {
+            while c >= r * RADIX && steps < MAX_SCALING_STEPS {
                 c /= RADIX * RADIX;
                 r *= RADIX * RADIX;
                 f /= RADIX;
+                steps += 1;
             }
-            if (c + r) < 0.95 * total {
+            if (c + r) < 0.95 * total && f.is_finite() && f > 0.0 {
                 converged = false;
                 scale[i] *= f;
                 for k in 0..n {
@@ -424,6 +436,38 @@ mod tests {
 
     fn close(a: f64, b: f64, relative: f64) -> bool {
         (a - b).abs() <= relative * b.abs().max(1e-300)
+    }
+
+    /// `balance` in a thread, failing the test if it has not returned within 10 s.
+    fn balance_promptly(a: DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>) {
+        let (sender, receiver) = std::sync::mpsc::channel();
+        std::thread::spawn(move || sender.send(balance(&a)));
+        receiver
+            .recv_timeout(std::time::Duration::from_secs(10))
+            .expect("balance returns")
+    }
+
+    #[test]
+    fn balancing_returns_on_entries_whose_sums_are_not_finite() {
+        // An infinite entry (and two finite ones whose row sum overflows) once made the
+        // scaling loop `while c >= r * RADIX` run for ever: inf / 4 stays inf. Such a row
+        // and column are left as they are; the others are balanced as usual.
+        for a in [
+            DMatrix::from_row_slice(2, 2, &[0.0, f64::INFINITY, 1.0, 0.0]),
+            DMatrix::from_row_slice(2, 2, &[0.0, 1.0, f64::NAN, 0.0]),
+            DMatrix::from_row_slice(3, 3, &[0.0, 1e308, 1e308, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0]),
+        ] {
+            let (b, scale) = balance_promptly(a.clone());
+            assert!(scale.iter().all(|s| s.is_finite() && *s > 0.0), "{scale:?}");
+            assert_eq!(b.nrows(), a.nrows());
+        }
+        // A finite, badly graded matrix is still balanced: [[0, 2^40], [2^-40, 0]] becomes
+        // [[0, 1], [1, 0]] with D = diag(2^20, 2^-20)... up to the power of two the sweep
+        // settles on; its off-diagonal entries are then within a factor 4 of each other.
+        let a = DMatrix::from_row_slice(2, 2, &[0.0, 2f64.powi(40), 2f64.powi(-40), 0.0]);
+        let (b, _) = balance_promptly(a);
+        let ratio = b[(0, 1)] / b[(1, 0)];
+        assert!((0.25..=4.0).contains(&ratio), "{b}");
     }
 
     #[test]

@@ -49,7 +49,7 @@ pub use characteristic::{Characteristic, Matrix, characteristic};
 pub use transfer::{Channel, TransferFunction, polynomial_text};
 
 use crate::equations::StateEquations;
-use crate::symbolic::{RatFunc, SymbolTable};
+use crate::symbolic::{RatFunc, Scaled, SymbolTable};
 
 /// Modes with at most this many states are analysed symbolically; larger ones with the
 /// parameter values substituted exactly.
@@ -119,6 +119,16 @@ impl Analysis {
             .iter()
             .rev()
             .map(|c| c.eval(&self.values))
+            .collect()
+    }
+
+    /// As [`Analysis::characteristic_values`], in extended range ([`Scaled`]).
+    pub fn characteristic_scaled(&self) -> Vec<Scaled> {
+        self.characteristic
+            .coefficients
+            .iter()
+            .rev()
+            .map(|c| c.eval_scaled(&self.values))
             .collect()
     }
 

@@ -14,7 +14,7 @@ use num_traits::Signed;
 use super::characteristic::Characteristic;
 use crate::equations::StateEquations;
 use crate::linear::{LinearForm, Var};
-use crate::symbolic::{Monomial, Poly, RatFunc, Symbol, SymbolTable};
+use crate::symbolic::{Monomial, Poly, RatFunc, Scaled, Symbol, SymbolTable};
 
 /// One input-output pair of a linear mode: the columns and rows of `A, B, E, C, D, F` it uses.
 #[derive(Clone, Debug, PartialEq)]
@@ -83,6 +83,10 @@ pub struct TransferFunction {
     /// How many roots of `det(sI - A)` (times `s` for an integral output) cancelled against
     /// the numerator: modes the output does not see or the input does not reach.
     pub cancelled: usize,
+    /// The factor that cancelled, `det(sI - A)` (times `s`) over the denominator, as
+    /// coefficients highest power first (`[1]` when nothing cancelled): its roots are the
+    /// eigenvalues that are not poles.
+    pub cancelled_factor: Vec<RatFunc>,
 }
 
 impl TransferFunction {
@@ -123,16 +127,34 @@ impl TransferFunction {
             }
             sum
         };
+        let full = in_s(&denominator);
         let g = in_s(&numerator)
-            .checked_div(&in_s(&denominator))
+            .checked_div(&full)
             .expect("det(sI - A) is monic, so not zero");
         if g.is_zero() {
             return TransferFunction {
                 numerator: vec![RatFunc::zero()],
                 denominator: vec![RatFunc::one()],
                 cancelled: full_degree,
+                cancelled_factor: denominator.into_iter().rev().collect(),
             };
         }
+        // det(sI - A) over the lowest-terms denominator: a polynomial in s, since every
+        // factor of the denominator with s in it divides det(sI - A).
+        let factor = full
+            .checked_div(&RatFunc::from_poly(g.denominator().clone()))
+            .expect("the denominator is not zero");
+        let cancelled_factor = if factor.denominator().degree_in(s) == 0 {
+            let scale = RatFunc::from_poly(factor.denominator().clone())
+                .inv()
+                .expect("not zero");
+            split(factor.numerator(), s)
+                .into_iter()
+                .map(|c| c * &scale)
+                .collect()
+        } else {
+            vec![RatFunc::one()]
+        };
         let mut numerator = split(g.numerator(), s);
         let mut denominator = split(g.denominator(), s);
         let leading_negative = denominator
@@ -147,6 +169,7 @@ impl TransferFunction {
             numerator,
             denominator,
             cancelled,
+            cancelled_factor,
         }
     }
 
@@ -166,6 +189,23 @@ impl TransferFunction {
         let (num, den) = self.monic();
         let eval = |v: Vec<RatFunc>| v.iter().map(|c| c.eval(values)).collect();
         (eval(num), eval(den))
+    }
+
+    /// As [`TransferFunction::monic_values`], in extended range ([`Scaled`]): coefficients
+    /// that do not fit in `f64` (a 1e-300 kg mass's stiffness over mass) keep their value.
+    pub fn monic_scaled(&self, values: &[f64]) -> (Vec<Scaled>, Vec<Scaled>) {
+        let (num, den) = self.monic();
+        let eval = |v: Vec<RatFunc>| v.iter().map(|c| c.eval_scaled(values)).collect();
+        (eval(num), eval(den))
+    }
+
+    /// The coefficients of [`TransferFunction::cancelled_factor`] with parameter `values`,
+    /// in extended range.
+    pub fn cancelled_scaled(&self, values: &[f64]) -> Vec<Scaled> {
+        self.cancelled_factor
+            .iter()
+            .map(|c| c.eval_scaled(values))
+            .collect()
     }
 
     /// `N(s)` as text: `m*s^2 + b*s + k`.
@@ -224,7 +264,7 @@ pub fn polynomial_text(coefficients: &[RatFunc], symbols: &SymbolTable) -> Strin
             // An exact decimal of a linearisation prints as its value, not as p/10^16.
             Some((_, den)) if den.to_string().len() > 7 => {
                 let value = c.eval(&[]);
-                (value < 0.0, format!("{}", value.abs()))
+                (value < 0.0, crate::number::shortest(value.abs()))
             }
             _ => c.signed_text(symbols),
         };
@@ -254,4 +294,50 @@ pub fn polynomial_text(coefficients: &[RatFunc], symbols: &SymbolTable) -> Strin
         text.push('0');
     }
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::characteristic;
+
+    fn n(k: i64) -> RatFunc {
+        RatFunc::integer(k)
+    }
+
+    #[test]
+    fn the_cancelled_factor_holds_the_modes_the_channel_misses() {
+        // A = diag(-1, -2), the input drives the first state only, the output sees both:
+        // G = 1/(s + 1), and det(sI - A) = (s + 1)(s + 2) lost the factor s + 2.
+        let a = vec![vec![n(-1), n(0)], vec![n(0), n(-2)]];
+        let channel = Channel {
+            b: vec![n(1), n(0)],
+            e: vec![n(0), n(0)],
+            c: vec![n(1), n(1)],
+            d: n(0),
+            f: n(0),
+            integral: false,
+        };
+        let tf = TransferFunction::new(&characteristic(&a), &channel, &SymbolTable::default());
+        assert_eq!(tf.numerator, [n(1)]);
+        assert_eq!(tf.denominator, [n(1), n(1)]);
+        assert_eq!(tf.cancelled, 1);
+        assert_eq!(tf.cancelled_factor, [n(1), n(2)]);
+        // An integral output of the same: 1/(s (s + 1)), still s + 2 cancelled.
+        let integral = Channel {
+            integral: true,
+            ..channel.clone()
+        };
+        let tf = TransferFunction::new(&characteristic(&a), &integral, &SymbolTable::default());
+        assert_eq!(tf.denominator, [n(1), n(1), n(0)]);
+        assert_eq!(tf.cancelled_factor, [n(1), n(2)]);
+        // Nothing reaches the output: everything cancelled.
+        let blind = Channel {
+            c: vec![n(0), n(0)],
+            ..channel
+        };
+        let tf = TransferFunction::new(&characteristic(&a), &blind, &SymbolTable::default());
+        assert_eq!(tf.cancelled_factor, [n(1), n(3), n(2)]);
+        assert_eq!(tf.monic_scaled(&[]).1.len(), 1);
+    }
 }

@@ -8,13 +8,15 @@
 //!    efforts of dependent storage, solving algebraic loops symbolically;
 //! 3. `merging` folds dependent storage into the states it follows;
 //! 4. optionally, the states change from energy variables (momenta `p`, displacements `q`)
-//!    to co-energy variables (velocities `v`, efforts `f`), as textbooks and papers write them.
+//!    to co-energy variables (velocities `v`, efforts `f`), as textbooks and papers write them;
+//! 5. `finite` refuses a coefficient that overflows at the parameter values.
 //!
 //! Everything stays sparse ([`LinearForm`]) until a caller asks for dense matrices, so a
 //! 2000-state chain derives in linear time.
 
 mod coenergy;
 pub(crate) mod elimination;
+mod finite;
 pub(crate) mod matrix;
 pub(crate) mod merging;
 pub mod nonlinear;
@@ -269,8 +271,9 @@ pub struct StateEquations {
 /// Derives the state equations of the mode given by `laws`.
 ///
 /// # Errors
-/// Causal conflicts, unresolvable dependent storage, singular algebraic loops, and zero
-/// resistances that must set a flow; each names the elements concerned.
+/// Causal conflicts, unresolvable dependent storage, singular algebraic loops, zero
+/// resistances that must set a flow, and coefficients that overflow at the parameter
+/// values; each names the elements concerned.
 pub fn derive(model: &Model, laws: &[Law], options: &Options) -> Result<StateEquations> {
     if let Some(element) = model
         .element_ids()
@@ -419,7 +422,7 @@ pub(crate) fn derive_parts(
         storage_energy = converted.storage_energy;
     }
 
-    Ok(StateEquations {
+    let equations = StateEquations {
         model: model.name.clone(),
         variables: options.variables,
         states,
@@ -432,7 +435,9 @@ pub(crate) fn derive_parts(
         linear_graph: model.linear_graph.is_some(),
         bond_vars,
         storage_energy,
-    })
+    };
+    finite::check(model, &equations, &state_elements)?;
+    Ok(equations)
 }
 
 impl StateEquations {

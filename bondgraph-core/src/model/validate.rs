@@ -1116,7 +1116,8 @@ impl Validator<'_> {
                     Diagnostic::new(
                         DiagnosticKind::InvalidValue,
                         format!(
-                            "element '{element}': {field} \"{text}\" evaluates to {number}, which is not finite"
+                            "element '{element}': {field} \"{text}\" evaluates to {}, which is not finite",
+                            crate::number::shortest(number)
                         ),
                     )
                     .at(&self.file, span)
@@ -1173,7 +1174,13 @@ impl Validator<'_> {
             let used: Vec<String> = value
                 .symbols()
                 .into_iter()
-                .map(|s| format!("{} = {}", scope.symbols.name(s), scope.values[s.index()]))
+                .map(|s| {
+                    format!(
+                        "{} = {}",
+                        scope.symbols.name(s),
+                        crate::number::shortest(scope.values[s.index()])
+                    )
+                })
                 .collect();
             let with = if used.is_empty() || value.is_constant() {
                 String::new()
@@ -1184,7 +1191,8 @@ impl Validator<'_> {
                 Diagnostic::new(
                     DiagnosticKind::InvalidValue,
                     format!(
-                        "element '{element}': {field} \"{text}\" = {number}{with} must be {requirement}"
+                        "element '{element}': {field} \"{text}\" = {}{with} must be {requirement}",
+                        crate::number::shortest(number)
                     ),
                 )
                 .at(&self.file, span)

@@ -11,7 +11,8 @@
 //!   expressions print identically however they were derived.
 //! - **Exact arithmetic.** Coefficients are arbitrary-precision integers, and decimal
 //!   literals become exact fractions (`0.5` is 1/2), so cancellations that are exact on paper
-//!   are exact here; floating point only appears in [`RatFunc::eval`].
+//!   are exact here; floating point only appears in [`RatFunc::eval`], which carries
+//!   intermediate products in extended range so that only a value that overflows does.
 //!
 //! Symbols are numbered in print order by a [`SymbolTable`]; the term order is
 //! lexicographic on those ids (see [`Monomial`]), so canonical order is alphabetical order.
@@ -27,6 +28,8 @@
 //!   modular gcd);
 //! - `decimal`: exact values of number literals;
 //! - `ratfunc`: rational functions in canonical form ([`RatFunc`]);
+//! - `scaled`: numbers with an exponent of their own, so that evaluation does not overflow
+//!   on the way ([`Scaled`]);
 //! - `print`: plain-text and LaTeX rendering;
 //! - [`expr`]: symbolic expressions for nonlinear laws, with exact coefficients.
 
@@ -39,6 +42,7 @@ mod monomial;
 mod poly;
 mod print;
 mod ratfunc;
+mod scaled;
 mod symbol;
 
 #[cfg(test)]
@@ -49,6 +53,7 @@ pub use monomial::Monomial;
 pub use poly::{Poly, div_exact};
 pub use print::{latex_name, latex_subscript};
 pub use ratfunc::RatFunc;
+pub use scaled::Scaled;
 pub use symbol::{Symbol, SymbolTable};
 
 /// Implements `Add`, `Sub`, `Mul` for every owned/borrowed combination, and the matching

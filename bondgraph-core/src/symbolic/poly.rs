@@ -10,7 +10,7 @@ use num_bigint::BigInt;
 use num_integer::Integer;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 
-use super::{Monomial, Symbol};
+use super::{Monomial, Scaled, Symbol};
 
 /// A finite `f64` as `(mantissa, exponent)` with `value = mantissa * 2^exponent` exactly.
 fn binary_fraction(value: f64) -> Option<(i64, i64)> {
@@ -184,9 +184,33 @@ impl Poly {
             .collect()
     }
 
-    /// Evaluates with `values[symbol.index()]` in `f64` arithmetic. A symbol without a value
-    /// evaluates to NaN.
+    /// Evaluates with `values[symbol.index()]`: the value rounded to `f64`, infinite only
+    /// when the value itself overflows (a term's product that leaves the range of `f64` is
+    /// carried with its own exponent, [`Scaled`]). A symbol without a value evaluates to NaN.
     pub fn eval(&self, values: &[f64]) -> f64 {
+        let fast = self.eval_f64(values);
+        if fast.is_finite() && fast.abs() >= f64::MIN_POSITIVE {
+            return fast;
+        }
+        self.eval_scaled(values).to_f64()
+    }
+
+    /// The value with `values[symbol.index()]`, in extended range: no term overflows or
+    /// underflows on the way.
+    pub fn eval_scaled(&self, values: &[f64]) -> Scaled {
+        self.terms
+            .iter()
+            .map(|(m, c)| {
+                m.iter().fold(Scaled::from_bigint(c), |acc, (s, e)| {
+                    let v = Scaled::from_f64(values.get(s.index()).copied().unwrap_or(f64::NAN));
+                    acc * v.powi(e)
+                })
+            })
+            .fold(Scaled::ZERO, |sum, term| sum + term)
+    }
+
+    /// Plain `f64` evaluation: fast, but a product may overflow or underflow on the way.
+    fn eval_f64(&self, values: &[f64]) -> f64 {
         self.terms
             .iter()
             .map(|(m, c)| {

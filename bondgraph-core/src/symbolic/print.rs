@@ -130,7 +130,7 @@ impl Factors {
     fn render(&self, table: &SymbolTable, style: Style) -> String {
         let mut parts: Vec<String> = Vec::new();
         if !self.content.is_one() {
-            parts.push(self.content.to_string());
+            parts.push(integer(&self.content, style));
         }
         parts.extend(
             self.monomial
@@ -183,10 +183,34 @@ fn poly(p: &Poly, table: &SymbolTable, style: Style) -> String {
 fn term(c: &BigInt, m: &Monomial, table: &SymbolTable, style: Style) -> String {
     let mut parts: Vec<String> = Vec::new();
     if !c.is_one() || m.is_one() {
-        parts.push(c.to_string());
+        parts.push(integer(c, style));
     }
     parts.extend(m.iter().map(|(s, e)| power(table.name(s), e, style)));
     parts.join(separator(style))
+}
+
+/// Integers with more digits than this print in scientific notation where that is shorter.
+const PLAIN_DIGITS: usize = 15;
+
+/// An integer exactly, in scientific notation when it is long and that is shorter: a
+/// coefficient `3e206` (an operating point of 1e103 squared) rather than 207 digits,
+/// `2.5e-20` as `1/4e19` (the fraction's denominator); `\cdot 10^{206}` in LaTeX.
+fn integer(n: &BigInt, style: Style) -> String {
+    let digits = n.magnitude().to_string();
+    let significant = digits.trim_end_matches('0');
+    let exponent = digits.len() - 1;
+    if digits.len() <= PLAIN_DIGITS || significant.len() + 6 >= digits.len() {
+        return n.to_string();
+    }
+    let sign = if n.is_negative() { "-" } else { "" };
+    let mantissa = match significant.len() {
+        1 => significant.to_string(),
+        _ => format!("{}.{}", &significant[..1], &significant[1..]),
+    };
+    match style {
+        Style::Text => format!("{sign}{mantissa}e{exponent}"),
+        Style::Latex => format!("{sign}{mantissa} \\cdot 10^{{{exponent}}}"),
+    }
 }
 
 /// `name^e` (`a^2`, `b_{1}^{2}`), just the name for `e = 1`.
@@ -402,6 +426,25 @@ mod tests {
         assert_eq!(t.text(&r), "3/2");
         assert_eq!(t.latex(&r), "\\frac{3}{2}");
         assert_eq!(t.latex(&n(0)), "0");
+    }
+
+    #[test]
+    fn long_round_integers_print_in_scientific_notation() {
+        let t = Names::new(&["k"]);
+        let k = t.s("k");
+        let big = |text: &str| RatFunc::from_decimal(text).unwrap();
+        // 3e206 exactly, times a symbol and alone; its inverse is 1/3e206.
+        assert_eq!(t.text(&(big("3e206") * &k)), "3e206*k");
+        assert_eq!(t.text(&big("3e206")), "3e206");
+        assert_eq!(t.text(&-big("1.5e207")), "-1.5e207");
+        assert_eq!(t.text(&big("2.5e-20")), "1/4e19");
+        assert_eq!(t.latex(&(big("3e206") * &k)), "3 \\cdot 10^{206} k");
+        // Up to 15 digits, and wherever it is not shorter, an integer prints as it is.
+        assert_eq!(t.text(&big("1e14")), "100000000000000");
+        assert_eq!(t.text(&big("123456789012345678")), "123456789012345678");
+        assert_eq!(t.text(&(big("1e20") + n(1))), "100000000000000000001");
+        // The sum of a huge and an ordinary term keeps both.
+        assert_eq!(t.text(&(big("3e206") * &k + n(1))), "3e206*k + 1");
     }
 
     #[test]

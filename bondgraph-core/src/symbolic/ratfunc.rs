@@ -16,7 +16,7 @@ use num_bigint::BigInt;
 use num_traits::Signed;
 
 use super::gcd::{div_known, div_known_owned, gcd};
-use super::{Poly, Symbol, decimal};
+use super::{Poly, Scaled, Symbol, decimal};
 
 /// A rational function of symbols with integer coefficients, in canonical form (see the
 /// module documentation): equal values are equal structurally and print identically.
@@ -166,13 +166,30 @@ impl RatFunc {
         symbols
     }
 
-    /// Evaluates with `values[symbol.index()]` in `f64` arithmetic. A zero denominator
-    /// gives an infinity or NaN; a symbol without a value gives NaN.
+    /// Evaluates with `values[symbol.index()]`: the value rounded to `f64`, infinite only
+    /// when the value itself overflows, whatever its numerator and denominator do on their
+    /// own (see [`Scaled`]). A zero denominator gives an infinity or NaN; a symbol without a
+    /// value gives NaN.
     pub fn eval(&self, values: &[f64]) -> f64 {
         if self.den.is_one() {
-            self.num.eval(values)
+            return self.num.eval(values);
+        }
+        let in_range = |x: f64| x.is_finite() && x.abs() >= f64::MIN_POSITIVE;
+        let (num, den) = (self.num.eval(values), self.den.eval(values));
+        if in_range(num) && in_range(den) {
+            return num / den;
+        }
+        self.eval_scaled(values).to_f64()
+    }
+
+    /// The value with `values[symbol.index()]` in extended range ([`Scaled`]): for numbers
+    /// that may not fit in `f64`, such as the coefficients of a characteristic polynomial.
+    pub fn eval_scaled(&self, values: &[f64]) -> Scaled {
+        let num = self.num.eval_scaled(values);
+        if self.den.is_one() {
+            num
         } else {
-            self.num.eval(values) / self.den.eval(values)
+            num / self.den.eval_scaled(values)
         }
     }
 
@@ -503,6 +520,41 @@ mod tests {
         assert!(r.eval(&[3.0, 0.0]).is_infinite());
         assert!(div(&a, &b).eval(&[0.0, 0.0]).is_nan());
         assert!(r.eval(&[]).is_nan());
+    }
+
+    /// `x` within a few rounding errors of `expected`.
+    fn close(x: f64, expected: f64) -> bool {
+        (x - expected).abs() <= 4.0 * f64::EPSILON * expected.abs()
+    }
+
+    #[test]
+    fn evaluation_does_not_overflow_in_between() {
+        let (b1, b2, m) = (s(0), s(1), s(2));
+        // Two dampers in series: b1*b2/(b1 + b2). At b1 = 1e308, b2 = 3 the product b1*b2
+        // = 3e308 overflows, but the value is 3/(1 + 3e-308): 3 to double precision.
+        let series = div(&(&b1 * &b2), &(&b1 + &b2));
+        let value = series.eval(&[1e308, 3.0]);
+        assert!(close(value, 3.0), "{value}");
+        // Its inverse (b1 + b2)/(b1*b2) = 1/3 + 1e-308: 1/3 to double precision.
+        let inverse = div(&(&b1 + &b2), &(&b1 * &b2));
+        let value = inverse.eval(&[1e308, 3.0]);
+        assert!(close(value, 1.0 / 3.0), "{value}");
+        // Underflow in between: b1*b2/m^2 at 1e-200 each is 1 (each product is 1e-400).
+        let ratio = div(&(&b1 * &b2), &(&m * &m));
+        let value = ratio.eval(&[1e-200, 1e-200, 1e-200]);
+        assert!(close(value, 1.0), "{value}");
+        // Powers of two are exact: m^3/b1^2 at 2^700 each is 2^700 (m^3 = 2^2100 alone
+        // overflows).
+        let big = 2f64.powi(700);
+        let power = div(&(&m * &m * &m), &(&b1 * &b1));
+        assert_eq!(power.eval(&[big, 0.0, big]), big);
+        // A value that truly overflows is still infinite, with its sign ...
+        let product = -(&b1 * &b2);
+        assert_eq!(product.eval(&[1e308, 3.0]), f64::NEG_INFINITY);
+        let reciprocal = div(&n(1), &(&b1 * &b2));
+        assert_eq!(reciprocal.eval(&[1e-200, 1e-200]), f64::INFINITY);
+        // ... and one that truly underflows is zero.
+        assert_eq!(reciprocal.eval(&[1e200, 1e200]), 0.0);
     }
 
     #[test]

@@ -276,7 +276,7 @@ impl NonlinearEquations {
             .map(|s| &s.name)
             .zip(&point.states)
             .chain(self.inputs.iter().zip(&point.inputs))
-            .map(|(name, value)| format!("{name} = {value}"))
+            .map(|(name, value)| format!("{name} = {}", crate::number::shortest(*value)))
             .collect::<Vec<_>>()
             .join(", ")
     }

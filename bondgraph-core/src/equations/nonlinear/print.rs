@@ -11,6 +11,7 @@ use serde::Serialize;
 
 use crate::equations::print::{matrix_text, state_latex};
 use crate::equations::{StateJson, Variables};
+use crate::number;
 use crate::symbolic::expr::{Atom, Sym};
 use crate::symbolic::latex_name;
 
@@ -185,10 +186,14 @@ impl NonlinearEquations {
                 out.push_str(&format!("\nat {}:\n", self.point_text(point)));
                 let numbers = |m: &[Vec<f64>]| -> Vec<Vec<String>> {
                     m.iter()
-                        .map(|row| row.iter().map(|v| format!("{v}")).collect())
+                        .map(|row| row.iter().map(|v| number::shortest(*v)).collect())
                         .collect()
                 };
-                let f: Vec<Vec<String>> = l.f_value.iter().map(|v| vec![format!("{v}")]).collect();
+                let f: Vec<Vec<String>> = l
+                    .f_value
+                    .iter()
+                    .map(|v| vec![number::shortest(*v)])
+                    .collect();
                 out.push_str(&matrix_text("f", &f));
                 out.push_str(&matrix_text("A", &self.texts(&l.a)));
                 out.push_str(&matrix_text("  ", &numbers(&l.a_value)));
