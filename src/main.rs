@@ -496,6 +496,19 @@ fn simulate(
         trajectory.stats.modes,
         trajectory.stats.segments
     );
+    if let Some(books) = &trajectory.energy {
+        // The books bound their own rounding; past a millionth of their largest term the
+        // terms of the powers have cancelled (a mode whose rates differ by more than
+        // rounding can tell apart), and the figures are only that good.
+        let share = books.error / books.scale();
+        if share > 1e-6 {
+            eprintln!(
+                "warning: the energy books are uncertain to {:e} J, {share:.1e} of their largest \
+                 term: the terms of the powers cancel below rounding",
+                books.error
+            );
+        }
+    }
     Ok(())
 }
 

@@ -52,7 +52,10 @@ pub fn to_csv(trajectory: &Trajectory) -> String {
 /// - `intervals`: `[{start, end, mode}]`, the time spent in each mode, in seconds;
 /// - `events`: `[{t, from, to, element, reason}]`, the mode changes;
 /// - `final`: `{t, mode, states: {name: value}}`, the full state (energy variables) at the end;
-/// - `stats`: `{segments, events, modes}`, the work the run took.
+/// - `stats`: `{segments, events, modes}`, the work the run took;
+/// - `energy` (when the books are recorded): `{initial_stored, final_stored, supplied,
+///   dissipated, lost_at_events, residual, error}` in joules, `residual` the first law's
+///   (`Δstored - supplied + dissipated + lost`) and `error` the books' bound on their own.
 ///
 /// Objects keyed by name (`values`, `states`) list their keys in sorted order; `outputs`
 /// gives the outputs' order. Non-finite numbers are `null`; a mode index that names no mode
@@ -108,7 +111,7 @@ pub fn to_json(trajectory: &Trajectory, model_name: &str, scenario_name: &str) -
         .iter()
         .map(|(name, value)| (name.clone(), (*value).into()))
         .collect();
-    json!({
+    let mut document = json!({
         "model": model_name,
         "scenario": scenario_name,
         "outputs": trajectory.output_names,
@@ -126,7 +129,19 @@ pub fn to_json(trajectory: &Trajectory, model_name: &str, scenario_name: &str) -
             "events": trajectory.stats.events,
             "modes": trajectory.stats.modes,
         },
-    })
+    });
+    if let Some(books) = &trajectory.energy {
+        document["energy"] = json!({
+            "initial_stored": books.initial_stored,
+            "final_stored": books.final_stored,
+            "supplied": books.supplied,
+            "dissipated": books.dissipated,
+            "lost_at_events": books.lost_at_events,
+            "residual": books.residual(),
+            "error": books.error,
+        });
+    }
+    document
 }
 
 /// The specification of the mode at sample `i`, if the trajectory records one.
@@ -308,6 +323,33 @@ mod tests {
         assert_eq!(
             json["stats"],
             json!({"segments": 3, "events": 1, "modes": 2})
+        );
+    }
+
+    #[test]
+    fn json_has_the_energy_books_only_when_they_were_kept() {
+        assert!(to_json(&trajectory(), "m", "s").get("energy").is_none());
+        let mut kept = trajectory();
+        kept.energy = Some(bondgraph_solver::energy::EnergyBalance {
+            initial_stored: 1.0,
+            final_stored: 1.5,
+            supplied: 2.0,
+            dissipated: 0.25,
+            lost_at_events: 0.125,
+            error: 1e-15,
+        });
+        let json = to_json(&kept, "m", "s");
+        assert_eq!(
+            json["energy"],
+            json!({
+                "initial_stored": 1.0,
+                "final_stored": 1.5,
+                "supplied": 2.0,
+                "dissipated": 0.25,
+                "lost_at_events": 0.125,
+                "residual": -1.125,
+                "error": 1e-15,
+            })
         );
     }
 

@@ -471,6 +471,60 @@ fn simulate_prints_csv_and_json_and_plots() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Recorded books come with their balance and their error bound in JSON; books whose bound
+/// is past a millionth of their size say so. The motor of `models/examples/dc_motor.ron`
+/// with K = 1e29 rings at 3e32 rad/s, its decay rate and its steady current below rounding
+/// (`bondgraph-solver/tests/energy_books.rs`); the plain motor's books are exact to rounding.
+#[test]
+fn simulate_says_what_the_energy_books_are_worth() {
+    let dir = scratch("books");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scenario = |k: &str| {
+        let path = dir.join(format!("motor_{k}.ron"));
+        std::fs::write(
+            &path,
+            format!(
+                "Scenario(name: \"motor\", parameters: {{\"K\": {k}}},\n\
+                 inputs: {{\"V\": Step(at: 0.01, before: 0.0, after: 12.0)}},\n\
+                 duration: 0.5, sample: 0.05,\n\
+                 record: [\"energy:supplied\", \"energy:dissipated\", \"energy:stored\"])\n"
+            ),
+        )
+        .unwrap();
+        path.to_string_lossy().into_owned()
+    };
+    let simulate = |path: &str| {
+        run(&[
+            "simulate",
+            "models/examples/dc_motor.ron",
+            "--scenario",
+            path,
+            "--format",
+            "json",
+        ])
+    };
+    let plain = simulate(&scenario("0.05"));
+    assert_eq!(plain.status.code(), Some(0), "{}", stderr(&plain));
+    assert!(!stderr(&plain).contains("warning"), "{}", stderr(&plain));
+    let json: serde_json::Value = serde_json::from_str(&stdout(&plain)).unwrap();
+    let books = &json["energy"];
+    let scale = books["supplied"].as_f64().unwrap();
+    assert!(scale > 0.0, "{books}");
+    assert!(
+        books["residual"].as_f64().unwrap().abs() <= 1e-12 * scale,
+        "{books}"
+    );
+    assert!(books["error"].as_f64().unwrap() <= 1e-9 * scale, "{books}");
+    let stalled = simulate(&scenario("1e29"));
+    assert_eq!(stalled.status.code(), Some(0), "{}", stderr(&stalled));
+    let said = stderr(&stalled);
+    assert!(
+        said.contains("warning: the energy books are uncertain to"),
+        "{said}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn simulate_reports_a_bad_scenario_at_its_line() {
     let dir = scratch("bad-scenario");

@@ -24,7 +24,7 @@ use bondgraph_core::model::{ElementId, ElementMode, Model};
 use bondgraph_core::modes::{Mode, ModeCache};
 use bondgraph_core::scenario::Book;
 
-use crate::energy::{EnergyBalance, EnergyColumn};
+use crate::energy::{EnergyBalance, EnergyColumn, Increment, SegmentBooks};
 use crate::events;
 
 mod combinations;
@@ -100,8 +100,8 @@ pub struct Run<'a> {
     pub duration: f64,
     /// The output interval (`None`: a thousand samples).
     pub sample: Option<f64>,
-    /// Whether to keep the energy books ([`Trajectory::energy`]); it costs a quadrature per
-    /// segment.
+    /// Whether to keep the energy books ([`Trajectory::energy`]): closed-form integrals over
+    /// each segment (and between samples when the books are recorded).
     pub audit_energy: bool,
 }
 
@@ -157,7 +157,7 @@ pub struct Trajectory {
     pub final_mode: String,
     /// Work counts.
     pub stats: Stats,
-    /// The energy books, when asked for.
+    /// The energy books, when asked for or recorded.
     pub energy: Option<EnergyBalance>,
 }
 
@@ -532,7 +532,7 @@ impl<'m> Simulator<'m> {
             stepper.advance(run.duration)?;
         }
         let mut trajectory = stepper.finish();
-        if !run.audit_energy {
+        if !run.audit_energy && !books {
             trajectory.energy = None;
         }
         Ok(trajectory)
@@ -1184,6 +1184,13 @@ impl<'s, 'm> Stepper<'s, 'm> {
         } else {
             Vec::new()
         };
+        // The books over the segment, kept from sample to sample: `booked` holds what
+        // `[0, booked_to]` added.
+        let mut books = self
+            .energy
+            .is_some()
+            .then(|| SegmentBooks::new(&current, &segment, &u0, &u1));
+        let (mut booked, mut booked_to) = (Increment::default(), 0.0);
         if let Some(sample) = self.sample {
             let mode_index = self.recorder.mode_index(&current.spec);
             // In eigen-coordinates each output is Re(Σ c_j z_j(τ)) + a + b τ (and its integral
@@ -1263,11 +1270,11 @@ impl<'s, 'm> Stepper<'s, 'm> {
                         *slot = u0[k] + u1[k] * tau;
                     }
                     let (mut supplied, mut dissipated) = self.books();
-                    if books_wanted {
-                        let (s, d) =
-                            crate::energy::integrate_segment(&current, &mut segment, &u0, &u1, tau);
-                        supplied += s;
-                        dissipated += d;
+                    if let (true, Some(books)) = (books_wanted, &mut books) {
+                        booked += books.over(&current, &mut segment, booked_to, tau);
+                        booked_to = booked_to.max(tau);
+                        supplied += booked.supplied;
+                        dissipated += booked.dissipated;
                     }
                     values.extend(self.simulator.energy_values(
                         &current,
@@ -1281,11 +1288,11 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 self.next_sample += 1;
             }
         }
-        if let Some(energy) = &mut self.energy {
-            let (supplied, dissipated) =
-                crate::energy::integrate_segment(&current, &mut segment, &u0, &u1, stop);
-            energy.supplied += supplied;
-            energy.dissipated += dissipated;
+        if let (Some(energy), Some(books)) = (&mut self.energy, &mut books) {
+            booked += books.over(&current, &mut segment, booked_to, stop);
+            energy.supplied += booked.supplied;
+            energy.dissipated += booked.dissipated;
+            energy.error += booked.error;
         }
         segment.state_and_integral_into(
             stop,
@@ -1306,7 +1313,46 @@ impl<'s, 'm> Stepper<'s, 'm> {
         if self.x.iter().any(|v| !v.is_finite()) {
             return Err(self.simulator.non_finite(self.t, &current, &self.x));
         }
+        if stop_time == end
+            && self
+                .breakpoints
+                .binary_search_by(|b| b.total_cmp(&end))
+                .is_ok()
+        {
+            let before: Vec<f64> = u0.iter().zip(&u1).map(|(a, b)| a + b * stop).collect();
+            self.book_input_step(&current, &before);
+        }
         Ok(crossing)
+    }
+
+    /// Books the energy of an input's step at the current time, from `before` (the left
+    /// limits of the inputs) to their values now, in `mode`: what the ports took through
+    /// the step's impulse ([`crate::energy::jump`]); what that leaves of the stored
+    /// energy's jump is rounding, into the error bound, or, where the step's limit is
+    /// unbounded, lost at the event.
+    fn book_input_step(&mut self, mode: &NumericMode, before: &[f64]) {
+        let Some(energy) = &mut self.energy else {
+            return;
+        };
+        let (after, _) = values_at(self.inputs, self.t);
+        if after == before {
+            return;
+        }
+        let (increment, unbounded) = crate::energy::jump(mode, &self.x, before, &after);
+        let storage = &self.simulator.storage;
+        let model = self.simulator.model;
+        let stored =
+            |u: &[f64]| NumericMode::stored_energy(storage, model, &mode.reconstruct(&self.x, u));
+        let jump = stored(&after) - stored(before);
+        energy.supplied += increment.supplied;
+        energy.dissipated += increment.dissipated;
+        let left = (increment.supplied - increment.dissipated) - jump;
+        energy.error += increment.error;
+        if unbounded {
+            energy.lost_at_events += left;
+        } else {
+            energy.error += left.abs();
+        }
     }
 
     /// At a guard's crossing: rebuild the full state, switch, and make the new mode

@@ -37,6 +37,13 @@ fn balance(
         energy.residual(),
         energy
     );
+    // The books' own bound on their rounding: far below the tolerance on these models.
+    assert!(
+        energy.error <= 1e-11 * energy.scale(),
+        "{file}: error bound {:e} of {:?}",
+        energy.error,
+        energy
+    );
 }
 
 /// A ramp from 0 to `top` over the first second, then constant.

@@ -4,10 +4,10 @@
 //! each simulated with its energy books kept. Invariants:
 //!
 //! - **Energy**: supplied = stored + dissipated + lost at events, to 1e-9 of the largest
-//!   term. Within a mode the books are quadratures of the same closed form as the states, and
-//!   the textbook models balance to that tolerance (`energy.rs`), so 1e-9 leaves six orders
-//!   of magnitude above rounding and is far below any physical error (a lost sticking impact
-//!   or a wrong dissipation is a few per cent).
+//!   term. Within a mode the books are closed-form integrals of the same modal solution as
+//!   the states, and the textbook models balance to that tolerance (`energy.rs`), so 1e-9
+//!   leaves six orders of magnitude above rounding and is far below any physical error (a
+//!   lost sticking impact or a wrong dissipation is a few per cent).
 //! - **Guards**: at every sample, and at every event's instant in the mode it settled in, the
 //!   recorded mode agrees with the signs of the recorded quantities (a stuck contact does not
 //!   move and holds at most `F_S`, a slipping one moves its way; a taut string is stretched
@@ -454,12 +454,14 @@ fn the_cases_the_properties_once_failed_on_still_hold() {
 }
 
 proptest! {
-    // The same 96 cases every run, for a CI that says the same thing twice. Drawn afresh,
-    // about one seed in ten (19, 26, 31, 44, 52 and 68 of 11..=70) gives a friction case
-    // that runs for minutes rather than fails: the energy books integrate each segment on
-    // panels that follow every oscillation, up to 200 000 of them, and a lightly damped
-    // swing over long segments costs millions of evaluations (`energy::integrate_segment`).
-    // `PROPTEST_RNG_SEED=19` still draws others (that one is slow), to explore.
+    // The same 96 cases every run, for a CI that says the same thing twice. The energy books
+    // cost what the samples cost, whatever a lightly damped swing's count of oscillations
+    // (`energy.rs`), but five seeds of 11..=70 (19, 26, 31, 44, 52) still draw a friction
+    // case that runs for minutes. Seed 19's does so with or without the books: event
+    // location crawls on by about an ulp of time per segment while the contact slips
+    // (m = 8.879, k = 848.4, F_C = 4.092, F_S = 1.0056 F_C, b = 0.6316, F = -14.27 N, from
+    // q0 = 0.0593 stuck: at t = 1.2856 s). `PROPTEST_RNG_SEED=N` draws others, to explore;
+    // drop `rng_seed` once that crawl is bounded.
     #![proptest_config(ProptestConfig {
         cases: 96,
         rng_seed: proptest::test_runner::RngSeed::Fixed(1),

@@ -2,6 +2,7 @@
 
 mod analysis;
 mod energy;
+mod energy_books;
 mod energy_records;
 mod event_bounds;
 mod fig6;
