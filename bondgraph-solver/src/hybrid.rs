@@ -31,6 +31,7 @@ mod combinations;
 mod crossing;
 mod integrate;
 mod recorder;
+mod sample_times;
 mod stall;
 mod step_guards;
 use crate::numeric::{ModeForms, NumericGuard, NumericMode, Storage, dot};
@@ -38,6 +39,7 @@ use crate::propagate::SegmentBuffers;
 use crossing::{Crossed, Trigger};
 use num_complex::Complex64;
 use recorder::{Recorded, Recorder, Switched, Why};
+use sample_times::SampleTimes;
 pub use stall::{STALLED_SEGMENTS, Stall};
 
 /// A time-varying input, piecewise linear between its breakpoints.
@@ -525,6 +527,7 @@ impl<'m> Simulator<'m> {
             run.initial_state.clone(),
             Some(sample),
         )?;
+        stepper.sample = stepper.sample.map(|times| times.ending_at(run.duration));
         if run.audit_energy || books {
             stepper.audit_energy();
         }
@@ -861,9 +864,8 @@ pub struct Stepper<'s, 'm> {
     arm_below: Vec<f64>,
     integrals: Vec<f64>,
     recent: VecDeque<f64>,
-    sample: Option<f64>,
-    /// The index of the next sample: its time is `index × sample`, not a running sum that
-    /// would drift by rounding.
+    sample: Option<SampleTimes>,
+    /// The index of the next sample.
     next_sample: u64,
     recorder: Recorder,
     stats: Stats,
@@ -939,7 +941,9 @@ impl<'s, 'm> Stepper<'s, 'm> {
             mode,
             integrals: vec![0.0; outputs],
             recent: VecDeque::new(),
-            sample: sample.filter(|s| *s > 0.0 && s.is_finite()),
+            sample: sample
+                .filter(|s| *s > 0.0 && s.is_finite())
+                .map(SampleTimes::every),
             next_sample: 0,
             recorder,
             stats: Stats::default(),
@@ -1184,7 +1188,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
         } else {
             Vec::new()
         };
-        if let Some(sample) = self.sample {
+        if let Some(times) = self.sample {
             let mode_index = self.recorder.mode_index(&current.spec);
             // In eigen-coordinates each output is Re(Σ c_j z_j(τ)) + a + b τ (and its integral
             // Re(Σ c_j ∫z_j) + a τ + b τ²/2), with c = row V, a = d·u₀ + r·u₁ + k, b = d·u₁.
@@ -1210,9 +1214,12 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 .any(|(_, c)| c.needs_books());
             // One sample's values, the buffer reused from sample to sample.
             let mut values: Vec<f64> = Vec::new();
-            while self.next_sample as f64 * sample <= self.t + stop {
-                let time = self.next_sample as f64 * sample;
-                let tau = (time - self.t).max(0.0);
+            loop {
+                let time = times.time(self.next_sample);
+                if time > stop_time {
+                    break;
+                }
+                let tau = (time - self.t).clamp(0.0, stop);
                 values.clear();
                 match (&modal, segment.modal_state_and_integral(tau)) {
                     (Some(coefficients), Some((z, iz))) => values.extend(

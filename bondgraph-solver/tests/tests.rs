@@ -8,6 +8,7 @@ mod fig6;
 mod flagship;
 mod flow_limit;
 mod hardening;
+mod hardening_events;
 mod input_rates;
 mod nonlinear;
 mod nonlinear_events;

@@ -366,7 +366,7 @@ impl Stepper<'_, '_> {
         let mut previous = Look::default();
         guards.look_into(&mut previous);
         if let Some(k) = (0..guard_count).find(|&k| self.armed[k] && previous.values[k] >= 0.0) {
-            self.sample_until(&mut system, start, &z, None, 0.0, mode_index);
+            self.sample_until(&mut system, start, &z, None, start, mode_index);
             return Ok(Some(Crossing { guard: k, tau: 0.0 }));
         }
         let magnitudes: Vec<f64> = (0..guard_count).map(|k| guards.magnitude(k)).collect();
@@ -378,7 +378,7 @@ impl Stepper<'_, '_> {
                 self.armed[k] = true;
             }
         }
-        self.sample_until(&mut system, start, &z, None, 0.0, mode_index);
+        self.sample_until(&mut system, start, &z, None, start, mode_index);
 
         let mut integrator = Switching::new(size, n, TOLERANCES);
         let mut tau = 0.0;
@@ -438,7 +438,13 @@ impl Stepper<'_, '_> {
                     .simulator
                     .non_finite(start + tau + step, &current, &z[..n]));
             }
-            if guard_count > 0 || self.sample_due(start + tau + step, mode_index) {
+            // The step's end in time: exactly the segment's at its last step.
+            let step_end = if tau + step >= length {
+                end
+            } else {
+                start + tau + step
+            };
+            if guard_count > 0 || self.sample_due(step_end, mode_index) {
                 integrator.prepare_dense(&mut system);
             }
             // Guards along the step, on its dense output.
@@ -489,7 +495,7 @@ impl Stepper<'_, '_> {
                     start + tau,
                     &before,
                     Some((&integrator, step)),
-                    hit,
+                    start + tau + hit,
                     mode_index,
                 );
                 z.copy_from_slice(&point);
@@ -502,7 +508,7 @@ impl Stepper<'_, '_> {
                 start + tau,
                 &before,
                 Some((&integrator, step)),
-                step,
+                step_end,
                 mode_index,
             );
             tau += step;
@@ -525,35 +531,38 @@ impl Stepper<'_, '_> {
     /// Whether a sample is due at or before `time`.
     fn sample_due(&self, time: f64, mode_index: Option<usize>) -> bool {
         match (self.sample, mode_index) {
-            (Some(sample), Some(_)) => self.next_sample as f64 * sample <= time,
+            (Some(times), Some(_)) => times.time(self.next_sample) <= time,
             _ => false,
         }
     }
 
-    /// Records the samples due in the first `until` of a step that starts at `step_start`
-    /// (time) from `before`, from the dense output of the integrator's last step (of size
-    /// `step`); with no integrator, the samples due at `step_start` itself.
+    /// Records the samples due at or before `through` (a time) in a step that starts at
+    /// `step_start` (time) from `before`, from the dense output of the integrator's last step
+    /// (of size `step`); with no integrator, the samples due at `step_start` itself.
     fn sample_until(
         &mut self,
         system: &mut Segment<'_>,
         step_start: f64,
         before: &[f64],
         integrator: Option<(&Switching, f64)>,
-        until: f64,
+        through: f64,
         mode_index: Option<usize>,
     ) {
-        if !self.sample_due(step_start + until, mode_index) {
+        if !self.sample_due(through, mode_index) {
             return;
         }
-        let (Some(sample), Some(mode_index)) = (self.sample, mode_index) else {
+        let (Some(times), Some(mode_index)) = (self.sample, mode_index) else {
             return;
         };
         let segment_start = self.t;
         let n = system.nl.n;
         let integrals_offset = n + if system.energy { 2 } else { 0 };
         let mut point = before.to_vec();
-        while self.next_sample as f64 * sample <= step_start + until {
-            let time = self.next_sample as f64 * sample;
+        loop {
+            let time = times.time(self.next_sample);
+            if time > through {
+                break;
+            }
             if let Some((integrator, step)) = integrator {
                 let theta = ((time - step_start) / step).clamp(0.0, 1.0);
                 integrator.dense(theta, &mut point);
