@@ -1156,24 +1156,10 @@ impl<'s, 'm> Stepper<'s, 'm> {
             &mut self.simulator.scratch,
         );
         self.take_steps(samples, self.t)?;
-        // An event's state is the root's, where its guard is exactly at its threshold, and its
-        // time the root's rounded to a double. A root closer to the segment's start than the
-        // spacing of doubles there rounds back to the start; time must still advance, or each
-        // segment finds the root again (a belt's speed rising at 1e9 m/s² gains 8e-14 m/s in
-        // the 8e-23 s from 1 µs to such a root: time stood still while state and inputs
-        // disagreed, and the same stick was declined until 'time stopped advancing'). Such an
-        // event lands on the next double, its state still the root's: taken there instead, a
-        // stiff state would move on by what it changes in an ulp of time (the flagship's tip,
-        // with a time constant of 4e-18 s, went through zero velocity and back, and read as
-        // slipping both ways).
+        // An event's state is the root's, where its guard is exactly at its threshold (see
+        // `event_time` for its time).
         let (crossing, stop, stop_time) = match located {
-            events::Located::Crossing(c) => {
-                let mut time = self.t + c.tau;
-                if c.tau > 0.0 && time <= self.t {
-                    time = self.t.next_up();
-                }
-                (Some(c), c.tau, time.min(end))
-            }
+            events::Located::Crossing(c) => (Some(c), c.tau, event_time(self.t, c.tau, end)),
             events::Located::Clear(reached) if reached < length => {
                 (None, reached, self.t + reached)
             }
@@ -1450,6 +1436,26 @@ impl<'s, 'm> Stepper<'s, 'm> {
         trajectory.energy = self.energy;
         trajectory
     }
+}
+
+/// The time of an event found `tau` into a segment from `start` to `end`: the root's,
+/// rounded to a double, and after `start` if the root is.
+///
+/// A root closer to the segment's start than the spacing of doubles there rounds back to the
+/// start; time must still advance, or each segment finds the root again (a belt's speed
+/// rising at 1e9 m/s² gains 8e-14 m/s in the 8e-23 s from 1 µs to such a root: time stood
+/// still while state and inputs disagreed, and the same stick was declined until 'time
+/// stopped advancing'). Such an event lands on the next double, its state still the root's:
+/// taken there instead, a stiff state would move on by what it changes in an ulp of time
+/// (the flagship's tip, with a time constant of 4e-18 s, went through zero velocity and
+/// back, and read as slipping both ways). Both the closed-form and the integrated path time
+/// their events so.
+fn event_time(start: f64, tau: f64, end: f64) -> f64 {
+    let mut time = start + tau;
+    if tau > 0.0 && time <= start {
+        time = start.next_up();
+    }
+    time.min(end)
 }
 
 /// The second time derivative of a guard row along the mode's flow, inputs moving at

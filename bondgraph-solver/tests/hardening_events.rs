@@ -2,9 +2,10 @@
 //! test failed before its fix.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::Model;
+use bondgraph_core::model::{self, Model};
 use bondgraph_core::modes::Mode;
-use bondgraph_solver::{Output, Run, Signal, Simulator};
+use bondgraph_core::scenario::Signal as Table;
+use bondgraph_solver::{Event, Output, Run, Signal, Simulator, Trajectory};
 
 use crate::support::{Constant, load};
 
@@ -70,4 +71,107 @@ fn the_sample_at_the_duration_is_recorded_on_the_integrated_path() {
         .unwrap();
     assert_eq!(trajectory.times.len(), 8, "{:?}", trajectory.times);
     assert_eq!(trajectory.times.last(), Some(&0.7));
+}
+
+/// A belt table reversing every microsecond, at 1 m/s, in one of eight shapes.
+fn reversing_table(shape: usize, reversals: usize) -> Table {
+    let microsecond = 1e-6;
+    let mut points = Vec::new();
+    for k in 0..=reversals {
+        let t = k as f64 * microsecond;
+        let even = k % 2 == 0;
+        match shape {
+            // Triangles: +1, -1, +1, ...; -1, +1, ...; asymmetric +1, -0.5.
+            0 => points.push((t, if even { 1.0 } else { -1.0 })),
+            1 => points.push((t, if even { -1.0 } else { 1.0 })),
+            2 => points.push((t, if even { 1.0 } else { -0.5 })),
+            // Through zero at every other point: 0, 1, 0, -1, ...
+            3 => points.push((t, [0.0, 1.0, 0.0, -1.0][k % 4])),
+            // Half a microsecond late: the first reversal at 0.5 µs.
+            4 => points.push((t + 0.5 * microsecond, if even { -1.0 } else { 1.0 })),
+            // Forwards only, the slope reversing: 1, 0, 1, ...
+            5 => points.push((t, if even { 1.0 } else { 0.0 })),
+            // A square wave with 1 ns edges.
+            6 => {
+                let v = if even { 1.0 } else { -1.0 };
+                points.push((t, v));
+                points.push((t + microsecond - 1e-9, v));
+            }
+            // A sawtooth: rising from -1 to 1 over a microsecond, then back in 1 ns.
+            _ => {
+                points.push((t, -1.0));
+                points.push((t + microsecond - 1e-9, 1.0));
+            }
+        }
+    }
+    Table::Table(points)
+}
+
+/// The events of a belt model driven by `table` for `duration`, from rest, stuck.
+fn belt_events(model: &Model, table: &Table, duration: f64) -> Result<Vec<Event>, String> {
+    let mut simulator = Simulator::new(model, Vec::new());
+    let inputs: [&dyn Signal; 1] = [table];
+    simulator
+        .run(&Run {
+            inputs: &inputs,
+            initial_mode: Mode::initial(model),
+            initial_state: vec![0.0, 0.0],
+            duration,
+            sample: None,
+            audit_energy: false,
+        })
+        .map(|t: Trajectory| t.events)
+        .map_err(|e| e.to_string())
+}
+
+/// Item 14: a belt reversing every microsecond at 1 m/s, on the integrated path. The
+/// stick-slip spring (`models/examples/nonlinear/stick_slip_spring.ron`) with its hardening
+/// `k_3` set to zero is the belt example (`belt_friction.ron`) integrated instead of
+/// propagated in closed form: the same events at the same times (to 1e-9 of a
+/// microsecond's reversal). Near each reversal the contact's velocity crosses zero while
+/// the belt accelerates at 2e6 m/s², too fast for static friction: the stick is declined and
+/// the block slips the other way. The crossing's root rounded to a time before it, where the
+/// velocity was still -6e-15 m/s; the declined guard was re-armed, found 3e-21 s later (under
+/// half the spacing of doubles at 43 µs), and time stood still while the state moved:
+/// `time stopped advancing ... whose switch was declined` in the tables that reverse through
+/// zero. The example with its hardening runs them too, with the same events.
+#[test]
+fn a_belt_reversing_every_microsecond_runs_on_the_integrated_path() {
+    let linear = load("models/examples/belt_friction.ron");
+    let path = "models/examples/nonlinear/stick_slip_spring.ron";
+    let hardening = load(path);
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../models/examples/nonlinear/stick_slip_spring.ron"
+    ))
+    .unwrap();
+    let softened = text.replace("\"k_3\": (value: 2.0e4", "\"k_3\": (value: 0.0");
+    assert_ne!(softened, text);
+    let integrated = model::load_str(path, &softened).unwrap();
+    assert!(integrated.is_nonlinear());
+    let duration = 1e-4;
+    for shape in 0..8 {
+        let table = reversing_table(shape, 100);
+        let expected = belt_events(&linear, &table, duration)
+            .unwrap_or_else(|e| panic!("table {shape}, closed form: {e}"));
+        assert!(expected.len() >= 20, "table {shape}: {expected:#?}");
+        for (model, name) in [(&integrated, "k_3 = 0"), (&hardening, "k_3 = 2e4")] {
+            let events = belt_events(model, &table, duration)
+                .unwrap_or_else(|e| panic!("table {shape}, {name}: {e}"));
+            assert_eq!(
+                events.len(),
+                expected.len(),
+                "table {shape}, {name}: {events:#?}"
+            );
+            for (got, want) in events.iter().zip(&expected) {
+                assert_eq!(got.to, want.to, "table {shape}, {name}: at {} s", want.t);
+                assert!(
+                    (got.t - want.t).abs() <= 1e-15,
+                    "table {shape}, {name}: {} s against {} s",
+                    got.t,
+                    want.t
+                );
+            }
+        }
+    }
 }

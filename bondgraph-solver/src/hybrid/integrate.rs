@@ -394,15 +394,17 @@ impl Stepper<'_, '_> {
         let mut look_point = vec![0.0; size];
         while tau < length {
             let step = h.min(length - tau);
-            if step <= f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0
-                && integrator.method() == Method::Explicit
-            {
+            // A step held to the resolution of time makes no progress, unless it is all that
+            // is left of the segment (a table's last point an ulp before the end).
+            let held =
+                step <= f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0 && step < length - tau;
+            if held && integrator.method() == Method::Explicit {
                 // Explicit steps held below the clock's resolution: stiff beyond doubt.
                 integrator.force_implicit();
                 h = integrator.initial_step(&mut system, tau, &z, length - tau);
                 continue;
             }
-            if step <= f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0 {
+            if held {
                 // Steps collapse where the motion reaches a guard tangentially (a tank
                 // emptying as (t_e - t)², its law's slope infinite there): the guard is met.
                 guards.at(tau, &z, &u0, &u1);
@@ -523,7 +525,10 @@ impl Stepper<'_, '_> {
         for (slot, &k) in integral_outputs.iter().enumerate() {
             self.integrals[k] += z[next + slot];
         }
-        self.t = if crossing.is_some() { start + tau } else { end };
+        self.t = match crossing {
+            Some(crossing) => super::event_time(start, crossing.tau, end),
+            None => end,
+        };
         self.x = z[..n].to_vec();
         Ok(crossing)
     }
