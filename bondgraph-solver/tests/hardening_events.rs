@@ -175,3 +175,48 @@ fn a_belt_reversing_every_microsecond_runs_on_the_integrated_path() {
         }
     }
 }
+
+/// Item 15: the resolution of time near zero is the smallest subnormal, 4.9e-324 s, not
+/// 8.88e-316 s (four ε times a floor of 1e-300). A mass of inertance `m = 1e-154` whose
+/// momentum feeds itself through a negative quadratic damper (`dp/dt = (p/m)²`) blows up at
+/// `t = m²/p₀ = 1e-308 s` from `p₀ = 1`. Below 2.2e-308 s doubles are subnormal, 4.9e-324 s
+/// apart, and the integrator's steps lose their digits there: time stops advancing before
+/// the blow-up, and says so with that resolution. (It once stopped at t = 0, its error
+/// estimate overflowing on rates of 1e308 N before they were multiplied by the step, and
+/// quoted 8.88e-316 s as the resolution there.)
+#[test]
+fn time_stopping_near_zero_quotes_the_resolution_of_time_there() {
+    use bondgraph_solver::{SimError, Stall};
+    let text = r#"Model(name: "runaway", parameters: {"m": (value: 1.0e-154)},
+    elements: {"v": One, "mass": I(inertance: "m"), "push": R(effort: "-flow^2")},
+    bonds: [("v", "mass"), ("v", "push")])"#;
+    let model = model::load_str("runaway.ron", text).unwrap_or_else(|e| panic!("{e}"));
+    let mut simulator = Simulator::new(&model, Vec::new());
+    let error = simulator
+        .run(&Run {
+            inputs: &[],
+            initial_mode: Mode::initial(&model),
+            initial_state: vec![1.0],
+            duration: 1.0,
+            sample: None,
+            audit_energy: false,
+        })
+        .unwrap_err();
+    let message = error.to_string();
+    match error {
+        SimError::Stalled {
+            t,
+            cause: Stall::Steps { step, resolution },
+            ..
+        } => {
+            assert!(t > 0.0 && t <= 1e-308, "{message}");
+            assert_eq!(resolution, f64::from_bits(1), "{message}");
+            assert!(step <= 4.0 * resolution, "{message}");
+        }
+        _ => panic!("{message}"),
+    }
+    assert!(
+        message.contains("the resolution of time there (5e-324 s)"),
+        "{message}"
+    );
+}

@@ -22,6 +22,7 @@
 use bondgraph_core::modes::Mode;
 use bondgraph_core::symbolic::expr::Sym;
 
+use super::stall;
 use super::step_guards::{self, Look};
 use super::{SimError, Simulator, Stepper};
 use crate::events::Crossing;
@@ -394,10 +395,10 @@ impl Stepper<'_, '_> {
         let mut look_point = vec![0.0; size];
         while tau < length {
             let step = h.min(length - tau);
-            // A step held to the resolution of time makes no progress, unless it is all that
-            // is left of the segment (a table's last point an ulp before the end).
-            let held =
-                step <= f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0 && step < length - tau;
+            // A step held to a few spacings of doubles at `t` makes no progress, unless it is
+            // all that is left of the segment (a table's last point an ulp before the end).
+            let resolution = stall::resolution_at(start + tau);
+            let held = step <= stall::HELD_RESOLUTIONS * resolution && step < length - tau;
             if held && integrator.method() == Method::Explicit {
                 // Explicit steps held below the clock's resolution: stiff beyond doubt.
                 integrator.force_implicit();
@@ -420,10 +421,7 @@ impl Stepper<'_, '_> {
                 return Err(SimError::Stalled {
                     t: start + tau,
                     mode: current.spec.clone(),
-                    cause: super::Stall::Steps {
-                        step,
-                        resolution: f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0,
-                    },
+                    cause: super::Stall::Steps { step, resolution },
                 });
             }
             before.copy_from_slice(&z);

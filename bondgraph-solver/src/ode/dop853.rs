@@ -263,15 +263,17 @@ impl Dop853 {
         let (mut err5, mut err3) = (0.0, 0.0);
         for r in 0..self.controlled {
             let scale = self.scale(r, x[r].abs().max(self.x_new[r].abs()));
+            // Each stage's rate times the step, before summing: the rates alone may be near
+            // the largest double where the step's changes are not (a momentum growing at
+            // 1e308 N over 1e-310 s), and their sum overflowed.
+            let hk = |s: usize| h * self.k[s * n + r];
             let mut e5 = 0.0;
             let mut b = 0.0;
             for s in 0..STAGES {
-                let ks = self.k[s * n + r];
-                e5 += E5[s] * ks;
-                b += A[STAGES][s] * ks;
+                e5 += E5[s] * hk(s);
+                b += A[STAGES][s] * hk(s);
             }
-            let e3 =
-                b - BHH[0] * self.k[r] - BHH[1] * self.k[8 * n + r] - BHH[2] * self.k[11 * n + r];
+            let e3 = b - BHH[0] * hk(0) - BHH[1] * hk(8) - BHH[2] * hk(11);
             err5 += (e5 / scale).powi(2);
             err3 += (e3 / scale).powi(2);
         }
@@ -279,7 +281,7 @@ impl Dop853 {
             return 0.0;
         }
         let denominator = err5 + 0.01 * err3;
-        h.abs() * err5 / (denominator * self.controlled.max(1) as f64).sqrt()
+        err5 / (denominator * self.controlled.max(1) as f64).sqrt()
     }
 
     /// The state `h` after `(tau, x)` by one step without error control (for landing
