@@ -73,10 +73,14 @@ pub struct Settings {
     /// default [`bondgraph_core::limits::MAX_STEPS`]).
     pub max_steps: u64,
     /// This many events within `chatter_window` times the current time (at least one
-    /// second) is chattering.
+    /// second) is chattering (Zeno behaviour).
     pub chatter_events: usize,
     /// See `chatter_events`.
     pub chatter_window: f64,
+    /// `chatter_events` events in a row with the inputs steady (no breakpoint among them),
+    /// closer on average than this many of the fastest time scale of the (linear) modes they
+    /// entered, is chattering too: switching faster than the motion can move.
+    pub chatter_time_scales: f64,
 }
 
 impl Default for Settings {
@@ -86,6 +90,7 @@ impl Default for Settings {
             max_steps: bondgraph_core::limits::MAX_STEPS,
             chatter_events: 200,
             chatter_window: 1e-6,
+            chatter_time_scales: 1.0,
         }
     }
 }
@@ -206,6 +211,11 @@ pub enum SimError {
         window: f64,
         /// The elements that switched.
         elements: Vec<String>,
+        /// Why the last of them switched (the quantity at its threshold).
+        reason: String,
+        /// The fastest time scale of the modes entered, when the events came faster than
+        /// it with the inputs steady.
+        time_scale: Option<f64>,
     },
     /// No single switch is consistent, and the modes of the elements that kept switching
     /// have more combinations than the search may derive.
@@ -280,11 +290,22 @@ impl fmt::Display for SimError {
                 events,
                 window,
                 elements,
-            } => write!(
-                f,
-                "chattering at t = {t} s: {events} events in {window:e} s, switching {}",
-                quoted(elements)
-            ),
+                reason,
+                time_scale,
+            } => {
+                write!(
+                    f,
+                    "chattering at t = {t} s: {events} events in {window:e} s"
+                )?;
+                if let Some(scale) = time_scale {
+                    write!(
+                        f,
+                        " with the inputs steady, faster than the modes' fastest time scale \
+                         ({scale:e} s)"
+                    )?;
+                }
+                write!(f, ", switching {} (the last: {reason})", quoted(elements))
+            }
             SimError::Stalled { t, mode, cause } => write!(
                 f,
                 "time stopped advancing at t = {t} s{}: {cause}",
@@ -797,8 +818,11 @@ impl<'m> Simulator<'m> {
         // contact whose breakaway force equals its Coulomb force slipping at the instant the
         // force it would have to hold is the breakaway force (its acceleration is then zero
         // up to rounding, whose sign must not decide). The second derivative (the rate an
-        // instant later) decides.
-        second_rate(mode, &guard.row, x, u, rate) > 0.0
+        // instant later) decides; if it too is zero up to rounding the guard is at rest on its
+        // threshold (a contact holding exactly its breakaway force, zero at a balance with no
+        // breakaway), which leaves the mode nothing to leave for.
+        let (second, rounding) = second_rate(mode, &guard.row, x, u, rate);
+        second > rounding
     }
 
     /// Whether the element of a `requires_hold` guard can hold in the mode the guard leads
@@ -862,8 +886,14 @@ pub struct Stepper<'s, 'm> {
     /// The level below which each guard is armed: zero, or minus the rounding tolerance
     /// after its switch was declined.
     arm_below: Vec<f64>,
+    /// The level each guard must rise to before it fires: zero, or the rounding of its terms
+    /// for a guard whose crossing led straight back to the mode it left (see
+    /// [`Stepper::switch_at`]).
+    fire_above: Vec<f64>,
     integrals: Vec<f64>,
-    recent: VecDeque<f64>,
+    /// The last switches: when, and the fastest rate (`max |λ|`) of the mode entered, zero
+    /// where unknown (a nonlinear mode).
+    recent: VecDeque<(f64, f64)>,
     sample: Option<SampleTimes>,
     /// The index of the next sample.
     next_sample: u64,
@@ -933,6 +963,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
         Ok(Self {
             armed: vec![false; mode.guards.len()],
             arm_below: vec![0.0; mode.guards.len()],
+            fire_above: vec![0.0; mode.guards.len()],
             simulator,
             inputs,
             breakpoints,
@@ -1152,6 +1183,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
             window,
             &mut self.armed,
             &self.arm_below,
+            &self.fire_above,
             &mut samples,
             &mut self.simulator.scratch,
         );
@@ -1311,6 +1343,17 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let (u, rate) = self.inputs_at(t);
         let full = current.reconstruct(&self.x, &u);
         let guard = &current.guards[crossing.guard];
+        if !guard.requires_hold && touches(&current, guard, &self.x, &u, &rate) {
+            // At rest on its threshold rather than crossing it: a stuck contact at an exact
+            // balance with no breakaway force, its holding force zero but for rounding, broke
+            // away on the rounding's sign and stuck again at once, every few tens of
+            // microseconds (100 000 events in 2.3 s). Nothing crosses, so nothing switches;
+            // the guard fires once it is past its threshold by more than the rounding of its
+            // terms. (A guard into `stuck` is left to its hold test: at rest at a balance the
+            // contact sticks.)
+            self.rest_on_threshold(crossing.guard, &u, &rate);
+            return Ok(false);
+        }
         if guard.requires_hold && !self.simulator.can_hold(&current, guard, &full, &u, &rate)? {
             self.last_crossing = Some((guard.element, Why::of(guard, true), true));
             // Static friction cannot hold (or a flow limit would hold back nothing): no
@@ -1321,11 +1364,8 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 -(1e-9 * guard.row.magnitude(&self.x, &u, &rate) + f64::MIN_POSITIVE);
             return Ok(false);
         }
-        if self.sample.is_some() {
-            let values = self.outputs();
-            self.recorder.sample(t, &current.spec, values);
-        }
         let target = current.mode.with(guard.element, guard.leaves_to);
+        let events_before = self.recorder.events.len();
         let next = self.simulator.resolve(
             target,
             &full,
@@ -1344,7 +1384,20 @@ impl<'s, 'm> Stepper<'s, 'm> {
             }),
             &mut self.recorder,
         )?;
-        self.check_chattering(t)?;
+        if next.mode == current.mode && watches_an_effort(guard) {
+            // Straight back to the mode it left, at the same instant: the modes at this
+            // instant say the guard did not cross (a contact at a balance breaking away and
+            // sticking again at once, in a nonlinear mode, whose rates are judged exactly).
+            // Nothing switched, so no event is recorded.
+            self.recorder.events.truncate(events_before);
+            self.rest_on_threshold(crossing.guard, &u, &rate);
+            return Ok(false);
+        }
+        if self.sample.is_some() {
+            let values = self.outputs();
+            self.recorder.sample(t, &current.spec, values);
+        }
+        self.check_chattering(t, &next)?;
         self.mode = next;
         self.x = self.mode.project(&full, &u);
         if self.x.iter().any(|v| !v.is_finite()) {
@@ -1360,12 +1413,23 @@ impl<'s, 'm> Stepper<'s, 'm> {
         }
         self.armed = vec![false; self.mode.guards.len()];
         self.arm_below = vec![0.0; self.mode.guards.len()];
+        self.fire_above = vec![0.0; self.mode.guards.len()];
         self.recorder.enter(&self.mode.spec, t);
         if self.sample.is_some() {
             let values = self.outputs();
             self.recorder.sample(t, &self.mode.spec, values);
         }
         Ok(true)
+    }
+
+    /// Rests guard `k` of the current mode on its threshold, where it was found crossing
+    /// but nothing switched: it fires once past it by more than the rounding of its terms
+    /// (`1e-9` of them, as [`Simulator::entered`] judges a value at its threshold).
+    fn rest_on_threshold(&mut self, k: usize, u: &[f64], rate: &[f64]) {
+        let guard = &self.mode.guards[k];
+        self.last_crossing = Some((guard.element, Why::of(guard, true), true));
+        self.armed[k] = true;
+        self.fire_above[k] = 1e-9 * guard.row.magnitude(&self.x, u, rate) + f64::MIN_POSITIVE;
     }
 
     /// Counts `count` more steps, taken by time `t`; an error past the run's limit.
@@ -1378,7 +1442,15 @@ impl<'s, 'm> Stepper<'s, 'm> {
         Ok(())
     }
 
-    fn check_chattering(&mut self, t: f64) -> Result<(), SimError> {
+    /// The event limit and the chattering checks, after a switch at `t` into `entered`.
+    ///
+    /// Chattering is many switches in a short time: within a millionth of the time so far
+    /// (Zeno behaviour), or, with the inputs steady, faster on average than the fastest time
+    /// scale of the modes entered. A contact switching every 50 µs in a motor whose fastest
+    /// time constant is 1.5 ms is not following its motion but rounding; a stick-slip cycle
+    /// switches at its period, several time scales apart, and a table that reverses every
+    /// microsecond sets off the switches by its breakpoints.
+    fn check_chattering(&mut self, t: f64, entered: &NumericMode) -> Result<(), SimError> {
         let settings = self.simulator.settings;
         self.stats.events = self.recorder.events.len();
         if self.stats.events > settings.max_events {
@@ -1387,14 +1459,38 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 limit: settings.max_events,
             });
         }
-        self.recent.push_back(t);
+        let rate = if entered.nonlinear.is_some() {
+            0.0
+        } else {
+            entered
+                .propagator
+                .eigenvalues()
+                .iter()
+                .map(|v| v.norm())
+                .filter(|r| r.is_finite())
+                .fold(0.0, f64::max)
+        };
+        self.recent.push_back((t, rate));
         while self.recent.len() > settings.chatter_events {
             self.recent.pop_front();
         }
-        let window = settings.chatter_window * t.max(1.0);
-        let span =
-            self.recent.back().copied().unwrap_or(t) - self.recent.front().copied().unwrap_or(t);
-        if self.recent.len() == settings.chatter_events && span < window {
+        if self.recent.len() < settings.chatter_events {
+            return Ok(());
+        }
+        let first = self.recent.front().map_or(t, |r| r.0);
+        let span = t - first;
+        let zeno = settings.chatter_window * t.max(1.0);
+        let fastest = self.recent.iter().map(|r| r.1).fold(0.0, f64::max);
+        let steady = {
+            let next = self.breakpoints.partition_point(|b| *b < first);
+            self.breakpoints.get(next).is_none_or(|b| *b > t)
+        };
+        let time_scale = (fastest > 0.0 && steady)
+            .then(|| 1.0 / fastest)
+            .filter(|scale| {
+                span < settings.chatter_events as f64 * settings.chatter_time_scales * scale
+            });
+        if span < zeno || time_scale.is_some() {
             let model = self.simulator.model;
             let mut elements: Vec<String> = self
                 .recorder
@@ -1406,11 +1502,19 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 .collect();
             elements.sort();
             elements.dedup();
+            let reason = self
+                .recorder
+                .events
+                .last()
+                .map(|e| e.to_event(model).reason)
+                .unwrap_or_default();
             return Err(SimError::Chattering {
                 t,
                 events: settings.chatter_events,
-                window,
+                window: if span < zeno { zeno } else { span },
                 elements,
+                reason,
+                time_scale: if span < zeno { None } else { time_scale },
             });
         }
         Ok(())
@@ -1458,21 +1562,60 @@ fn event_time(start: f64, tau: f64, end: f64) -> f64 {
     time.min(end)
 }
 
+/// Whether a guard found crossing only touches its threshold: on it, level there (its value
+/// and rate zero up to the rounding of their terms) and not turning into it (its second
+/// derivative likewise). A guard past its threshold at a segment's start (an input that
+/// jumped) does not.
+///
+/// Only guards on an effort (a contact's holding force, a string's tension, a flow limit's
+/// restraining effort) are judged so: their terms are the forces that balance, the scale
+/// rounding is judged against. A velocity or an extension is a state of its own, its one
+/// term itself, and a velocity at rest on zero has no scale to be judged against.
+fn touches(mode: &NumericMode, guard: &NumericGuard, x: &[f64], u: &[f64], rate: &[f64]) -> bool {
+    if !watches_an_effort(guard) {
+        return false;
+    }
+    let value = guard.row.eval(x, u, rate);
+    if value.abs() > 1e-9 * guard.row.magnitude(x, u, rate) + f64::MIN_POSITIVE {
+        return false;
+    }
+    let first = mode.row_rate(&guard.row, x, u, rate);
+    if first.abs() > 1e-9 * mode.row_rate_magnitude(&guard.row, x, u, rate) {
+        return false;
+    }
+    let (second, rounding) = second_rate(mode, &guard.row, x, u, rate);
+    second <= rounding
+}
+
+/// Whether a guard watches an effort (a holding force, a tension, a restraining effort).
+fn watches_an_effort(guard: &NumericGuard) -> bool {
+    matches!(
+        guard.watched,
+        Watched::HoldingForce | Watched::Tension | Watched::RestrainingEffort
+    )
+}
+
 /// The second time derivative of a guard row along the mode's flow, inputs moving at
-/// `rate`: the difference of its first derivative over a step along `dx/dt`, exact for a
-/// linear mode (where the first derivative is affine) whatever the step.
+/// `rate`, and the rounding it carries: the difference of its first derivative over a step
+/// along `dx/dt`, exact for a linear mode (where the first derivative is affine) whatever the
+/// step, judged against `1e-9` of the terms of the two rates (as a rate is judged against
+/// its own terms; zero for a nonlinear mode, whose rates are judged exactly).
 fn second_rate(
     mode: &NumericMode,
     row: &crate::numeric::Row,
     x: &[f64],
     u: &[f64],
     rate: &[f64],
-) -> f64 {
+) -> (f64, f64) {
     let dx = mode.derivative(x, u);
     let step = if mode.nonlinear.is_some() { 1e-6 } else { 1.0 };
     let later: Vec<f64> = x.iter().zip(&dx).map(|(x, d)| x + step * d).collect();
     let u_later: Vec<f64> = u.iter().zip(rate).map(|(u, r)| u + step * r).collect();
-    (mode.row_rate(row, &later, &u_later, rate) - mode.row_rate(row, x, u, rate)) / step
+    let second =
+        (mode.row_rate(row, &later, &u_later, rate) - mode.row_rate(row, x, u, rate)) / step;
+    let terms = mode.row_rate_magnitude(row, &later, &u_later, rate)
+        + mode.row_rate_magnitude(row, x, u, rate);
+    (second, 1e-9 * terms / step)
 }
 
 fn values_at(inputs: &[&dyn Signal], t: f64) -> (Vec<f64>, Vec<f64>) {

@@ -220,3 +220,177 @@ fn time_stopping_near_zero_quotes_the_resolution_of_time_there() {
         "{message}"
     );
 }
+
+/// The geared motor (`models/examples/geared_motor/geared_motor.ron`) with frictionless
+/// bearings (`T_S = T_C = 0`, their dead band kept at 1e-6 rad/s) and `K = 0.05 N·m/A`, so
+/// that 1 V against a brake of 0.5 N·m is an exact balance at rest: the stall torque
+/// `N K V/R_a = 20 · 0.05 · 1/2` is 0.5 N·m.
+fn motor_at_balance() -> Model {
+    let path = "models/examples/geared_motor/geared_motor.ron";
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("..")
+            .join(path),
+    )
+    .unwrap();
+    let mut edited = text.clone();
+    for (from, to) in [
+        ("\"K\": (value: 0.04,", "\"K\": (value: 0.05,"),
+        ("\"T_S\": (value: 0.25,", "\"T_S\": (value: 0.0,"),
+        ("\"T_C\": (value: 0.2,", "\"T_C\": (value: 0.0,"),
+    ] {
+        assert!(edited.contains(from), "{from}");
+        edited = edited.replace(from, to);
+    }
+    model::load_str(path, &edited).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The motor at balance driven by `brake` (N·m) at 1 V for 5 s from `state` (`p` of the
+/// winding, `p` of the load), stuck.
+fn run_motor(model: &Model, brake: &dyn Signal, state: Vec<f64>) -> Trajectory {
+    let volts = Constant(1.0);
+    let inputs: [&dyn Signal; 2] = [&volts, brake];
+    Simulator::new(model, Vec::new())
+        .run(&Run {
+            inputs: &inputs,
+            initial_mode: Mode::initial(model),
+            initial_state: state,
+            duration: 5.0,
+            sample: None,
+            audit_energy: false,
+        })
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The current `i = p/L_a` and speed `w = p/J` at the end of a motor run.
+fn current_and_speed(trajectory: &Trajectory) -> (f64, f64) {
+    let state: Vec<f64> = trajectory.final_state.iter().map(|(_, v)| *v).collect();
+    (state[0] / 0.003, state[1] / 0.01)
+}
+
+/// Item 13 (issue 37, item 6): a contact with zero breakaway at exact force balance once
+/// chattered (stuck -> slip -> stuck every few tens of microseconds, 100 000 events by
+/// 2.3 s), each switch set off by rounding: the holding force, exactly zero at balance, read
+/// ±1e-17 N·m, and the contact broke away and stuck again at the same instant.
+///
+/// From rest the motor draws no current yet, so the brake turns the shaft backwards at once
+/// (`slip-` at t = 0). Frictionless, `(i, w)` then follow `di/dt = (V - R_a i - K N w)/L_a`,
+/// `dw/dt = (K N i - b w - τ)/J`, eigenvalues -56.64 and -612.03 /s: `w = -0.0900 (e^{-56.64
+/// t} - e^{-612.03 t})`, negative for every t > 0, tends to zero and `i` to 0.5 A. Once the
+/// speed is at rounding level the contact may stick (it is in its dead band and holds zero
+/// force), but nothing more happens: at most the breakaway and one stick (two switches at one
+/// instant), and at 5 s the motor is at rest at 0.5 A.
+#[test]
+fn a_contact_at_exact_balance_with_zero_breakaway_does_not_chatter() {
+    let model = motor_at_balance();
+    let trajectory = run_motor(&model, &Constant(0.5), vec![0.0, 0.0]);
+    let events = &trajectory.events;
+    assert!(!events.is_empty() && events.len() <= 3, "{events:#?}");
+    assert_eq!(
+        (events[0].t, events[0].to.as_str()),
+        (0.0, "bearings=slip-")
+    );
+    let (i, w) = current_and_speed(&trajectory);
+    assert!((i - 0.5).abs() <= 1e-12, "i = {i}");
+    assert!(w.abs() <= 1e-12, "w = {w}");
+}
+
+/// Item 13: started at the balance (0.5 A, at rest) the contact is stuck and stays so: a
+/// Karnopp contact holds a force within its breakaway force, here zero within rounding, and no
+/// event happens in 5 s.
+#[test]
+fn a_contact_started_at_exact_balance_stays_stuck() {
+    let model = motor_at_balance();
+    let trajectory = run_motor(&model, &Constant(0.5), vec![0.5 * 0.003, 0.0]);
+    assert!(trajectory.events.is_empty(), "{:#?}", trajectory.events);
+    assert_eq!(trajectory.final_mode, "bearings=stuck");
+    let (i, w) = current_and_speed(&trajectory);
+    assert!((i - 0.5).abs() <= 1e-12, "i = {i}");
+    assert_eq!(w, 0.0);
+}
+
+/// Item 13: a contact resting at balance still breaks away when the balance goes: the brake
+/// eases to 0.4 N·m at 1 s, the shaft turns forwards at once and settles where the motor's
+/// torque, less the brake, meets the viscous and back-EMF losses:
+/// `w = (N K V/R_a - τ)/(b + (N K)²/R_a) = 0.1/0.52 rad/s`, `i = (V - N K w)/R_a`.
+#[test]
+fn a_contact_resting_at_balance_breaks_away_when_the_balance_goes() {
+    let model = motor_at_balance();
+    let brake = Table::Step {
+        at: 1.0,
+        before: 0.5,
+        after: 0.4,
+    };
+    let trajectory = run_motor(&model, &brake, vec![0.5 * 0.003, 0.0]);
+    let events: Vec<(f64, &str)> = trajectory
+        .events
+        .iter()
+        .map(|e| (e.t, e.to.as_str()))
+        .collect();
+    assert_eq!(events, [(1.0, "bearings=slip+")]);
+    let (i, w) = current_and_speed(&trajectory);
+    let speed = 0.1 / 0.52;
+    assert!((w - speed).abs() <= 1e-12, "w = {w}");
+    assert!((i - (1.0 - speed) / 2.0).abs() <= 1e-12, "i = {i}");
+}
+
+/// Item 13: switching faster than the motion can move is chattering, whatever the time: a
+/// number of switches in a row with the inputs steady, closer on average than the fastest
+/// time scale of the modes they enter. The belt (`belt_friction.ron` at 0.1 m/s, see
+/// `stick_slip.rs`) slips at ω = 10 rad/s, a time scale of 0.1 s (stuck, it has none): it
+/// breaks away at 1 s, sticks `s = (π - atan 4)/5` later and breaks away again at 1.8 + s,
+/// three switches in 0.8 + s = 1.16 s. Three switches closer than ten time scales each (3 s)
+/// are chattering at the third, named with the time scale and the last reason; closer than
+/// one (0.3 s, the default factor) they are not, and the cycle runs its 20 s.
+#[test]
+fn switching_faster_than_the_modes_time_scales_is_chattering() {
+    use bondgraph_solver::{Settings, SimError};
+    let model = load("models/examples/belt_friction.ron");
+    let belt = Constant(0.1);
+    let inputs: [&dyn Signal; 1] = [&belt];
+    let run = |factor: f64| {
+        Simulator::new(&model, Vec::new())
+            .with_settings(Settings {
+                chatter_events: 3,
+                chatter_time_scales: factor,
+                ..Settings::default()
+            })
+            .run(&Run {
+                inputs: &inputs,
+                initial_mode: Mode::initial(&model),
+                initial_state: vec![0.0, 0.0],
+                duration: 20.0,
+                sample: None,
+                audit_energy: false,
+            })
+    };
+    let slip = (std::f64::consts::PI - 4f64.atan()) / 5.0;
+    let error = run(10.0).unwrap_err();
+    let message = error.to_string();
+    match &error {
+        SimError::Chattering {
+            t,
+            events,
+            window,
+            elements,
+            time_scale,
+            ..
+        } => {
+            assert_eq!(*events, 3);
+            assert!((t - (1.8 + slip)).abs() < 1e-9, "{message}");
+            assert!((window - (0.8 + slip)).abs() < 1e-9, "{message}");
+            assert_eq!(elements, &["friction"]);
+            assert!((time_scale.unwrap() - 0.1).abs() < 1e-12, "{message}");
+        }
+        _ => panic!("{message}"),
+    }
+    assert!(
+        message.contains("faster than the modes' fastest time scale (1e-1 s)")
+            && message.contains(
+                "switching 'friction' (the last: holding force reached the breakaway force)"
+            ),
+        "{message}"
+    );
+    let trajectory = run(1.0).unwrap_or_else(|e| panic!("{e}"));
+    assert!(trajectory.events.len() > 20, "{:#?}", trajectory.events);
+}

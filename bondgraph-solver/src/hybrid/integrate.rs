@@ -189,20 +189,23 @@ impl System for Segment<'_> {
     }
 }
 
-/// The guards' values, magnitudes and rates at a point, evaluated without allocating.
+/// The guards' values (less the levels they must rise to before they fire), magnitudes and
+/// rates at a point, evaluated without allocating.
 struct Guards<'a> {
     nl: &'a NonlinearNumeric,
     scratch: Vec<f64>,
     out: Vec<f64>,
     input: Vec<f64>,
+    fire_above: Vec<f64>,
 }
 
 impl<'a> Guards<'a> {
-    fn new(nl: &'a NonlinearNumeric) -> Self {
+    fn new(nl: &'a NonlinearNumeric, fire_above: &[f64]) -> Self {
         Self {
             scratch: nl.guards.scratch(),
             out: vec![0.0; nl.guards.output_count()],
             input: vec![0.0; nl.n + 2 * nl.m],
+            fire_above: fire_above.to_vec(),
             nl,
         }
     }
@@ -224,7 +227,7 @@ impl<'a> Guards<'a> {
     }
 
     fn value(&self, k: usize) -> f64 {
-        self.out[3 * k]
+        self.out[3 * k] - self.fire_above[k]
     }
 
     fn rate(&self, k: usize) -> f64 {
@@ -357,7 +360,7 @@ impl Stepper<'_, '_> {
         let size = system.dimension();
         let mut z = vec![0.0; size];
         z[..n].copy_from_slice(&self.x);
-        let mut guards = Guards::new(&nl);
+        let mut guards = Guards::new(&nl, &self.fire_above);
         let guard_count = guards.count();
         let mode_index = self.sample.map(|_| self.recorder.mode_index(&current.spec));
         let start = self.t;
@@ -391,7 +394,7 @@ impl Stepper<'_, '_> {
         let mut before = vec![0.0; size];
         let mut point = vec![0.0; size];
         let mut crossing: Option<Crossing> = None;
-        let mut look_guards = Guards::new(&nl);
+        let mut look_guards = Guards::new(&nl, &self.fire_above);
         let mut look_point = vec![0.0; size];
         while tau < length {
             let step = h.min(length - tau);
