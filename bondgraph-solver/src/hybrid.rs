@@ -34,6 +34,7 @@ mod recorder;
 mod sample_times;
 mod stall;
 mod step_guards;
+mod time_scale;
 use crate::numeric::{ModeForms, NumericGuard, NumericMode, Storage, dot};
 use crate::propagate::SegmentBuffers;
 use crossing::{Crossed, Trigger};
@@ -41,6 +42,7 @@ use num_complex::Complex64;
 use recorder::{Recorded, Recorder, Switched, Why};
 use sample_times::SampleTimes;
 pub use stall::{STALLED_SEGMENTS, Stall};
+pub use time_scale::TimeScale;
 
 /// A time-varying input, piecewise linear between its breakpoints.
 pub trait Signal {
@@ -69,8 +71,9 @@ pub struct Settings {
     /// The most events a run may have (by default
     /// [`bondgraph_core::limits::MAX_EVENTS`]).
     pub max_events: usize,
-    /// The most steps a run may take: integration steps plus event-location samples (by
-    /// default [`bondgraph_core::limits::MAX_STEPS`]).
+    /// The most steps a run may take: integration steps (each attempt, and each exact step
+    /// that lands on an event) plus event-location samples (by default
+    /// [`bondgraph_core::limits::MAX_STEPS`], a few seconds of work).
     pub max_steps: u64,
     /// This many events within `chatter_window` times the current time (at least one
     /// second) is chattering (Zeno behaviour).
@@ -242,6 +245,10 @@ pub enum SimError {
         t: f64,
         /// The limit.
         limit: u64,
+        /// The last integration step's length, on the integrated path.
+        step: Option<f64>,
+        /// The fastest time scale of the mode there.
+        time_scale: Option<TimeScale>,
     },
     /// Time stopped advancing: integration steps under the resolution of time at `t`, or
     /// segments that ended where they began.
@@ -281,7 +288,8 @@ impl fmt::Display for SimError {
             SimError::Inputs(message) => write!(f, "{message}"),
             SimError::NoConsistentMode { t, tried, elements } => write!(
                 f,
-                "at t = {t} s no mode is consistent: switching {} cycles through {}",
+                "at t = {} s no mode is consistent: switching {} cycles through {}",
+                At(*t),
                 quoted(elements),
                 tried.join(" -> ")
             ),
@@ -295,7 +303,8 @@ impl fmt::Display for SimError {
             } => {
                 write!(
                     f,
-                    "chattering at t = {t} s: {events} events in {window:e} s"
+                    "chattering at t = {} s: {events} events in {window:e} s",
+                    At(*t)
                 )?;
                 if let Some(scale) = time_scale {
                     write!(
@@ -308,7 +317,8 @@ impl fmt::Display for SimError {
             }
             SimError::Stalled { t, mode, cause } => write!(
                 f,
-                "time stopped advancing at t = {t} s{}: {cause}",
+                "time stopped advancing at t = {} s{}: {cause}",
+                At(*t),
                 in_mode(mode)
             ),
             SimError::TooManyCombinations {
@@ -318,24 +328,43 @@ impl fmt::Display for SimError {
                 limit,
             } => write!(
                 f,
-                "at t = {t} s no single switch is consistent, and the modes of {} combine in {combinations} ways, over the limit of {limit} searched",
+                "at t = {} s no single switch is consistent, and the modes of {} combine in {combinations} ways, over the limit of {limit} searched",
+                At(*t),
                 quoted(elements)
             ),
             SimError::TooManyEvents { t, limit } => {
-                write!(f, "more than {limit} events by t = {t} s")
+                write!(f, "more than {limit} events by t = {} s", At(*t))
             }
-            SimError::TooManySteps { t, limit } => write!(
-                f,
-                "more than {limit} steps (integration steps and event-location samples) by t = {t} s: the duration is too long for the model's time scales"
-            ),
+            SimError::TooManySteps {
+                t,
+                limit,
+                step,
+                time_scale,
+            } => {
+                write!(
+                    f,
+                    "more than {limit} steps (integration steps and event-location samples) by t = {} s",
+                    At(*t)
+                )?;
+                if let Some(step) = step {
+                    write!(f, ", the last {step:e} s long")?;
+                }
+                write!(f, ": the duration is too long for the model's time scales")?;
+                match time_scale {
+                    Some(scale) => write!(f, " (the fastest there: {scale})"),
+                    None => Ok(()),
+                }
+            }
             SimError::NonFiniteOutput { t, mode, outputs } => write!(
                 f,
-                "at t = {t} s in mode {mode} the outputs {} are no longer finite",
+                "at t = {} s in mode {mode} the outputs {} are no longer finite",
+                At(*t),
                 quoted(outputs)
             ),
             SimError::NonFinite { t, mode, states } => write!(
                 f,
-                "at t = {t} s in mode {mode} the states {} are no longer finite",
+                "at t = {} s in mode {mode} the states {} are no longer finite",
+                At(*t),
                 quoted(states)
             ),
         }
@@ -343,6 +372,21 @@ impl fmt::Display for SimError {
 }
 
 impl std::error::Error for SimError {}
+
+/// A time in a message: as a decimal, or in exponent form when that would run to dozens of
+/// digits (a run stopped at 6e-256 s).
+struct At(f64);
+
+impl fmt::Display for At {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let t = self.0;
+        if t != 0.0 && (t.abs() < 1e-4 || t.abs() >= 1e16) {
+            write!(f, "{t:e}")
+        } else {
+            write!(f, "{t}")
+        }
+    }
+}
 
 /// ` in mode SPEC`, or nothing for a model without switching (whose mode is empty).
 fn in_mode(mode: &str) -> String {
@@ -1187,7 +1231,10 @@ impl<'s, 'm> Stepper<'s, 'm> {
             &mut samples,
             &mut self.simulator.scratch,
         );
-        self.take_steps(samples, self.t)?;
+        if self.over_step_limit(samples) {
+            let scale = TimeScale::of_eigenvalues(current.propagator.eigenvalues());
+            return Err(self.too_many_steps(self.t, None, scale));
+        }
         // An event's state is the root's, where its guard is exactly at its threshold (see
         // `event_time` for its time).
         let (crossing, stop, stop_time) = match located {
@@ -1432,14 +1479,21 @@ impl<'s, 'm> Stepper<'s, 'm> {
         self.fire_above[k] = 1e-9 * guard.row.magnitude(&self.x, u, rate) + f64::MIN_POSITIVE;
     }
 
-    /// Counts `count` more steps, taken by time `t`; an error past the run's limit.
-    fn take_steps(&mut self, count: u64, t: f64) -> Result<(), SimError> {
+    /// Counts `count` more steps; whether the run is now past its limit.
+    fn over_step_limit(&mut self, count: u64) -> bool {
         self.steps += count;
-        let limit = self.simulator.settings.max_steps;
-        if self.steps > limit {
-            return Err(SimError::TooManySteps { t, limit });
+        self.steps > self.simulator.settings.max_steps
+    }
+
+    /// The error of a run past its limit of steps at `t`, with the last integration step and
+    /// the mode's fastest time scale there where known.
+    fn too_many_steps(&self, t: f64, step: Option<f64>, time_scale: Option<TimeScale>) -> SimError {
+        SimError::TooManySteps {
+            t,
+            limit: self.simulator.settings.max_steps,
+            step,
+            time_scale,
         }
-        Ok(())
     }
 
     /// The event limit and the chattering checks, after a switch at `t` into `entered`.

@@ -394,3 +394,59 @@ fn switching_faster_than_the_modes_time_scales_is_chattering() {
     let trajectory = run(1.0).unwrap_or_else(|e| panic!("{e}"));
     assert!(trajectory.events.len() > 20, "{:#?}", trajectory.events);
 }
+
+/// Item 12: a run's budget of steps is seconds of work, and its message names the time scale
+/// that made the steps small. A Duffing oscillator (`models/examples/nonlinear/duffing.ron`)
+/// whose damper is seen through a transformer of ratio `r = 1e-154` is damped at
+/// `b/(r² m) = 0.1/1e-308 = 1e307 /s`: its momentum's time scale is 1e-307 s. Its steps
+/// crawled (1e-260 s at t = 1e-255 s) to the old limit of ten million steps, 84 s of work,
+/// the message saying only that the duration was too long; the default limit is now a
+/// million steps (about a second here), and the message names the time scale and its state.
+#[test]
+fn a_run_of_crawling_steps_stops_within_seconds_naming_its_time_scale() {
+    use bondgraph_solver::{Settings, SimError};
+    assert_eq!(Settings::default().max_steps, 1_000_000);
+    let text = r#"Model(name: "duffing_lever",
+    parameters: {"m": (value: 1.0), "k": (value: 1.0), "k_3": (value: 5.0), "b": (value: 0.1),
+        "r": (value: 1.0e-154)},
+    inputs: {"F": ()},
+    elements: {"force": Se(effort: "F"), "v": One, "lever": TF(ratio: "r"), "w": One,
+        "mass": I(inertance: "m"), "spring": C(effort: "k*q_spring + k_3*q_spring^3"),
+        "damper": R(resistance: "b")},
+    bonds: [("force", "v"), ("v", "lever"), ("lever", "w"), ("w", "mass"), ("w", "spring"),
+        ("v", "damper")])"#;
+    let model = model::load_str("duffing_lever.ron", text).unwrap_or_else(|e| panic!("{e}"));
+    let force = Constant(0.0);
+    let inputs: [&dyn Signal; 1] = [&force];
+    let error = Simulator::new(&model, Vec::new())
+        .run(&Run {
+            inputs: &inputs,
+            initial_mode: Mode::initial(&model),
+            initial_state: vec![0.0, 1.5],
+            duration: 20.0,
+            sample: None,
+            audit_energy: false,
+        })
+        .unwrap_err();
+    let message = error.to_string();
+    match &error {
+        SimError::TooManySteps {
+            t,
+            limit,
+            step,
+            time_scale,
+        } => {
+            assert_eq!(*limit, 1_000_000);
+            assert!(*t < 1e-200, "{message}");
+            assert!(step.is_some_and(|s| s < 1e-200), "{message}");
+            let scale = time_scale.as_ref().expect("a time scale");
+            assert!((scale.seconds / 1e-307 - 1.0).abs() < 1e-9, "{message}");
+            assert_eq!(scale.states, ["p_mass"]);
+        }
+        _ => panic!("{message}"),
+    }
+    assert!(
+        message.contains("(the fastest there: 1e-307 s, in 'p_mass')"),
+        "{message}"
+    );
+}

@@ -24,7 +24,7 @@ use bondgraph_core::symbolic::expr::Sym;
 
 use super::stall;
 use super::step_guards::{self, Look};
-use super::{SimError, Simulator, Stepper};
+use super::{SimError, Simulator, Stepper, TimeScale};
 use crate::events::Crossing;
 use crate::nonlinear::NonlinearNumeric;
 use crate::numeric::NumericMode;
@@ -264,7 +264,8 @@ struct Landing<'a> {
 }
 
 /// The state `hit` into the step into `point`: by an exact step, or on the dense output
-/// where Radau's Newton iteration does not converge.
+/// where Radau's Newton iteration does not converge. Each is a step's work, counted in
+/// `steps`.
 fn place(
     integrator: &mut Switching,
     system: &mut Segment<'_>,
@@ -272,7 +273,9 @@ fn place(
     hit: f64,
     reuse: bool,
     point: &mut [f64],
+    steps: &mut u64,
 ) {
+    *steps += 1;
     if !integrator.step_exact(system, at.tau, at.before, hit, reuse, point) {
         integrator.dense(hit / at.step, point);
     }
@@ -286,7 +289,7 @@ fn place(
 /// as the crossing not made (taut and slack each sending the string to the other); as
 /// Brent's method does on the closed-form path, the landing then moves on by a few ulps
 /// until the guard is at or above zero. Returns the time into the step, the state there in
-/// `point`.
+/// `point`, and counts the exact steps taken in `steps`.
 fn land_on_crossing(
     integrator: &mut Switching,
     system: &mut Segment<'_>,
@@ -294,12 +297,13 @@ fn land_on_crossing(
     at: Landing<'_>,
     mut hit: f64,
     point: &mut [f64],
+    steps: &mut u64,
 ) -> f64 {
     let k = at.guard;
     let resolution = |hit: f64| 4.0 * f64::EPSILON * (at.start + hit).abs().max(1e-300);
     let mut placed = None;
     for _ in 0..8 {
-        place(integrator, system, &at, hit, placed.is_some(), point);
+        place(integrator, system, &at, hit, placed.is_some(), point, steps);
         placed = Some(hit);
         guards.at(at.tau + hit, point, at.u0, at.u1);
         let (g, rate) = (guards.value(k), guards.rate(k));
@@ -314,7 +318,7 @@ fn land_on_crossing(
         }
     }
     if placed != Some(hit) {
-        place(integrator, system, &at, hit, true, point);
+        place(integrator, system, &at, hit, true, point, steps);
         guards.at(at.tau + hit, point, at.u0, at.u1);
     }
     let mut nudge = resolution(hit);
@@ -323,7 +327,7 @@ fn land_on_crossing(
             break;
         }
         hit = (hit + nudge).min(at.step);
-        place(integrator, system, &at, hit, true, point);
+        place(integrator, system, &at, hit, true, point, steps);
         guards.at(at.tau + hit, point, at.u0, at.u1);
         nudge *= 2.0;
     }
@@ -428,7 +432,9 @@ impl Stepper<'_, '_> {
                 });
             }
             before.copy_from_slice(&z);
-            self.take_steps(1, start + tau)?;
+            if self.over_step_limit(1) {
+                return Err(self.too_many_steps_at(&mut system, start + tau, &z, step, &current));
+            }
             match integrator.step(&mut system, tau, &mut z, step) {
                 StepOutcome::Rejected { h_next } => {
                     h = h_next;
@@ -477,6 +483,7 @@ impl Stepper<'_, '_> {
                 )
             };
             if let Some((k, theta)) = found {
+                let mut landing_steps = 0;
                 let hit = land_on_crossing(
                     &mut integrator,
                     &mut system,
@@ -492,7 +499,17 @@ impl Stepper<'_, '_> {
                     },
                     theta * step,
                     &mut point,
+                    &mut landing_steps,
                 );
+                if self.over_step_limit(landing_steps) {
+                    return Err(self.too_many_steps_at(
+                        &mut system,
+                        start + tau + hit,
+                        &point,
+                        step,
+                        &current,
+                    ));
+                }
                 self.sample_until(
                     &mut system,
                     start + tau,
@@ -532,6 +549,23 @@ impl Stepper<'_, '_> {
         };
         self.x = z[..n].to_vec();
         Ok(crossing)
+    }
+
+    /// The error of a run past its limit of steps at `time`, in state `z` of `mode`, its last
+    /// step `step` long: with the fastest time scale its Jacobian shows there.
+    fn too_many_steps_at(
+        &self,
+        system: &mut Segment<'_>,
+        time: f64,
+        z: &[f64],
+        step: f64,
+        mode: &NumericMode,
+    ) -> SimError {
+        let size = system.dimension();
+        let mut jacobian = vec![0.0; size * size];
+        system.jacobian(time - self.t, z, &mut jacobian);
+        let scale = TimeScale::of_jacobian(&jacobian, system.nl.n, size, &mode.state_names);
+        self.too_many_steps(time, Some(step), scale)
     }
 
     /// Whether a sample is due at or before `time`.
