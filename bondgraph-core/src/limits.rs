@@ -44,16 +44,19 @@ pub const MAX_SAMPLES: u64 = 1_000_000;
 
 /// The most events (mode changes) one simulation may have, by default. Chattering (many
 /// events in a short time) is caught long before; this bounds a run that switches at a
-/// steady pace for a very long time (the belt's stick-slip, two events every 1.16 s, reaches
-/// it after 58 000 s simulated, in about ten seconds).
+/// steady pace for a very long time (the belt's stick-slip, two events every 1.16 s, would
+/// reach it after 58 000 s simulated; [`MAX_STEPS`] stops it first, at 50 573 s).
 pub const MAX_EVENTS: usize = 100_000;
 
 /// The most steps one simulation may take: the integrator's steps in nonlinear modes
-/// (accepted or rejected) plus the event locator's samples in linear modes. Time is what a
-/// step costs (a microsecond or so), and duration is what takes steps: a pendulum released
-/// for 1e12 s once integrated for ever. The belt's stick-slip reaches its 100 000 events in
-/// 700 000 samples.
-pub const MAX_STEPS: u64 = 10_000_000;
+/// (accepted or rejected, and the exact steps that land on events) plus the event
+/// locator's samples in linear modes. A step costs about a microsecond on the textbook
+/// models (up to ten with events or in the subnormal range), so the limit is seconds of
+/// work: a pendulum released for 1e12 s, which once integrated for ever, stops at
+/// t = 60 587 s; a velocity damped at 1e307 /s, whose steps were 1e-260 s, stops with that
+/// time scale named, where ten million steps took 84 s. The belt's stick-slip takes about
+/// seven samples an event.
+pub const MAX_STEPS: u64 = 1_000_000;
 
 /// The most modes `check` and `modes` enumerate for one model, and the most combinations
 /// a simulation searches when no single switch is consistent. Each friction contact has

@@ -244,7 +244,9 @@ pub struct Scratch {
 
 /// The first crossing of an armed guard in `(0, length]`, arming guards seen below their
 /// `arm_below` level (zero, or minus a rounding tolerance for a guard whose switch was just
-/// declined, so that rounding noise about zero cannot fire it again and again).
+/// declined, so that rounding noise about zero cannot fire it again and again). Each guard
+/// is taken less its `fire_above` level (zero, or the rounding of its terms for a guard at
+/// rest on its threshold, which fires only once clearly past it).
 ///
 /// # Arguments
 /// The inputs are `u₀ + u₁ τ` over the segment. `window` is how long a stretch the samples
@@ -266,6 +268,7 @@ pub fn first_crossing(
     window: f64,
     armed: &mut [bool],
     arm_below: &[f64],
+    fire_above: &[f64],
     samples: &mut u64,
     scratch: &mut Scratch,
 ) -> Located {
@@ -297,7 +300,7 @@ pub fn first_crossing(
     let modal = segment
         .vectors()
         .is_some()
-        .then(|| ModalGuards::new(mode, n, u0, u1, offsets));
+        .then(|| ModalGuards::new(mode, n, u0, u1, fire_above, offsets));
     // The state and inputs at `τ`, for a segment that is not modal.
     if modal.is_none() {
         x.resize(n, 0.0);
@@ -317,7 +320,12 @@ pub fn first_crossing(
         for (k, slot) in u.iter_mut().enumerate() {
             *slot = u0[k] + u1[k] * tau;
         }
-        values.extend(mode.guards.iter().map(|g| g.row.eval(x, u, u1)));
+        values.extend(
+            mode.guards
+                .iter()
+                .zip(fire_above)
+                .map(|(g, level)| g.row.eval(x, u, u1) - level),
+        );
     };
     evaluate(segment, 0.0, previous);
     // An armed guard already at zero fires at once (an event exactly at a breakpoint).
@@ -582,18 +590,19 @@ struct ModalGuards<'m> {
 }
 
 impl<'m> ModalGuards<'m> {
-    /// The guards of `mode` over a segment with inputs `u₀ + u₁ τ`, their offsets in the
-    /// buffer `offsets`.
+    /// The guards of `mode` over a segment with inputs `u₀ + u₁ τ`, less the levels they
+    /// must rise to before they fire, their offsets in the buffer `offsets`.
     fn new(
         mode: &'m NumericMode,
         n: usize,
         u0: &[f64],
         u1: &[f64],
+        fire_above: &[f64],
         offsets: &'m mut Vec<(f64, f64)>,
     ) -> Self {
         offsets.clear();
-        offsets.extend(mode.guards.iter().map(|g| {
-            let a = dot(&g.row.input, u0) + dot(&g.row.rate, u1) + g.row.constant;
+        offsets.extend(mode.guards.iter().zip(fire_above).map(|(g, level)| {
+            let a = dot(&g.row.input, u0) + dot(&g.row.rate, u1) + g.row.constant - level;
             (a, dot(&g.row.input, u1))
         }));
         ModalGuards {

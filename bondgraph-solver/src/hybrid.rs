@@ -31,14 +31,18 @@ mod combinations;
 mod crossing;
 mod integrate;
 mod recorder;
+mod sample_times;
 mod stall;
 mod step_guards;
+mod time_scale;
 use crate::numeric::{ModeForms, NumericGuard, NumericMode, Storage, dot};
 use crate::propagate::SegmentBuffers;
 use crossing::{Crossed, Trigger};
 use num_complex::Complex64;
 use recorder::{Recorded, Recorder, Switched, Why};
+use sample_times::SampleTimes;
 pub use stall::{STALLED_SEGMENTS, Stall};
+pub use time_scale::TimeScale;
 
 /// A time-varying input, piecewise linear between its breakpoints.
 pub trait Signal {
@@ -67,14 +71,19 @@ pub struct Settings {
     /// The most events a run may have (by default
     /// [`bondgraph_core::limits::MAX_EVENTS`]).
     pub max_events: usize,
-    /// The most steps a run may take: integration steps plus event-location samples (by
-    /// default [`bondgraph_core::limits::MAX_STEPS`]).
+    /// The most steps a run may take: integration steps (each attempt, and each exact step
+    /// that lands on an event) plus event-location samples (by default
+    /// [`bondgraph_core::limits::MAX_STEPS`], a few seconds of work).
     pub max_steps: u64,
     /// This many events within `chatter_window` times the current time (at least one
-    /// second) is chattering.
+    /// second) is chattering (Zeno behaviour).
     pub chatter_events: usize,
     /// See `chatter_events`.
     pub chatter_window: f64,
+    /// `chatter_events` events in a row with the inputs steady (no breakpoint among them),
+    /// closer on average than this many of the fastest time scale of the (linear) modes they
+    /// entered, is chattering too: switching faster than the motion can move.
+    pub chatter_time_scales: f64,
 }
 
 impl Default for Settings {
@@ -84,6 +93,7 @@ impl Default for Settings {
             max_steps: bondgraph_core::limits::MAX_STEPS,
             chatter_events: 200,
             chatter_window: 1e-6,
+            chatter_time_scales: 1.0,
         }
     }
 }
@@ -204,6 +214,11 @@ pub enum SimError {
         window: f64,
         /// The elements that switched.
         elements: Vec<String>,
+        /// Why the last of them switched (the quantity at its threshold).
+        reason: String,
+        /// The fastest time scale of the modes entered, when the events came faster than
+        /// it with the inputs steady.
+        time_scale: Option<f64>,
     },
     /// No single switch is consistent, and the modes of the elements that kept switching
     /// have more combinations than the search may derive.
@@ -230,6 +245,10 @@ pub enum SimError {
         t: f64,
         /// The limit.
         limit: u64,
+        /// The last integration step's length, on the integrated path.
+        step: Option<f64>,
+        /// The fastest time scale of the mode there.
+        time_scale: Option<TimeScale>,
     },
     /// Time stopped advancing: integration steps under the resolution of time at `t`, or
     /// segments that ended where they began.
@@ -269,7 +288,8 @@ impl fmt::Display for SimError {
             SimError::Inputs(message) => write!(f, "{message}"),
             SimError::NoConsistentMode { t, tried, elements } => write!(
                 f,
-                "at t = {t} s no mode is consistent: switching {} cycles through {}",
+                "at t = {} s no mode is consistent: switching {} cycles through {}",
+                At(*t),
                 quoted(elements),
                 tried.join(" -> ")
             ),
@@ -278,14 +298,27 @@ impl fmt::Display for SimError {
                 events,
                 window,
                 elements,
-            } => write!(
-                f,
-                "chattering at t = {t} s: {events} events in {window:e} s, switching {}",
-                quoted(elements)
-            ),
+                reason,
+                time_scale,
+            } => {
+                write!(
+                    f,
+                    "chattering at t = {} s: {events} events in {window:e} s",
+                    At(*t)
+                )?;
+                if let Some(scale) = time_scale {
+                    write!(
+                        f,
+                        " with the inputs steady, faster than the modes' fastest time scale \
+                         ({scale:e} s)"
+                    )?;
+                }
+                write!(f, ", switching {} (the last: {reason})", quoted(elements))
+            }
             SimError::Stalled { t, mode, cause } => write!(
                 f,
-                "time stopped advancing at t = {t} s{}: {cause}",
+                "time stopped advancing at t = {} s{}: {cause}",
+                At(*t),
                 in_mode(mode)
             ),
             SimError::TooManyCombinations {
@@ -295,24 +328,43 @@ impl fmt::Display for SimError {
                 limit,
             } => write!(
                 f,
-                "at t = {t} s no single switch is consistent, and the modes of {} combine in {combinations} ways, over the limit of {limit} searched",
+                "at t = {} s no single switch is consistent, and the modes of {} combine in {combinations} ways, over the limit of {limit} searched",
+                At(*t),
                 quoted(elements)
             ),
             SimError::TooManyEvents { t, limit } => {
-                write!(f, "more than {limit} events by t = {t} s")
+                write!(f, "more than {limit} events by t = {} s", At(*t))
             }
-            SimError::TooManySteps { t, limit } => write!(
-                f,
-                "more than {limit} steps (integration steps and event-location samples) by t = {t} s: the duration is too long for the model's time scales"
-            ),
+            SimError::TooManySteps {
+                t,
+                limit,
+                step,
+                time_scale,
+            } => {
+                write!(
+                    f,
+                    "more than {limit} steps (integration steps and event-location samples) by t = {} s",
+                    At(*t)
+                )?;
+                if let Some(step) = step {
+                    write!(f, ", the last {step:e} s long")?;
+                }
+                write!(f, ": the duration is too long for the model's time scales")?;
+                match time_scale {
+                    Some(scale) => write!(f, " (the fastest there: {scale})"),
+                    None => Ok(()),
+                }
+            }
             SimError::NonFiniteOutput { t, mode, outputs } => write!(
                 f,
-                "at t = {t} s in mode {mode} the outputs {} are no longer finite",
+                "at t = {} s in mode {mode} the outputs {} are no longer finite",
+                At(*t),
                 quoted(outputs)
             ),
             SimError::NonFinite { t, mode, states } => write!(
                 f,
-                "at t = {t} s in mode {mode} the states {} are no longer finite",
+                "at t = {} s in mode {mode} the states {} are no longer finite",
+                At(*t),
                 quoted(states)
             ),
         }
@@ -320,6 +372,21 @@ impl fmt::Display for SimError {
 }
 
 impl std::error::Error for SimError {}
+
+/// A time in a message: as a decimal, or in exponent form when that would run to dozens of
+/// digits (a run stopped at 6e-256 s).
+struct At(f64);
+
+impl fmt::Display for At {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let t = self.0;
+        if t != 0.0 && (t.abs() < 1e-4 || t.abs() >= 1e16) {
+            write!(f, "{t:e}")
+        } else {
+            write!(f, "{t}")
+        }
+    }
+}
 
 /// ` in mode SPEC`, or nothing for a model without switching (whose mode is empty).
 fn in_mode(mode: &str) -> String {
@@ -525,6 +592,7 @@ impl<'m> Simulator<'m> {
             run.initial_state.clone(),
             Some(sample),
         )?;
+        stepper.sample = stepper.sample.map(|times| times.ending_at(run.duration));
         if run.audit_energy || books {
             stepper.audit_energy();
         }
@@ -794,8 +862,11 @@ impl<'m> Simulator<'m> {
         // contact whose breakaway force equals its Coulomb force slipping at the instant the
         // force it would have to hold is the breakaway force (its acceleration is then zero
         // up to rounding, whose sign must not decide). The second derivative (the rate an
-        // instant later) decides.
-        second_rate(mode, &guard.row, x, u, rate) > 0.0
+        // instant later) decides; if it too is zero up to rounding the guard is at rest on its
+        // threshold (a contact holding exactly its breakaway force, zero at a balance with no
+        // breakaway), which leaves the mode nothing to leave for.
+        let (second, rounding) = second_rate(mode, &guard.row, x, u, rate);
+        second > rounding
     }
 
     /// Whether the element of a `requires_hold` guard can hold in the mode the guard leads
@@ -859,11 +930,16 @@ pub struct Stepper<'s, 'm> {
     /// The level below which each guard is armed: zero, or minus the rounding tolerance
     /// after its switch was declined.
     arm_below: Vec<f64>,
+    /// The level each guard must rise to before it fires: zero, or the rounding of its terms
+    /// for a guard whose crossing led straight back to the mode it left (see
+    /// [`Stepper::switch_at`]).
+    fire_above: Vec<f64>,
     integrals: Vec<f64>,
-    recent: VecDeque<f64>,
-    sample: Option<f64>,
-    /// The index of the next sample: its time is `index × sample`, not a running sum that
-    /// would drift by rounding.
+    /// The last switches: when, and the fastest rate (`max |λ|`) of the mode entered, zero
+    /// where unknown (a nonlinear mode).
+    recent: VecDeque<(f64, f64)>,
+    sample: Option<SampleTimes>,
+    /// The index of the next sample.
     next_sample: u64,
     recorder: Recorder,
     stats: Stats,
@@ -931,6 +1007,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
         Ok(Self {
             armed: vec![false; mode.guards.len()],
             arm_below: vec![0.0; mode.guards.len()],
+            fire_above: vec![0.0; mode.guards.len()],
             simulator,
             inputs,
             breakpoints,
@@ -939,7 +1016,9 @@ impl<'s, 'm> Stepper<'s, 'm> {
             mode,
             integrals: vec![0.0; outputs],
             recent: VecDeque::new(),
-            sample: sample.filter(|s| *s > 0.0 && s.is_finite()),
+            sample: sample
+                .filter(|s| *s > 0.0 && s.is_finite())
+                .map(SampleTimes::every),
             next_sample: 0,
             recorder,
             stats: Stats::default(),
@@ -1148,28 +1227,18 @@ impl<'s, 'm> Stepper<'s, 'm> {
             window,
             &mut self.armed,
             &self.arm_below,
+            &self.fire_above,
             &mut samples,
             &mut self.simulator.scratch,
         );
-        self.take_steps(samples, self.t)?;
-        // An event's state is the root's, where its guard is exactly at its threshold, and its
-        // time the root's rounded to a double. A root closer to the segment's start than the
-        // spacing of doubles there rounds back to the start; time must still advance, or each
-        // segment finds the root again (a belt's speed rising at 1e9 m/s² gains 8e-14 m/s in
-        // the 8e-23 s from 1 µs to such a root: time stood still while state and inputs
-        // disagreed, and the same stick was declined until 'time stopped advancing'). Such an
-        // event lands on the next double, its state still the root's: taken there instead, a
-        // stiff state would move on by what it changes in an ulp of time (the flagship's tip,
-        // with a time constant of 4e-18 s, went through zero velocity and back, and read as
-        // slipping both ways).
+        if self.over_step_limit(samples) {
+            let scale = TimeScale::of_eigenvalues(current.propagator.eigenvalues());
+            return Err(self.too_many_steps(self.t, None, scale));
+        }
+        // An event's state is the root's, where its guard is exactly at its threshold (see
+        // `event_time` for its time).
         let (crossing, stop, stop_time) = match located {
-            events::Located::Crossing(c) => {
-                let mut time = self.t + c.tau;
-                if c.tau > 0.0 && time <= self.t {
-                    time = self.t.next_up();
-                }
-                (Some(c), c.tau, time.min(end))
-            }
+            events::Located::Crossing(c) => (Some(c), c.tau, event_time(self.t, c.tau, end)),
             events::Located::Clear(reached) if reached < length => {
                 (None, reached, self.t + reached)
             }
@@ -1191,7 +1260,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
             .is_some()
             .then(|| SegmentBooks::new(&current, &segment, &u0, &u1));
         let (mut booked, mut booked_to) = (Increment::default(), 0.0);
-        if let Some(sample) = self.sample {
+        if let Some(times) = self.sample {
             let mode_index = self.recorder.mode_index(&current.spec);
             // In eigen-coordinates each output is Re(Σ c_j z_j(τ)) + a + b τ (and its integral
             // Re(Σ c_j ∫z_j) + a τ + b τ²/2), with c = row V, a = d·u₀ + r·u₁ + k, b = d·u₁.
@@ -1217,9 +1286,12 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 .any(|(_, c)| c.needs_books());
             // One sample's values, the buffer reused from sample to sample.
             let mut values: Vec<f64> = Vec::new();
-            while self.next_sample as f64 * sample <= self.t + stop {
-                let time = self.next_sample as f64 * sample;
-                let tau = (time - self.t).max(0.0);
+            loop {
+                let time = times.time(self.next_sample);
+                if time > stop_time {
+                    break;
+                }
+                let tau = (time - self.t).clamp(0.0, stop);
                 values.clear();
                 match (&modal, segment.modal_state_and_integral(tau)) {
                     (Some(coefficients), Some((z, iz))) => values.extend(
@@ -1364,6 +1436,17 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let (u, rate) = self.inputs_at(t);
         let full = current.reconstruct(&self.x, &u);
         let guard = &current.guards[crossing.guard];
+        if !guard.requires_hold && touches(&current, guard, &self.x, &u, &rate) {
+            // At rest on its threshold rather than crossing it: a stuck contact at an exact
+            // balance with no breakaway force, its holding force zero but for rounding, broke
+            // away on the rounding's sign and stuck again at once, every few tens of
+            // microseconds (100 000 events in 2.3 s). Nothing crosses, so nothing switches;
+            // the guard fires once it is past its threshold by more than the rounding of its
+            // terms. (A guard into `stuck` is left to its hold test: at rest at a balance the
+            // contact sticks.)
+            self.rest_on_threshold(crossing.guard, &u, &rate);
+            return Ok(false);
+        }
         if guard.requires_hold && !self.simulator.can_hold(&current, guard, &full, &u, &rate)? {
             self.last_crossing = Some((guard.element, Why::of(guard, true), true));
             // Static friction cannot hold (or a flow limit would hold back nothing): no
@@ -1374,11 +1457,8 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 -(1e-9 * guard.row.magnitude(&self.x, &u, &rate) + f64::MIN_POSITIVE);
             return Ok(false);
         }
-        if self.sample.is_some() {
-            let values = self.outputs();
-            self.recorder.sample(t, &current.spec, values);
-        }
         let target = current.mode.with(guard.element, guard.leaves_to);
+        let events_before = self.recorder.events.len();
         let next = self.simulator.resolve(
             target,
             &full,
@@ -1397,7 +1477,20 @@ impl<'s, 'm> Stepper<'s, 'm> {
             }),
             &mut self.recorder,
         )?;
-        self.check_chattering(t)?;
+        if next.mode == current.mode && watches_an_effort(guard) {
+            // Straight back to the mode it left, at the same instant: the modes at this
+            // instant say the guard did not cross (a contact at a balance breaking away and
+            // sticking again at once, in a nonlinear mode, whose rates are judged exactly).
+            // Nothing switched, so no event is recorded.
+            self.recorder.events.truncate(events_before);
+            self.rest_on_threshold(crossing.guard, &u, &rate);
+            return Ok(false);
+        }
+        if self.sample.is_some() {
+            let values = self.outputs();
+            self.recorder.sample(t, &current.spec, values);
+        }
+        self.check_chattering(t, &next)?;
         self.mode = next;
         self.x = self.mode.project(&full, &u);
         if self.x.iter().any(|v| !v.is_finite()) {
@@ -1413,6 +1506,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
         }
         self.armed = vec![false; self.mode.guards.len()];
         self.arm_below = vec![0.0; self.mode.guards.len()];
+        self.fire_above = vec![0.0; self.mode.guards.len()];
         self.recorder.enter(&self.mode.spec, t);
         if self.sample.is_some() {
             let values = self.outputs();
@@ -1421,17 +1515,42 @@ impl<'s, 'm> Stepper<'s, 'm> {
         Ok(true)
     }
 
-    /// Counts `count` more steps, taken by time `t`; an error past the run's limit.
-    fn take_steps(&mut self, count: u64, t: f64) -> Result<(), SimError> {
-        self.steps += count;
-        let limit = self.simulator.settings.max_steps;
-        if self.steps > limit {
-            return Err(SimError::TooManySteps { t, limit });
-        }
-        Ok(())
+    /// Rests guard `k` of the current mode on its threshold, where it was found crossing
+    /// but nothing switched: it fires once past it by more than the rounding of its terms
+    /// (`1e-9` of them, as [`Simulator::entered`] judges a value at its threshold).
+    fn rest_on_threshold(&mut self, k: usize, u: &[f64], rate: &[f64]) {
+        let guard = &self.mode.guards[k];
+        self.last_crossing = Some((guard.element, Why::of(guard, true), true));
+        self.armed[k] = true;
+        self.fire_above[k] = 1e-9 * guard.row.magnitude(&self.x, u, rate) + f64::MIN_POSITIVE;
     }
 
-    fn check_chattering(&mut self, t: f64) -> Result<(), SimError> {
+    /// Counts `count` more steps; whether the run is now past its limit.
+    fn over_step_limit(&mut self, count: u64) -> bool {
+        self.steps += count;
+        self.steps > self.simulator.settings.max_steps
+    }
+
+    /// The error of a run past its limit of steps at `t`, with the last integration step and
+    /// the mode's fastest time scale there where known.
+    fn too_many_steps(&self, t: f64, step: Option<f64>, time_scale: Option<TimeScale>) -> SimError {
+        SimError::TooManySteps {
+            t,
+            limit: self.simulator.settings.max_steps,
+            step,
+            time_scale,
+        }
+    }
+
+    /// The event limit and the chattering checks, after a switch at `t` into `entered`.
+    ///
+    /// Chattering is many switches in a short time: within a millionth of the time so far
+    /// (Zeno behaviour), or, with the inputs steady, faster on average than the fastest time
+    /// scale of the modes entered. A contact switching every 50 µs in a motor whose fastest
+    /// time constant is 1.5 ms is not following its motion but rounding; a stick-slip cycle
+    /// switches at its period, several time scales apart, and a table that reverses every
+    /// microsecond sets off the switches by its breakpoints.
+    fn check_chattering(&mut self, t: f64, entered: &NumericMode) -> Result<(), SimError> {
         let settings = self.simulator.settings;
         self.stats.events = self.recorder.events.len();
         if self.stats.events > settings.max_events {
@@ -1440,14 +1559,38 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 limit: settings.max_events,
             });
         }
-        self.recent.push_back(t);
+        let rate = if entered.nonlinear.is_some() {
+            0.0
+        } else {
+            entered
+                .propagator
+                .eigenvalues()
+                .iter()
+                .map(|v| v.norm())
+                .filter(|r| r.is_finite())
+                .fold(0.0, f64::max)
+        };
+        self.recent.push_back((t, rate));
         while self.recent.len() > settings.chatter_events {
             self.recent.pop_front();
         }
-        let window = settings.chatter_window * t.max(1.0);
-        let span =
-            self.recent.back().copied().unwrap_or(t) - self.recent.front().copied().unwrap_or(t);
-        if self.recent.len() == settings.chatter_events && span < window {
+        if self.recent.len() < settings.chatter_events {
+            return Ok(());
+        }
+        let first = self.recent.front().map_or(t, |r| r.0);
+        let span = t - first;
+        let zeno = settings.chatter_window * t.max(1.0);
+        let fastest = self.recent.iter().map(|r| r.1).fold(0.0, f64::max);
+        let steady = {
+            let next = self.breakpoints.partition_point(|b| *b < first);
+            self.breakpoints.get(next).is_none_or(|b| *b > t)
+        };
+        let time_scale = (fastest > 0.0 && steady)
+            .then(|| 1.0 / fastest)
+            .filter(|scale| {
+                span < settings.chatter_events as f64 * settings.chatter_time_scales * scale
+            });
+        if span < zeno || time_scale.is_some() {
             let model = self.simulator.model;
             let mut elements: Vec<String> = self
                 .recorder
@@ -1459,11 +1602,19 @@ impl<'s, 'm> Stepper<'s, 'm> {
                 .collect();
             elements.sort();
             elements.dedup();
+            let reason = self
+                .recorder
+                .events
+                .last()
+                .map(|e| e.to_event(model).reason)
+                .unwrap_or_default();
             return Err(SimError::Chattering {
                 t,
                 events: settings.chatter_events,
-                window,
+                window: if span < zeno { zeno } else { span },
                 elements,
+                reason,
+                time_scale: if span < zeno { None } else { time_scale },
             });
         }
         Ok(())
@@ -1491,21 +1642,80 @@ impl<'s, 'm> Stepper<'s, 'm> {
     }
 }
 
+/// The time of an event found `tau` into a segment from `start` to `end`: the root's,
+/// rounded to a double, and after `start` if the root is.
+///
+/// A root closer to the segment's start than the spacing of doubles there rounds back to the
+/// start; time must still advance, or each segment finds the root again (a belt's speed
+/// rising at 1e9 m/s² gains 8e-14 m/s in the 8e-23 s from 1 µs to such a root: time stood
+/// still while state and inputs disagreed, and the same stick was declined until 'time
+/// stopped advancing'). Such an event lands on the next double, its state still the root's:
+/// taken there instead, a stiff state would move on by what it changes in an ulp of time
+/// (the flagship's tip, with a time constant of 4e-18 s, went through zero velocity and
+/// back, and read as slipping both ways). Both the closed-form and the integrated path time
+/// their events so.
+fn event_time(start: f64, tau: f64, end: f64) -> f64 {
+    let mut time = start + tau;
+    if tau > 0.0 && time <= start {
+        time = start.next_up();
+    }
+    time.min(end)
+}
+
+/// Whether a guard found crossing only touches its threshold: on it, level there (its value
+/// and rate zero up to the rounding of their terms) and not turning into it (its second
+/// derivative likewise). A guard past its threshold at a segment's start (an input that
+/// jumped) does not.
+///
+/// Only guards on an effort (a contact's holding force, a string's tension, a flow limit's
+/// restraining effort) are judged so: their terms are the forces that balance, the scale
+/// rounding is judged against. A velocity or an extension is a state of its own, its one
+/// term itself, and a velocity at rest on zero has no scale to be judged against.
+fn touches(mode: &NumericMode, guard: &NumericGuard, x: &[f64], u: &[f64], rate: &[f64]) -> bool {
+    if !watches_an_effort(guard) {
+        return false;
+    }
+    let value = guard.row.eval(x, u, rate);
+    if value.abs() > 1e-9 * guard.row.magnitude(x, u, rate) + f64::MIN_POSITIVE {
+        return false;
+    }
+    let first = mode.row_rate(&guard.row, x, u, rate);
+    if first.abs() > 1e-9 * mode.row_rate_magnitude(&guard.row, x, u, rate) {
+        return false;
+    }
+    let (second, rounding) = second_rate(mode, &guard.row, x, u, rate);
+    second <= rounding
+}
+
+/// Whether a guard watches an effort (a holding force, a tension, a restraining effort).
+fn watches_an_effort(guard: &NumericGuard) -> bool {
+    matches!(
+        guard.watched,
+        Watched::HoldingForce | Watched::Tension | Watched::RestrainingEffort
+    )
+}
+
 /// The second time derivative of a guard row along the mode's flow, inputs moving at
-/// `rate`: the difference of its first derivative over a step along `dx/dt`, exact for a
-/// linear mode (where the first derivative is affine) whatever the step.
+/// `rate`, and the rounding it carries: the difference of its first derivative over a step
+/// along `dx/dt`, exact for a linear mode (where the first derivative is affine) whatever the
+/// step, judged against `1e-9` of the terms of the two rates (as a rate is judged against
+/// its own terms; zero for a nonlinear mode, whose rates are judged exactly).
 fn second_rate(
     mode: &NumericMode,
     row: &crate::numeric::Row,
     x: &[f64],
     u: &[f64],
     rate: &[f64],
-) -> f64 {
+) -> (f64, f64) {
     let dx = mode.derivative(x, u);
     let step = if mode.nonlinear.is_some() { 1e-6 } else { 1.0 };
     let later: Vec<f64> = x.iter().zip(&dx).map(|(x, d)| x + step * d).collect();
     let u_later: Vec<f64> = u.iter().zip(rate).map(|(u, r)| u + step * r).collect();
-    (mode.row_rate(row, &later, &u_later, rate) - mode.row_rate(row, x, u, rate)) / step
+    let second =
+        (mode.row_rate(row, &later, &u_later, rate) - mode.row_rate(row, x, u, rate)) / step;
+    let terms = mode.row_rate_magnitude(row, &later, &u_later, rate)
+        + mode.row_rate_magnitude(row, x, u, rate);
+    (second, 1e-9 * terms / step)
 }
 
 fn values_at(inputs: &[&dyn Signal], t: f64) -> (Vec<f64>, Vec<f64>) {

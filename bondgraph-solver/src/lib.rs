@@ -15,5 +15,6 @@ pub mod scenario;
 pub mod steady;
 
 pub use hybrid::{
-    Event, Output, Run, Settings, Signal, SimError, Simulator, Stall, Stats, Stepper, Trajectory,
+    Event, Output, Run, Settings, Signal, SimError, Simulator, Stall, Stats, Stepper, TimeScale,
+    Trajectory,
 };

@@ -668,8 +668,9 @@ fn a_belt_driven_by_a_fast_table_sticks_where_the_closed_form_says() {
 /// Item 7: time that stops advancing says what was seen. A mass whose momentum feeds
 /// itself through a negative quadratic damper (`R(effort: "-flow^2")`, so `dp/dt = p²`
 /// with m = 1 kg) blows up at t = 1/p₀ = 1 s: `p = 1/(1 - t)`. The integrator's steps
-/// shrink with `1 - t` until they are under the resolution of time near 1 s (4 × 2.2e-16 s),
-/// with no guard to meet; that is what the message says, with the step and the resolution.
+/// shrink with `1 - t` until they are within four resolutions of time near 1 s (the spacing
+/// of doubles, 2.2e-16 s), with no guard to meet; that is what the message says, with the
+/// step and the resolution.
 #[test]
 fn time_stopping_at_a_blow_up_says_the_steps_fell_under_its_resolution() {
     use bondgraph_solver::{SimError, Stall};
@@ -696,7 +697,7 @@ fn time_stopping_at_a_blow_up_says_the_steps_fell_under_its_resolution() {
             ..
         } => {
             assert!((t - 1.0).abs() < 1e-9, "{message}");
-            assert!(step <= resolution && resolution < 1e-15, "{message}");
+            assert!(step <= 4.0 * resolution && resolution < 1e-15, "{message}");
         }
         _ => panic!("{message}"),
     }
@@ -710,8 +711,9 @@ fn time_stopping_at_a_blow_up_says_the_steps_fell_under_its_resolution() {
 /// Item 18: a run's steps are bounded. The pendulum (`models/examples/nonlinear/pendulum.ron`)
 /// released at 2 rad for 1e12 s integrated for ever (killed after 30 s, no output); past
 /// `max_steps` integration steps it stops, saying how far it got. (With the default of
-/// `MAX_STEPS` = 10 000 000 it stops at t = 605 878 s, after 5.4 s.) Steps of linear modes
-/// are the event locator's samples: the belt's stick-slip takes about seven an event.
+/// `MAX_STEPS` = 1 000 000 it stops at t = 60 587 s, after about half a second.) Steps of
+/// linear modes are the event locator's samples: the belt's stick-slip takes about seven an
+/// event.
 #[test]
 fn the_steps_of_a_run_are_bounded() {
     use bondgraph_solver::{Settings, SimError};
@@ -744,7 +746,7 @@ fn the_steps_of_a_run_are_bounded() {
             .unwrap_err();
         let message = error.to_string();
         match error {
-            SimError::TooManySteps { t, limit } => {
+            SimError::TooManySteps { t, limit, .. } => {
                 assert_eq!(limit, 100_000);
                 assert!(t > 0.0 && t < 1e12, "{message}");
             }

@@ -9,6 +9,7 @@ mod fig6;
 mod flagship;
 mod flow_limit;
 mod hardening;
+mod hardening_events;
 mod input_rates;
 mod nonlinear;
 mod nonlinear_events;

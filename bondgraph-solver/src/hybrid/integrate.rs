@@ -22,8 +22,9 @@
 use bondgraph_core::modes::Mode;
 use bondgraph_core::symbolic::expr::Sym;
 
+use super::stall;
 use super::step_guards::{self, Look};
-use super::{SimError, Simulator, Stepper};
+use super::{SimError, Simulator, Stepper, TimeScale};
 use crate::events::Crossing;
 use crate::nonlinear::NonlinearNumeric;
 use crate::numeric::NumericMode;
@@ -188,20 +189,23 @@ impl System for Segment<'_> {
     }
 }
 
-/// The guards' values, magnitudes and rates at a point, evaluated without allocating.
+/// The guards' values (less the levels they must rise to before they fire), magnitudes and
+/// rates at a point, evaluated without allocating.
 struct Guards<'a> {
     nl: &'a NonlinearNumeric,
     scratch: Vec<f64>,
     out: Vec<f64>,
     input: Vec<f64>,
+    fire_above: Vec<f64>,
 }
 
 impl<'a> Guards<'a> {
-    fn new(nl: &'a NonlinearNumeric) -> Self {
+    fn new(nl: &'a NonlinearNumeric, fire_above: &[f64]) -> Self {
         Self {
             scratch: nl.guards.scratch(),
             out: vec![0.0; nl.guards.output_count()],
             input: vec![0.0; nl.n + 2 * nl.m],
+            fire_above: fire_above.to_vec(),
             nl,
         }
     }
@@ -223,7 +227,7 @@ impl<'a> Guards<'a> {
     }
 
     fn value(&self, k: usize) -> f64 {
-        self.out[3 * k]
+        self.out[3 * k] - self.fire_above[k]
     }
 
     fn rate(&self, k: usize) -> f64 {
@@ -260,7 +264,8 @@ struct Landing<'a> {
 }
 
 /// The state `hit` into the step into `point`: by an exact step, or on the dense output
-/// where Radau's Newton iteration does not converge.
+/// where Radau's Newton iteration does not converge. Each is a step's work, counted in
+/// `steps`.
 fn place(
     integrator: &mut Switching,
     system: &mut Segment<'_>,
@@ -268,7 +273,9 @@ fn place(
     hit: f64,
     reuse: bool,
     point: &mut [f64],
+    steps: &mut u64,
 ) {
+    *steps += 1;
     if !integrator.step_exact(system, at.tau, at.before, hit, reuse, point) {
         integrator.dense(hit / at.step, point);
     }
@@ -282,7 +289,7 @@ fn place(
 /// as the crossing not made (taut and slack each sending the string to the other); as
 /// Brent's method does on the closed-form path, the landing then moves on by a few ulps
 /// until the guard is at or above zero. Returns the time into the step, the state there in
-/// `point`.
+/// `point`, and counts the exact steps taken in `steps`.
 fn land_on_crossing(
     integrator: &mut Switching,
     system: &mut Segment<'_>,
@@ -290,12 +297,13 @@ fn land_on_crossing(
     at: Landing<'_>,
     mut hit: f64,
     point: &mut [f64],
+    steps: &mut u64,
 ) -> f64 {
     let k = at.guard;
     let resolution = |hit: f64| 4.0 * f64::EPSILON * (at.start + hit).abs().max(1e-300);
     let mut placed = None;
     for _ in 0..8 {
-        place(integrator, system, &at, hit, placed.is_some(), point);
+        place(integrator, system, &at, hit, placed.is_some(), point, steps);
         placed = Some(hit);
         guards.at(at.tau + hit, point, at.u0, at.u1);
         let (g, rate) = (guards.value(k), guards.rate(k));
@@ -310,7 +318,7 @@ fn land_on_crossing(
         }
     }
     if placed != Some(hit) {
-        place(integrator, system, &at, hit, true, point);
+        place(integrator, system, &at, hit, true, point, steps);
         guards.at(at.tau + hit, point, at.u0, at.u1);
     }
     let mut nudge = resolution(hit);
@@ -319,7 +327,7 @@ fn land_on_crossing(
             break;
         }
         hit = (hit + nudge).min(at.step);
-        place(integrator, system, &at, hit, true, point);
+        place(integrator, system, &at, hit, true, point, steps);
         guards.at(at.tau + hit, point, at.u0, at.u1);
         nudge *= 2.0;
     }
@@ -356,7 +364,7 @@ impl Stepper<'_, '_> {
         let size = system.dimension();
         let mut z = vec![0.0; size];
         z[..n].copy_from_slice(&self.x);
-        let mut guards = Guards::new(&nl);
+        let mut guards = Guards::new(&nl, &self.fire_above);
         let guard_count = guards.count();
         let mode_index = self.sample.map(|_| self.recorder.mode_index(&current.spec));
         let start = self.t;
@@ -366,7 +374,7 @@ impl Stepper<'_, '_> {
         let mut previous = Look::default();
         guards.look_into(&mut previous);
         if let Some(k) = (0..guard_count).find(|&k| self.armed[k] && previous.values[k] >= 0.0) {
-            self.sample_until(&mut system, start, &z, None, 0.0, mode_index);
+            self.sample_until(&mut system, start, &z, None, start, mode_index);
             return Ok(Some(Crossing { guard: k, tau: 0.0 }));
         }
         let magnitudes: Vec<f64> = (0..guard_count).map(|k| guards.magnitude(k)).collect();
@@ -378,7 +386,7 @@ impl Stepper<'_, '_> {
                 self.armed[k] = true;
             }
         }
-        self.sample_until(&mut system, start, &z, None, 0.0, mode_index);
+        self.sample_until(&mut system, start, &z, None, start, mode_index);
 
         let mut integrator = Switching::new(size, n, TOLERANCES);
         let mut tau = 0.0;
@@ -390,19 +398,21 @@ impl Stepper<'_, '_> {
         let mut before = vec![0.0; size];
         let mut point = vec![0.0; size];
         let mut crossing: Option<Crossing> = None;
-        let mut look_guards = Guards::new(&nl);
+        let mut look_guards = Guards::new(&nl, &self.fire_above);
         let mut look_point = vec![0.0; size];
         while tau < length {
             let step = h.min(length - tau);
-            if step <= f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0
-                && integrator.method() == Method::Explicit
-            {
+            // A step held to a few spacings of doubles at `t` makes no progress, unless it is
+            // all that is left of the segment (a table's last point an ulp before the end).
+            let resolution = stall::resolution_at(start + tau);
+            let held = step <= stall::HELD_RESOLUTIONS * resolution && step < length - tau;
+            if held && integrator.method() == Method::Explicit {
                 // Explicit steps held below the clock's resolution: stiff beyond doubt.
                 integrator.force_implicit();
                 h = integrator.initial_step(&mut system, tau, &z, length - tau);
                 continue;
             }
-            if step <= f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0 {
+            if held {
                 // Steps collapse where the motion reaches a guard tangentially (a tank
                 // emptying as (t_e - t)², its law's slope infinite there): the guard is met.
                 guards.at(tau, &z, &u0, &u1);
@@ -418,14 +428,13 @@ impl Stepper<'_, '_> {
                 return Err(SimError::Stalled {
                     t: start + tau,
                     mode: current.spec.clone(),
-                    cause: super::Stall::Steps {
-                        step,
-                        resolution: f64::EPSILON * (start + tau).abs().max(1e-300) * 4.0,
-                    },
+                    cause: super::Stall::Steps { step, resolution },
                 });
             }
             before.copy_from_slice(&z);
-            self.take_steps(1, start + tau)?;
+            if self.over_step_limit(1) {
+                return Err(self.too_many_steps_at(&mut system, start + tau, &z, step, &current));
+            }
             match integrator.step(&mut system, tau, &mut z, step) {
                 StepOutcome::Rejected { h_next } => {
                     h = h_next;
@@ -438,7 +447,13 @@ impl Stepper<'_, '_> {
                     .simulator
                     .non_finite(start + tau + step, &current, &z[..n]));
             }
-            if guard_count > 0 || self.sample_due(start + tau + step, mode_index) {
+            // The step's end in time: exactly the segment's at its last step.
+            let step_end = if tau + step >= length {
+                end
+            } else {
+                start + tau + step
+            };
+            if guard_count > 0 || self.sample_due(step_end, mode_index) {
                 integrator.prepare_dense(&mut system);
             }
             // Guards along the step, on its dense output.
@@ -468,6 +483,7 @@ impl Stepper<'_, '_> {
                 )
             };
             if let Some((k, theta)) = found {
+                let mut landing_steps = 0;
                 let hit = land_on_crossing(
                     &mut integrator,
                     &mut system,
@@ -483,13 +499,23 @@ impl Stepper<'_, '_> {
                     },
                     theta * step,
                     &mut point,
+                    &mut landing_steps,
                 );
+                if self.over_step_limit(landing_steps) {
+                    return Err(self.too_many_steps_at(
+                        &mut system,
+                        start + tau + hit,
+                        &point,
+                        step,
+                        &current,
+                    ));
+                }
                 self.sample_until(
                     &mut system,
                     start + tau,
                     &before,
                     Some((&integrator, step)),
-                    hit,
+                    start + tau + hit,
                     mode_index,
                 );
                 z.copy_from_slice(&point);
@@ -502,7 +528,7 @@ impl Stepper<'_, '_> {
                 start + tau,
                 &before,
                 Some((&integrator, step)),
-                step,
+                step_end,
                 mode_index,
             );
             tau += step;
@@ -517,43 +543,66 @@ impl Stepper<'_, '_> {
         for (slot, &k) in integral_outputs.iter().enumerate() {
             self.integrals[k] += z[next + slot];
         }
-        self.t = if crossing.is_some() { start + tau } else { end };
+        self.t = match crossing {
+            Some(crossing) => super::event_time(start, crossing.tau, end),
+            None => end,
+        };
         self.x = z[..n].to_vec();
         Ok(crossing)
+    }
+
+    /// The error of a run past its limit of steps at `time`, in state `z` of `mode`, its last
+    /// step `step` long: with the fastest time scale its Jacobian shows there.
+    fn too_many_steps_at(
+        &self,
+        system: &mut Segment<'_>,
+        time: f64,
+        z: &[f64],
+        step: f64,
+        mode: &NumericMode,
+    ) -> SimError {
+        let size = system.dimension();
+        let mut jacobian = vec![0.0; size * size];
+        system.jacobian(time - self.t, z, &mut jacobian);
+        let scale = TimeScale::of_jacobian(&jacobian, system.nl.n, size, &mode.state_names);
+        self.too_many_steps(time, Some(step), scale)
     }
 
     /// Whether a sample is due at or before `time`.
     fn sample_due(&self, time: f64, mode_index: Option<usize>) -> bool {
         match (self.sample, mode_index) {
-            (Some(sample), Some(_)) => self.next_sample as f64 * sample <= time,
+            (Some(times), Some(_)) => times.time(self.next_sample) <= time,
             _ => false,
         }
     }
 
-    /// Records the samples due in the first `until` of a step that starts at `step_start`
-    /// (time) from `before`, from the dense output of the integrator's last step (of size
-    /// `step`); with no integrator, the samples due at `step_start` itself.
+    /// Records the samples due at or before `through` (a time) in a step that starts at
+    /// `step_start` (time) from `before`, from the dense output of the integrator's last step
+    /// (of size `step`); with no integrator, the samples due at `step_start` itself.
     fn sample_until(
         &mut self,
         system: &mut Segment<'_>,
         step_start: f64,
         before: &[f64],
         integrator: Option<(&Switching, f64)>,
-        until: f64,
+        through: f64,
         mode_index: Option<usize>,
     ) {
-        if !self.sample_due(step_start + until, mode_index) {
+        if !self.sample_due(through, mode_index) {
             return;
         }
-        let (Some(sample), Some(mode_index)) = (self.sample, mode_index) else {
+        let (Some(times), Some(mode_index)) = (self.sample, mode_index) else {
             return;
         };
         let segment_start = self.t;
         let n = system.nl.n;
         let integrals_offset = n + if system.energy { 2 } else { 0 };
         let mut point = before.to_vec();
-        while self.next_sample as f64 * sample <= step_start + until {
-            let time = self.next_sample as f64 * sample;
+        loop {
+            let time = times.time(self.next_sample);
+            if time > through {
+                break;
+            }
             if let Some((integrator, step)) = integrator {
                 let theta = ((time - step_start) / step).clamp(0.0, 1.0);
                 integrator.dense(theta, &mut point);

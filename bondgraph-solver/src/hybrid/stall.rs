@@ -13,15 +13,26 @@ use std::fmt;
 /// Segments in a row that may end where they began before the run is said to be stalled.
 pub const STALLED_SEGMENTS: usize = 1000;
 
+/// An integrator's step no longer than this many resolutions of time (spacings of doubles)
+/// is held at the clock's resolution: it makes no progress worth the work.
+pub(super) const HELD_RESOLUTIONS: f64 = 4.0;
+
+/// The resolution of time at `t`: the spacing of doubles there (2.2e-16 s at 1 s, the
+/// smallest subnormal, 4.9e-324 s, at zero).
+pub(super) fn resolution_at(t: f64) -> f64 {
+    let t = t.abs();
+    t.next_up() - t
+}
+
 /// What was seen when time stopped advancing.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Stall {
-    /// An integrator's step fell below the resolution of time at `t` with no guard met.
+    /// An integrator's step fell to a few resolutions of time at `t` with no guard met.
     Steps {
         /// The last step tried, in seconds.
         step: f64,
-        /// The resolution of time there (four spacings of doubles), in seconds.
+        /// The resolution of time there (the spacing of doubles), in seconds.
         resolution: f64,
     },
     /// Segments in a row ended where they began.
@@ -40,8 +51,8 @@ impl fmt::Display for Stall {
         match self {
             Stall::Steps { step, resolution } => write!(
                 f,
-                "the integrator's steps fell to {step:e} s, under the resolution of time there \
-                 ({resolution:e} s), with no guard met"
+                "the integrator's steps fell to {step:e} s, within {HELD_RESOLUTIONS} times the \
+                 resolution of time there ({resolution:e} s), with no guard met"
             ),
             Stall::Segments {
                 count,
@@ -120,6 +131,23 @@ mod tests {
             stall.to_string(),
             "1001 segments in a row ended where they began, each at a crossing of 'friction' \
              (relative velocity reached zero) whose switch was declined"
+        );
+    }
+
+    #[test]
+    fn the_resolution_of_time_is_the_spacing_of_doubles() {
+        assert_eq!(resolution_at(0.0), 4.9e-324);
+        assert_eq!(resolution_at(1.0), f64::EPSILON);
+        assert_eq!(resolution_at(-1.0), f64::EPSILON);
+        assert_eq!(resolution_at(0.75), f64::EPSILON / 2.0);
+        let stall = Stall::Steps {
+            step: 1e-323,
+            resolution: resolution_at(0.0),
+        };
+        assert_eq!(
+            stall.to_string(),
+            "the integrator's steps fell to 1e-323 s, within 4 times the resolution of time \
+             there (5e-324 s), with no guard met"
         );
     }
 

@@ -22,6 +22,16 @@ const STIFF_STEPS: usize = 15;
 /// Accepted steps in a row within the limit that clear the count.
 const NONSTIFF_STEPS: usize = 6;
 
+/// The Euclidean norm of `values`, scaled by their largest magnitude so that neither the
+/// squares of tiny components underflow nor those of huge ones overflow.
+fn scaled_norm(values: impl Iterator<Item = f64> + Clone) -> f64 {
+    let largest = values.clone().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if largest == 0.0 || !largest.is_finite() {
+        return largest;
+    }
+    largest * values.map(|v| (v / largest).powi(2)).sum::<f64>().sqrt()
+}
+
 /// A DOP853 integrator with its work buffers; see the [module documentation](self).
 pub struct Dop853 {
     n: usize,
@@ -217,13 +227,14 @@ impl Dop853 {
         let (head, tail) = self.k.split_at_mut(STAGES * n);
         system.rhs(tau + h, &self.x_new, &mut tail[..n]);
         self.stats.rhs += 1;
-        let (mut num, mut den) = (0.0, 0.0);
-        for r in 0..self.controlled {
-            num += (tail[r] - head[(STAGES - 1) * n + r]).powi(2);
-            den += (self.x_new[r] - self.x_last_stage[r]).powi(2);
-        }
-        if den > 0.0 {
-            if h * (num / den).sqrt() > STABILITY_LIMIT {
+        // |Δf| / |Δx| between the last stage and the new state estimates |λ|; each norm is
+        // scaled by its largest component, as the squares of states of 1e-171 underflow (a
+        // velocity damped at 1e307 /s read as no estimate at all, and the explicit steps
+        // crawled at their stability limit for ever).
+        let rise = scaled_norm((0..self.controlled).map(|r| tail[r] - head[(STAGES - 1) * n + r]));
+        let run = scaled_norm((0..self.controlled).map(|r| self.x_new[r] - self.x_last_stage[r]));
+        if run > 0.0 {
+            if h * (rise / run) > STABILITY_LIMIT {
                 self.nonstiff_count = 0;
                 self.stiff_count += 1;
             } else {
@@ -263,15 +274,17 @@ impl Dop853 {
         let (mut err5, mut err3) = (0.0, 0.0);
         for r in 0..self.controlled {
             let scale = self.scale(r, x[r].abs().max(self.x_new[r].abs()));
+            // Each stage's rate times the step, before summing: the rates alone may be near
+            // the largest double where the step's changes are not (a momentum growing at
+            // 1e308 N over 1e-310 s), and their sum overflowed.
+            let hk = |s: usize| h * self.k[s * n + r];
             let mut e5 = 0.0;
             let mut b = 0.0;
             for s in 0..STAGES {
-                let ks = self.k[s * n + r];
-                e5 += E5[s] * ks;
-                b += A[STAGES][s] * ks;
+                e5 += E5[s] * hk(s);
+                b += A[STAGES][s] * hk(s);
             }
-            let e3 =
-                b - BHH[0] * self.k[r] - BHH[1] * self.k[8 * n + r] - BHH[2] * self.k[11 * n + r];
+            let e3 = b - BHH[0] * hk(0) - BHH[1] * hk(8) - BHH[2] * hk(11);
             err5 += (e5 / scale).powi(2);
             err3 += (e3 / scale).powi(2);
         }
@@ -279,7 +292,7 @@ impl Dop853 {
             return 0.0;
         }
         let denominator = err5 + 0.01 * err3;
-        h.abs() * err5 / (denominator * self.controlled.max(1) as f64).sqrt()
+        err5 / (denominator * self.controlled.max(1) as f64).sqrt()
     }
 
     /// The state `h` after `(tau, x)` by one step without error control (for landing

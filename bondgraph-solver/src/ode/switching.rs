@@ -163,6 +163,24 @@ mod tests {
         }
     }
 
+    /// The stiff test at the scale of 1e-170: `x' = -1e6 (x - 1e-170 cos t)`.
+    struct TinyStiff;
+
+    impl System for TinyStiff {
+        fn dimension(&self) -> usize {
+            1
+        }
+        fn controlled(&self) -> usize {
+            1
+        }
+        fn rhs(&mut self, t: f64, x: &[f64], dx: &mut [f64]) {
+            dx[0] = -1e6 * (x[0] - 1e-170 * t.cos());
+        }
+        fn jacobian(&mut self, _: f64, _: &[f64], j: &mut [f64]) {
+            j[0] = -1e6;
+        }
+    }
+
     /// Van der Pol's oscillator with `μ = 1`: not stiff.
     struct VanDerPol;
 
@@ -223,6 +241,27 @@ mod tests {
         // 1.5 s long).
         assert!((x[0] - want).abs() < 1e-8, "{}", x[0] - want);
         // DOP853 alone would need h < 6.1e-6 over 2 s: some 330 000 steps.
+        let stats = method.stats();
+        assert!(stats.accepted < 300, "{stats:?}");
+    }
+
+    /// The stiffness test estimates `|λ|` from the changes of `f` and `x` between two
+    /// points, whose squares underflowed for states of 1e-170 (`(1e-171)² = 0`): a velocity
+    /// damped at 1e307 /s through a transformer of ratio 1e-154 was never found stiff, and
+    /// DOP853 crawled at its stability limit for ten million steps. The same problem as
+    /// `a_stiff_problem_is_handed_to_radau`, scaled by 1e-170, is handed over as that one is.
+    #[test]
+    fn a_stiff_problem_of_tiny_states_is_handed_to_radau() {
+        let mut x = [0.0];
+        let tolerances = Tolerances {
+            relative: 1e-8,
+            absolute: 1e-180,
+            peak_fraction: 0.0,
+        };
+        let method = integrate(&mut TinyStiff, &mut x, 2.0, tolerances);
+        assert_eq!(method.method(), Method::Implicit);
+        let want = 1e-170 * (2f64.cos() + 1e-6 * 2f64.sin());
+        assert!((x[0] - want).abs() < 1e-178, "{}", x[0] - want);
         let stats = method.stats();
         assert!(stats.accepted < 300, "{stats:?}");
     }
