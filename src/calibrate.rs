@@ -70,12 +70,12 @@ pub fn inputs(
                 .map_err(|e| Failure::message(DiagnosticKind::Syntax, e.to_string()))?,
         );
     }
-    Ok((
-        base,
-        experiment_source,
-        experiment,
-        data::Dataset::join(parts),
-    ))
+    let dataset = data::Dataset::join(parts);
+    // Columns a rig records that the experiment does not compare are not an error.
+    for note in dataset.notes() {
+        eprintln!("note: {note}");
+    }
+    Ok((base, experiment_source, experiment, dataset))
 }
 
 /// Fits the experiment's parameters of `model` (its experiment given, or `experiment.ron`

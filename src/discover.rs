@@ -207,7 +207,7 @@ pub fn write_outputs(out: &Path, discovery: &Discovery, json_text: &str) -> Resu
     if let (Some(id), Some(model)) = (&discovery.selected, &discovery.extended_model) {
         write_file(&out.join(format!("{id}.ron")), model)?;
     }
-    let plot = |after: bool| {
+    let plot = |after: bool, column: usize| {
         let title = if after {
             format!(
                 "Residuals with {}",
@@ -216,12 +216,27 @@ pub fn write_outputs(out: &Path, discovery: &Discovery, json_text: &str) -> Resu
         } else {
             "Residuals of the refitted base model".to_string()
         };
-        residual_plot::residual_svg(&discovery.table, &discovery.observed, &title, after)
+        let observed = (column, discovery.observed[column].as_str());
+        residual_plot::residual_svg(&discovery.table, observed, &title, after)
             .map_err(|e| fail(DiagnosticKind::Io, format!("cannot plot residuals: {e}")))
     };
-    write_file(&out.join("residuals_before.svg"), &plot(false)?)?;
-    if discovery.selected.is_some() {
-        write_file(&out.join("residuals_after.svg"), &plot(true)?)?;
+    // One observed column: `residuals_before.svg`; several: `residuals_before_COLUMN.svg`.
+    for (k, column) in discovery.observed.iter().enumerate() {
+        let suffix = if discovery.observed.len() == 1 {
+            String::new()
+        } else {
+            format!("_{column}")
+        };
+        write_file(
+            &out.join(format!("residuals_before{suffix}.svg")),
+            &plot(false, k)?,
+        )?;
+        if discovery.selected.is_some() {
+            write_file(
+                &out.join(format!("residuals_after{suffix}.svg")),
+                &plot(true, k)?,
+            )?;
+        }
     }
     Ok(())
 }

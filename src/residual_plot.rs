@@ -10,14 +10,15 @@ use plotters::prelude::*;
 
 /// An SVG of `model - measured` against the condition column with the most levels (for each
 /// row, among the columns it has a value in), one series per setting of the other columns:
-/// the baseline's residuals when `after` is false, the selected model's otherwise. A time
-/// series' residuals are drawn along time.
+/// the baseline's residuals when `after` is false, the selected model's otherwise, of the
+/// observed column `column` (its index, and `observed` its name). A time series' residuals
+/// are drawn along time.
 ///
 /// # Errors
 /// A message when there is nothing to draw or drawing fails.
 pub fn residual_svg(
     rows: &[RowResult],
-    observed: &str,
+    (column, observed): (usize, &str),
     title: &str,
     after: bool,
 ) -> Result<String, String> {
@@ -26,8 +27,12 @@ pub fn residual_svg(
         let points: Vec<(String, f64, f64)> = rows
             .iter()
             .filter_map(|r| {
-                let model = if after { r.selected? } else { r.baseline };
-                Some(("samples".to_string(), r.time?, model - r.measured))
+                let model = if after {
+                    r.selected.as_ref()?[column]
+                } else {
+                    r.baseline[column]
+                };
+                Some(("samples".to_string(), r.time?, model - r.measured[column]))
             })
             .collect();
         if points.is_empty() {
@@ -52,7 +57,11 @@ pub fn residual_svg(
     let points: Vec<(String, f64, f64)> = rows
         .iter()
         .filter_map(|r| {
-            let model = if after { r.selected? } else { r.baseline };
+            let model = if after {
+                r.selected.as_ref()?[column]
+            } else {
+                r.baseline[column]
+            };
             let (x_column, x) = r
                 .conditions
                 .iter()
@@ -70,7 +79,7 @@ pub fn residual_svg(
                     None => format!("{c} empty"),
                 })
                 .collect();
-            Some((series.join(", "), x, model - r.measured))
+            Some((series.join(", "), x, model - r.measured[column]))
         })
         .collect();
     if points.is_empty() {

@@ -3,8 +3,11 @@
 //! residuals by regime and along each condition (what `bondgraph calibrate` prints).
 //!
 //! The fit is a global search ([`crate::global`]) over the faces where friction thresholds
-//! tie, started from the model file's values too; every observed column the experiment
-//! names enters the sum of squares in its own units.
+//! tie, started from the model file's values too. One observed column enters the sum of
+//! squares in its own units; several enter it each divided by its noise ([`crate::weights`]):
+//! declared, or the pure error of replicated conditions, else the residual of a first fit
+//! that weighs each column by the spread of its values, after which the fit is made again,
+//! locally, with those weights.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -87,16 +90,28 @@ pub fn calibrate(
     let mut evaluator = predictor.evaluator(&names)?;
     discover::limit_to_settling(&mut evaluator);
     let orderings = crate::global::orderings(&model, &names);
-    let fit = fit_best(
-        &mut evaluator,
-        rows,
-        None,
-        &[&file_start],
-        &bounds,
-        (&orderings, &settings.search),
-        settings,
-    )?
-    .fit;
+    let fit = if experiment.observed.len() == 1 {
+        fit_best(
+            &mut evaluator,
+            rows,
+            None,
+            &[&file_start],
+            &bounds,
+            (&orderings, &settings.search),
+            settings,
+        )?
+        .fit
+    } else {
+        weighted_fit(
+            &model,
+            source,
+            experiment,
+            rows,
+            (&names, &bounds, &file_start),
+            &orderings,
+            settings,
+        )?
+    };
     evaluator.set(&fit.values);
     let predictions = evaluator.predict(rows)?;
     let observed = &experiment.observed;
@@ -124,13 +139,9 @@ pub fn calibrate(
             .map(|(p, r)| (p - r.observed[k]).powi(2))
             .sum();
         // Rows of a time series at the same conditions are samples of a run, not replicates.
-        let replicates = if experiment.time().is_none() {
-            noise::pure_error(rows, k)
-        } else {
-            None
-        };
+        let replicates = crate::weights::replicates(experiment, rows, k);
         let level = NoiseLevel::estimate(
-            experiment.noise,
+            experiment.declared_noise(k),
             replicates,
             noise::Residual {
                 sse,
@@ -197,11 +208,82 @@ pub fn calibrate(
         rmse,
         noise,
         noise_source,
-        noise_declared: experiment.noise.is_some(),
+        noise_declared: !experiment.noise.is_empty(),
         residuals,
         table,
         evaluations: fit.evaluations,
     })
+}
+
+/// The fit of several observed columns, each divided by its noise ([`crate::weights`]): the
+/// known ones (declared, pure error) at once; the others by a first fit weighted by each
+/// column's spread, whose residuals give their noise, and a local refit weighted by it.
+fn weighted_fit(
+    model: &model::Model,
+    source: &Arc<SourceFile>,
+    experiment: &Experiment,
+    rows: &[crate::data::Measurement],
+    (names, bounds, file_start): (&[String], &[(f64, f64)], &[f64]),
+    orderings: &[crate::global::Ordering],
+    settings: &Settings,
+) -> Result<crate::calibrate::Fit, DiscoverError> {
+    use crate::weights;
+    let m = experiment.observed.len();
+    let known: Vec<Option<f64>> = (0..m)
+        .map(|k| weights::known_level(experiment, rows, k).and_then(|l| l.sd))
+        .collect();
+    let scales: Vec<f64> = (0..m)
+        .map(|k| known[k].unwrap_or_else(|| weights::spread(rows, k)))
+        .collect();
+    let fit_with = |scales: &[f64], starts: &[&[f64]], search: &crate::global::Search| {
+        let (scaled_experiment, scaled_rows) = weights::scaled(experiment, rows, scales);
+        let predictor = Predictor::new(model.clone(), source, &scaled_experiment)?;
+        let mut evaluator = predictor.evaluator(names)?;
+        discover::limit_to_settling(&mut evaluator);
+        fit_best(
+            &mut evaluator,
+            &scaled_rows,
+            None,
+            starts,
+            bounds,
+            (orderings, search),
+            settings,
+        )
+        .map(|searched| searched.fit)
+    };
+    let first = fit_with(&scales, &[file_start], &settings.search)?;
+    if known.iter().all(Option::is_some) {
+        return Ok(first);
+    }
+    // The columns' residual noise at the first fit, in their units.
+    let predictor = Predictor::new(model.clone(), source, experiment)?;
+    let mut evaluator = predictor.evaluator(names)?;
+    discover::limit_to_settling(&mut evaluator);
+    evaluator.set(&first.values);
+    let predicted: Vec<Vec<f64>> = evaluator
+        .predict(rows)?
+        .into_iter()
+        .map(|p| p.observed)
+        .collect();
+    let free = first
+        .intervals
+        .iter()
+        .zip(&first.at_bound)
+        .filter(|(i, b)| i.is_none() && !**b)
+        .count();
+    let residual = weights::residual_sds(rows, &predicted, free);
+    let scales: Vec<f64> = (0..m)
+        .map(|k| {
+            known[k].unwrap_or(if residual[k] > 0.0 && residual[k].is_finite() {
+                residual[k]
+            } else {
+                scales[k]
+            })
+        })
+        .collect();
+    let mut refit = fit_with(&scales, &[&first.values], &crate::global::Search::LOCAL)?;
+    refit.evaluations += first.evaluations;
+    Ok(refit)
 }
 
 impl Calibration {

@@ -13,13 +13,15 @@
 //! and for a time series its time column. Columns may come in any order (they are found by
 //! name); whitespace around names and values is ignored; a UTF-8 byte-order mark and blank
 //! lines are skipped. An `absent` column may be left out of the header altogether (every row
-//! then has it empty).
+//! then has it empty). Other columns (signals a rig records that the experiment does not
+//! compare, annotations) are not read: [`Dataset::ignored`] lists them, for a note.
 //!
 //! What is refused, and why:
 //!
-//! - **Unknown columns.** An `absent` column is optional, so a misspelt one would otherwise
-//!   be ignored and every row silently read as "removed". The price is that extra annotation
-//!   columns are not allowed; keep them in another file.
+//! - **A column the experiment names differently only in letter case** (`tau_mnm` for
+//!   `tau_mNm`) when the header lacks the experiment's spelling: an `absent` column is
+//!   optional, so a misspelt one would otherwise be ignored and every row silently read as
+//!   "removed".
 //! - **Comment lines** (`#`): the contract has none; provenance goes in a README beside the data.
 //! - **Rows with too few or too many fields**, empty values outside `absent` columns,
 //!   non-numbers, non-finite numbers (`NaN`, `inf`), and numbers whose value in SI units
@@ -81,6 +83,8 @@ pub struct Dataset {
     pub time: Option<String>,
     /// The measurements in file order.
     pub rows: Vec<Measurement>,
+    /// Columns of the files that the experiment does not name, `(file, column)`: not read.
+    pub ignored: Vec<(String, String)>,
 }
 
 impl Dataset {
@@ -97,8 +101,37 @@ impl Dataset {
             assert_eq!(part.conditions, joined.conditions, "one experiment");
             joined.name = format!("{} + {}", joined.name, part.name);
             joined.rows.extend(part.rows);
+            joined.ignored.extend(part.ignored);
         }
         joined
+    }
+
+    /// A note for each file with columns the experiment does not name: `d.csv: column
+    /// `T_amb` is not in the experiment; ignored`.
+    pub fn notes(&self) -> Vec<String> {
+        let mut notes: Vec<(String, Vec<&str>)> = Vec::new();
+        for (file, column) in &self.ignored {
+            match notes.iter_mut().find(|(f, _)| f == file) {
+                Some((_, columns)) => columns.push(column),
+                None => notes.push((file.clone(), vec![column])),
+            }
+        }
+        notes
+            .into_iter()
+            .map(|(file, columns)| {
+                let names = columns
+                    .iter()
+                    .map(|c| format!("`{c}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                let (noun, verb) = if columns.len() == 1 {
+                    ("column", "is")
+                } else {
+                    ("columns", "are")
+                };
+                format!("{file}: {noun} {names} {verb} not in the experiment; ignored")
+            })
+            .collect()
     }
 }
 
@@ -142,7 +175,8 @@ pub enum DataErrorKind {
         /// The columns that the header does have.
         found: Vec<String>,
     },
-    /// The header names a column that the experiment does not.
+    /// The header names a column that the experiment spells otherwise only in letter case,
+    /// and lacks the experiment's spelling (a typo, not an extra column).
     UnknownColumn {
         /// The experiment's column this one differs from only in letter case, if any.
         did_you_mean: Option<String>,
@@ -347,6 +381,8 @@ enum Role {
     Observed(usize, f64),
     /// The time column.
     Time(f64),
+    /// A column the experiment does not name: not read.
+    Ignored,
 }
 
 /// Where each column is in the file's rows.
@@ -454,7 +490,14 @@ pub fn read(name: &str, text: &str, experiment: &Experiment) -> Result<Dataset, 
             DataErrorKind::NoRows,
         ));
     }
+    let ignored = layout
+        .roles
+        .iter()
+        .filter(|(_, role, _)| *role == Role::Ignored)
+        .map(|(column, _, _)| (name.to_owned(), column.clone()))
+        .collect();
     Ok(Dataset {
+        ignored,
         name: name.to_owned(),
         conditions: experiment
             .condition_columns()
@@ -637,17 +680,22 @@ fn layout(
             return Err(error(column, DataErrorKind::DuplicateColumn));
         }
         let Some(found) = expected.iter().find(|c| &c.0 == column) else {
-            let did_you_mean = known
+            // A column the header lacks, spelt otherwise only in letter case, is a typo, not
+            // an extra column.
+            if let Some(name) = known
                 .iter()
-                .find(|k| k.eq_ignore_ascii_case(column))
-                .cloned();
-            return Err(error(
-                column,
-                DataErrorKind::UnknownColumn {
-                    did_you_mean,
-                    columns: known.clone(),
-                },
-            ));
+                .find(|k| k.eq_ignore_ascii_case(column) && !names.contains(k))
+            {
+                return Err(error(
+                    column,
+                    DataErrorKind::UnknownColumn {
+                        did_you_mean: Some(name.clone()),
+                        columns: known.clone(),
+                    },
+                ));
+            }
+            roles.push((column.clone(), Role::Ignored, true));
+            continue;
         };
         roles.push(found.clone());
     }
@@ -704,6 +752,9 @@ fn row(
         file: file.clone(),
     };
     for (index, (column, role, optional)) in layout.roles.iter().enumerate() {
+        if *role == Role::Ignored {
+            continue;
+        }
         let text = record.get(index).unwrap_or_default();
         let column = Some(column.as_str());
         if text.len() > MAX_CELL_BYTES {
@@ -740,6 +791,7 @@ fn row(
             }
             let factor = match role {
                 Role::Condition(_, f) | Role::Observed(_, f) | Role::Time(f) => *f,
+                Role::Ignored => 1.0,
             };
             if !(value * factor).is_finite() {
                 return Err(error(
@@ -756,6 +808,7 @@ fn row(
             Role::Condition(k, _) => measurement.conditions[*k] = value,
             Role::Observed(k, _) => measurement.observed[*k] = value.expect("required"),
             Role::Time(_) => measurement.time = value,
+            Role::Ignored => {}
         }
     }
     Ok(measurement)
@@ -897,6 +950,50 @@ mod tests {
                 Some(1),
                 Some("u_V".into())
             )
+        );
+    }
+
+    /// Item 3 of issue 31: a rig records more signals than an experiment compares; the
+    /// columns the experiment does not name are not read, and a note names them.
+    #[test]
+    fn extra_columns_are_ignored_with_a_note() {
+        let dataset = read(
+            "t.csv",
+            "T_amb_C,u_V,w_rad_s,i_A,tau_mNm\n21.5,12,100.5,x,\n21.6,6,50,,1\n",
+        )
+        .expect("extra columns are not an error");
+        let rows: Vec<_> = dataset
+            .rows
+            .iter()
+            .map(|r| (r.conditions.clone(), r.observed.clone()))
+            .collect();
+        assert_eq!(
+            rows,
+            [
+                (vec![Some(12.0), None], vec![100.5]),
+                (vec![Some(6.0), Some(1.0)], vec![50.0])
+            ]
+        );
+        assert_eq!(
+            dataset.notes(),
+            ["t.csv: columns `T_amb_C`, `i_A` are not in the experiment; ignored"]
+        );
+        let joined = Dataset::join(vec![
+            dataset,
+            read("u.csv", "u_V,w_rad_s,pos\n1,2,3\n").unwrap(),
+        ]);
+        assert_eq!(
+            joined.notes(),
+            [
+                "t.csv: columns `T_amb_C`, `i_A` are not in the experiment; ignored",
+                "u.csv: column `pos` is not in the experiment; ignored"
+            ]
+        );
+        assert!(
+            read("t.csv", "u_V,w_rad_s\n1,2\n")
+                .unwrap()
+                .notes()
+                .is_empty()
         );
     }
 
@@ -1098,6 +1195,7 @@ mod tests {
                     observed: vec!["w_rad_s".into()],
                     time: None,
                     rows,
+                    ignored: Vec::new(),
                 };
                 let again = super::super::read("synthetic", &write(&dataset), &experiment());
                 prop_assert_eq!(again.map_err(|e| e.to_string()), Ok(dataset));

@@ -133,7 +133,16 @@ struct Raw {
     #[serde(default)]
     regimes: Vec<(String, String)>,
     #[serde(default)]
-    noise: Option<f64>,
+    noise: Option<DeclaredNoise>,
+}
+
+/// The `noise` field as written: one standard deviation (one observed column), or one per
+/// observed column, in file order.
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum DeclaredNoise {
+    One(f64),
+    PerColumn(Vec<f64>),
 }
 
 /// How the rows of a CSV become simulations of a model, and what is compared.
@@ -157,8 +166,10 @@ pub struct Experiment {
     /// Operating regimes, named physically, each by the switching elements' modes that define
     /// it: the first whose every assignment holds in the mode a row settles in names it.
     pub regimes: Vec<(String, String)>,
-    /// The measurement's known noise (standard deviation), in the observed column's units.
-    pub noise: Option<f64>,
+    /// The measurement's known noise (standard deviation) of each observed column, in its
+    /// units and in the order of `observed` (`noise: 0.05` for one column, `noise: [2.0,
+    /// 1.0]` for two); empty when the file declares none.
+    pub noise: Vec<f64>,
     source: Arc<SourceFile>,
 }
 
@@ -231,7 +242,11 @@ impl Experiment {
             fitted: raw.fitted,
             fitted_when_present: raw.fitted_when_present,
             regimes: raw.regimes,
-            noise: raw.noise,
+            noise: match raw.noise {
+                None => Vec::new(),
+                Some(DeclaredNoise::One(sd)) => vec![sd],
+                Some(DeclaredNoise::PerColumn(sds)) => sds,
+            },
             source: source.clone(),
         };
         experiment.check()?;
@@ -281,6 +296,11 @@ impl Experiment {
             }
         }
         columns
+    }
+
+    /// The declared noise (standard deviation) of observed column `k`, in its units.
+    pub fn declared_noise(&self, k: usize) -> Option<f64> {
+        self.noise.get(k).copied()
     }
 
     /// Whether an empty cell is allowed in `column` (it is an `absent` column).
@@ -378,16 +398,39 @@ impl Experiment {
                 ));
             }
         }
-        if let Some(noise) = self.noise
-            && !(noise.is_finite() && noise > 0.0)
-        {
+        if !self.noise.is_empty() && self.noise.len() != self.observed.len() {
             problems.push(
                 Diagnostic::new(
                     DiagnosticKind::InvalidValue,
-                    format!("experiment: noise {noise} must be a positive standard deviation"),
+                    format!(
+                        "experiment: `noise` gives {} value{} for {} observed columns; give one \
+                         standard deviation per observed column, in its units and in the order \
+                         of `observed` (`noise: [{}]`)",
+                        self.noise.len(),
+                        if self.noise.len() == 1 { "" } else { "s" },
+                        self.observed.len(),
+                        vec!["SD"; self.observed.len()].join(", ")
+                    ),
                 )
                 .at_location(self.locate("noise", "")),
             );
+        }
+        for (k, noise) in self.noise.iter().enumerate() {
+            if !(noise.is_finite() && *noise > 0.0) {
+                let column = self
+                    .observed
+                    .get(k)
+                    .map_or(String::new(), |o| format!(" of `{}`", o.column));
+                problems.push(
+                    Diagnostic::new(
+                        DiagnosticKind::InvalidValue,
+                        format!(
+                            "experiment: noise {noise}{column} must be a positive standard deviation"
+                        ),
+                    )
+                    .at_location(self.locate("noise", "")),
+                );
+            }
         }
         if problems.is_empty() {
             Ok(())
@@ -444,7 +487,8 @@ mod tests {
         assert!(e.may_be_empty("tau_mNm") && !e.may_be_empty("u_V"));
         assert_eq!(e.absent[0].elements, ["load"]);
         assert_eq!(e.fitted_when_present[0].1, ["b_load"]);
-        assert_eq!(e.noise, Some(0.05));
+        assert_eq!(e.noise, [0.05]);
+        assert_eq!(e.declared_noise(0), Some(0.05));
         assert_eq!(e.initial_mode, None);
         assert_eq!(e.time(), None);
     }
@@ -491,6 +535,37 @@ mod tests {
         );
         let m = message(&MOTOR.replace("(\"w_rad_s\"", "(\"u_V\""));
         assert!(m.contains("column `u_V` is named twice"), "{m}");
+    }
+
+    /// Several observed columns declare one noise each, in the order of `observed`; a count
+    /// that does not match, or a value that is not positive, is refused at `noise`.
+    #[test]
+    fn a_noise_per_observed_column() {
+        let two = MOTOR.replace(
+            r#"observed: [("w_rad_s", "flow:shaft", 1.0)],"#,
+            r#"observed: [("w_rad_s", "flow:shaft", 1.0), ("i_A", "flow:armature", 1.0)],"#,
+        );
+        let e =
+            Experiment::parse("e.ron", &two.replace("noise: 0.05", "noise: [0.05, 0.02]")).unwrap();
+        assert_eq!(e.noise, [0.05, 0.02]);
+        assert_eq!(e.declared_noise(1), Some(0.02));
+        let m = message(&two);
+        assert!(
+            m.starts_with(
+                "e.ron:8:5: error: experiment: `noise` gives 1 value for 2 observed columns; \
+                 give one standard deviation per observed column"
+            ),
+            "{m}"
+        );
+        assert!(m.contains("(`noise: [SD, SD]`)"), "{m}");
+        let m = message(&two.replace("noise: 0.05", "noise: [0.05, 0.0]"));
+        assert!(
+            m.starts_with(
+                "e.ron:8:5: error: experiment: noise 0 of `i_A` must be a positive standard \
+                 deviation"
+            ),
+            "{m}"
+        );
     }
 
     #[test]

@@ -24,6 +24,7 @@
 //! - [`noise`]: where the noise level comes from (declared, pure error of replicated
 //!   conditions, or a model's residual), and the lack-of-fit test it allows;
 //! - [`discover`]: which candidate extension explains the misfit;
+//! - [`weights`]: several observed columns in one fit, each in levels of its noise;
 //! - [`synthetic`]: data made from a model with known values, for tests.
 
 pub mod calibrate;
@@ -39,3 +40,4 @@ pub mod probes;
 pub mod stats;
 pub mod synthetic;
 mod timeseries;
+pub mod weights;

@@ -30,7 +30,9 @@ struct Variant {
     model: Model,
     /// For each condition, the model input it sets (`None`: its column is empty here).
     inputs: Vec<Option<usize>>,
-    outputs: Vec<OutputSpec>,
+    /// Each observed column's output, and whether the column measures its time integral
+    /// (`integral:flow:outlet`, a volume drained since the run started).
+    outputs: Vec<(OutputSpec, bool)>,
     initial: Mode,
 }
 
@@ -306,10 +308,10 @@ impl<'p> Session<'p> {
             .outputs
             .iter()
             .enumerate()
-            .map(|(k, spec)| Output {
+            .map(|(k, (spec, integral))| Output {
                 name: format!("observed{k}"),
                 spec: spec.clone(),
-                integral: false,
+                integral: *integral,
             })
             .collect();
         Self {
@@ -616,9 +618,30 @@ impl Variant {
         let outputs = experiment
             .observed
             .iter()
-            .filter_map(
-                |observed| match OutputSpec::parse(&model, &observed.output) {
-                    Ok(spec) => Some(spec),
+            .filter_map(|observed| {
+                let (integral, text) = match observed.output.trim().strip_prefix("integral:") {
+                    Some(rest) => (true, rest.trim()),
+                    None => (false, observed.output.as_str()),
+                };
+                if integral && experiment.time().is_none() {
+                    // A steady state's time integral grows without end, unless what is
+                    // integrated settles at zero, and then it depends on the whole way there.
+                    problems.push(experiment.error(
+                        DiagnosticKind::BadOutput,
+                        "observed",
+                        &observed.output,
+                        format!(
+                            "experiment: column `{}` observes '{}', a time integral, which a \
+                             steady row does not settle to (it grows while '{text}' is not zero); \
+                             observe it in a time series (kind: TimeSeries), where it is the \
+                             integral from the start of each run",
+                            observed.column, observed.output
+                        ),
+                    ));
+                    return None;
+                }
+                match OutputSpec::parse(&model, text) {
+                    Ok(spec) => Some((spec, integral)),
                     Err(d) => {
                         problems.push(experiment.error(
                             DiagnosticKind::BadOutput,
@@ -632,8 +655,8 @@ impl Variant {
                         ));
                         None
                     }
-                },
-            )
+                }
+            })
             .collect();
         // Keep the assignments to elements this variant has.
         let written = experiment.initial_mode.clone().unwrap_or_default();

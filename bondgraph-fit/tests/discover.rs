@@ -174,7 +174,7 @@ fn bearings_loaded_by_the_brake_are_a_rescaled_motor_on_a_run() {
     }
     // The noise is the base model's residual, near the 0.05 rad/s put in; no residual
     // stands out of it.
-    let noise = discovery.noise.unwrap();
+    let noise = discovery.noise[0].unwrap();
     assert!((noise - SIGMA).abs() < 0.2 * SIGMA, "{noise}\n{report}");
     let before = &discovery.residuals_before;
     assert!(before.by_regime.iter().all(|r| !r.stands_out), "{report}");
@@ -241,10 +241,10 @@ fn nothing_hidden_in_a_run_selects_nothing() {
     // A run's samples are not replicates: the noise is the base model's residual, 201
     // samples less 5 fitted parameters.
     assert_eq!(
-        discovery.noise_source, "residual of the base model (196 dof)",
+        discovery.noise_source[0], "residual of the base model (196 dof)",
         "{report}"
     );
-    assert!(discovery.pure_error.is_none() && discovery.lack_of_fit.is_none());
+    assert!(discovery.pure_error[0].is_none() && discovery.lack_of_fit.is_none());
 }
 
 #[test]
@@ -290,10 +290,10 @@ fn a_cable_that_winds_up_is_selected_on_a_run() {
         "{report}"
     );
     // The noise is then the selected model's residual, near the 0.05 rad/s put in.
-    let noise = discovery.noise.unwrap();
+    let noise = discovery.noise[0].unwrap();
     assert!((noise - SIGMA).abs() < 0.2 * SIGMA, "{noise}\n{report}");
     assert_eq!(
-        discovery.noise_source,
+        discovery.noise_source[0],
         "residual of 'shaft-spring' (195 dof)"
     );
 }

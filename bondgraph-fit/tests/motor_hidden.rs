@@ -74,6 +74,7 @@ fn discover_hidden(hidden: Option<(&str, &str, f64)>, seed: u64) -> Discovery {
         observed: vec!["w_rad_s".into()],
         time: None,
         rows,
+        ignored: Vec::new(),
     });
     let dataset = data::read("synthetic.csv", &csv, &experiment).unwrap();
     discover::discover(

@@ -55,6 +55,7 @@ fn dataset(rows: Vec<Measurement>) -> Dataset {
         observed: vec!["w_rad_s".into()],
         time: None,
         rows,
+        ignored: Vec::new(),
     });
     data::read("replicated.csv", &csv, &experiment).unwrap()
 }
@@ -122,11 +123,11 @@ fn replicates_give_the_noise_and_test_the_base_model() {
     let discovery = run(&dataset);
     let report = discovery.summary();
     assert_eq!(
-        discovery.noise_source,
+        discovery.noise_source[0],
         "pure error of 12 replicated conditions (24 dof)"
     );
     let sd = (ss / 24.0).sqrt();
-    assert!((discovery.noise.unwrap() - sd).abs() < 1e-12, "{report}");
+    assert!((discovery.noise[0].unwrap() - sd).abs() < 1e-12, "{report}");
     // 24 dof of a 0.05 rad/s noise: within 30% (the chi-square's 99.9% range).
     assert!((0.035..0.065).contains(&sd), "{sd}");
     assert!(report.lines().next().unwrap().contains("pure error of 12"));
@@ -161,7 +162,7 @@ fn a_misfit_inflates_the_residual_but_not_the_pure_error() {
     let discovery = run(&dataset);
     let report = discovery.summary();
     let sd = (ss / 24.0).sqrt();
-    assert!((discovery.noise.unwrap() - sd).abs() < 1e-12, "{report}");
+    assert!((discovery.noise[0].unwrap() - sd).abs() < 1e-12, "{report}");
     let residual_sd = (36.0 * discovery.baseline.rmse_fit.powi(2) / 32.0).sqrt();
     assert!(residual_sd > 1.5 * sd, "{residual_sd} {sd}\n{report}");
     let test = discovery.lack_of_fit.as_ref().unwrap();
@@ -187,9 +188,9 @@ fn identical_rows_give_no_noise_level_and_say_so() {
     let dataset = dataset(rows);
     let discovery = run(&dataset);
     let report = discovery.summary();
-    assert_eq!(discovery.noise, None, "{report}");
+    assert_eq!(discovery.noise[0], None, "{report}");
     assert_eq!(
-        discovery.noise_source,
+        discovery.noise_source[0],
         "cannot be estimated: the 1 replicated condition repeats exactly (pure error 0 on 29 dof)"
     );
     assert!(discovery.lack_of_fit.is_none());
@@ -319,8 +320,8 @@ fn a_declared_noise_is_used_and_tests_the_base_model() {
         &Settings::default(),
     )
     .unwrap();
-    assert_eq!(discovery.noise, Some(0.05));
-    assert_eq!(discovery.noise_source, "declared in the experiment");
+    assert_eq!(discovery.noise[0], Some(0.05));
+    assert_eq!(discovery.noise_source[0], "declared in the experiment");
     let chi2 = 22.0 * discovery.baseline.rmse_fit.powi(2) / 0.0025;
     let test = discovery.lack_of_fit.as_ref().expect("a test");
     assert_eq!(test.dof, [18]);

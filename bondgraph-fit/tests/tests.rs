@@ -2,6 +2,7 @@
 //! (which has its own study, `studies/eversion`).
 
 mod calibration;
+mod columns;
 mod discover;
 mod experiments;
 mod motor;

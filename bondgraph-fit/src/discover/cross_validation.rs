@@ -114,11 +114,16 @@ pub(super) fn cross_validate(
                 evaluations: fit.evaluations,
                 ..HeldOut::default()
             };
+            held_out.by_column = vec![0.0; experiment.observed.len()];
             for &i in test_kept {
                 match &predictions[i] {
                     Ok(p) => {
-                        held_out.sse += (p.observed[0] - test[i].observed[0]).powi(2);
-                        held_out.count += 1;
+                        for (k, (y, m)) in p.observed.iter().zip(&test[i].observed).enumerate() {
+                            let square = (y - m).powi(2);
+                            held_out.sse += square;
+                            held_out.by_column[k] += square;
+                            held_out.count += 1;
+                        }
                     }
                     Err(_) => held_out.unsettled += 1,
                 }
@@ -131,6 +136,13 @@ pub(super) fn cross_validate(
         assessment.evaluations += held_out.evaluations;
         assessment.heldout_sse += held_out.sse;
         assessment.heldout_count += held_out.count;
+        for (total, part) in assessment
+            .heldout_by_column
+            .iter_mut()
+            .zip(&held_out.by_column)
+        {
+            *total += part;
+        }
         assessment.unsettled += held_out.unsettled;
     }
     Ok(())
@@ -140,6 +152,7 @@ pub(super) fn cross_validate(
 #[derive(Default)]
 struct HeldOut {
     sse: f64,
+    by_column: Vec<f64>,
     count: usize,
     unsettled: usize,
     evaluations: usize,

@@ -19,10 +19,14 @@ use crate::predict::{Evaluator, Predictor};
 pub(super) struct Assessment {
     pub(super) names: Vec<String>,
     pub(super) fit: Fit,
+    /// Each row's prediction of each observed column, row by row (`NaN`: no prediction).
     pub(super) predictions: Vec<f64>,
     pub(super) modes: Vec<String>,
     pub(super) heldout_sse: f64,
+    /// Held-out residuals counted, every column of every row.
     pub(super) heldout_count: usize,
+    /// Of `heldout_sse`, each observed column's part.
+    pub(super) heldout_by_column: Vec<f64>,
     /// Predictions (held out, or of the final fit) that did not settle.
     pub(super) unsettled: usize,
     /// Predictions of every row made by the fit and the folds' refits.
@@ -262,12 +266,13 @@ pub(super) fn fit_on_all(
         settings,
     )?;
     evaluator.set(&fit.values);
-    let predictions: Vec<(f64, String)> = evaluator
+    let columns = experiment.observed.len();
+    let predictions: Vec<(Vec<f64>, String)> = evaluator
         .predict_each(rows)
         .into_iter()
         .map(|p| match p {
-            Ok(p) => (p.observed[0], p.mode),
-            Err(_) => (f64::NAN, "does not settle".to_string()),
+            Ok(p) => (p.observed, p.mode),
+            Err(_) => (vec![f64::NAN; columns], "does not settle".to_string()),
         })
         .collect();
     let fit = fit.with_idle(&idle, &file_start, &all_bounds);
@@ -289,15 +294,20 @@ pub(super) fn fit_on_all(
         .collect();
     let mut assessment = Assessment {
         names: all_names,
-        predictions: predictions.iter().map(|p| p.0).collect(),
+        predictions: predictions.iter().flat_map(|p| p.0.clone()).collect(),
         modes: predictions.into_iter().map(|p| p.1).collect(),
         unsettled: 0,
         evaluations: fit.evaluations,
         fit,
         heldout_sse: 0.0,
         heldout_count: 0,
+        heldout_by_column: vec![0.0; columns],
     };
-    assessment.unsettled = assessment.predictions.iter().filter(|p| p.is_nan()).count();
+    assessment.unsettled = assessment
+        .predictions
+        .chunks(columns)
+        .filter(|p| p.iter().any(|v| v.is_nan()))
+        .count();
     let orderings = global::orderings(model, &assessment.names);
     Ok(FittedOnAll {
         assessment,

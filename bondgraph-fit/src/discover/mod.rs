@@ -40,6 +40,12 @@
 //! pure error of replicated conditions (steady data: a run's samples are not replicates),
 //! else the best model's residual ([`crate::noise`]);
 //! with a level that does not come from a model, the base model's lack of fit is tested too.
+//!
+//! Several observed columns are compared together, each in levels of its own noise
+//! ([`crate::weights`]: declared, pure error, or the residual of the base model fitted with
+//! each column weighed by its spread): every fit, test and score above runs on the sum of all
+//! columns' squares in noise levels (a chi-square), and the report gives each column's RMSEs
+//! and residuals in its units beside the combined ones.
 
 mod alias;
 mod candidate;
@@ -58,8 +64,8 @@ pub(crate) use fit::{fit_best, fitted_parameters, limit_to_settling};
 pub use procedure::{discover, discover_with_progress};
 pub(crate) use residuals::residuals;
 pub use results::{
-    Baseline, Discovery, Estimate, FactorTrend, Gain, Ranked, RegimeResiduals, Residuals,
-    RowResult, Separation,
+    Baseline, ColumnResiduals, ColumnScore, Discovery, Estimate, FactorTrend, Gain, Ranked,
+    RegimeResiduals, Residuals, RowResult, Separation,
 };
 pub use summary::{estimate_text, write_residuals};
 
@@ -139,9 +145,6 @@ pub enum DiscoverError {
         /// Rows needed.
         needed: usize,
     },
-    /// Discovery compares one observed column.
-    #[error("the experiment observes {0} columns; discovery compares one (calibrate fits several)")]
-    ObservedColumns(usize),
     /// A fitted parameter that is not in the model, or has no bounds.
     #[error("{0}")]
     Fitted(Diagnostics),

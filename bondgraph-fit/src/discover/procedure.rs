@@ -36,10 +36,11 @@ impl Fitted<'_> {
         let mut evaluator = predictor.evaluator(self.names)?;
         limit_to_settling(&mut evaluator);
         evaluator.set(self.values);
+        let columns = experiment.observed.len();
         Ok(evaluator
             .predict_each(rows)
             .into_iter()
-            .map(|p| p.map_or(f64::NAN, |p| p.observed[0]))
+            .flat_map(|p| p.map_or(vec![f64::NAN; columns], |p| p.observed))
             .collect())
     }
 }
@@ -52,6 +53,10 @@ pub(super) struct Models<'a> {
     pub(super) rows: &'a [Measurement],
     pub(super) candidates: &'a [Candidate],
     pub(super) settings: &'a Settings,
+    /// The observed columns' names, and what a prediction in `experiment`'s units is
+    /// multiplied by to be in the column's (1; with several columns, each one's noise).
+    pub(super) columns: &'a [String],
+    pub(super) scales: &'a [f64],
 }
 
 impl Models<'_> {
@@ -141,6 +146,7 @@ impl Models<'_> {
                     if same_as_base {
                         assessment.heldout_sse = baseline.heldout_sse;
                         assessment.heldout_count = baseline.heldout_count;
+                        assessment.heldout_by_column = baseline.heldout_by_column.clone();
                     }
                     assessment
                 })
@@ -170,7 +176,8 @@ impl Models<'_> {
             let sse: f64 = predictions
                 .iter()
                 .zip(self.rows)
-                .map(|(p, r)| (p.observed[0] - r.observed[0]).powi(2))
+                .flat_map(|(p, r)| p.observed.iter().zip(&r.observed))
+                .map(|(p, m)| (p - m).powi(2))
                 .sum();
             let bar = best.as_ref().map_or(baseline.fit.sse, |(b, _)| *b);
             if sse < bar * (1.0 - 1e-6) {
@@ -210,9 +217,6 @@ pub fn discover_with_progress(
     done: &(dyn Fn() + Sync),
 ) -> Result<Discovery, DiscoverError> {
     let (data_name, rows) = (data.name.as_str(), data.rows.as_slice());
-    if experiment.observed.len() != 1 {
-        return Err(DiscoverError::ObservedColumns(experiment.observed.len()));
-    }
     if rows.len() < 8 {
         return Err(DiscoverError::TooFewRows {
             data: data_name.to_string(),
@@ -221,112 +225,333 @@ pub fn discover_with_progress(
         });
     }
     let base_model = model::load_source(base)?;
+    let columns: Vec<String> = experiment
+        .observed
+        .iter()
+        .map(|o| o.column.clone())
+        .collect();
+    if columns.len() == 1 {
+        let models = Models {
+            base_model: &base_model,
+            base,
+            experiment,
+            rows,
+            candidates,
+            settings,
+            columns: &columns,
+            scales: &[1.0],
+        };
+        return models.discover(data, None, done);
+    }
+    let levels = column_levels(&base_model, base, experiment, rows, settings)?;
+    let scales: Vec<f64> = levels
+        .iter()
+        .map(|l| l.sd.expect("a weighing level"))
+        .collect();
+    let (scaled_experiment, scaled_rows) = crate::weights::scaled(experiment, rows, &scales);
     let models = Models {
         base_model: &base_model,
         base,
-        experiment,
-        rows,
+        experiment: &scaled_experiment,
+        rows: &scaled_rows,
         candidates,
         settings,
+        columns: &columns,
+        scales: &scales,
     };
-    let (baseline, assessed) = models.fit_all(done)?;
-    let verdicts = Verdicts::judge(candidates, &assessed, &baseline, settings.alpha);
-    let selected = verdicts.selected;
-    let best = selected.map_or(&baseline, |i| &assessed[i]);
-    let noise_level = noise_level(experiment, rows, best, &models.name(selected));
-    let lack_of_fit = noise::lack_of_fit(
-        &noise_level,
-        baseline.fit.sse,
-        rows.len(),
-        baseline.names.len(),
-    );
-    let noise = noise_level.sd;
-    let indistinguishable = verdicts.indistinguishable(&assessed, noise);
-    let separation =
-        models.separations(&baseline, &assessed, selected, &indistinguishable, noise)?;
-    let ranking = ranking(
-        candidates,
-        &assessed,
-        &baseline,
-        &verdicts,
-        &indistinguishable,
-    );
-    let regimes =
-        |a: &Assessment| -> Vec<String> { a.modes.iter().map(|m| experiment.regime(m)).collect() };
-    let base_regimes = regimes(&baseline);
-    let residuals_before = residuals(
-        experiment,
-        0,
-        rows,
-        &baseline.predictions,
-        &base_regimes,
-        noise,
-    );
-    let residuals_after = selected.map(|s| {
-        residuals(
-            experiment,
-            0,
-            rows,
-            &assessed[s].predictions,
-            &regimes(&assessed[s]),
-            noise,
-        )
-    });
-    let table = rows
-        .iter()
-        .enumerate()
-        .map(|(i, r)| RowResult {
-            time: r.time,
-            conditions: data
-                .conditions
-                .iter()
-                .cloned()
-                .zip(r.conditions.iter().copied())
-                .collect(),
-            measured: r.observed[0],
-            baseline: baseline.predictions[i],
-            selected: selected.map(|s| assessed[s].predictions[i]),
-            regime: base_regimes[i].clone(),
+    models.discover(data, Some(Weighed { experiment, levels }), done)
+}
+
+/// Several observed columns' noise levels, which weigh the fits: declared, or pure error,
+/// else the residual of the base model fitted with each column weighed by the spread of its
+/// values ([`crate::weights`]).
+fn column_levels(
+    base_model: &Model,
+    base: &Arc<SourceFile>,
+    experiment: &Experiment,
+    rows: &[Measurement],
+    settings: &Settings,
+) -> Result<Vec<NoiseLevel>, DiscoverError> {
+    use crate::weights;
+    let m = experiment.observed.len();
+    let known: Vec<Option<NoiseLevel>> = (0..m)
+        .map(|k| weights::known_level(experiment, rows, k))
+        .collect();
+    if known.iter().all(Option::is_some) {
+        return Ok(known.into_iter().flatten().collect());
+    }
+    let provisional: Vec<f64> = (0..m)
+        .map(|k| {
+            known[k]
+                .as_ref()
+                .and_then(|l| l.sd)
+                .unwrap_or_else(|| weights::spread(rows, k))
         })
         .collect();
-    let extended_model = selected
-        .map(|s| extended_model(&candidates[s], &assessed[s]))
-        .transpose()?;
-    Ok(Discovery {
-        data: data_name.to_string(),
-        rows: rows.len(),
-        observed: experiment.observed[0].column.clone(),
-        noise,
-        noise_source: noise_level.source,
-        pure_error: noise_level.pure_error,
-        lack_of_fit,
-        baseline: Baseline {
-            rmse_fit: baseline.rmse_fit(),
-            rmse_heldout: baseline.rmse_heldout(),
-            params: baseline.estimates(),
-            evaluations: baseline.evaluations,
-        },
-        ranking,
-        selected: selected.map(|s| candidates[s].id.clone()),
-        cause: selected.map(|s| candidates[s].cause.clone()),
-        indistinguishable: indistinguishable
+    let (scaled_experiment, scaled_rows) = weights::scaled(experiment, rows, &provisional);
+    let fitted = fit_on_all(
+        base_model,
+        base,
+        &scaled_experiment,
+        &scaled_rows,
+        &[],
+        None,
+        settings,
+    )?
+    .assessment;
+    let n = rows.len() as f64;
+    let p = fitted.names.len() as f64;
+    Ok(known
+        .into_iter()
+        .enumerate()
+        .map(|(k, level)| {
+            level.unwrap_or_else(|| {
+                let sse: f64 = rows
+                    .iter()
+                    .enumerate()
+                    .map(|(i, r)| {
+                        (fitted.predictions[i * m + k] * provisional[k] - r.observed[k]).powi(2)
+                    })
+                    .sum();
+                let mut level = NoiseLevel::estimate(
+                    None,
+                    crate::weights::replicates(experiment, rows, k),
+                    noise::Residual {
+                        sse,
+                        dof: n - p / m as f64,
+                        model: "the base model",
+                        scale: noise::root_mean_square(rows, k),
+                    },
+                );
+                if level.sd.is_none() {
+                    // An exact fit of this column: it weighs the others' by their spread.
+                    level.sd = Some(provisional[k]);
+                    level.source = format!("{}; weighed by its spread", level.source);
+                }
+                level
+            })
+        })
+        .collect())
+}
+
+/// With several observed columns, what the report converts back to the columns' units: the
+/// experiment as written (the fits ran in noise levels) and each column's noise.
+struct Weighed<'a> {
+    experiment: &'a Experiment,
+    levels: Vec<NoiseLevel>,
+}
+
+impl Models<'_> {
+    /// The procedure on this data: one observed column as it is, several in noise levels
+    /// (`weighed`).
+    fn discover(
+        &self,
+        data: &Dataset,
+        weighed: Option<Weighed<'_>>,
+        done: &(dyn Fn() + Sync),
+    ) -> Result<Discovery, DiscoverError> {
+        let (experiment, rows, candidates) = (self.experiment, self.rows, self.candidates);
+        let m = self.columns.len();
+        let (baseline, assessed) = self.fit_all(done)?;
+        let verdicts = Verdicts::judge(candidates, &assessed, &baseline, self.settings.alpha);
+        let selected = verdicts.selected;
+        let best = selected.map_or(&baseline, |i| &assessed[i]);
+        // One column: its noise level. Several: every column is in its noise levels.
+        let levels: Vec<NoiseLevel> = match &weighed {
+            None => vec![noise_level(experiment, rows, best, &self.name(selected))],
+            Some(w) => w.levels.clone(),
+        };
+        let lack_of_fit = match &weighed {
+            None => noise::lack_of_fit(
+                &levels[0],
+                baseline.fit.sse,
+                rows.len(),
+                baseline.names.len(),
+            ),
+            Some(w) if w.levels.iter().all(|l| l.origin != noise::Origin::Residual) => {
+                noise::lack_of_fit(
+                    &NoiseLevel {
+                        sd: Some(1.0),
+                        origin: noise::Origin::Declared,
+                        source: String::new(),
+                        pure_error: None,
+                    },
+                    baseline.fit.sse,
+                    rows.len() * m,
+                    baseline.names.len(),
+                )
+            }
+            Some(_) => None,
+        };
+        // What the verdicts are judged against, in the fits' units.
+        let noise = match &weighed {
+            None => levels[0].sd,
+            Some(_) => Some(1.0),
+        };
+        let indistinguishable = verdicts.indistinguishable(&assessed, noise);
+        let separation =
+            self.separations(&baseline, &assessed, selected, &indistinguishable, noise)?;
+        let ranking = ranking(
+            candidates,
+            &assessed,
+            &baseline,
+            &verdicts,
+            &indistinguishable,
+            |a: &Assessment| self.column_scores(a),
+        );
+        let regimes = |a: &Assessment| -> Vec<String> {
+            a.modes.iter().map(|m| experiment.regime(m)).collect()
+        };
+        let base_regimes = regimes(&baseline);
+        // Every column's residuals pooled (one column: its own).
+        let pooled = |a: &Assessment, regimes: &[String]| {
+            if m == 1 {
+                return residuals(experiment, 0, rows, &a.predictions, regimes, noise);
+            }
+            let mut pooled_rows = Vec::with_capacity(rows.len() * m);
+            let mut pooled_predictions = Vec::with_capacity(rows.len() * m);
+            let mut pooled_regimes = Vec::with_capacity(rows.len() * m);
+            for k in 0..m {
+                for (i, row) in rows.iter().enumerate() {
+                    let mut row = row.clone();
+                    row.observed = vec![row.observed[k]];
+                    pooled_rows.push(row);
+                    pooled_predictions.push(a.predictions[i * m + k]);
+                    pooled_regimes.push(regimes[i].clone());
+                }
+            }
+            residuals(
+                experiment,
+                0,
+                &pooled_rows,
+                &pooled_predictions,
+                &pooled_regimes,
+                noise,
+            )
+        };
+        let residuals_before = pooled(&baseline, &base_regimes);
+        let residuals_after = selected.map(|s| pooled(&assessed[s], &regimes(&assessed[s])));
+        let unscaled = |a: &Assessment, k: usize| -> Vec<f64> {
+            (0..rows.len())
+                .map(|i| a.predictions[i * m + k] * self.scales[k])
+                .collect()
+        };
+        let columns = match &weighed {
+            None => Vec::new(),
+            Some(w) => (0..m)
+                .map(|k| ColumnResiduals {
+                    column: self.columns[k].clone(),
+                    residuals_before: residuals(
+                        w.experiment,
+                        k,
+                        &data.rows,
+                        &unscaled(&baseline, k),
+                        &base_regimes,
+                        w.levels[k].sd,
+                    ),
+                    residuals_after: selected.map(|s| {
+                        residuals(
+                            w.experiment,
+                            k,
+                            &data.rows,
+                            &unscaled(&assessed[s], k),
+                            &regimes(&assessed[s]),
+                            w.levels[k].sd,
+                        )
+                    }),
+                })
+                .collect(),
+        };
+        let table = data
+            .rows
             .iter()
-            .map(|&i| candidates[i].id.clone())
-            .collect(),
-        separation,
-        untestable: (0..candidates.len())
-            .filter(|&i| verdicts.untestable[i])
-            .map(|i| candidates[i].id.clone())
-            .collect(),
-        gain: Gain {
-            rmse_heldout_before: baseline.rmse_heldout(),
-            rmse_heldout_after: best.rmse_heldout(),
-        },
-        residuals_before,
-        residuals_after,
-        table,
-        extended_model,
-    })
+            .enumerate()
+            .map(|(i, r)| RowResult {
+                time: r.time,
+                conditions: data
+                    .conditions
+                    .iter()
+                    .cloned()
+                    .zip(r.conditions.iter().copied())
+                    .collect(),
+                measured: r.observed.clone(),
+                baseline: (0..m)
+                    .map(|k| baseline.predictions[i * m + k] * self.scales[k])
+                    .collect(),
+                selected: selected.map(|s| {
+                    (0..m)
+                        .map(|k| assessed[s].predictions[i * m + k] * self.scales[k])
+                        .collect()
+                }),
+                regime: base_regimes[i].clone(),
+            })
+            .collect();
+        let extended_model = selected
+            .map(|s| extended_model(&candidates[s], &assessed[s]))
+            .transpose()?;
+        Ok(Discovery {
+            data: data.name.clone(),
+            rows: rows.len(),
+            observed: self.columns.to_vec(),
+            noise: levels.iter().map(|l| l.sd).collect(),
+            noise_source: levels.iter().map(|l| l.source.clone()).collect(),
+            pure_error: levels.iter().map(|l| l.pure_error.clone()).collect(),
+            lack_of_fit,
+            baseline: Baseline {
+                rmse_fit: baseline.rmse_fit(),
+                rmse_heldout: baseline.rmse_heldout(),
+                params: baseline.estimates(),
+                evaluations: baseline.evaluations,
+                columns: self.column_scores(&baseline),
+            },
+            ranking,
+            selected: selected.map(|s| candidates[s].id.clone()),
+            cause: selected.map(|s| candidates[s].cause.clone()),
+            indistinguishable: indistinguishable
+                .iter()
+                .map(|&i| candidates[i].id.clone())
+                .collect(),
+            separation,
+            untestable: (0..candidates.len())
+                .filter(|&i| verdicts.untestable[i])
+                .map(|i| candidates[i].id.clone())
+                .collect(),
+            gain: Gain {
+                rmse_heldout_before: baseline.rmse_heldout(),
+                rmse_heldout_after: best.rmse_heldout(),
+            },
+            residuals_before,
+            residuals_after,
+            columns,
+            table,
+            extended_model,
+        })
+    }
+
+    /// With several observed columns, each one's RMSEs in its units; none with one.
+    fn column_scores(&self, a: &Assessment) -> Vec<ColumnScore> {
+        let m = self.columns.len();
+        if m == 1 {
+            return Vec::new();
+        }
+        let n = self.rows.len() as f64;
+        let heldout_rows = (a.heldout_count / m).max(1) as f64;
+        (0..m)
+            .map(|k| {
+                let sse: f64 = self
+                    .rows
+                    .iter()
+                    .enumerate()
+                    .map(|(i, r)| (a.predictions[i * m + k] - r.observed[k]).powi(2))
+                    .sum();
+                ColumnScore {
+                    column: self.columns[k].clone(),
+                    rmse_fit: (sse / n).sqrt() * self.scales[k],
+                    rmse_heldout: (a.heldout_by_column[k] / heldout_rows).sqrt() * self.scales[k],
+                }
+            })
+            .collect()
+    }
 }
 
 /// The noise level the verdicts are judged against: the experiment's declared one, else
@@ -339,13 +564,9 @@ fn noise_level(
     best_name: &str,
 ) -> NoiseLevel {
     // Samples of a run at the same input levels are not replicates.
-    let replicates = if experiment.time().is_none() {
-        noise::pure_error(rows, 0)
-    } else {
-        None
-    };
+    let replicates = crate::weights::replicates(experiment, rows, 0);
     NoiseLevel::estimate(
-        experiment.noise,
+        experiment.declared_noise(0),
         replicates,
         noise::Residual {
             sse: best.fit.sse,
@@ -363,6 +584,7 @@ fn ranking(
     baseline: &Assessment,
     verdicts: &Verdicts,
     indistinguishable: &[usize],
+    column_scores: impl Fn(&Assessment) -> Vec<ColumnScore>,
 ) -> Vec<Ranked> {
     let mut order: Vec<usize> = (0..candidates.len()).collect();
     order.sort_by(|&a, &b| {
@@ -377,6 +599,7 @@ fn ranking(
             params: assessed[i].estimates(),
             rmse_fit: assessed[i].rmse_fit(),
             rmse_heldout: assessed[i].rmse_heldout(),
+            columns: column_scores(&assessed[i]),
             score: assessed[i].aicc() - baseline.aicc(),
             p_value: verdicts.p_values[i],
             evaluations: assessed[i].evaluations,

@@ -2,9 +2,51 @@
 
 use std::collections::BTreeMap;
 
-use serde::Serialize;
+use serde::{Serialize, Serializer};
 
 use crate::noise::{LackOfFit, PureError};
+
+/// One value per observed column, written as the value itself when there is one column (the
+/// document of one column keeps its form) and as a list when there are several.
+fn one_or_list<T: Serialize, S: Serializer>(values: &[T], s: S) -> Result<S::Ok, S::Error> {
+    match values {
+        [one] => one.serialize(s),
+        several => several.serialize(s),
+    }
+}
+
+/// [`one_or_list`] of an optional list.
+fn option_one_or_list<T: Serialize, S: Serializer>(
+    values: &Option<Vec<T>>,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    match values {
+        None => s.serialize_none(),
+        Some(values) => one_or_list(values, s),
+    }
+}
+
+/// One observed column's scores, in its units (with several observed columns).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ColumnScore {
+    /// The observed column.
+    pub column: String,
+    /// RMSE of the fit on all rows.
+    pub rmse_fit: f64,
+    /// RMSE on held-out rows.
+    pub rmse_heldout: f64,
+}
+
+/// One observed column's residuals, in its units (with several observed columns).
+#[derive(Clone, Debug, Serialize)]
+pub struct ColumnResiduals {
+    /// The observed column.
+    pub column: String,
+    /// Residuals of the baseline.
+    pub residuals_before: Residuals,
+    /// Residuals of the selected extension.
+    pub residuals_after: Option<Residuals>,
+}
 
 /// A parameter's fitted value and how well the data determines it.
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -22,7 +64,8 @@ pub struct Estimate {
 /// The base model's scores.
 #[derive(Clone, Debug, Serialize)]
 pub struct Baseline {
-    /// RMSE of the fit on all rows, in the observed column's units.
+    /// RMSE of the fit on all rows, in the observed column's units; with several observed
+    /// columns, in noise levels (each column's residuals divided by its noise).
     pub rmse_fit: f64,
     /// RMSE on held-out rows.
     pub rmse_heldout: f64,
@@ -30,6 +73,9 @@ pub struct Baseline {
     pub params: BTreeMap<String, Estimate>,
     /// Predictions of every row made by its fit and its folds' refits: the search's cost.
     pub evaluations: usize,
+    /// With several observed columns, each one's RMSEs in its units.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub columns: Vec<ColumnScore>,
 }
 
 /// One candidate's result.
@@ -39,10 +85,14 @@ pub struct Ranked {
     pub id: String,
     /// Every refitted parameter (the base's and its own).
     pub params: BTreeMap<String, Estimate>,
-    /// RMSE of the fit on all rows, in the observed column's units.
+    /// RMSE of the fit on all rows, in the observed column's units (several columns: in
+    /// noise levels).
     pub rmse_fit: f64,
     /// RMSE on held-out rows.
     pub rmse_heldout: f64,
+    /// With several observed columns, each one's RMSEs in its units.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub columns: Vec<ColumnScore>,
     /// The corrected Akaike criterion against the baseline's (negative: better).
     pub score: f64,
     /// The F-test's p-value against the baseline.
@@ -103,12 +153,15 @@ pub struct RowResult {
     pub time: Option<f64>,
     /// The condition cells, by column (`None`: empty).
     pub conditions: BTreeMap<String, Option<f64>>,
-    /// The measured value.
-    pub measured: f64,
+    /// The measured value of each observed column (one: the value, several: a list).
+    #[serde(serialize_with = "one_or_list")]
+    pub measured: Vec<f64>,
     /// The refitted base model's.
-    pub baseline: f64,
+    #[serde(serialize_with = "one_or_list")]
+    pub baseline: Vec<f64>,
     /// The selected extended model's.
-    pub selected: Option<f64>,
+    #[serde(serialize_with = "option_one_or_list")]
+    pub selected: Option<Vec<f64>>,
     /// The regime the base model settles in.
     pub regime: String,
 }
@@ -138,21 +191,30 @@ pub struct Discovery {
     pub data: String,
     /// Rows used.
     pub rows: usize,
-    /// The observed column's name (every RMSE and residual is in its units).
-    pub observed: String,
-    /// The noise level, in the observed column's units ([`crate::noise`]): the experiment's
-    /// declared one, else the pure error of replicated conditions, else the best model's
+    /// The observed column's name (every RMSE and residual is in its units); with several
+    /// observed columns, a list (each column's noise, RMSEs and residuals are in its units;
+    /// the combined ones in noise levels).
+    #[serde(serialize_with = "one_or_list")]
+    pub observed: Vec<String>,
+    /// The noise level of each observed column, in its units ([`crate::noise`]): the
+    /// experiment's declared one, else the pure error of replicated conditions, else (one
+    /// column) the best model's or (several, where it weighs the fit) the base model's
     /// residual standard deviation; `None` when the data cannot estimate it (replicates
     /// that repeat exactly, an exact fit), and then nothing is judged in noise levels.
-    pub noise: Option<f64>,
-    /// Where `noise` came from: `declared in the experiment`, `pure error of N replicated
-    /// conditions (D dof)`, `residual of the base model (D dof)`, `residual of 'ID' (D
-    /// dof)`, or `cannot be estimated: ...` and why.
-    pub noise_source: String,
-    /// The scatter of replicated conditions, when some condition is measured twice.
-    pub pure_error: Option<PureError>,
+    #[serde(serialize_with = "one_or_list")]
+    pub noise: Vec<Option<f64>>,
+    /// Where each `noise` came from: `declared in the experiment`, `pure error of N
+    /// replicated conditions (D dof)`, `residual of the base model (D dof)`, `residual of
+    /// 'ID' (D dof)`, or `cannot be estimated: ...` and why.
+    #[serde(serialize_with = "one_or_list")]
+    pub noise_source: Vec<String>,
+    /// The scatter of replicated conditions of each column, when some condition is
+    /// measured twice.
+    #[serde(serialize_with = "one_or_list")]
+    pub pure_error: Vec<Option<PureError>>,
     /// The base model's lack-of-fit test, when the noise level does not come from a model's
-    /// residuals (declared, or pure error).
+    /// residuals (declared, or pure error); with several columns, the chi-square of all
+    /// columns' residuals in noise levels.
     pub lack_of_fit: Option<LackOfFit>,
     /// The base model.
     pub baseline: Baseline,
@@ -170,10 +232,14 @@ pub struct Discovery {
     pub untestable: Vec<String>,
     /// The gain.
     pub gain: Gain,
-    /// Residuals of the baseline.
+    /// Residuals of the baseline (several observed columns: every column's, in noise levels,
+    /// pooled).
     pub residuals_before: Residuals,
     /// Residuals of the selected extension.
     pub residuals_after: Option<Residuals>,
+    /// With several observed columns, each one's residuals in its units.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub columns: Vec<ColumnResiduals>,
     /// Every row.
     pub table: Vec<RowResult>,
     /// The selected extended model with its fitted values, as a model file.

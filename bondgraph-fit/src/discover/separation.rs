@@ -20,7 +20,7 @@ impl Models<'_> {
         noise: Option<f64>,
     ) -> Result<Vec<Separation>, DiscoverError> {
         let (experiment, rows, candidates) = (self.experiment, self.rows, self.candidates);
-        let observed = experiment.observed[0].column.as_str();
+        let m = self.columns.len();
         let probes = crate::probes::probes(experiment, rows);
         let runs = rows
             .iter()
@@ -61,31 +61,37 @@ impl Models<'_> {
                     (0, 0.0),
                     |(bk, bd), (k, d)| if d > bd { (k, d) } else { (bk, bd) },
                 );
+            // The probe and the column where they differ most, in the column's units.
+            let (probe, column) = (k / m, k % m);
+            let observed = self.columns[column].as_str();
+            let scale = self.scales[column];
+            let (predicted, reference_predicted) =
+                (predictions[k] * scale, reference_predictions[k] * scale);
             let measurement = if let Some(sd) = noise
                 && difference > 3.0 * sd
             {
                 format!(
                     "`{observed}` at {}: '{}' predicts {:.4}, {against} {:.4} ({:.1} noise levels apart)",
-                    crate::probes::describe(experiment, &probes[k]),
+                    crate::probes::describe(experiment, &probes[probe]),
                     candidates[i].id,
-                    predictions[k],
-                    reference_predictions[k],
+                    predicted,
+                    reference_predicted,
                     difference / sd
                 )
             } else if noise.is_none() && difference > SAME_PREDICTION_MM_S {
                 format!(
                     "`{observed}` at {}: '{}' predicts {:.4}, {against} {:.4} (the largest difference; \
                      with no noise level it is not judged in noise levels)",
-                    crate::probes::describe(experiment, &probes[k]),
+                    crate::probes::describe(experiment, &probes[probe]),
                     candidates[i].id,
-                    predictions[k],
-                    reference_predictions[k],
+                    predicted,
+                    reference_predicted,
                 )
             } else {
                 format!(
                     "{nowhere} `{observed}` tells '{}' from {against} (they differ by at most {:.4}); {}",
                     candidates[i].id,
-                    difference,
+                    difference * scale,
                     candidates[i]
                         .evidence
                         .as_deref()

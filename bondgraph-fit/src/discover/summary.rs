@@ -10,46 +10,10 @@ impl Discovery {
     pub fn summary(&self) -> String {
         use std::fmt::Write;
         let mut s = String::new();
-        match self.noise {
-            Some(sd) => {
-                let _ = writeln!(
-                    s,
-                    "{}: {} rows, observed `{}` (every RMSE and residual below is in its \
-                     units); noise {sd:.3}, {}",
-                    self.data, self.rows, self.observed, self.noise_source
-                );
-            }
-            None => {
-                let _ = writeln!(
-                    s,
-                    "{}: {} rows, observed `{}` (every RMSE and residual below is in its \
-                     units); noise: {}",
-                    self.data, self.rows, self.observed, self.noise_source
-                );
-                let _ = writeln!(
-                    s,
-                    "  so nothing below is judged in noise levels (no residual stands out of \
-                     the noise; candidates count as indistinguishable only if they fit as well)"
-                );
-            }
-        }
-        // Replicates that did not give the noise level: too few, or a declared noise.
-        if let Some(pe) = &self.pure_error
-            && (pe.dof < noise::MIN_PURE_ERROR_DOF
-                || self.noise_source == "declared in the experiment")
-        {
-            let _ = writeln!(
-                s,
-                "  replicates: pure error {:.3} of {} replicated condition(s) ({} dof{})",
-                pe.sd,
-                pe.groups,
-                pe.dof,
-                if pe.dof < noise::MIN_PURE_ERROR_DOF {
-                    format!(", fewer than the {} needed", noise::MIN_PURE_ERROR_DOF)
-                } else {
-                    String::new()
-                }
-            );
+        if self.observed.len() == 1 {
+            self.one_column_header(&mut s);
+        } else {
+            self.columns_header(&mut s);
         }
         if let Some(test) = &self.lack_of_fit {
             let _ = writeln!(s, "  lack of fit of the base model: {}", test.text());
@@ -62,8 +26,13 @@ impl Discovery {
         for (name, e) in &self.baseline.params {
             let _ = writeln!(s, "  {name} = {}", estimate_text(e));
         }
+        self.write_column_scores(&mut s, &self.baseline.columns);
         let _ = writeln!(s, "\nwhat it gets wrong (model minus measured):");
         write_residuals(&mut s, &self.residuals_before);
+        for column in &self.columns {
+            let _ = writeln!(s, "  `{}`, in its units:", column.column);
+            write_residuals(&mut s, &column.residuals_before);
+        }
         let _ = writeln!(s, "\ncandidates, best held-out RMSE first:");
         let _ = writeln!(
             s,
@@ -77,6 +46,7 @@ impl Discovery {
                 r.id, r.rmse_fit, r.rmse_heldout, r.score, r.p_value, r.verdict
             );
         }
+        self.write_ranking_by_column(&mut s);
         match &self.selected {
             Some(id) => {
                 let _ = writeln!(
@@ -88,10 +58,17 @@ impl Discovery {
                     for (name, e) in &r.params {
                         let _ = writeln!(s, "  {name} = {}", estimate_text(e));
                     }
+                    self.write_column_scores(&mut s, &r.columns);
                 }
                 if let Some(after) = &self.residuals_after {
                     let _ = writeln!(s, "residuals after:");
                     write_residuals(&mut s, after);
+                }
+                for column in &self.columns {
+                    if let Some(after) = &column.residuals_after {
+                        let _ = writeln!(s, "  `{}`, in its units:", column.column);
+                        write_residuals(&mut s, after);
+                    }
                 }
             }
             None => {
@@ -141,6 +118,118 @@ impl Discovery {
             }
         }
         s
+    }
+}
+
+impl Discovery {
+    /// The first line of one column's report: its name, noise and where the noise came from.
+    fn one_column_header(&self, s: &mut String) {
+        use std::fmt::Write;
+        let (observed, source) = (&self.observed[0], &self.noise_source[0]);
+        match self.noise[0] {
+            Some(sd) => {
+                let _ = writeln!(
+                    s,
+                    "{}: {} rows, observed `{observed}` (every RMSE and residual below is in its \
+                     units); noise {sd:.3}, {source}",
+                    self.data, self.rows
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    s,
+                    "{}: {} rows, observed `{observed}` (every RMSE and residual below is in its \
+                     units); noise: {source}",
+                    self.data, self.rows
+                );
+                let _ = writeln!(
+                    s,
+                    "  so nothing below is judged in noise levels (no residual stands out of \
+                     the noise; candidates count as indistinguishable only if they fit as well)"
+                );
+            }
+        }
+        // Replicates that did not give the noise level: too few, or a declared noise.
+        if let Some(pe) = &self.pure_error[0]
+            && (pe.dof < noise::MIN_PURE_ERROR_DOF || source == "declared in the experiment")
+        {
+            let _ = writeln!(
+                s,
+                "  replicates: pure error {:.3} of {} replicated condition(s) ({} dof{})",
+                pe.sd,
+                pe.groups,
+                pe.dof,
+                if pe.dof < noise::MIN_PURE_ERROR_DOF {
+                    format!(", fewer than the {} needed", noise::MIN_PURE_ERROR_DOF)
+                } else {
+                    String::new()
+                }
+            );
+        }
+    }
+
+    /// The first lines of a report on several columns: each column's noise, which weighs it.
+    fn columns_header(&self, s: &mut String) {
+        use std::fmt::Write;
+        let _ = writeln!(
+            s,
+            "{}: {} rows, {} observed columns, each weighed by its noise (combined RMSEs and \
+             residuals below are in noise levels; each column's in its units):",
+            self.data,
+            self.rows,
+            self.observed.len()
+        );
+        for (k, column) in self.observed.iter().enumerate() {
+            let noise = self.noise[k].map_or_else(|| "none".to_string(), |sd| number(sd, 4));
+            let _ = writeln!(s, "  `{column}`: noise {noise}, {}", self.noise_source[k]);
+        }
+    }
+
+    /// With several columns, each candidate's RMSEs (fit / held out) per column, in the
+    /// columns' units.
+    fn write_ranking_by_column(&self, s: &mut String) {
+        use std::fmt::Write;
+        if self.observed.len() < 2 {
+            return;
+        }
+        let _ = write!(
+            s,
+            "  each column, fit / held-out in its units:\n  {:<30}",
+            "id"
+        );
+        for column in &self.observed {
+            let _ = write!(s, " {:>21}", format!("`{column}`"));
+        }
+        let _ = writeln!(s);
+        let base = ("the base model", &self.baseline.columns);
+        let rows =
+            std::iter::once(base).chain(self.ranking.iter().map(|r| (r.id.as_str(), &r.columns)));
+        for (id, columns) in rows {
+            let _ = write!(s, "  {id:<30}");
+            for c in columns {
+                let pair = format!("{} / {}", number(c.rmse_fit, 3), number(c.rmse_heldout, 3));
+                let _ = write!(s, " {pair:>21}");
+            }
+            let _ = writeln!(s);
+        }
+    }
+
+    /// With several columns, a table of each column's RMSEs in its units.
+    fn write_column_scores(&self, s: &mut String, columns: &[super::ColumnScore]) {
+        use std::fmt::Write;
+        if columns.is_empty() {
+            return;
+        }
+        let _ = writeln!(s, "  {:<24} {:>12} {:>12}", "column", "fit", "held-out");
+        for c in columns {
+            let _ = writeln!(
+                s,
+                "  {:<24} {:>12} {:>12}",
+                format!("`{}`", c.column),
+                number(c.rmse_fit, 4),
+                number(c.rmse_heldout, 4)
+            );
+        }
     }
 }
 

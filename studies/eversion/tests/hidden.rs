@@ -102,6 +102,7 @@ fn discover_on(design: &[Measurement], hidden: Option<(&str, &str, f64)>, seed: 
         observed: vec!["v_ge_mm_s".into()],
         time: None,
         rows,
+        ignored: Vec::new(),
     });
     let dataset = data::read("synthetic.csv", &csv, &experiment).unwrap();
     discover::discover(
