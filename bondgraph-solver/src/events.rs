@@ -226,6 +226,8 @@ pub struct Scratch {
     current_slopes: Vec<f64>,
     /// The guards' values or rates at a refinement's trial point.
     probe: Vec<f64>,
+    /// The levels below which each guard is armed in this segment.
+    levels: Vec<f64>,
     from_zero: Vec<bool>,
     offsets: Vec<(f64, f64)>,
     envelopes: Vec<Envelope>,
@@ -244,7 +246,8 @@ pub struct Scratch {
 
 /// The first crossing of an armed guard in `(0, length]`, arming guards seen below their
 /// `arm_below` level (zero, or minus a rounding tolerance for a guard whose switch was just
-/// declined, so that rounding noise about zero cannot fire it again and again). Each guard
+/// declined, so that rounding noise about zero cannot fire it again and again; over a modal
+/// segment, at least 1e-9 of the guard's modal terms at its start). Each guard
 /// is taken less its `fire_above` level (zero, or the rounding of its terms for a guard at
 /// rest on its threshold, which fires only once clearly past it).
 ///
@@ -281,6 +284,7 @@ pub fn first_crossing(
         previous_slopes,
         current_slopes,
         probe,
+        levels,
         from_zero,
         offsets,
         envelopes,
@@ -332,8 +336,26 @@ pub fn first_crossing(
     if let Some(i) = (0..previous.len()).find(|&i| armed[i] && previous[i] >= 0.0) {
         return Located::Crossing(Crossing { guard: i, tau: 0.0 });
     }
+    // A guard resting after a declined switch (its level below zero: static friction could
+    // not hold) is armed again once below the rounding of its terms. In eigen-coordinates
+    // those are the modal terms, which cancel where the guard is zero: a carriage's speed
+    // at rest read -1.1e-19 m/s, the rounding of terms of 5e-4 m/s, far below 1e-9 of its
+    // own one term (1e-19), so the guard was armed again at each segment's start and found
+    // crossing first, an ulp of time later, again and again.
+    levels.clear();
+    levels.extend_from_slice(arm_below);
+    if let Some(guards) = &modal
+        && levels.iter().any(|level| *level < 0.0)
+        && let Some(z) = segment.modal_state(0.0)
+    {
+        for (i, level) in levels.iter_mut().enumerate() {
+            if *level < 0.0 {
+                *level = level.min(-1e-9 * guards.magnitude(i, z, 0.0));
+            }
+        }
+    }
     for (i, value) in previous.iter().enumerate() {
-        if *value < arm_below[i] {
+        if *value < levels[i] {
             armed[i] = true;
         }
     }
@@ -413,7 +435,7 @@ pub fn first_crossing(
                 stride *= 2.0;
                 evaluate(segment, from, current);
                 for i in 0..current.len() {
-                    if current[i] < arm_below[i] {
+                    if current[i] < levels[i] {
                         armed[i] = true;
                     }
                 }
@@ -568,7 +590,7 @@ pub fn first_crossing(
             }
             std::mem::swap(previous_slopes, current_slopes);
             for i in 0..current.len() {
-                if current[i] < arm_below[i] {
+                if current[i] < levels[i] {
                     armed[i] = true;
                 }
             }
@@ -626,6 +648,19 @@ impl<'m> ModalGuards<'m> {
             }
             sum
         }));
+    }
+
+    /// The magnitude of guard `i`'s terms at `τ` from the coordinates `z(τ)`: its value's
+    /// scale, which rounding is judged against.
+    fn magnitude(&self, i: usize, z: &[Complex64], tau: f64) -> f64 {
+        let (a, b) = self.offsets[i];
+        let terms: f64 = self
+            .coefficients(i)
+            .iter()
+            .zip(z)
+            .map(|(cj, zj)| cj.norm() * zj.norm())
+            .sum();
+        a.abs() + (b * tau).abs() + terms
     }
 
     /// The guards' rates from the coordinates' rates `ż(τ)`, appended to `out`.

@@ -11,6 +11,7 @@ mod flow_limit;
 mod hardening;
 mod hardening_events;
 mod input_rates;
+mod multiscale_events;
 mod nonlinear;
 mod nonlinear_events;
 mod oscillating_guards;

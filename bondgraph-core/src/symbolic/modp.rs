@@ -305,6 +305,22 @@ mod tests {
         assert_eq!(primes[1], (1 << 31) - 19);
     }
 
+    #[test]
+    fn the_prime_table_is_the_256_primes_below_2_31() {
+        // The reference, from sympy 1.14 (`prevprime` from 2^31, 256 times): the last is
+        // 2^31 - 5317, and the sum and a polynomial hash of the list, base 1000003 modulo
+        // 2^61 - 1, are these.
+        let primes = primes();
+        assert_eq!(primes.len(), 256);
+        assert_eq!(primes[255], (1 << 31) - 5317);
+        assert_eq!(primes.iter().sum::<u64>(), 549_755_096_632);
+        let modulus: u128 = (1 << 61) - 1;
+        let hash = primes
+            .iter()
+            .fold(0u128, |h, &p| (h * 1_000_003 + p as u128) % modulus);
+        assert_eq!(hash, 963_706_225_091_797_144);
+    }
+
     /// Miller–Rabin against trial division on every number of two windows: the small
     /// numbers (where the bases themselves and their multiples sit) and the top of the
     /// range the table is drawn from, where it must find the same primes.
