@@ -4,6 +4,7 @@ mod analysis;
 mod energy;
 mod energy_records;
 mod event_bounds;
+mod extreme_ratios;
 mod fig6;
 mod flagship;
 mod flow_limit;
