@@ -12,6 +12,7 @@ mod hardening;
 mod input_rates;
 mod nonlinear;
 mod nonlinear_events;
+mod oracle;
 mod oscillating_guards;
 mod properties;
 mod stick_slip;
