@@ -113,3 +113,35 @@ fn parallel_springs_between_disparate_masses_stretch_alike() {
         "books: stored {stored}, supplied {supplied}, dissipated {dissipated}"
     );
 }
+
+/// The damping of the fast oscillation in `two_masses.ron` with a vanishing first mass: the
+/// spring's force `k Q sin ωt` (`ω² = k/m1`) moves the second mass at `k Q/(m2 ω)`, which
+/// dissipates `b k² Q²/(2 m2² ω²)` of the energy `k Q²/2`, so the amplitude decays at
+/// `σ = -b m1/(2 m2²)` to first order in `m1/m2`. The mode matrix in both state orders the
+/// solver may meet. Was, for m1 = 1e-200: σ = +5.3e36 /s (the states became non-finite),
+/// the energy weights carrying the rounding of a logarithm of 1e200.
+#[test]
+fn a_vanishing_mass_oscillates_at_its_exact_damping() {
+    let (m2, k, b) = (3.0f64, 50.0f64, 2.5f64);
+    for m1 in [1e-80f64, 1e-100, 1e-140, 1e-200, 1e-300] {
+        let expected = -b * m1 / (2.0 * m2 * m2);
+        // States (p1, q, p2) and (q, p1, p2).
+        let orders = [
+            [0.0, -k, 0.0, 1.0 / m1, 0.0, -1.0 / m2, 0.0, k, -b / m2],
+            [0.0, 1.0 / m1, -1.0 / m2, -k, 0.0, 0.0, k, 0.0, -b / m2],
+        ];
+        for entries in orders {
+            let a = nalgebra::DMatrix::from_row_slice(3, 3, &entries);
+            let eigen = bondgraph_solver::linalg::eigen(&a).expect("diagonalisable");
+            let fast: Vec<_> = eigen.values.iter().filter(|v| v.im != 0.0).collect();
+            assert_eq!(fast.len(), 2, "m1 = {m1:e}: {:?}", eigen.values);
+            for value in fast {
+                assert!(
+                    (value.re - expected).abs() <= 1e-12 * expected.abs(),
+                    "m1 = {m1:e}: σ = {} against {expected}",
+                    value.re
+                );
+            }
+        }
+    }
+}
