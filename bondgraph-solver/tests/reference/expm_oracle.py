@@ -22,9 +22,16 @@ given by a few rounding units) is off by about eps * S; the Rust test allows a s
 multiple of that. S also exposes what no double-precision method can resolve: the phase of a
 7e150 rad/s oscillation after one second has S of order 1e150.
 
+It gives as well the sensitivity S_A to each number the solver is handed, perturbed on its
+own: the entries of the matrix and of its input columns, the initial state, the output
+coefficients and the duration (`entry_sensitivity`). Perturbed apart, these break relations
+the data keep (two parallel springs' equal rows, a damper's rows of opposite sign), which
+every method that factorizes the matrix in floating point does, and S_A can exceed S a
+million times.
+
 Run from the repository root:
     python3 bondgraph-solver/tests/reference/expm_oracle.py > bondgraph-solver/tests/reference/oracle.json
-(needs mpmath; about a minute).
+(needs mpmath; about ten minutes).
 """
 
 import json
@@ -143,8 +150,11 @@ def data(net):
     return out
 
 
-def quantities(net, values):
-    """Velocities, spring forces and stored energy at T, from data values (mpf)."""
+def assemble(net, values):
+    """The numbers a solver is handed, from data values (mpf): the augmented matrix M (state
+    matrix and input columns), the initial state, the duration, and the output coefficients
+    (1/m for each velocity, k for each spring force; the stored energy is sum p (1/m) p / 2 +
+    sum q k q / 2 from the same)."""
     n, ne, nf = len(net["masses"]), len(net["elements"]), len(net["forces"])
     it = iter(values)
     m = [next(it) for _ in range(n)]
@@ -159,10 +169,6 @@ def quantities(net, values):
     # states: p_0..p_{n-1}, then the springs' q in element order; columns size, size+1 carry
     # t and 1.
     M = mp.zeros(size + 2, size + 2)
-
-    def velocity_coefficients(node):
-        return {} if node is None else {node: 1 / m[node]}
-
     for j, el in enumerate(net["elements"]):
         a, b = el["from"], el["to"]
         # rate of stretch, as coefficients on p
@@ -185,15 +191,63 @@ def quantities(net, values):
         M[force["mass"], size] += f1[k]
         M[force["mass"], size + 1] += f0[k]
     M[size, size + 1] = 1
-    E = mp.expm(M * T)
     x0 = [*p0, *[q0[j] for j in springs], 0, 1]
+    coefficients = [1 / m[i] for i in range(n)] + [e[j] for j in springs]
+    return M, x0, T, coefficients
+
+
+def evaluate(M, x0, T, coefficients):
+    """Velocities, spring forces and stored energy at T."""
+    size = len(coefficients)
+    E = mp.expm(M * T)
     x = [mp.fsum(E[r, c] * x0[c] for c in range(size + 2)) for r in range(size)]
-    velocities = [x[i] / m[i] for i in range(n)]
-    forces = [e[j] * x[n + springs.index(j)] for j in springs]
-    stored = mp.fsum(x[i] ** 2 / (2 * m[i]) for i in range(n)) + mp.fsum(
-        e[j] * x[n + springs.index(j)] ** 2 / 2 for j in springs
-    )
-    return velocities + forces + [stored]
+    outputs = [c * v for c, v in zip(coefficients, x)]
+    stored = mp.fsum(c * v * v / 2 for c, v in zip(coefficients, x))
+    return outputs + [stored]
+
+
+def quantities(net, values):
+    """Velocities, spring forces and stored energy at T, from data values (mpf)."""
+    return evaluate(*assemble(net, values))
+
+
+def entry_sensitivity(net, base, h):
+    """The sensitivity to each number the solver is handed, perturbed on its own: every
+    nonzero entry of M but the clock's, of the initial state and of the output coefficients,
+    and the duration. Unlike the data's, such perturbations break the network's exact
+    relations (two parallel springs' equal rows, a damper's rows of opposite sign), and any
+    method that factorizes the matrix in floating point makes them."""
+    M, x0, T, coefficients = assemble(net, base)
+    size = len(coefficients)
+    values = evaluate(M, x0, T, coefficients)
+    total = [mp.mpf(0)] * len(values)
+
+    def add(plus, minus):
+        for i in range(len(values)):
+            total[i] += abs((plus[i] - minus[i]) / (2 * h))
+
+    for r in range(size + 2):
+        for c in range(size + 2):
+            if M[r, c] == 0 or (r, c) == (size, size + 1):
+                continue
+            up, down = M.copy(), M.copy()
+            up[r, c] *= 1 + h
+            down[r, c] *= 1 - h
+            add(evaluate(up, x0, T, coefficients), evaluate(down, x0, T, coefficients))
+    for k in range(size):
+        if x0[k] == 0:
+            continue
+        up, down = list(x0), list(x0)
+        up[k] *= 1 + h
+        down[k] *= 1 - h
+        add(evaluate(M, up, T, coefficients), evaluate(M, down, T, coefficients))
+    for k in range(size):
+        up, down = list(coefficients), list(coefficients)
+        up[k] *= 1 + h
+        down[k] *= 1 - h
+        add(evaluate(M, x0, T, up), evaluate(M, x0, T, down))
+    add(evaluate(M, x0, T * (1 + h), coefficients), evaluate(M, x0, T * (1 - h), coefficients))
+    return total
 
 
 def reference(net):
@@ -230,7 +284,7 @@ def reference(net):
     for a, b, s in zip(values, check, sensitivity):
         if abs(a - b) > mp.mpf(10) ** -30 * (abs(b) + s):
             sys.exit(f"{net['name']}: {a} and {b} disagree at {dps} digits")
-    return values, sensitivity
+    return values, sensitivity, entry_sensitivity(net, base, h)
 
 
 def main():
@@ -239,10 +293,11 @@ def main():
     networks += [parallel_springs(), stiff_tip()]
     cases = []
     for net in networks:
-        values, sensitivity = reference(net)
+        values, sensitivity, entries = reference(net)
         net = dict(net)
         net["expected"] = [float(v) for v in values]
         net["sensitivity"] = [float(s) for s in sensitivity]
+        net["entry_sensitivity"] = [float(s) for s in entries]
         cases.append(net)
         print(net["name"], file=sys.stderr)
     json.dump({"generator": "expm_oracle.py", "cases": cases}, sys.stdout, indent=1)
