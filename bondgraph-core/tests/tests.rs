@@ -5,6 +5,7 @@
 mod causality_trace;
 mod jacobian;
 mod limits;
+mod merging;
 mod nonlinear;
 mod random_graph;
 mod regressions;
