@@ -12,7 +12,8 @@
 //! ([`Experiment`]) names: its condition columns, its `absent` columns, its observed columns,
 //! and for a time series its time column. Columns may come in any order (they are found by
 //! name); whitespace around names and values is ignored; a UTF-8 byte-order mark and blank
-//! lines are skipped. An `absent` column may be left out of the header altogether (every row
+//! lines are skipped. Lines may end with `\n`, `\r\n` or a lone `\r`; messages give the
+//! file's own line numbers. An `absent` column may be left out of the header altogether (every row
 //! then has it empty).
 //!
 //! What is refused, and why:
@@ -503,7 +504,18 @@ pub fn read_file(path: &Path, experiment: &Experiment) -> Result<Dataset, DataEr
         return Err(too_large());
     }
     let text = String::from_utf8(bytes).map_err(|error| {
-        let (line, column, byte) = bondgraph_core::read::invalid_utf8_at(&error);
+        let valid = error.utf8_error().valid_up_to();
+        let byte = error.as_bytes()[valid];
+        let before = std::str::from_utf8(&error.as_bytes()[..valid]).unwrap_or_default();
+        // Counted as records are (a lone `\r` ends a line), not as model files are.
+        let line = Lines::new(before).at(before.len());
+        let column = before
+            .rsplit(['\n', '\r'])
+            .next()
+            .unwrap_or("")
+            .chars()
+            .count()
+            + 1;
         DataError::new(
             &name,
             Some(line),
@@ -545,8 +557,9 @@ pub fn write(dataset: &Dataset) -> String {
 ///
 /// The `csv` crate's own line numbers are not usable for messages: a record's position is where
 /// the previous record ended, before any skipped blank lines, and its line count does not
-/// advance on `\r\n` line ends. So this counts the newlines itself, from the reported byte
-/// offset past the blank lines (which contain only line-end characters) to the record.
+/// advance on `\r\n` line ends. So this counts the line ends itself, from the reported byte
+/// offset past the blank lines (which contain only line-end characters) to the record. A line
+/// ends where the reader ends records: at `\n`, `\r\n` or a lone `\r` (classic Mac files).
 struct Lines<'a> {
     text: &'a [u8],
     offset: usize,
@@ -573,7 +586,12 @@ impl<'a> Lines<'a> {
         while position < self.text.len()
             && (position < byte || matches!(self.text[position], b'\r' | b'\n'))
         {
-            if self.text[position] == b'\n' {
+            let line_end = match self.text[position] {
+                b'\n' => true,
+                b'\r' => self.text.get(position + 1) != Some(&b'\n'),
+                _ => false,
+            };
+            if line_end {
                 self.line += 1;
             }
             position += 1;
@@ -820,6 +838,16 @@ mod tests {
                 path.display()
             )
         );
+        // The same with the lone `\r` line ends of classic Mac files.
+        std::fs::write(&path, b"u_V,tau_mNm,w_rad_s\r12,,100.5\r6,\xb51,3\r").unwrap();
+        let error = read_file(&path, &experiment()).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            format!(
+                "{}:3:3: byte 0xb5 is not valid UTF-8 (files must be UTF-8 text)",
+                path.display()
+            )
+        );
     }
 
     #[test]
@@ -953,6 +981,37 @@ mod tests {
             error(&format!("\n\r\n{HEADER}\n12,-inf,1\n")).0,
             "t.csv:5: column `tau_mNm`: `-inf` is not a finite number"
         );
+    }
+
+    /// The line of a bad cell is the file's own line, whatever ends its lines and however
+    /// many blank lines come before: `\n`, `\r\n`, and the lone `\r` of classic Mac
+    /// exports (which the reader splits records at, and once counted as no line at all).
+    #[test]
+    fn a_bad_cell_is_on_its_physical_line_whatever_ends_the_lines() {
+        let lines = [
+            "u_V,tau_mNm,w_rad_s",
+            "12,,100",
+            "",
+            "12,,200",
+            "  ",
+            "",
+            "12,,x",
+            "",
+        ];
+        for end in ["\n", "\r\n", "\r"] {
+            let (message, line, column) = error(&lines.join(end));
+            assert_eq!(
+                (line, column.as_deref()),
+                (Some(7), Some("w_rad_s")),
+                "{end:?}: {message}"
+            );
+        }
+        // Blank lines before the header, and a quoted cell spanning two lines.
+        assert_eq!(
+            error("\r\n\r\nu_V,tau_mNm,w_rad_s\r\n\"12\r\n\",,1\r\n\r\n12,,x\r\n").1,
+            Some(7)
+        );
+        assert_eq!(error("\r\ru_V,tau_mNm,w_rad_s\r12,,x\r").1, Some(4));
     }
 
     #[test]
