@@ -535,8 +535,7 @@ pub fn write(dataset: &Dataset) -> String {
     let mut header: Vec<&str> = dataset.conditions.iter().map(String::as_str).collect();
     header.extend(dataset.observed.iter().map(String::as_str));
     header.extend(dataset.time.as_deref());
-    let mut text = header.join(",");
-    text.push('\n');
+    let mut csv = CsvWriter::new(header);
     for measurement in &dataset.rows {
         let mut fields: Vec<String> = measurement
             .conditions
@@ -547,10 +546,60 @@ pub fn write(dataset: &Dataset) -> String {
         if dataset.time.is_some() {
             fields.push(measurement.time.map(|t| t.to_string()).unwrap_or_default());
         }
-        text.push_str(&fields.join(","));
-        text.push('\n');
+        csv.row(fields);
     }
-    text
+    csv.finish()
+}
+
+/// A CSV table being written: the one writer behind every CSV file the program writes (data
+/// files, simulated trajectories, the study's tables), so that all of them quote alike.
+///
+/// Fields are separated by commas and lines end with `\n`. A field is quoted as RFC 4180 asks
+/// (`"`, with inner quotes doubled) only when it holds a comma, a double quote or a line
+/// break, so that a column named `effort:a,b` stays one column and every other field is
+/// written as given. The caller formats the numbers.
+#[derive(Debug)]
+pub struct CsvWriter(csv::Writer<Vec<u8>>);
+
+impl CsvWriter {
+    /// A table whose first line is `header`.
+    pub fn new<I, S>(header: I) -> Self
+    where
+        I: IntoIterator<Item = S>,
+        S: AsRef<str>,
+    {
+        let writer = csv::WriterBuilder::new()
+            .terminator(csv::Terminator::Any(b'\n'))
+            .quote_style(csv::QuoteStyle::Necessary)
+            // Rows are the caller's to keep as wide as the header; a short one is written
+            // as it is rather than refused.
+            .flexible(true)
+            .from_writer(Vec::new());
+        let mut table = Self(writer);
+        table.row(header);
+        table
+    }
+
+    /// Appends one line.
+    pub fn row<I, S>(&mut self, fields: I)
+    where
+        I: IntoIterator<Item = S>,
+        S: AsRef<str>,
+    {
+        let fields: Vec<S> = fields.into_iter().collect();
+        self.0
+            .write_record(fields.iter().map(|f| f.as_ref().as_bytes()))
+            .expect("a flexible CSV writer into memory cannot fail");
+    }
+
+    /// The text written.
+    pub fn finish(self) -> String {
+        let bytes = self
+            .0
+            .into_inner()
+            .expect("flushing into memory cannot fail");
+        String::from_utf8(bytes).expect("every field written was UTF-8")
+    }
 }
 
 /// Line numbers of records, counted from their byte offsets.
@@ -854,6 +903,30 @@ mod tests {
     fn an_absent_column_may_be_left_out() {
         let dataset = read("t.csv", "u_V,w_rad_s\n12,100\n").expect("valid");
         assert_eq!(dataset.rows[0].conditions, [Some(12.0), None]);
+    }
+
+    /// A column name holding a comma or a double quote is quoted (RFC 4180), so that the
+    /// header still has one field per column; it was once written bare, which split
+    /// `w,rad_s` into two columns.
+    #[test]
+    fn written_names_with_commas_and_quotes_are_quoted() {
+        let dataset = Dataset {
+            name: "t.csv".into(),
+            conditions: vec!["u,V".into()],
+            observed: vec!["w \"rad/s\"".into()],
+            time: Some("t_s".into()),
+            rows: vec![Measurement {
+                conditions: vec![Some(12.0)],
+                observed: vec![-0.5],
+                time: None,
+                file: Arc::from("t.csv"),
+                row: 2,
+            }],
+        };
+        assert_eq!(
+            write(&dataset),
+            "\"u,V\",\"w \"\"rad/s\"\"\",t_s\n12,-0.5,\n"
+        );
     }
 
     #[test]
