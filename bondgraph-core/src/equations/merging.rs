@@ -360,9 +360,14 @@ pub(crate) fn merge(
                     .get(Var::Dependent(*j as u32))
                     .is_some()
                 {
+                    let element = dependents[*j].element;
+                    let feedback = feedback_sources(model, laws);
+                    if !feedback.is_empty() {
+                        return Err(through_feedback(model, element, &feedback));
+                    }
                     return Err(internal(
                         model,
-                        dependents[*j].element,
+                        element,
                         "the effort of a merged element did not cancel (junction structure not power-conserving)",
                     ));
                 }
@@ -513,6 +518,38 @@ fn cross_domain(model: &Model, dependent: ElementId, other: ElementId) -> Diagno
     .at_location(model.locate_element(dependent))
     .element(d.name.clone())
     .note("add a compliance or resistor next to it so that it can keep its own state")
+    .into()
+}
+
+/// The sources of the mode whose value feeds back a state.
+fn feedback_sources(model: &Model, laws: &[Law]) -> Vec<String> {
+    model
+        .element_ids()
+        .filter(|e| match &laws[e.index()] {
+            Law::EffortSource(value) | Law::FlowSource(value) => {
+                value.mentions(|v| matches!(v, Var::Storage(_)))
+            }
+            _ => false,
+        })
+        .map(|e| format!("'{}'", model.element(e).name))
+        .collect()
+}
+
+/// A dependent element that follows a state through a source's feedback: the source
+/// imposes its motion like a controller, not like a rigid link, so the junction structure
+/// does not cancel its effort and merging does not apply.
+fn through_feedback(model: &Model, dependent: ElementId, sources: &[String]) -> Diagnostics {
+    let name = &model.element(dependent).name;
+    Diagnostic::new(
+        DiagnosticKind::DependentStorage,
+        format!(
+            "'{name}' is in derivative causality and follows a state through the feedback of {}; it cannot be merged into one state",
+            sources.join(", ")
+        ),
+    )
+    .at_location(model.locate_element(dependent))
+    .element(name.clone())
+    .note("add a compliance or resistor next to it so that it keeps its own state")
     .into()
 }
 

@@ -95,6 +95,7 @@ pub(crate) fn form_to_sym(form: &LinearForm) -> Sym {
             Var::Auxiliary(i) => Sym::atom(Atom::Auxiliary(*i)),
             Var::Bond(i) => Sym::atom(Atom::Bond(*i)),
             Var::Dependent(i) => Sym::atom(Atom::Storage(u32::MAX - *i)),
+            Var::Storage(e) => Sym::atom(Atom::Storage(*e)),
         };
         (term, c.clone())
     }))
