@@ -7,7 +7,7 @@
 use bondgraph_core::DiagnosticKind;
 use serde_json::Value;
 
-use crate::cli::{json, succeed};
+use crate::cli::{json, run, succeed};
 use crate::diagnostics::{Expect, check_file};
 
 const MODEL: &str = "tests/fixtures/feedback/pd_controlled.ron";
@@ -185,4 +185,22 @@ fn storage_following_a_state_through_feedback_is_refused_by_name() {
             message: "'m2' is in derivative causality and follows a state through the feedback of 'servo'; it cannot be merged into one state",
         },
     );
+}
+
+/// A feedback that is not affine in the states makes the model nonlinear; `compare`, which
+/// needs a linear mode, says which element's law does that, at its line.
+#[test]
+fn a_non_affine_feedback_is_named_where_a_linear_model_is_needed() {
+    const CUBIC: &str = "tests/fixtures/feedback/cubic_controller.ron";
+    assert!(succeed(&["check", CUBIC]).contains(": ok: nonlinear model 'cubic_controller'"));
+    let output = run(&["compare", CUBIC, "tests/fixtures/analysis/msd_equal.ron"]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.starts_with(&format!(
+            "error: '{CUBIC}' is nonlinear: an answer's A and B are compared with a linear mode's, and effort source 'controller' has the nonlinear law effort: \"-K_c*q_spring^3\"\n"
+        )),
+        "{stderr}"
+    );
+    assert!(stderr.contains(&format!("--> {CUBIC}:10:35\n")), "{stderr}");
 }
