@@ -204,3 +204,39 @@ fn a_non_affine_feedback_is_named_where_a_linear_model_is_needed() {
     );
     assert!(stderr.contains(&format!("--> {CUBIC}:10:35\n")), "{stderr}");
 }
+
+/// `power:ELEMENT` is the power into the element along its bond, on the nonlinear path as
+/// on the linear one: the cubic controller's bond points out of it, so its power is minus
+/// its effort times the bond's flow (negative while it pushes the mass along its motion).
+#[test]
+fn a_nonlinear_source_takes_in_minus_effort_times_its_bonds_flow() {
+    let csv = succeed(&[
+        "simulate",
+        "tests/fixtures/feedback/cubic_controller.ron",
+        "--scenario",
+        "tests/fixtures/feedback/cubic_power.ron",
+    ]);
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some("t,mode,effort:controller,flow:controller,power:controller")
+    );
+    let mut delivering = 0;
+    for line in lines {
+        let fields: Vec<f64> = line
+            .split(',')
+            .filter(|f| !f.is_empty())
+            .map(|f| f.parse().unwrap())
+            .collect();
+        let [t, effort, flow, power] = fields[..] else {
+            panic!("{line}");
+        };
+        let want = -effort * flow;
+        assert!(
+            (power - want).abs() <= 1e-15 * want.abs().max(1e-300),
+            "t = {t}: power {power} vs {want}"
+        );
+        delivering += usize::from(want < 0.0);
+    }
+    assert!(delivering > 0, "the controller never delivers");
+}

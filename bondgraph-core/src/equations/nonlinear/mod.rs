@@ -480,7 +480,9 @@ impl NonlinearEquations {
         self.states.iter().position(|s| s.name == name)
     }
 
-    /// The output equation of `spec` in this mode.
+    /// The output equation of `spec` in this mode (negated where the spec counts its bond
+    /// the other way: a power into an element whose bond points out of it, a linear graph's
+    /// branch against its bond).
     pub fn output(&self, spec: &OutputSpec) -> NonlinearOutput {
         let value = match spec.quantity {
             crate::equations::OutputQuantity::Effort => self.bond_effort(spec.bond),
@@ -488,7 +490,11 @@ impl NonlinearEquations {
         };
         NonlinearOutput {
             name: spec.name.clone(),
-            value: value.clone(),
+            value: if spec.negated {
+                Sym::neg(value)
+            } else {
+                value.clone()
+            },
             integral: false,
         }
     }
