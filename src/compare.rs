@@ -7,14 +7,14 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use bondgraph_core::DiagnosticKind;
 use bondgraph_core::analysis::answer;
 use bondgraph_core::analysis::compare::{Comparison, Verdict, compare};
 use bondgraph_core::equations::{self, Variables};
-use bondgraph_core::model::Model;
+use bondgraph_core::model::{ElementKind, Model};
 use bondgraph_core::modes;
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::symbolic::SymbolTable;
+use bondgraph_core::{Diagnostic, DiagnosticKind};
 use serde_json::json;
 
 use crate::{Failure, json as to_json, load, parse_mode, print, read_source, with_source};
@@ -58,14 +58,28 @@ pub fn check(
     answer: &Arc<SourceFile>,
     mode: Option<&str>,
 ) -> Result<Compared, Failure> {
-    if model.is_nonlinear() {
-        return Err(Failure::message(
+    if let Some(element) = model
+        .elements
+        .iter()
+        .find(|e| matches!(e.kind, ElementKind::Nonlinear(_)))
+    {
+        let ElementKind::Nonlinear(law) = &element.kind else {
+            unreachable!("found as nonlinear")
+        };
+        let diagnostic = Diagnostic::new(
             DiagnosticKind::NotLinear,
             format!(
-                "'{}' is nonlinear: an answer's A and B are compared with a linear mode's",
-                source.name()
+                "'{}' is nonlinear: an answer's A and B are compared with a linear mode's, and {} '{}' has the nonlinear law {}: \"{}\"",
+                source.name(),
+                element.kind.description(),
+                element.name,
+                law.field,
+                law.text
             ),
-        ));
+        )
+        .at_location(model.source.locate(law.span))
+        .element(element.name.clone());
+        return Err(with_source(diagnostic.into(), source));
     }
     let mode = parse_mode(model, mode, source)?;
     let derive = |variables| {

@@ -460,7 +460,8 @@ fn elemental(model: &Model, graph: &LinearGraph, b: usize, law: &Law) -> String 
     }
 }
 
-/// An affine form of the inputs, with `Var::State(0)` standing for `variable`.
+/// An affine form of the inputs (and, in a source with feedback, of storage elements' energy
+/// variables), with `Var::State(0)` standing for `variable`.
 fn form_text(model: &Model, form: &LinearForm, variable: &str) -> String {
     let mut out = String::new();
     for (var, coefficient) in form.terms() {
@@ -468,6 +469,9 @@ fn form_text(model: &Model, form: &LinearForm, variable: &str) -> String {
         let name = match var {
             Var::State(_) => variable.to_string(),
             Var::Input(i) => model.inputs[*i as usize].name.clone(),
+            Var::Storage(e) => model
+                .storage_name(bondgraph_core::model::ElementId(*e))
+                .unwrap_or_default(),
             _ => String::new(),
         };
         let term = match (name.is_empty(), magnitude.as_str()) {

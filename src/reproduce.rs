@@ -199,20 +199,25 @@ fn to_json(result: &Reproduction) -> serde_json::Value {
 }
 
 fn table_csv(rows: &[TableRow]) -> String {
-    let mut out = String::from(
-        "P_s_kPa,v_ac_mm_s,v_ct_mm_s,exp_mm_s,paper_sim_mm_s,model_mm_s,paper_model_mm_s\n",
-    );
+    let mut csv = data::CsvWriter::new([
+        "P_s_kPa",
+        "v_ac_mm_s",
+        "v_ct_mm_s",
+        "exp_mm_s",
+        "paper_sim_mm_s",
+        "model_mm_s",
+        "paper_model_mm_s",
+    ]);
     for r in rows {
-        out.push_str(&format!(
-            "{},{},{},{},{},{},{}\n",
-            r.P_s_kPa,
-            r.v_ac_mm_s,
+        csv.row([
+            r.P_s_kPa.to_string(),
+            r.v_ac_mm_s.to_string(),
             r.v_ct_mm_s.map_or(String::new(), |v| v.to_string()),
-            r.exp_mm_s,
-            r.paper_sim_mm_s,
-            r.model_mm_s,
-            r.paper_model_mm_s
-        ));
+            r.exp_mm_s.to_string(),
+            r.paper_sim_mm_s.to_string(),
+            r.model_mm_s.to_string(),
+            r.paper_model_mm_s.to_string(),
+        ]);
     }
-    out
+    csv.finish()
 }

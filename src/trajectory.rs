@@ -9,6 +9,7 @@
 //! velocities stays readable without losing a bit. Values that are not finite are written
 //! `NaN`, `inf` or `-inf` in CSV and `null` in JSON (which has no such numbers).
 
+use bondgraph_fit::data::CsvWriter;
 use bondgraph_solver::Trajectory;
 use serde_json::{Map, Value, json};
 
@@ -21,25 +22,23 @@ use serde_json::{Map, Value, json};
 /// A sample whose mode or values are missing (a trajectory built inconsistently) gets empty
 /// fields rather than a panic.
 pub fn to_csv(trajectory: &Trajectory) -> String {
-    let mut csv = String::new();
-    let header = ["t", "mode"]
-        .into_iter()
-        .chain(trajectory.output_names.iter().map(String::as_str))
-        .map(field)
-        .collect::<Vec<_>>()
-        .join(",");
-    csv.push_str(&header);
-    csv.push('\n');
+    let mut csv = CsvWriter::new(
+        ["t", "mode"]
+            .into_iter()
+            .chain(trajectory.output_names.iter().map(String::as_str)),
+    );
     for (i, &t) in trajectory.times.iter().enumerate() {
-        let mut row = vec![number(t), field(mode_spec(trajectory, i).unwrap_or(""))];
+        let mut row = vec![
+            number(t),
+            mode_spec(trajectory, i).unwrap_or("").to_string(),
+        ];
         row.extend(
             (0..trajectory.output_names.len())
                 .map(|j| trajectory.value(i, j).map_or(String::new(), number)),
         );
-        csv.push_str(&row.join(","));
-        csv.push('\n');
+        csv.row(row);
     }
-    csv
+    csv.finish()
 }
 
 /// The trajectory as one JSON document.
@@ -158,15 +157,6 @@ fn number(x: f64) -> String {
         format!("{x}")
     } else {
         format!("{x:e}")
-    }
-}
-
-/// A CSV field, quoted as RFC 4180 asks if it holds a comma, a double quote or a line break.
-fn field(text: &str) -> String {
-    if text.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", text.replace('"', "\"\""))
-    } else {
-        text.to_string()
     }
 }
 

@@ -8,6 +8,7 @@ mod cli;
 mod diagnostics;
 mod every_model;
 mod examples;
+mod feedback;
 mod hardening;
 mod linear_graph_diagnostics;
 mod linear_graphs;

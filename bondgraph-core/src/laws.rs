@@ -13,9 +13,10 @@ use crate::symbolic::RatFunc;
 /// What an element does to its bonds in one mode.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Law {
-    /// Imposes the effort `value` (affine in the inputs).
+    /// Imposes the effort `value` (affine in the inputs and storage energy variables).
     EffortSource(LinearForm),
-    /// Imposes the flow `value` (affine in the inputs); positive out of the element.
+    /// Imposes the flow `value` (affine in the inputs and storage energy variables);
+    /// positive out of the element.
     FlowSource(LinearForm),
     /// Integrates its effort into momentum `p`; flow `p / inertance`.
     Inertia(RatFunc),

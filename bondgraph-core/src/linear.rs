@@ -28,6 +28,10 @@ pub enum Var {
     /// The output of the `i`-th nonlinear law of a nonlinear mode, kept as an unknown while
     /// the linear junction structure is solved ([`crate::equations::nonlinear`]).
     Auxiliary(u32),
+    /// The energy variable (momentum or displacement) of the storage element with this
+    /// index, in a source's value: a linear feedback such as `Se(effort: "-K_c*q_spring")`.
+    /// Only laws hold it; elimination writes it in the mode's states.
+    Storage(u32),
     /// A bond variable not yet eliminated: effort of bond `b` is `2b`, flow is `2b + 1`.
     Bond(u32),
     /// The constant 1 (its coefficient is the affine offset).
@@ -188,6 +192,7 @@ impl fmt::Display for Var {
             Var::InputRate(i) => write!(f, "der(u{i})"),
             Var::Dependent(i) => write!(f, "d{i}"),
             Var::Auxiliary(i) => write!(f, "w{i}"),
+            Var::Storage(i) => write!(f, "x_element{i}"),
             Var::Bond(i) => write!(f, "{}{}", if i % 2 == 0 { "e" } else { "f" }, i / 2),
             Var::Constant => write!(f, "1"),
         }

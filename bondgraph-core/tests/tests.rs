@@ -3,8 +3,10 @@
 //! One test binary with modules (rather than one binary per file) keeps link times down.
 
 mod causality_trace;
+mod feedback;
 mod jacobian;
 mod limits;
+mod merging;
 mod nonlinear;
 mod random_graph;
 mod regressions;

@@ -12,8 +12,9 @@
 //! ([`Experiment`]) names: its condition columns, its `absent` columns, its observed columns,
 //! and for a time series its time column. Columns may come in any order (they are found by
 //! name); whitespace around names and values is ignored; a UTF-8 byte-order mark and blank
-//! lines are skipped. An `absent` column may be left out of the header altogether (every row
-//! then has it empty). Other columns (signals a rig records that the experiment does not
+//! lines are skipped. Lines may end with `\n`, `\r\n` or a lone `\r`; messages give the
+//! file's own line numbers. An `absent` column may be left out of the header altogether (every
+//! row then has it empty). Other columns (signals a rig records that the experiment does not
 //! compare, annotations) are not read: [`Dataset::ignored`] lists them, for a note.
 //!
 //! What is refused, and why:
@@ -546,7 +547,18 @@ pub fn read_file(path: &Path, experiment: &Experiment) -> Result<Dataset, DataEr
         return Err(too_large());
     }
     let text = String::from_utf8(bytes).map_err(|error| {
-        let (line, column, byte) = bondgraph_core::read::invalid_utf8_at(&error);
+        let valid = error.utf8_error().valid_up_to();
+        let byte = error.as_bytes()[valid];
+        let before = std::str::from_utf8(&error.as_bytes()[..valid]).unwrap_or_default();
+        // Counted as records are (a lone `\r` ends a line), not as model files are.
+        let line = Lines::new(before).at(before.len());
+        let column = before
+            .rsplit(['\n', '\r'])
+            .next()
+            .unwrap_or("")
+            .chars()
+            .count()
+            + 1;
         DataError::new(
             &name,
             Some(line),
@@ -566,8 +578,7 @@ pub fn write(dataset: &Dataset) -> String {
     let mut header: Vec<&str> = dataset.conditions.iter().map(String::as_str).collect();
     header.extend(dataset.observed.iter().map(String::as_str));
     header.extend(dataset.time.as_deref());
-    let mut text = header.join(",");
-    text.push('\n');
+    let mut csv = CsvWriter::new(header);
     for measurement in &dataset.rows {
         let mut fields: Vec<String> = measurement
             .conditions
@@ -578,18 +589,69 @@ pub fn write(dataset: &Dataset) -> String {
         if dataset.time.is_some() {
             fields.push(measurement.time.map(|t| t.to_string()).unwrap_or_default());
         }
-        text.push_str(&fields.join(","));
-        text.push('\n');
+        csv.row(fields);
     }
-    text
+    csv.finish()
+}
+
+/// A CSV table being written: the one writer behind every CSV file the program writes (data
+/// files, simulated trajectories, the study's tables), so that all of them quote alike.
+///
+/// Fields are separated by commas and lines end with `\n`. A field is quoted as RFC 4180 asks
+/// (`"`, with inner quotes doubled) only when it holds a comma, a double quote or a line
+/// break, so that a column named `effort:a,b` stays one column and every other field is
+/// written as given. The caller formats the numbers.
+#[derive(Debug)]
+pub struct CsvWriter(csv::Writer<Vec<u8>>);
+
+impl CsvWriter {
+    /// A table whose first line is `header`.
+    pub fn new<I, S>(header: I) -> Self
+    where
+        I: IntoIterator<Item = S>,
+        S: AsRef<str>,
+    {
+        let writer = csv::WriterBuilder::new()
+            .terminator(csv::Terminator::Any(b'\n'))
+            .quote_style(csv::QuoteStyle::Necessary)
+            // Rows are the caller's to keep as wide as the header; a short one is written
+            // as it is rather than refused.
+            .flexible(true)
+            .from_writer(Vec::new());
+        let mut table = Self(writer);
+        table.row(header);
+        table
+    }
+
+    /// Appends one line.
+    pub fn row<I, S>(&mut self, fields: I)
+    where
+        I: IntoIterator<Item = S>,
+        S: AsRef<str>,
+    {
+        let fields: Vec<S> = fields.into_iter().collect();
+        self.0
+            .write_record(fields.iter().map(|f| f.as_ref().as_bytes()))
+            .expect("a flexible CSV writer into memory cannot fail");
+    }
+
+    /// The text written.
+    pub fn finish(self) -> String {
+        let bytes = self
+            .0
+            .into_inner()
+            .expect("flushing into memory cannot fail");
+        String::from_utf8(bytes).expect("every field written was UTF-8")
+    }
 }
 
 /// Line numbers of records, counted from their byte offsets.
 ///
 /// The `csv` crate's own line numbers are not usable for messages: a record's position is where
 /// the previous record ended, before any skipped blank lines, and its line count does not
-/// advance on `\r\n` line ends. So this counts the newlines itself, from the reported byte
-/// offset past the blank lines (which contain only line-end characters) to the record.
+/// advance on `\r\n` line ends. So this counts the line ends itself, from the reported byte
+/// offset past the blank lines (which contain only line-end characters) to the record. A line
+/// ends where the reader ends records: at `\n`, `\r\n` or a lone `\r` (classic Mac files).
 struct Lines<'a> {
     text: &'a [u8],
     offset: usize,
@@ -616,7 +678,12 @@ impl<'a> Lines<'a> {
         while position < self.text.len()
             && (position < byte || matches!(self.text[position], b'\r' | b'\n'))
         {
-            if self.text[position] == b'\n' {
+            let line_end = match self.text[position] {
+                b'\n' => true,
+                b'\r' => self.text.get(position + 1) != Some(&b'\n'),
+                _ => false,
+            };
+            if line_end {
                 self.line += 1;
             }
             position += 1;
@@ -873,12 +940,46 @@ mod tests {
                 path.display()
             )
         );
+        // The same with the lone `\r` line ends of classic Mac files.
+        std::fs::write(&path, b"u_V,tau_mNm,w_rad_s\r12,,100.5\r6,\xb51,3\r").unwrap();
+        let error = read_file(&path, &experiment()).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            format!(
+                "{}:3:3: byte 0xb5 is not valid UTF-8 (files must be UTF-8 text)",
+                path.display()
+            )
+        );
     }
 
     #[test]
     fn an_absent_column_may_be_left_out() {
         let dataset = read("t.csv", "u_V,w_rad_s\n12,100\n").expect("valid");
         assert_eq!(dataset.rows[0].conditions, [Some(12.0), None]);
+    }
+
+    /// A column name holding a comma or a double quote is quoted (RFC 4180), so that the
+    /// header still has one field per column; it was once written bare, which split
+    /// `w,rad_s` into two columns.
+    #[test]
+    fn written_names_with_commas_and_quotes_are_quoted() {
+        let dataset = Dataset {
+            name: "t.csv".into(),
+            conditions: vec!["u,V".into()],
+            observed: vec!["w \"rad/s\"".into()],
+            time: Some("t_s".into()),
+            rows: vec![Measurement {
+                conditions: vec![Some(12.0)],
+                observed: vec![-0.5],
+                time: None,
+                file: Arc::from("t.csv"),
+                row: 2,
+            }],
+        };
+        assert_eq!(
+            write(&dataset),
+            "\"u,V\",\"w \"\"rad/s\"\"\",t_s\n12,-0.5,\n"
+        );
     }
 
     #[test]
@@ -1050,6 +1151,37 @@ mod tests {
             error(&format!("\n\r\n{HEADER}\n12,-inf,1\n")).0,
             "t.csv:5: column `tau_mNm`: `-inf` is not a finite number"
         );
+    }
+
+    /// The line of a bad cell is the file's own line, whatever ends its lines and however
+    /// many blank lines come before: `\n`, `\r\n`, and the lone `\r` of classic Mac
+    /// exports (which the reader splits records at, and once counted as no line at all).
+    #[test]
+    fn a_bad_cell_is_on_its_physical_line_whatever_ends_the_lines() {
+        let lines = [
+            "u_V,tau_mNm,w_rad_s",
+            "12,,100",
+            "",
+            "12,,200",
+            "  ",
+            "",
+            "12,,x",
+            "",
+        ];
+        for end in ["\n", "\r\n", "\r"] {
+            let (message, line, column) = error(&lines.join(end));
+            assert_eq!(
+                (line, column.as_deref()),
+                (Some(7), Some("w_rad_s")),
+                "{end:?}: {message}"
+            );
+        }
+        // Blank lines before the header, and a quoted cell spanning two lines.
+        assert_eq!(
+            error("\r\n\r\nu_V,tau_mNm,w_rad_s\r\n\"12\r\n\",,1\r\n\r\n12,,x\r\n").1,
+            Some(7)
+        );
+        assert_eq!(error("\r\ru_V,tau_mNm,w_rad_s\r12,,x\r").1, Some(4));
     }
 
     #[test]

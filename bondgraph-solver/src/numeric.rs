@@ -135,7 +135,9 @@ impl Row {
                 Var::InputRate(i) => row.rate[*i as usize] = value,
                 Var::Constant => row.constant = value,
                 // Derivation resolves every other variable.
-                Var::Dependent(_) | Var::Bond(_) | Var::Auxiliary(_) => row.constant = f64::NAN,
+                Var::Dependent(_) | Var::Bond(_) | Var::Auxiliary(_) | Var::Storage(_) => {
+                    row.constant = f64::NAN
+                }
             }
         }
         row

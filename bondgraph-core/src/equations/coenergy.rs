@@ -9,70 +9,42 @@
 //! on the input and `dr/dt` brings the input's rate into the co-energy equations:
 //! `dy/dt = A y + B u + E du/dt + c`.
 
-use crate::diagnostics::Result;
-use crate::equations::matrix;
-use crate::equations::merging::{Block, input_rate};
+use crate::equations::merging::{InStates, Merged, input_rate};
 use crate::linear::{LinearForm, Var};
-use crate::model::ElementId;
 use crate::symbolic::RatFunc;
 
-pub(crate) struct Converted {
-    pub derivatives: Vec<LinearForm>,
-    pub bond_vars: Vec<LinearForm>,
-    pub storage_energy: Vec<(ElementId, LinearForm)>,
-}
-
-pub(crate) fn convert(
-    blocks: &[Block],
-    derivatives: &[LinearForm],
-    bond_vars: &[LinearForm],
-    storage_energy: &[(ElementId, LinearForm)],
-) -> Result<Converted> {
-    // x_k as a form of the co-energy states y.
-    let mut energy_in_coenergy: Vec<LinearForm> = vec![LinearForm::zero(); derivatives.len()];
-    for block in blocks {
-        for (a, &k) in block.states.iter().enumerate() {
-            let mut form = block.offset[a].clone();
-            for (b, &l) in block.states.iter().enumerate() {
-                form.add_scaled(&LinearForm::var(Var::State(l)), &block.matrix[a][b]);
-            }
-            energy_in_coenergy[k as usize] = form;
-        }
-    }
+/// The equations of `merged` in co-energy states `y`. Each element's own energy variable is
+/// `x_k = storage_k · y_k`, so bond variables and stored energies stay as sparse as merging
+/// left them; the derivatives solve one storage system per block.
+pub(crate) fn convert(merged: &Merged) -> InStates {
+    let own = |k: u32| {
+        Some(LinearForm::term(
+            Var::State(k),
+            merged.storage_of_state[k as usize].clone(),
+        ))
+    };
     let substitute = |form: &LinearForm| {
         form.substitute(|var| match var {
-            Var::State(k) => Some(energy_in_coenergy[k as usize].clone()),
+            Var::State(k) => own(k),
             _ => None,
         })
     };
-
-    let mut converted = vec![LinearForm::zero(); derivatives.len()];
-    for block in blocks {
+    let mut derivatives = vec![LinearForm::zero(); merged.derivatives.len()];
+    for block in &merged.blocks {
         // dx/dt - dr/dt, with dr/dt the offset's inputs replaced by their rates.
         let rates: Vec<LinearForm> = block
             .states
             .iter()
-            .enumerate()
-            .map(|(a, &k)| {
-                let mut rate = substitute(&derivatives[k as usize]);
-                rate.add_scaled(&input_rate(&block.offset[a]), &RatFunc::integer(-1));
+            .zip(&block.offset)
+            .map(|(&k, offset)| {
+                let mut rate = substitute(&merged.derivatives[k as usize]);
+                rate.add_scaled(&input_rate(offset), &RatFunc::integer(-1));
                 rate
             })
             .collect();
-        for (a, row) in matrix::apply(&block.inverse, &rates)
-            .into_iter()
-            .enumerate()
-        {
-            converted[block.states[a] as usize] = row;
+        for (&k, row) in block.states.iter().zip(block.matrix.solve(&rates)) {
+            derivatives[k as usize] = row;
         }
     }
-
-    Ok(Converted {
-        derivatives: converted,
-        bond_vars: bond_vars.iter().map(&substitute).collect(),
-        storage_energy: storage_energy
-            .iter()
-            .map(|(e, v)| (*e, substitute(v)))
-            .collect(),
-    })
+    merged.substituted(derivatives, own)
 }

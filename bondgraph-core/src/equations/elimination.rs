@@ -113,6 +113,9 @@ pub(crate) fn solve(
             solved[index] = Some(substitute_solved(&definitions[index].1, &solved));
             continue;
         }
+        if let Some(error) = loop_through_feedback(model, laws, numbering, &definitions, &members) {
+            return Err(error);
+        }
         let solution = solve_loop(model, &definitions, &members, &solved)?;
         for (member, form) in members.iter().zip(solution) {
             solved[*member as usize] = Some(form);
@@ -240,9 +243,13 @@ fn define(
         let receives = |bond: BondId| causal.receives_effort(model, bond, element);
         let sign = |bond: BondId| ratio(model.bond(bond).sign_into(element));
         match &laws[element.index()] {
-            Law::EffortSource(value) => define(effort(bonds[0]), element, value.clone()),
+            Law::EffortSource(value) => {
+                let value = with_feedback(model, laws, numbering, value)?;
+                define(effort(bonds[0]), element, value);
+            }
             Law::FlowSource(value) => {
                 // The source's value is its flow out of the element.
+                let value = with_feedback(model, laws, numbering, value)?;
                 define(flow(bonds[0]), element, value.scaled(&-sign(bonds[0])));
             }
             Law::SlackStorage => define(effort(bonds[0]), element, LinearForm::zero()),
@@ -442,6 +449,108 @@ fn define(
         .into_iter()
         .map(|d| d.expect("causality defines every bond variable exactly once"))
         .collect())
+}
+
+/// A source's value with the energy variables it feeds back ([`Var::Storage`]) written in
+/// this mode's terms: a state is itself (its own momentum or displacement, which merging
+/// rewrites); storage in derivative causality is its inertance (compliance) times the flow
+/// (effort) the rest of the graph imposes on it, a bond variable solved with the others.
+fn with_feedback(
+    model: &Model,
+    laws: &[Law],
+    numbering: &Numbering,
+    value: &LinearForm,
+) -> Result<LinearForm> {
+    if !value.mentions(|v| matches!(v, Var::Storage(_))) {
+        return Ok(value.clone());
+    }
+    let mut energies = Vec::new();
+    for (var, _) in value.terms() {
+        let Var::Storage(index) = *var else {
+            continue;
+        };
+        let element = ElementId(index);
+        let bond = model.element(element).bonds[0];
+        let energy = match (numbering.state[element.index()], &laws[element.index()]) {
+            (Some(state), _) => LinearForm::var(Var::State(state)),
+            (None, Law::Inertia(inertance)) => LinearForm::term(
+                flow(bond),
+                inertance * &ratio(model.bond(bond).sign_into(element)),
+            ),
+            (None, Law::Compliance(compliance)) => {
+                LinearForm::term(effort(bond), compliance.clone())
+            }
+            (None, _) => return Err(feedback_without_state(model, element)),
+        };
+        energies.push((index, energy));
+    }
+    Ok(value.substitute(|var| match var {
+        Var::Storage(index) => energies
+            .iter()
+            .find(|(i, _)| *i == index)
+            .map(|(_, energy)| energy.clone()),
+        _ => None,
+    }))
+}
+
+/// A source whose feedback closes an algebraic loop: it feeds back the energy variable of
+/// storage in derivative causality ([`with_feedback`] writes it in that storage's bond
+/// variable), and that variable depends on what the source itself imposes. Only feedback
+/// puts bond variables in a source's definition, so a loop through one always runs through
+/// its feedback. Solving it would give a constraint (`f = a m f`, so `f = 0`), never a
+/// controller's dynamics: refused, naming the source and the storage it feeds back.
+fn loop_through_feedback(
+    model: &Model,
+    laws: &[Law],
+    numbering: &Numbering,
+    definitions: &[(ElementId, LinearForm)],
+    members: &[u32],
+) -> Option<crate::diagnostics::Diagnostics> {
+    members.iter().find_map(|&member| {
+        let source = definitions[member as usize].0;
+        let (Law::EffortSource(value) | Law::FlowSource(value)) = &laws[source.index()] else {
+            return None;
+        };
+        let storage = value.terms().iter().find_map(|(var, _)| match *var {
+            Var::Storage(index) if numbering.state[index as usize].is_none() => {
+                Some(ElementId(index))
+            }
+            _ => None,
+        })?;
+        let source_name = &model.element(source).name;
+        let storage_name = &model.element(storage).name;
+        let energy = model.storage_name(storage).unwrap_or_default();
+        Some(
+            Diagnostic::new(
+                DiagnosticKind::DependentStorage,
+                format!(
+                    "source '{source_name}' feeds back {energy}, but '{storage_name}' is in derivative causality and its {energy} follows from what '{source_name}' imposes: an algebraic loop, not a controller"
+                ),
+            )
+            .at_location(model.locate_element(source))
+            .element(source_name.clone())
+            .note(format!(
+                "give '{storage_name}' a state of its own (a compliance or resistor between it and '{source_name}'), or feed back a state the source does not set"
+            ))
+            .into(),
+        )
+    })
+}
+
+/// A source feeds back the energy variable of nonlinear storage that has no state of its
+/// own in this mode (refused before derivation reaches here; said rather than assumed).
+fn feedback_without_state(model: &Model, element: ElementId) -> crate::diagnostics::Diagnostics {
+    let name = &model.element(element).name;
+    Diagnostic::new(
+        DiagnosticKind::DependentStorage,
+        format!(
+            "a source feeds back the state of '{name}', which is in derivative causality and has no state of its own in this mode"
+        ),
+    )
+    .at_location(model.locate_element(element))
+    .element(name.clone())
+    .note("add a compliance or resistor next to it so that it keeps its own state")
+    .into()
 }
 
 /// The bond into and the bond out of a two-port (validated: one of each).

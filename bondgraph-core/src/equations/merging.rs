@@ -16,6 +16,14 @@
 //! dependent ones: two masses on one 1-junction become one mass `m1 + m2`, and a catheter
 //! stuck to a robot tip becomes the single body `M = m_ct + m_ge` of that mode.
 //!
+//! The group's matrix `M'` is dense as soon as one dependent follows all its states, so it
+//! is kept as its diagonal plus one rank-one term per dependent ([`StorageMatrix`]), and
+//! everything is first written in the states' own energy variables (`p_k = m_k f_k`), in which
+//! merging keeps every form as sparse as the junction structure made it. Only then are the
+//! equations written in the mode's states: the generalised momenta (energy variables, dense
+//! where merging ties states together) or the velocities (co-energy variables, in which
+//! each element's own momentum is simply `m_k v_k`).
+//!
 //! Compliances are merged the same way with efforts and flows exchanged. Storage whose
 //! flow is fixed by sources alone (`T = 0`, a mass held by a stuck contact) is *held*: it
 //! has no state, and its effort is zero for constant sources.
@@ -28,7 +36,7 @@ use std::collections::BTreeMap;
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::equations::elimination::{Numbering, effort, flow};
-use crate::equations::matrix::{self, Matrix};
+use crate::equations::matrix::StorageMatrix;
 use crate::laws::Law;
 use crate::linear::{LinearForm, Var};
 use crate::model::{ElementId, Model};
@@ -51,15 +59,18 @@ pub(crate) enum Domain {
 #[derive(Clone, Debug)]
 pub(crate) struct Block {
     pub states: Vec<u32>,
-    pub matrix: Matrix,
-    pub inverse: Matrix,
+    pub matrix: StorageMatrix,
     /// Affine in inputs and constants only.
     pub offset: Vec<LinearForm>,
 }
 
-/// The equations after merging, in energy variables.
+/// The equations after merging, written in the states' own energy variables before merging
+/// (`Var::State(k)` is the momentum or displacement of the `k`-th independent storage
+/// element): sparse, whatever merging tied together. [`Merged::in_energy_variables`] and
+/// [`coenergy::convert`](super::coenergy::convert) write them in the mode's states.
 pub(crate) struct Merged {
-    /// The derivative of each state, over [`Var::State`], [`Var::Input`], [`Var::Constant`].
+    /// The derivative of each state's merged (generalised) energy variable, over
+    /// [`Var::State`], [`Var::Input`], [`Var::Constant`].
     pub derivatives: Vec<LinearForm>,
     /// Every bond variable in the same terms, and the inputs' rates ([`Var::InputRate`])
     /// where storage driven directly by an input makes it depend on them.
@@ -70,19 +81,89 @@ pub(crate) struct Merged {
     pub held: Vec<ElementId>,
     /// The storage blocks, covering every state once.
     pub blocks: Vec<Block>,
-    /// The energy variable of every storage element of the mode (states and dependents),
-    /// as a form over the new states: for reconstructing the full physical state.
+    /// The energy variable of every storage element of the mode (states and dependents):
+    /// for reconstructing the full physical state.
     pub storage_energy: BTreeMap<ElementId, LinearForm>,
+    /// The inertance or compliance of each state's own element.
+    pub storage_of_state: Vec<RatFunc>,
+}
+
+/// The equations written in the mode's states.
+pub(crate) struct InStates {
+    pub derivatives: Vec<LinearForm>,
+    pub bond_vars: Vec<LinearForm>,
+    pub storage_energy: Vec<(ElementId, LinearForm)>,
+}
+
+impl Merged {
+    /// Substitutes every state's own energy variable by `own(k)` (where it gives one).
+    pub(crate) fn substituted(
+        &self,
+        derivatives: Vec<LinearForm>,
+        own: impl Fn(u32) -> Option<LinearForm>,
+    ) -> InStates {
+        let substitute = |form: &LinearForm| {
+            form.substitute(|var| match var {
+                Var::State(k) => own(k),
+                _ => None,
+            })
+        };
+        InStates {
+            derivatives,
+            bond_vars: self.bond_vars.iter().map(&substitute).collect(),
+            storage_energy: self
+                .storage_energy
+                .iter()
+                .map(|(e, form)| (*e, substitute(form)))
+                .collect(),
+        }
+    }
+
+    /// The equations in energy variables: each state is its group's generalised momentum
+    /// (or displacement) `x' = M y + offset`, so each element's own energy variable is
+    /// `x_k = storage_k · y_k` with `y = M⁻¹ (x' - offset)`.
+    pub(crate) fn in_energy_variables(&self) -> InStates {
+        let mut own: Vec<Option<LinearForm>> = vec![None; self.derivatives.len()];
+        for block in self.blocks.iter().filter(|b| b.matrix.has_dependents()) {
+            let shifted: Vec<LinearForm> = block
+                .states
+                .iter()
+                .zip(&block.offset)
+                .map(|(&l, offset)| {
+                    let mut form = LinearForm::var(Var::State(l));
+                    form.add_scaled(offset, &RatFunc::integer(-1));
+                    form
+                })
+                .collect();
+            for (&k, velocity) in block.states.iter().zip(block.matrix.solve(&shifted)) {
+                own[k as usize] = Some(velocity.scaled(&self.storage_of_state[k as usize]));
+            }
+        }
+        if own.iter().all(Option::is_none) {
+            // Nothing merged: every state is its element's own energy variable.
+            return InStates {
+                derivatives: self.derivatives.clone(),
+                bond_vars: self.bond_vars.clone(),
+                storage_energy: self.storage_energy.clone().into_iter().collect(),
+            };
+        }
+        let substitute = |form: &LinearForm| {
+            form.substitute(|var| match var {
+                Var::State(k) => own[k as usize].clone(),
+                _ => None,
+            })
+        };
+        let derivatives = self.derivatives.iter().map(substitute).collect();
+        self.substituted(derivatives, |k| own[k as usize].clone())
+    }
 }
 
 /// What resolving the dependents of one merged group needs.
 struct GroupSolution {
-    /// The group's states.
-    states: Vec<u32>,
+    /// The group's block.
+    block: usize,
     /// For each dependent (by index), its row of `T` over the group's states.
     t_rows: Vec<(usize, Vec<RatFunc>)>,
-    /// The inverse of the group's storage matrix.
-    inverse: Matrix,
 }
 
 struct Dependent {
@@ -110,8 +191,8 @@ pub(crate) fn merge(
         .map(|e| storage_coefficient(&laws[e.index()]))
         .collect();
 
-    // Old derivatives: dp/dt = e for an inertia, dq/dt = f (into the element) otherwise.
-    let derivatives_old: Vec<LinearForm> = state_elements
+    // Own derivatives: dp/dt = e for an inertia, dq/dt = f (into the element) otherwise.
+    let mut derivatives: Vec<LinearForm> = state_elements
         .iter()
         .map(|&e| {
             let bond = model.element(e).bonds[0];
@@ -196,10 +277,8 @@ pub(crate) fn merge(
         }
     }
 
-    // Blocks, and each old energy variable in terms of the new (generalised) states.
+    // Blocks: each group's storage matrix and the momentum its dependents' sources feed in.
     let mut blocks = Vec::new();
-    // `None` where the state is unchanged by merging (no dependent follows it).
-    let mut old_state_form: Vec<Option<LinearForm>> = vec![None; state_count];
     let mut merged_into: Vec<Vec<ElementId>> = vec![Vec::new(); state_count];
     let mut group_solutions: Vec<GroupSolution> = Vec::new();
     for (group_root, states) in &members {
@@ -222,19 +301,6 @@ pub(crate) fn merge(
                 (j, row)
             })
             .collect();
-        let mut mass: Matrix = (0..n)
-            .map(|a| {
-                (0..n)
-                    .map(|b| {
-                        if a == b {
-                            storage_of_state[states[a] as usize].clone()
-                        } else {
-                            RatFunc::zero()
-                        }
-                    })
-                    .collect()
-            })
-            .collect();
         let mut offset = vec![LinearForm::zero(); n];
         for (j, row) in &t_rows {
             let dependent = &dependents[*j];
@@ -242,17 +308,26 @@ pub(crate) fn merge(
                 .driven
                 .filtered(|v| matches!(v, Var::Input(_) | Var::Constant));
             for a in 0..n {
-                for b in 0..n {
-                    let term = &(&row[a] * &row[b]) * &dependent.storage;
-                    mass[a][b] += term;
+                if !row[a].is_zero() {
+                    offset[a].add_scaled(&sources, &(&row[a] * &dependent.storage));
                 }
-                offset[a].add_scaled(&sources, &(&row[a] * &dependent.storage));
             }
             // The dependent is reported under the first state it follows.
             let first_followed = row.iter().position(|c| !c.is_zero()).unwrap_or(0);
             merged_into[states[first_followed] as usize].push(dependent.element);
         }
-        let Some(inverse) = matrix::inverse(&mass) else {
+        let matrix = StorageMatrix::new(
+            states
+                .iter()
+                .map(|&k| storage_of_state[k as usize].clone())
+                .collect(),
+            t_rows.iter().map(|(_, row)| row.clone()).collect(),
+            t_rows
+                .iter()
+                .map(|(j, _)| dependents[*j].storage.clone())
+                .collect(),
+        );
+        let Some(matrix) = matrix else {
             let element = deps
                 .first()
                 .map_or(state_elements[states[0] as usize], |&j| {
@@ -260,54 +335,22 @@ pub(crate) fn merge(
                 });
             return Err(singular_merge(model, element));
         };
-        if t_rows.is_empty() {
-            // Nothing merged: the storage matrix is diagonal and each state is its own.
-            blocks.push(Block {
-                states: states.clone(),
-                matrix: mass,
-                inverse,
-                offset,
+        if !t_rows.is_empty() {
+            group_solutions.push(GroupSolution {
+                block: blocks.len(),
+                t_rows,
             });
-            continue;
         }
-        // x_old_k = storage_k · f_k and f = M'⁻¹ (p' - offset).
-        for (a, &k) in states.iter().enumerate() {
-            let mut velocity = LinearForm::zero();
-            for (b, &l) in states.iter().enumerate() {
-                let mut shifted = LinearForm::var(Var::State(l));
-                shifted.add_scaled(&offset[b], &RatFunc::integer(-1));
-                velocity.add_scaled(&shifted, &inverse[a][b]);
-            }
-            old_state_form[k as usize] = Some(velocity.scaled(&storage_of_state[k as usize]));
-        }
-        group_solutions.push(GroupSolution {
-            states: states.clone(),
-            t_rows,
-            inverse: inverse.clone(),
-        });
         blocks.push(Block {
             states: states.clone(),
-            matrix: mass,
-            inverse,
+            matrix,
             offset,
         });
     }
 
-    let any_merged = old_state_form.iter().any(Option::is_some);
-    let to_new_states = |form: &LinearForm| {
-        if !any_merged {
-            return form.clone();
-        }
-        form.substitute(|var| match var {
-            Var::State(k) => old_state_form[k as usize].clone(),
-            _ => None,
-        })
-    };
-
-    // New derivatives: dx'_k/dt = dx_k/dt + Σ_d T_dk e_d, where the e_d cancel.
-    let mut derivatives: Vec<LinearForm> = derivatives_old.iter().map(&to_new_states).collect();
-    for GroupSolution { states, t_rows, .. } in &group_solutions {
-        for (a, &k) in states.iter().enumerate() {
+    // Merged derivatives: dx'_k/dt = dx_k/dt + Σ_d T_dk e_d, where the e_d cancel.
+    for GroupSolution { block, t_rows } in &group_solutions {
+        for (a, &k) in blocks[*block].states.iter().enumerate() {
             for (j, row) in t_rows {
                 derivatives[k as usize]
                     .add_scaled(&LinearForm::var(Var::Dependent(*j as u32)), &row[a]);
@@ -317,9 +360,14 @@ pub(crate) fn merge(
                     .get(Var::Dependent(*j as u32))
                     .is_some()
                 {
+                    let element = dependents[*j].element;
+                    let feedback = feedback_sources(model, laws);
+                    if !feedback.is_empty() {
+                        return Err(through_feedback(model, element, &feedback));
+                    }
                     return Err(internal(
                         model,
-                        dependents[*j].element,
+                        element,
                         "the effort of a merged element did not cancel (junction structure not power-conserving)",
                     ));
                 }
@@ -343,25 +391,24 @@ pub(crate) fn merge(
             _ => None,
         })
     };
-    for GroupSolution {
-        states,
-        t_rows,
-        inverse,
-    } in &group_solutions
-    {
+    for GroupSolution { block, t_rows } in &group_solutions {
+        let block = &blocks[*block];
         // M' df/dt = dp'/dt - Σ_d T_dᵀ m_d ds_d/dt: the momentum fed in by the sources moves
         // with them, not with the group.
-        let mut forcing: Vec<LinearForm> = states
+        let mut forcing: Vec<LinearForm> = block
+            .states
             .iter()
             .map(|&k| substitute_held(&derivatives[k as usize]))
             .collect();
         for (j, row) in t_rows {
             let fed = source_rate(*j);
             for (a, entry) in row.iter().enumerate() {
-                forcing[a].add_scaled(&fed, &-(entry * &dependents[*j].storage));
+                if !entry.is_zero() {
+                    forcing[a].add_scaled(&fed, &-(entry * &dependents[*j].storage));
+                }
             }
         }
-        let accelerations = matrix::apply(inverse, &forcing);
+        let accelerations = block.matrix.solve(&forcing);
         for (j, row) in t_rows {
             let mut value = source_rate(*j);
             for (a, acceleration) in accelerations.iter().enumerate() {
@@ -385,31 +432,26 @@ pub(crate) fn merge(
         *derivative = resolve(derivative);
     }
 
-    let bond_vars_new: Vec<LinearForm> = bond_vars
-        .iter()
-        .map(|form| resolve(&to_new_states(form)))
-        .collect();
-
     let mut storage_energy = BTreeMap::new();
     for (k, &element) in state_elements.iter().enumerate() {
-        let energy = old_state_form[k]
-            .clone()
-            .unwrap_or_else(|| LinearForm::var(Var::State(k as u32)));
-        storage_energy.insert(element, energy);
+        storage_energy.insert(element, LinearForm::var(Var::State(k as u32)));
     }
     for dependent in &dependents {
-        // x_d = storage_d · driven_d, with the followed states rewritten.
-        let energy = to_new_states(&dependent.driven.scaled(&dependent.storage));
-        storage_energy.insert(dependent.element, energy);
+        // x_d = storage_d · driven_d.
+        storage_energy.insert(
+            dependent.element,
+            dependent.driven.scaled(&dependent.storage),
+        );
     }
 
     Ok(Merged {
         derivatives,
-        bond_vars: bond_vars_new,
+        bond_vars: bond_vars.iter().map(resolve).collect(),
         merged_into,
         held: held.iter().map(|&j| dependents[j].element).collect(),
         blocks,
         storage_energy,
+        storage_of_state,
     })
 }
 
@@ -479,6 +521,38 @@ fn cross_domain(model: &Model, dependent: ElementId, other: ElementId) -> Diagno
     .into()
 }
 
+/// The sources of the mode whose value feeds back a state.
+fn feedback_sources(model: &Model, laws: &[Law]) -> Vec<String> {
+    model
+        .element_ids()
+        .filter(|e| match &laws[e.index()] {
+            Law::EffortSource(value) | Law::FlowSource(value) => {
+                value.mentions(|v| matches!(v, Var::Storage(_)))
+            }
+            _ => false,
+        })
+        .map(|e| format!("'{}'", model.element(e).name))
+        .collect()
+}
+
+/// A dependent element that follows a state through a source's feedback: the source
+/// imposes its motion like a controller, not like a rigid link, so the junction structure
+/// does not cancel its effort and merging does not apply.
+fn through_feedback(model: &Model, dependent: ElementId, sources: &[String]) -> Diagnostics {
+    let name = &model.element(dependent).name;
+    Diagnostic::new(
+        DiagnosticKind::DependentStorage,
+        format!(
+            "'{name}' is in derivative causality and follows a state through the feedback of {}; it cannot be merged into one state",
+            sources.join(", ")
+        ),
+    )
+    .at_location(model.locate_element(dependent))
+    .element(name.clone())
+    .note("add a compliance or resistor next to it so that it keeps its own state")
+    .into()
+}
+
 fn singular_merge(model: &Model, element: ElementId) -> Diagnostics {
     let name = &model.element(element).name;
     Diagnostic::new(
@@ -512,5 +586,55 @@ impl BondIndex for Var {
             Var::Bond(i) => i as usize,
             _ => unreachable!("only bond variables index bond_vars"),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::equations::{elimination, number_storage};
+    use crate::{causality, laws, model};
+
+    /// A force source on a massless node held by spring `K2` (dependent storage), joined to
+    /// a mass by `n` parallel springs.
+    fn parallel_springs(n: usize) -> Model {
+        let mut branches = vec![
+            r#""F": ThroughSource(value: "F", from: "g", to: "node")"#.to_string(),
+            r#""mass": A(capacitance: "m", from: "m", to: "g")"#.to_string(),
+            r#""K2": T(stiffness: "K2", from: "node", to: "g")"#.to_string(),
+        ];
+        branches.extend(
+            (1..=n).map(|i| format!(r#""S{i}": T(stiffness: "K1", from: "node", to: "m")"#)),
+        );
+        let text = format!(
+            r#"LinearGraph(name: "parallel_springs",
+                parameters: {{"m": (value: 2.0), "K1": (value: 300.0), "K2": (value: 100.0)}},
+                inputs: {{"F": ()}}, ground: "g", branches: {{ {} }})"#,
+            branches.join(",\n")
+        );
+        model::load_str("parallel_springs.lg.ron", &text).unwrap()
+    }
+
+    /// The size of the linear system each block solves to merge its dependents.
+    fn system_sizes(model: &Model) -> Vec<(usize, usize)> {
+        let laws = laws::plain_laws(model);
+        let causal = causality::assign(model, &laws).unwrap();
+        let (numbering, state_elements) =
+            number_storage(model, &laws, &causal, vec![None; model.elements.len()]);
+        let solved = elimination::solve(model, &laws, &causal, &numbering).unwrap();
+        let merged = merge(model, &laws, &numbering, &state_elements, &solved.bond_vars).unwrap();
+        merged
+            .blocks
+            .iter()
+            .map(|b| (b.states.len(), b.matrix.system_size()))
+            .collect()
+    }
+
+    /// Forty springs follow one dependent: their block solves a 1 × 1 system (Woodbury's
+    /// capacitance matrix), not the 40 × 40 storage matrix it once inverted densely.
+    #[test]
+    fn one_dependent_following_forty_states_solves_a_one_by_one_system() {
+        let model = parallel_springs(40);
+        assert_eq!(system_sizes(&model), [(1, 0), (40, 1)]);
     }
 }

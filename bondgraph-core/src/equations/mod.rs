@@ -322,25 +322,7 @@ pub(crate) fn derive_parts(
     options: &Options,
     auxiliary: Vec<Option<u32>>,
 ) -> Result<StateEquations> {
-    let mut numbering = Numbering {
-        state: vec![None; model.elements.len()],
-        dependent: vec![None; model.elements.len()],
-        auxiliary,
-    };
-    let mut state_elements = Vec::new();
-    for element in model.element_ids() {
-        if !laws[element.index()].has_state() {
-            continue;
-        }
-        if causal.dependent.contains(&element) {
-            let index = numbering.dependent.iter().flatten().count() as u32;
-            numbering.dependent[element.index()] = Some(index);
-        } else {
-            numbering.state[element.index()] = Some(state_elements.len() as u32);
-            state_elements.push(element);
-        }
-    }
-
+    let (numbering, state_elements) = number_storage(model, laws, &causal, auxiliary);
     let solved = elimination::solve(model, laws, &causal, &numbering)?;
     let merged = merging::merge(model, laws, &numbering, &state_elements, &solved.bond_vars)?;
 
@@ -376,7 +358,7 @@ pub(crate) fn derive_parts(
                     .iter()
                     .map(|e| model.element(*e).name.clone())
                     .collect(),
-                storage: merged.blocks[block].matrix[position][position].clone(),
+                storage: merged.blocks[block].matrix.entry(position, position),
                 domain: model.element_domain(element),
             }
         })
@@ -410,17 +392,14 @@ pub(crate) fn derive_parts(
         });
     }
 
-    let mut derivatives = merged.derivatives;
-    let mut bond_vars = merged.bond_vars;
-    let mut storage_energy: Vec<(ElementId, LinearForm)> =
-        merged.storage_energy.into_iter().collect();
-    if options.variables == Variables::CoEnergy {
-        let converted =
-            coenergy::convert(&merged.blocks, &derivatives, &bond_vars, &storage_energy)?;
-        derivatives = converted.derivatives;
-        bond_vars = converted.bond_vars;
-        storage_energy = converted.storage_energy;
-    }
+    let merging::InStates {
+        derivatives,
+        bond_vars,
+        storage_energy,
+    } = match options.variables {
+        Variables::Energy => merged.in_energy_variables(),
+        Variables::CoEnergy => coenergy::convert(&merged),
+    };
 
     let equations = StateEquations {
         model: model.name.clone(),
@@ -438,6 +417,36 @@ pub(crate) fn derive_parts(
     };
     finite::check(model, &equations, &state_elements)?;
     Ok(equations)
+}
+
+/// Numbers the storage of the mode: states (independent storage, in element order) and
+/// dependent storage. Returns the numbering and the state elements.
+pub(crate) fn number_storage(
+    model: &Model,
+    laws: &[Law],
+    causal: &Causality,
+    auxiliary: Vec<Option<u32>>,
+) -> (Numbering, Vec<ElementId>) {
+    let mut numbering = Numbering {
+        state: vec![None; model.elements.len()],
+        dependent: vec![None; model.elements.len()],
+        auxiliary,
+    };
+    let mut state_elements = Vec::new();
+    let mut dependent_count = 0;
+    for element in model.element_ids() {
+        if !laws[element.index()].has_state() {
+            continue;
+        }
+        if causal.dependent.contains(&element) {
+            numbering.dependent[element.index()] = Some(dependent_count);
+            dependent_count += 1;
+        } else {
+            numbering.state[element.index()] = Some(state_elements.len() as u32);
+            state_elements.push(element);
+        }
+    }
+    (numbering, state_elements)
 }
 
 impl StateEquations {

@@ -158,7 +158,9 @@ pub struct Coefficient {
 
 /// A source value: affine in the inputs with parameter coefficients (`A*P_s`, `F_0 + F`).
 ///
-/// Only [`Var::Input`](crate::linear::Var::Input) and [`Var::Constant`](crate::linear::Var::Constant) appear in it.
+/// Only [`Var::Input`](crate::linear::Var::Input) and [`Var::Constant`](crate::linear::Var::Constant) appear in it, and in
+/// an `Se` or `Sf` also [`Var::Storage`](crate::linear::Var::Storage): a linear feedback of
+/// storage elements' energy variables (`-K_c*q_spring`).
 #[derive(Clone, Debug)]
 pub struct SourceValue {
     /// Its value as an affine form of the inputs.

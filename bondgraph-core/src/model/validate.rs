@@ -577,11 +577,11 @@ impl Validator<'_> {
             RawElement::Sf { flow } if self.needs_law(flow, scope, false) => {
                 self.nonlinear_source(name, index, "flow", flow, scope)?
             }
-            RawElement::Se { effort } => {
-                ElementKind::EffortSource(self.source_value(name, index, "effort", effort, scope)?)
-            }
+            RawElement::Se { effort } => ElementKind::EffortSource(
+                self.source_value(name, index, "effort", effort, scope, true)?,
+            ),
             RawElement::Sf { flow } => {
-                ElementKind::FlowSource(self.source_value(name, index, "flow", flow, scope)?)
+                ElementKind::FlowSource(self.source_value(name, index, "flow", flow, scope, true)?)
             }
             RawElement::I { inertance, flow } => match (inertance, flow) {
                 (Some(inertance), None) if self.needs_law_where(inertance, scope, true, false) => {
@@ -658,8 +658,9 @@ impl Validator<'_> {
                 stribeck,
                 initial,
             } => {
-                let breakaway = self.source_value(name, index, "breakaway", breakaway, scope);
-                let coulomb = self.source_value(name, index, "coulomb", coulomb, scope);
+                let breakaway =
+                    self.source_value(name, index, "breakaway", breakaway, scope, false);
+                let coulomb = self.source_value(name, index, "coulomb", coulomb, scope, false);
                 let viscous = self.optional_coefficient(name, index, "viscous", viscous, scope);
                 let dead_band =
                     self.optional_coefficient(name, index, "dead_band", dead_band, scope);
@@ -731,7 +732,7 @@ impl Validator<'_> {
                 })
             }
             RawElement::FlowLimit { max_flow, initial } => {
-                let max_flow = self.source_value(name, index, "max_flow", max_flow, scope);
+                let max_flow = self.source_value(name, index, "max_flow", max_flow, scope, false);
                 let initial = self.initial_mode(
                     name,
                     index,
@@ -997,8 +998,10 @@ impl Validator<'_> {
         Some(())
     }
 
-    /// Parses an expression and turns it into an affine form of the inputs; with
-    /// `inputs` false (a coefficient) it may name parameters only.
+    /// Parses an expression and turns it into an affine form of the inputs (and, with
+    /// `states`, of storage elements' energy variables: a source's feedback); with `inputs`
+    /// false (a coefficient) it may name parameters only.
+    #[allow(clippy::too_many_arguments)]
     fn affine(
         &mut self,
         element: &str,
@@ -1007,6 +1010,7 @@ impl Validator<'_> {
         text: &str,
         scope: &Scope<'_>,
         inputs: bool,
+        states: bool,
     ) -> Option<(LinearForm, Span)> {
         let base = self
             .string_span(index, field)
@@ -1030,21 +1034,31 @@ impl Validator<'_> {
         };
         let mut unknown = false;
         for (symbol, span) in expr.symbols() {
-            if scope.symbols.get(symbol).is_none() && !scope.inputs.contains_key(symbol) {
+            if scope.symbols.get(symbol).is_none()
+                && !scope.inputs.contains_key(symbol)
+                && !(states && scope.states.contains_key(symbol))
+            {
                 unknown = true;
+                let kinds = if states {
+                    "a parameter, an input nor a state"
+                } else {
+                    "a parameter nor an input"
+                };
                 let mut diagnostic = Diagnostic::new(
                     DiagnosticKind::UnknownSymbol,
                     format!(
-                        "element '{element}': {field} \"{text}\" uses '{symbol}', which is neither a parameter nor an input"
+                        "element '{element}': {field} \"{text}\" uses '{symbol}', which is neither {kinds}"
                     ),
                 )
                 .at(&self.file, span.shifted(base.start))
                 .element(element);
+                let state_names = scope.states.keys().filter(|_| states).map(String::as_str);
                 let candidates = scope
                     .symbols
                     .iter()
                     .map(|(_, n)| n)
-                    .chain(scope.inputs.keys().copied());
+                    .chain(scope.inputs.keys().copied())
+                    .chain(state_names);
                 if let Some(suggestion) = suggest(symbol, candidates) {
                     diagnostic = diagnostic.note(format!("did you mean '{suggestion}'?"));
                 }
@@ -1100,6 +1114,9 @@ impl Validator<'_> {
         }
     }
 
+    /// The value of a source (`states`: which may feed back the states) or of a friction
+    /// contact's or flow limit's level (which may not).
+    #[allow(clippy::too_many_arguments)]
     fn source_value(
         &mut self,
         element: &str,
@@ -1107,8 +1124,9 @@ impl Validator<'_> {
         field: &str,
         text: &str,
         scope: &Scope<'_>,
+        states: bool,
     ) -> Option<SourceValue> {
-        let (value, span) = self.affine(element, index, field, text, scope, true)?;
+        let (value, span) = self.affine(element, index, field, text, scope, true, states)?;
         if let Some(constant) = value.get(Var::Constant) {
             let number = constant.eval(scope.values);
             if !number.is_finite() {
@@ -1142,7 +1160,7 @@ impl Validator<'_> {
         scope: &Scope<'_>,
         sign: Sign,
     ) -> Option<Coefficient> {
-        let (form, span) = self.affine(element, index, field, text, scope, false)?;
+        let (form, span) = self.affine(element, index, field, text, scope, false, false)?;
         let value = form.coefficient(Var::Constant);
         let number = value.eval(scope.values);
         let bad = match sign {
@@ -1365,10 +1383,14 @@ fn to_affine_unbounded(expr: &Expr, scope: &Scope<'_>) -> std::result::Result<Li
             })?;
             LinearForm::constant(value)
         }
-        ExprKind::Symbol(name) => match scope.symbols.get(name) {
-            Some(symbol) => LinearForm::constant(RatFunc::symbol(symbol)),
-            None => LinearForm::var(Var::Input(scope.inputs[name.as_str()])),
-        },
+        ExprKind::Symbol(name) => {
+            match (scope.symbols.get(name), scope.inputs.get(name.as_str())) {
+                (Some(symbol), _) => LinearForm::constant(RatFunc::symbol(symbol)),
+                (None, Some(input)) => LinearForm::var(Var::Input(*input)),
+                // Callers let through only parameters, inputs and (a source's) states.
+                (None, None) => LinearForm::var(Var::Storage(scope.states[name.as_str()])),
+            }
+        }
         ExprKind::Neg(inner) => to_affine(inner, scope)?.scaled(&RatFunc::integer(-1)),
         ExprKind::Add(a, b) | ExprKind::Sub(a, b) => {
             let mut left = to_affine(a, scope)?;

@@ -95,6 +95,7 @@ pub(crate) fn form_to_sym(form: &LinearForm) -> Sym {
             Var::Auxiliary(i) => Sym::atom(Atom::Auxiliary(*i)),
             Var::Bond(i) => Sym::atom(Atom::Bond(*i)),
             Var::Dependent(i) => Sym::atom(Atom::Storage(u32::MAX - *i)),
+            Var::Storage(e) => Sym::atom(Atom::Storage(*e)),
         };
         (term, c.clone())
     }))
@@ -479,7 +480,9 @@ impl NonlinearEquations {
         self.states.iter().position(|s| s.name == name)
     }
 
-    /// The output equation of `spec` in this mode.
+    /// The output equation of `spec` in this mode (negated where the spec counts its bond
+    /// the other way: a power into an element whose bond points out of it, a linear graph's
+    /// branch against its bond).
     pub fn output(&self, spec: &OutputSpec) -> NonlinearOutput {
         let value = match spec.quantity {
             crate::equations::OutputQuantity::Effort => self.bond_effort(spec.bond),
@@ -487,7 +490,11 @@ impl NonlinearEquations {
         };
         NonlinearOutput {
             name: spec.name.clone(),
-            value: value.clone(),
+            value: if spec.negated {
+                Sym::neg(value)
+            } else {
+                value.clone()
+            },
             integral: false,
         }
     }

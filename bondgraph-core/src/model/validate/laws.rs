@@ -2,6 +2,10 @@
 //! variables of storage elements (`q_spring`, `p_mass`), a resistor's port variable
 //! (`flow`, `effort`), or inputs where a linear model allows parameters only.
 //!
+//! A source affine in inputs and states with parameter coefficients (a proportional
+//! controller `Se(effort: "-K_c*q_spring")`) is not one of them: it is linear feedback,
+//! and the source stays a linear element whose value names the states.
+//!
 //! Such a law is lowered to a symbolic expression ([`Sym`]) with every name resolved. Where
 //! what was written is linear after all (`R(effort: "b*flow")`), it becomes the plain
 //! linear element, so that a model is nonlinear only when a law really is. A resistor's law
@@ -80,12 +84,16 @@ impl Validator<'_> {
         if expr.is_transcendental() {
             return true;
         }
-        let names_state = expr.symbols().iter().any(|(name, _)| {
-            scope.symbols.get(name).is_none()
-                && !scope.inputs.contains_key(name)
-                && (scope.states.contains_key(*name) || *name == "flow" || *name == "effort")
+        let neither =
+            |name: &str| scope.symbols.get(name).is_none() && !scope.inputs.contains_key(name);
+        let names_state = expr
+            .symbols()
+            .iter()
+            .any(|(name, _)| neither(name) && scope.states.contains_key(*name));
+        let names_port = expr.symbols().iter().any(|(name, _)| {
+            neither(name) && !scope.states.contains_key(*name) && matches!(*name, "flow" | "effort")
         });
-        if names_state {
+        if names_port || (coefficient && names_state) {
             return true;
         }
         let names_input = expr
@@ -95,7 +103,9 @@ impl Validator<'_> {
         if coefficient {
             return names_input && modulated;
         }
-        // A source: nonlinear in its inputs (`u^2`, `u*v`, `1/u`) needs a law.
+        // A source: nonlinear in its inputs and states (`u^2`, `u*v`, `1/u`, `q_spring*p_mass`)
+        // needs a law; affine in them, it is a linear source, with state feedback
+        // (`-K_c*q_spring`) where it names a state.
         matches!(
             to_affine(&expr, scope),
             Err((DiagnosticKind::NotLinear, _, _))
