@@ -11,6 +11,7 @@ mod flow_limit;
 mod hardening;
 mod hardening_events;
 mod input_rates;
+mod natural_laws;
 mod nonlinear;
 mod nonlinear_events;
 mod oscillating_guards;

@@ -671,3 +671,6 @@ fn quoted_list(ids: &[&str]) -> String {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod law_tests;
