@@ -62,3 +62,54 @@ fn a_laminar_and_turbulent_pipe_drains_a_tank() {
     assert!((q - 1.300140941879).abs() < 1e-7, "q(10) = {q}");
     assert!((4.0 * q + 0.5 * q * q.abs() - e).abs() < 1e-12);
 }
+
+/// A linear graph's D-type with a nonlinear law, written either way round: a through source
+/// of 8 into a node with an A-type of capacitance 1 and a D-type carrying
+/// `through = k across |across|` (or, the same law, `across = sign(through) sqrt(|through|/k)`),
+/// `k = 2`.
+/// From rest, `dv/dt = 8 - 2 v^2`, so `v(t) = 2 tanh(4 t)`.
+#[test]
+fn a_linear_graph_d_type_takes_a_nonlinear_law_either_way_round() {
+    for law in [
+        r#"through: "k*across*abs(across)""#,
+        r#"across: "sign(through)*abs(through)^(1/2)/sqrt(k)""#,
+    ] {
+        let model = model::load_str(
+            "quadratic.lg.ron",
+            &format!(
+                r#"LinearGraph(name: "quadratic", ground: "g",
+                    parameters: {{"C": (value: 1.0), "k": (value: 2.0)}},
+                    inputs: {{"P": ()}},
+                    branches: {{
+                        "source": ThroughSource(value: "P", from: "g", to: "n"),
+                        "store": A(capacitance: "C", from: "n", to: "g"),
+                        "drag": D({law}, from: "n", to: "g"),
+                    }})"#
+            ),
+        )
+        .unwrap_or_else(|e| panic!("{law}: {e}"));
+        let outputs = vec![Output {
+            name: "across:store".into(),
+            spec: OutputSpec::parse(&model, "across:store").unwrap(),
+            integral: false,
+        }];
+        let trajectory = Simulator::new(&model, outputs)
+            .run(&Run {
+                inputs: &[&Constant(8.0)],
+                initial_mode: Mode::initial(&model),
+                initial_state: vec![0.0],
+                duration: 0.5,
+                sample: Some(0.1),
+                audit_energy: true,
+            })
+            .unwrap_or_else(|e| panic!("{law}: {e}"));
+        for (i, &t) in trajectory.times.iter().enumerate() {
+            let v = trajectory.value(i, 0).unwrap();
+            let expected = 2.0 * (4.0 * t).tanh();
+            assert!(
+                (v - expected).abs() < 1e-7,
+                "{law}: v({t}) = {v}, expected {expected}"
+            );
+        }
+    }
+}
