@@ -39,3 +39,51 @@ fn a_law_that_cannot_be_turned_round_is_named_as_the_cause() {
     );
     assert!(!notes.contains("mass"), "{error}");
 }
+
+/// Two blocks (heat capacities 2 and 3) joined by a bar and a joint in series, the joint's
+/// resistance at its no-effect value 0, as a bond graph: the joint must take the heat flow
+/// (e = 0·f), the bar the temperature drop.
+#[test]
+fn a_series_resistor_at_zero_is_accepted_in_a_bond_graph() {
+    let text = r#"Model(name: "pair",
+        parameters: {"C_1": (value: 2.0), "C_2": (value: 3.0), "R_12": (value: 1.0), "R_c": (value: 0.0)},
+        elements: {"T1": Zero, "T2": Zero, "block_1": C(compliance: "C_1"), "block_2": C(compliance: "C_2"),
+                   "drop": One, "bar": R(resistance: "R_12"), "joint": R(resistance: "R_c")},
+        bonds: [("T1", "block_1"), ("T2", "block_2"), ("T1", "drop"), ("drop", "bar"), ("drop", "joint"), ("drop", "T2")])"#;
+    let model = model::load_str("pair.ron", text).unwrap_or_else(|e| panic!("{e}"));
+    // States q_1 = C_1 T1, q_2 = C_2 T2: dq_1/dt = -(T1 - T2)/R_12 = -q_1/2 + q_2/3.
+    assert_eq!(a_matrix(&model), [[-0.5, 1.0 / 3.0], [0.5, -1.0 / 3.0]]);
+}
+
+/// The state matrix at the model's values; panics on any problem.
+fn a_matrix(model: &model::Model) -> Vec<Vec<f64>> {
+    let equations = crate::equations::derive(
+        model,
+        &crate::laws::plain_laws(model),
+        &crate::equations::Options::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    equations
+        .a()
+        .iter()
+        .map(|row| row.iter().map(|a| equations.evaluate(a)).collect())
+        .collect()
+}
+
+/// The same as a linear graph, the joint a new node's D-type at resistance 0: across
+/// = 0·through, which the joint can only give as a through variable's consequence.
+#[test]
+fn a_series_resistance_at_zero_is_accepted_in_a_linear_graph() {
+    let text = r#"LinearGraph(name: "pair", ground: "g",
+        parameters: {"C_1": (value: 2.0), "C_2": (value: 3.0), "R_12": (value: 1.0), "R_c": (value: 0.0)},
+        branches: {
+            "block_1": A(capacitance: "C_1", from: "T1", to: "g"),
+            "block_2": A(capacitance: "C_2", from: "T2", to: "g"),
+            "bar": D(resistance: "R_12", from: "T1", to: "contact"),
+            "joint": D(resistance: "R_c", from: "contact", to: "T2"),
+        })"#;
+    let model = model::load_str("pair.lg.ron", text).unwrap_or_else(|e| panic!("{e}"));
+    // States the heats p_1 = C_1 T1, p_2 = C_2 T2 (energy variables, as for the bond
+    // graph): dp_1/dt = -(T1 - T2)/R_12 = -p_1/2 + p_2/3.
+    assert_eq!(a_matrix(&model), [[-0.5, 1.0 / 3.0], [0.5, -1.0 / 3.0]]);
+}
