@@ -87,3 +87,32 @@ fn a_series_resistance_at_zero_is_accepted_in_a_linear_graph() {
     // graph): dp_1/dt = -(T1 - T2)/R_12 = -p_1/2 + p_2/3.
     assert_eq!(a_matrix(&model), [[-0.5, 1.0 / 3.0], [0.5, -1.0 / 3.0]]);
 }
+
+/// A tank whose cross-section grows with the level, `A_0 + a h`: its level from its volume
+/// is `(sqrt(A_0^2 + 2 a q) - A_0)/a`, which is 0/0 at `a = 0`, the no-effect value of the
+/// taper, at every volume. `check` says so, naming the element and the value; the same law
+/// written without the division is accepted.
+#[test]
+fn a_law_that_is_zero_over_zero_at_its_no_effect_value_is_named() {
+    let tank = |law: &str| {
+        format!(
+            r#"Model(name: "tapered",
+                parameters: {{"A_0": (value: 2.0), "a": (value: 0.0), "R": (value: 3.0)}},
+                elements: {{"tank": C(effort: "{law}"), "p": Zero, "drain": R(resistance: "R")}},
+                bonds: [("p", "tank"), ("p", "drain")])"#
+        )
+    };
+    let error =
+        model::load_str("tapered.ron", &tank("(sqrt(A_0^2 + 2*a*q_tank) - A_0)/a")).unwrap_err();
+    let first = error.first();
+    assert_eq!(
+        first.message,
+        "element 'tank': effort \"(sqrt(A_0^2 + 2*a*q_tank) - A_0)/a\" is 0/0 at a = 0, its value in the model, whatever the state"
+    );
+    assert_eq!(first.location.as_ref().unwrap().line, 3);
+    model::load_str(
+        "tapered.ron",
+        &tank("2*q_tank/(sqrt(A_0^2 + 2*a*q_tank) + A_0)"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+}
