@@ -88,11 +88,15 @@ fn a_linear_graph_d_type_takes_a_nonlinear_law_either_way_round() {
             ),
         )
         .unwrap_or_else(|e| panic!("{law}: {e}"));
-        let outputs = vec![Output {
-            name: "across:store".into(),
-            spec: OutputSpec::parse(&model, "across:store").unwrap(),
-            integral: false,
-        }];
+        // The source runs from the ground to n: its across variable is -v.
+        let outputs = ["across:store", "across:source"]
+            .into_iter()
+            .map(|name| Output {
+                name: name.into(),
+                spec: OutputSpec::parse(&model, name).unwrap(),
+                integral: false,
+            })
+            .collect();
         let trajectory = Simulator::new(&model, outputs)
             .run(&Run {
                 inputs: &[&Constant(8.0)],
@@ -109,6 +113,12 @@ fn a_linear_graph_d_type_takes_a_nonlinear_law_either_way_round() {
             assert!(
                 (v - expected).abs() < 1e-7,
                 "{law}: v({t}) = {v}, expected {expected}"
+            );
+            let source = trajectory.value(i, 1).unwrap();
+            assert!(
+                (source + expected).abs() < 1e-7,
+                "{law}: across:source({t}) = {source}, expected {}",
+                -expected
             );
         }
     }

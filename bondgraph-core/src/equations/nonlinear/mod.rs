@@ -487,7 +487,12 @@ impl NonlinearEquations {
         };
         NonlinearOutput {
             name: spec.name.clone(),
-            value: value.clone(),
+            // A linear graph's branch may count its variable against its bond's.
+            value: if spec.negated {
+                Sym::neg(value)
+            } else {
+                value.clone()
+            },
             integral: false,
         }
     }
