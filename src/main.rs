@@ -205,7 +205,7 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
     },
-    /// Merge extensions (bond-graph fragments, RON) into a model; print the extended model file.
+    /// Merge extensions (bond-graph fragments, or linear-graph fragments into a linear graph; RON) into a model; print the extended model file.
     Extend {
         /// The model file (RON).
         model: PathBuf,
@@ -536,12 +536,22 @@ fn extend(model: &Path, extensions: &[PathBuf], out: Option<&Path>) -> Result<()
     match out {
         Some(path) => {
             write_file(path, extended.file.text())?;
+            let parts = match &merged.linear_graph {
+                Some(graph) => format!(
+                    "{}, {}",
+                    count(graph.nodes.len(), "node"),
+                    count(graph.branches.len(), "branch")
+                ),
+                None => format!(
+                    "{}, {}",
+                    count(merged.elements.len(), "element"),
+                    count(merged.bonds.len(), "bond")
+                ),
+            };
             eprintln!(
-                "{}: model '{}' written ({}, {})",
+                "{}: model '{}' written ({parts})",
                 path.display(),
                 merged.name,
-                count(merged.elements.len(), "element"),
-                count(merged.bonds.len(), "bond")
             );
         }
         None => print(extended.file.text()),

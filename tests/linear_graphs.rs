@@ -829,15 +829,30 @@ fn explain_in_markdown_has_headings_numbered_steps_and_equation_blocks() {
 }
 
 #[test]
-fn extensions_are_refused_on_a_linear_graph_naming_the_file() {
+fn a_bond_graph_fragment_is_refused_on_a_linear_graph_at_its_line() {
     let err = fail(&[
         "extend",
         "models/eversion/robot.lg.ron",
         "models/eversion/extensions/ac-sheath-drag.ron",
     ]);
     assert!(
-        err.starts_with("error: models/eversion/robot.lg.ron is a linear graph; extensions are bond-graph fragments and merge into bond-graph models only\n"),
+        err.starts_with("error: extension 'ac-sheath-drag' is a bond-graph fragment (elements), and model 'eversion_robot' is a linear graph\n  --> models/eversion/extensions/ac-sheath-drag.ron:18:15\n"),
         "{err}"
+    );
+}
+
+#[test]
+fn a_linear_graph_takes_its_fragments() {
+    let merged = succeed(&[
+        "extend",
+        "models/examples/thermal/thermal.lg.ron",
+        "models/examples/thermal/extensions/contact-resistance.ron",
+    ]);
+    assert!(
+        merged.contains("name: \"thermal+contact-resistance\"")
+            && merged.contains("\"bar\": D(resistance: \"R_12\", from: \"T1\", to: \"contact\")")
+            && merged.contains("\"joint\": D(resistance: \"R_c\", from: \"contact\", to: \"T2\")"),
+        "{merged}"
     );
 }
 

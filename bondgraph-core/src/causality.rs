@@ -371,20 +371,46 @@ impl<'a> Scap<'a> {
     /// conductance), else a free bond (effort to its head first).
     fn next_choice(&self) -> Option<(BondId, [ElementId; 2], ElementId, Decision)> {
         let model = self.model;
-        let resistor = model.element_ids().find_map(|element| {
-            if !is_resistor(&self.laws[element.index()]) {
-                return None;
-            }
-            let bond = single_bond(model, element);
-            self.strokes[bond.index()].is_none().then(|| {
-                (
-                    bond,
-                    [model.bond(bond).other(element), element],
-                    element,
-                    Decision::ResistorChosen,
-                )
+        let open = |element: ElementId| {
+            is_resistor(&self.laws[element.index()])
+                && self.strokes[single_bond(model, element).index()].is_none()
+        };
+        // A resistor that only one causality allows at the model's values is chosen first,
+        // in that causality: a zero resistance (a series resistor at its no-effect value)
+        // can give an effort, e = 0·f, but not take one, and an infinite one (a linear
+        // graph's zero resistance, across = 0·through) the other way round.
+        let resistor = model
+            .element_ids()
+            .filter(|&e| open(e))
+            .find_map(|element| {
+                let bond = single_bond(model, element);
+                let other = model.bond(bond).other(element);
+                match &self.laws[element.index()] {
+                    Law::Resistor { resistance, .. } => {
+                        let value = model.evaluate(resistance);
+                        if value == 0.0 {
+                            Some([other, element])
+                        } else if value.is_infinite() {
+                            Some([element, other])
+                        } else {
+                            None
+                        }
+                    }
+                    _ => None,
+                }
+                .map(|receivers| (bond, receivers, element, Decision::ResistorChosen))
             })
-        });
+            .or_else(|| {
+                model.element_ids().find(|&e| open(e)).map(|element| {
+                    let bond = single_bond(model, element);
+                    (
+                        bond,
+                        [model.bond(bond).other(element), element],
+                        element,
+                        Decision::ResistorChosen,
+                    )
+                })
+            });
         resistor.or_else(|| {
             model.bond_ids().find_map(|bond| {
                 let b = model.bond(bond);

@@ -13,6 +13,7 @@ mod hardening;
 mod hardening_events;
 mod input_rates;
 mod multiscale_events;
+mod natural_laws;
 mod nonlinear;
 mod nonlinear_events;
 mod oracle;

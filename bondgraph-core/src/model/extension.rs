@@ -1,4 +1,4 @@
-//! Model extensions: bond-graph fragments merged into a model file.
+//! Model extensions: bond-graph or linear-graph fragments merged into a model file.
 //!
 //! When a model disagrees with measurements, the cause is often a piece of physics it leaves
 //! out: a force nobody modelled, a friction that depends on the load. An extension writes that
@@ -22,6 +22,23 @@
 //! and the new version of each element named in `replace`), `replace` (names of the base
 //! model's elements that `elements` gives anew) and `bonds` (new bonds, which may join new
 //! elements to the base model's).
+//!
+//! A linear graph takes a linear-graph fragment: `branches` in place of `elements` and
+//! `bonds`, written as the graph writes them, each naming its nodes (a node the base graph
+//! does not have is a new node), `replace` naming the base graph's branches it gives anew:
+//!
+//! ```ron
+//! Extension(
+//!     id: "contact-resistance",
+//!     cause: "a dry joint adds a contact resistance in series with the bar",
+//!     parameters: { "R_c": (value: 0.0, unit: "K/W", bounds: (0.0, 10.0)) },
+//!     branches: {
+//!         "bar": D(resistance: "R_12", from: "T1", to: "contact"),
+//!         "joint": D(resistance: "R_c", from: "contact", to: "T2"),
+//!     },
+//!     replace: ["bar"],
+//! )
+//! ```
 //!
 //! [`merge`] writes the fragments into the base model's *text*: entries are appended to the
 //! model's sections and replaced elements are rewritten in place, comments and layout kept,
@@ -64,11 +81,12 @@ use serde::Deserialize;
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::source::{SourceFile, Span};
 
-use super::Model;
+use super::linear_graph::format::{RawBranch, RawLinearGraph};
 use super::parse::{FileKind, parse_file, parse_model};
 use super::raw::{RawBond, RawElement, RawInput, RawParameter, entries};
-use super::source_map::{SourceMap, TokenKind, lex};
+use super::source_map::{EntrySpans, SourceMap, TokenKind, lex};
 use super::validate::suggest;
+use super::{Format, Model};
 
 /// An extension file, exactly as serde reads it.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -89,7 +107,11 @@ pub struct RawExtension {
     /// New elements, and the new version of each element named in `replace`.
     #[serde(default, deserialize_with = "entries")]
     pub elements: Vec<(String, RawElement)>,
-    /// The base model's elements that `elements` gives anew.
+    /// New branches of a linear graph (new nodes allowed), and the new version of each
+    /// branch named in `replace`.
+    #[serde(default, deserialize_with = "entries")]
+    pub branches: Vec<(String, RawBranch)>,
+    /// The base model's elements (or branches) that `elements` (or `branches`) gives anew.
     #[serde(default)]
     pub replace: Vec<String>,
     /// New bonds.
@@ -133,13 +155,34 @@ impl Extension {
                 .at(source, field_span("id")),
             );
         }
+        let linear = !raw.branches.is_empty();
+        if linear && (!raw.elements.is_empty() || !raw.bonds.is_empty()) {
+            problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::InvalidValue,
+                    format!(
+                        "extension '{}' gives both branches (a linear-graph fragment) and elements or bonds (a bond-graph fragment)",
+                        raw.id
+                    ),
+                )
+                .at(source, field_span("branches"))
+                .note("an extension is written in the formalism of the model it extends: branches for a linear graph, elements and bonds for a bond graph"),
+            );
+        }
+        let (part, section) = if linear {
+            ("branch", "branches")
+        } else {
+            ("element", "elements")
+        };
         for name in &raw.replace {
-            if !raw.elements.iter().any(|(n, _)| n == name) {
+            let given = raw.elements.iter().any(|(n, _)| n == name)
+                || raw.branches.iter().any(|(n, _)| n == name);
+            if !given {
                 problems.push(
                     Diagnostic::new(
                         DiagnosticKind::UnknownName,
                         format!(
-                            "extension '{}' replaces element '{name}' but gives no new '{name}' under elements",
+                            "extension '{}' replaces {part} '{name}' but gives no new '{name}' under {section}",
                             raw.id
                         ),
                     )
@@ -149,6 +192,7 @@ impl Extension {
             }
         }
         if map.elements.len() != raw.elements.len()
+            || map.branches.len() != raw.branches.len()
             || map.parameters.len() != raw.parameters.len()
             || map.inputs.len() != raw.inputs.len()
             || map.bonds.len() != raw.bonds.len()
@@ -157,7 +201,7 @@ impl Extension {
                 Diagnostic::new(
                     DiagnosticKind::Syntax,
                     "this extension is written in a way that cannot be merged; write its \
-                     elements, parameters, inputs and bonds as plain maps and lists",
+                     elements (or branches), parameters, inputs and bonds as plain maps and lists",
                 )
                 .at(source, map.root),
             );
@@ -190,6 +234,83 @@ impl Extension {
     /// The file it was read from.
     pub fn source(&self) -> &Arc<SourceFile> {
         &self.source
+    }
+
+    /// Whether it is a linear-graph fragment (it gives branches).
+    pub fn is_linear_graph(&self) -> bool {
+        !self.raw.branches.is_empty()
+    }
+
+    /// Its new and replacing parts (elements, or branches of a linear graph), with their
+    /// spans.
+    fn parts(&self) -> impl Iterator<Item = (&str, &EntrySpans)> {
+        let names = self
+            .raw
+            .elements
+            .iter()
+            .map(|(n, _)| n.as_str())
+            .chain(self.raw.branches.iter().map(|(n, _)| n.as_str()));
+        names.zip(self.map.elements.iter().chain(&self.map.branches))
+    }
+}
+
+/// What a merge needs of the base model file: its names and the spans of its sections.
+struct Base {
+    name: String,
+    parameters: Vec<String>,
+    inputs: Vec<String>,
+    /// Its elements, or a linear graph's branches.
+    parts: Vec<String>,
+    map: SourceMap,
+    linear: bool,
+}
+
+impl Base {
+    fn parse(file: &SourceFile) -> Result<Self> {
+        fn names<T>(entries: &[(String, T)]) -> Vec<String> {
+            entries.iter().map(|(n, _)| n.clone()).collect()
+        }
+        Ok(match Format::of(file.text()) {
+            Format::BondGraph => {
+                let (raw, map) = parse_model(file)?;
+                Base {
+                    parameters: names(&raw.parameters),
+                    inputs: names(&raw.inputs),
+                    parts: names(&raw.elements),
+                    name: raw.name,
+                    map,
+                    linear: false,
+                }
+            }
+            Format::LinearGraph => {
+                let (raw, map) = parse_file::<RawLinearGraph>(file, FileKind::LinearGraph)?;
+                Base {
+                    parameters: names(&raw.parameters),
+                    inputs: names(&raw.inputs),
+                    parts: names(&raw.branches),
+                    name: raw.name,
+                    map,
+                    linear: true,
+                }
+            }
+        })
+    }
+
+    /// The word for a part, and the section that holds them.
+    fn part(&self) -> (&'static str, &'static str) {
+        if self.linear {
+            ("branch", "branches")
+        } else {
+            ("element", "elements")
+        }
+    }
+
+    fn part_spans(&self) -> &[EntrySpans] {
+        if self.linear {
+            &self.map.branches
+        } else {
+            &self.map.elements
+        }
     }
 }
 
@@ -342,46 +463,40 @@ impl Extended {
     }
 }
 
-/// Merges `extensions` into the model file `base`, in order.
+/// Merges `extensions` into the model file `base`, in order: bond-graph fragments into a
+/// bond graph, linear-graph fragments (branches) into a linear graph.
 ///
 /// # Errors
 /// The base model's syntax error, and every conflict between the base and the extensions,
-/// located in the extension: a replaced element the base does not have, a new element,
-/// parameter or input the base already has, two extensions replacing the same element.
-/// Problems of the merged model (a bond to an unknown element) are found by
+/// located in the extension: a fragment of the other formalism, a replaced element (or
+/// branch) the base does not have, a new element, branch, parameter or input the base
+/// already has, two extensions replacing the same element. Problems of the merged model (a
+/// bond to an unknown element, a branch to a node nothing else touches) are found by
 /// [`Extended::load`].
 pub fn merge(base: &Arc<SourceFile>, extensions: &[Extension]) -> Result<Extended> {
-    if super::Format::of(base.text()) == super::Format::LinearGraph {
-        let map = super::source_map::SourceMap::scan_partial(base.text());
-        return Err(Diagnostic::new(
-            DiagnosticKind::WrongType,
-            format!(
-                "{} is a linear graph; extensions are bond-graph fragments and merge into bond-graph models only",
-                base.name()
-            ),
-        )
-        .at(base, map.root)
-        .note("write the extended model as a linear graph, or extend the model's bond-graph file")
-        .into());
-    }
-    let (raw, map) = parse_model(base)?;
+    let model = Base::parse(base)?;
+    let map = &model.map;
     let text = base.text();
+    let (part, section) = model.part();
     let mut problems = Vec::new();
     let mut splices: Vec<Splice> = Vec::new();
     let mut replaced: HashSet<&str> = HashSet::new();
-    let base_elements: Vec<&str> = raw.elements.iter().map(|(n, _)| n.as_str()).collect();
 
     for (e, extension) in extensions.iter().enumerate() {
         let ext = &extension.raw;
         let ext_map = &extension.map;
         let here = |span: Span| extension.source.locate(span);
+        if let Some(problem) = other_formalism(&model, extension) {
+            problems.push(problem);
+            continue;
+        }
         // Clashes of new names with the base model's.
         let clash = |kind: &str, name: &str, span: Span, note: &str| {
             let mut d = Diagnostic::new(
                 DiagnosticKind::DuplicateName,
                 format!(
                     "extension '{}' adds {kind} '{name}', which model '{}' already has",
-                    ext.id, raw.name
+                    ext.id, model.name
                 ),
             )
             .at_location(here(span))
@@ -391,62 +506,57 @@ pub fn merge(base: &Arc<SourceFile>, extensions: &[Extension]) -> Result<Extende
             }
             d
         };
+        let symbol_taken =
+            |name: &String| model.parameters.contains(name) || model.inputs.contains(name);
         for ((name, _), spans) in ext.parameters.iter().zip(&ext_map.parameters) {
-            if raw.parameters.iter().any(|(n, _)| n == name)
-                || raw.inputs.iter().any(|(n, _)| n == name)
-            {
+            if symbol_taken(name) {
                 problems.push(clash("parameter", name, spans.key_span, ""));
             }
         }
         for ((name, _), spans) in ext.inputs.iter().zip(&ext_map.inputs) {
-            if raw.inputs.iter().any(|(n, _)| n == name)
-                || raw.parameters.iter().any(|(n, _)| n == name)
-            {
+            if symbol_taken(name) {
                 problems.push(clash("input", name, spans.key_span, ""));
             }
         }
-        for ((name, _), spans) in ext.elements.iter().zip(&ext_map.elements) {
-            let replaces = ext.replace.contains(name);
-            let exists = base_elements.contains(&name.as_str());
-            if replaces && !exists {
-                let mut d = Diagnostic::new(
-                    DiagnosticKind::UnknownName,
-                    format!(
-                        "extension '{}' replaces element '{name}', which model '{}' does not have",
-                        ext.id, raw.name
-                    ),
-                )
-                .at_location(here(spans.key_span))
-                .element(name.clone());
-                if let Some(suggestion) = suggest(name, base_elements.iter().copied()) {
-                    d = d.note(format!("did you mean '{suggestion}'?"));
+        for (name, spans) in extension.parts() {
+            let replaces = ext.replace.iter().any(|r| r == name);
+            let index = model.parts.iter().position(|n| n == name);
+            match (replaces, index) {
+                (true, None) => {
+                    let mut d = Diagnostic::new(
+                        DiagnosticKind::UnknownName,
+                        format!(
+                            "extension '{}' replaces {part} '{name}', which model '{}' does not have",
+                            ext.id, model.name
+                        ),
+                    )
+                    .at_location(here(spans.key_span))
+                    .element(name);
+                    if let Some(suggestion) = suggest(name, model.parts.iter().map(String::as_str))
+                    {
+                        d = d.note(format!("did you mean '{suggestion}'?"));
+                    }
+                    problems.push(d);
                 }
-                problems.push(d);
-            } else if !replaces && exists {
-                problems.push(clash(
-                    "element",
+                (false, Some(_)) => problems.push(clash(
+                    part,
                     name,
                     spans.key_span,
                     &format!("to change the model's '{name}', list it under replace"),
-                ));
-            } else if replaces && !replaced.insert(name.as_str()) {
-                problems.push(
+                )),
+                (true, Some(_)) if !replaced.insert(name) => problems.push(
                     Diagnostic::new(
                         DiagnosticKind::DuplicateName,
-                        format!("element '{name}' is replaced by two extensions"),
+                        format!("{part} '{name}' is replaced by two extensions"),
                     )
                     .at_location(here(spans.key_span))
-                    .element(name.clone()),
-                );
-            } else if replaces {
-                let index = base_elements
-                    .iter()
-                    .position(|n| n == name)
-                    .expect("exists");
-                splices.push(Splice {
-                    at: map.elements[index].value_span,
+                    .element(name),
+                ),
+                (true, Some(index)) => splices.push(Splice {
+                    at: model.part_spans()[index].value_span,
                     parts: vec![Part::Copy(e, spans.value_span)],
-                });
+                }),
+                (false, None) => {}
             }
         }
     }
@@ -457,29 +567,28 @@ pub fn merge(base: &Arc<SourceFile>, extensions: &[Extension]) -> Result<Extende
     // New entries and bonds, appended to the base model's sections.
     let ids: Vec<&str> = extensions.iter().map(Extension::id).collect();
     let marker = format!("// added by extension {}", quoted_list(&ids));
-    let sections: [(&str, &[super::source_map::EntrySpans]); 3] = [
+    let sections: [(&str, &[EntrySpans]); 3] = [
         ("parameters", &map.parameters),
         ("inputs", &map.inputs),
-        ("elements", &map.elements),
+        (section, model.part_spans()),
     ];
-    for (section, base_entries) in sections {
+    for (name, base_entries) in sections {
         let items: Vec<(usize, Span)> = extensions
             .iter()
             .enumerate()
             .flat_map(|(e, x)| {
-                let entries = match section {
-                    "parameters" => &x.map.parameters,
-                    "inputs" => &x.map.inputs,
-                    _ => &x.map.elements,
+                let entries: Box<dyn Iterator<Item = &EntrySpans>> = match name {
+                    "parameters" => Box::new(x.map.parameters.iter()),
+                    "inputs" => Box::new(x.map.inputs.iter()),
+                    _ => Box::new(x.parts().map(|(_, s)| s)),
                 };
                 entries
-                    .iter()
-                    .filter(move |s| section != "elements" || !x.raw.replace.contains(&s.key))
+                    .filter(move |s| name != section || !x.raw.replace.contains(&s.key))
                     .map(move |s| (e, s.span()))
             })
             .collect();
         let last = base_entries.last().map(|s| s.span().end);
-        if let Some(splice) = append(text, &map, section, '{', last, items, &marker) {
+        if let Some(splice) = append(text, map, name, '{', last, items, &marker) {
             splices.push(splice);
         }
     }
@@ -489,12 +598,12 @@ pub fn merge(base: &Arc<SourceFile>, extensions: &[Extension]) -> Result<Extende
         .flat_map(|(e, x)| x.map.bonds.iter().map(move |b| (e, b.span)))
         .collect();
     let last_bond = map.bonds.last().map(|b| b.span.end);
-    if let Some(splice) = append(text, &map, "bonds", '[', last_bond, bonds, &marker) {
+    if let Some(splice) = append(text, map, "bonds", '[', last_bond, bonds, &marker) {
         splices.push(splice);
     }
 
     // The name, and a header saying what was merged.
-    let name = std::iter::once(raw.name.as_str())
+    let name = std::iter::once(model.name.as_str())
         .chain(ids.iter().copied())
         .collect::<Vec<_>>()
         .join("+");
@@ -506,7 +615,7 @@ pub fn merge(base: &Arc<SourceFile>, extensions: &[Extension]) -> Result<Extende
     }
     let mut header = format!(
         "// Model '{}' ({}) extended by `bondgraph extend`.\n",
-        raw.name,
+        model.name,
         base.name()
     );
     for extension in extensions {
@@ -564,6 +673,53 @@ pub fn merge(base: &Arc<SourceFile>, extensions: &[Extension]) -> Result<Extende
         extensions: extensions.iter().map(|x| Arc::clone(&x.source)).collect(),
         pieces,
     })
+}
+
+/// The problem of merging `extension` into `base` if it is written in the other formalism:
+/// branches into a bond graph, elements or bonds into a linear graph.
+fn other_formalism(base: &Base, extension: &Extension) -> Option<Diagnostic> {
+    let ext = &extension.raw;
+    let span = |field: &str| {
+        extension
+            .map
+            .field(field)
+            .map_or(extension.map.root, |f| f.value_span)
+    };
+    let (message, at, note) = if base.linear {
+        let field = if ext.elements.is_empty() {
+            "bonds"
+        } else {
+            "elements"
+        };
+        if ext.elements.is_empty() && ext.bonds.is_empty() {
+            return None;
+        }
+        (
+            format!(
+                "extension '{}' is a bond-graph fragment ({field}), and model '{}' is a linear graph",
+                ext.id, base.name
+            ),
+            span(field),
+            "write the fragment as the graph writes it: `branches` with their nodes, `replace` naming the branches it gives anew",
+        )
+    } else {
+        if !extension.is_linear_graph() {
+            return None;
+        }
+        (
+            format!(
+                "extension '{}' is a linear-graph fragment (branches), and model '{}' is a bond graph",
+                ext.id, base.name
+            ),
+            span("branches"),
+            "extend the model's linear-graph file, or write the fragment as elements and bonds",
+        )
+    };
+    Some(
+        Diagnostic::new(DiagnosticKind::WrongType, message)
+            .at_location(extension.source.locate(at))
+            .note(note),
+    )
 }
 
 /// The splice that appends `items` (copied from extensions) to the section `field` of the
@@ -671,3 +827,9 @@ fn quoted_list(ids: &[&str]) -> String {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod law_tests;
+
+#[cfg(test)]
+mod linear_graph_tests;

@@ -803,7 +803,9 @@ impl Validator<'_> {
                     "conductance",
                     conductance,
                     scope,
-                    Sign::Positive,
+                    // A linear graph's zero resistance (across = 0·through): well defined
+                    // where the branch takes its through variable, which causality prefers.
+                    Sign::NonNegative,
                 )?;
                 ElementKind::Resistor(reciprocal(coefficient))
             }

@@ -490,6 +490,8 @@ impl NonlinearEquations {
         };
         NonlinearOutput {
             name: spec.name.clone(),
+            // A linear graph's branch may count its variable against its bond's, and a
+            // one-port's power is into it, against a bond that points out.
             value: if spec.negated {
                 Sym::neg(value)
             } else {
@@ -563,7 +565,7 @@ pub(crate) fn dependent_through_law(
         .filter(|e| laws[e.index()].nonlinear().is_some())
         .map(|e| format!("'{}'", model.element(e).name))
         .collect();
-    Diagnostic::new(
+    let diagnostic = Diagnostic::new(
         DiagnosticKind::DependentStorage,
         format!(
             "'{name}' is in derivative causality and follows the rest of the model through a nonlinear law ({}); it cannot be merged into one state",
@@ -571,8 +573,23 @@ pub(crate) fn dependent_through_law(
         ),
     )
     .at_location(model.locate_element(element))
-    .element(name.clone())
-    .note("a mass driven through a modulated ratio has a state-dependent mass matrix; add a compliance or resistor next to it so that it keeps its own state")
+    .element(name.clone());
+    // A resistor whose law could not be turned round is the usual cause: it must be given
+    // its flow, so the storage next to it cannot give it an effort from its own state.
+    let one_way = model
+        .element_ids()
+        .find_map(|e| match laws[e.index()].nonlinear() {
+            Some(NonlinearLaw::Resistor(r)) if r.flow.is_none() => Some((e, "effort", "flow")),
+            Some(NonlinearLaw::Resistor(r)) if r.effort.is_none() => Some((e, "flow", "effort")),
+            _ => None,
+        });
+    match one_way {
+        Some((resistor, given, unknown)) => diagnostic.note(format!(
+            "'{}' has its law as {given}: f({unknown}), which could not be solved for the {unknown}, so it must be given its {unknown}, and '{name}' cannot give it its {given} from a state of its own; write the law as {unknown}: f({given}) too",
+            model.element(resistor).name
+        )),
+        None => diagnostic.note("a mass driven through a modulated ratio has a state-dependent mass matrix; add a compliance or resistor next to it so that it keeps its own state"),
+    }
     .into()
 }
 

@@ -1,6 +1,6 @@
 use super::*;
 
-const BASE: &str = r#"// A mass pushed through a damper.
+pub(super) const BASE: &str = r#"// A mass pushed through a damper.
 Model(
     name: "msd",
     parameters: {

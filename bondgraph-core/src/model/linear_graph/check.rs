@@ -288,12 +288,48 @@ fn check_fields(
         RawBranch::D {
             resistance,
             conductance,
+            through,
+            across,
             ..
-        } => (
-            ("resistance", resistance.is_some()),
-            ("conductance", conductance.is_some()),
-            "D",
-        ),
+        } => {
+            let given: Vec<&str> = [
+                ("resistance", resistance),
+                ("conductance", conductance),
+                ("through", through),
+                ("across", across),
+            ]
+            .into_iter()
+            .filter(|(_, v)| v.is_some())
+            .map(|(f, _)| f)
+            .collect();
+            if given.len() == 1 {
+                return;
+            }
+            let (kind, message, at) = match given.as_slice() {
+                [] => (
+                    DiagnosticKind::MissingField,
+                    format!("D branch '{name}' needs a resistance, a conductance or a law"),
+                    span,
+                ),
+                [_, second, ..] => (
+                    DiagnosticKind::ConflictingFields,
+                    format!(
+                        "branch '{name}' gives both {} and {second}; give one",
+                        given[0]
+                    ),
+                    entry
+                        .and_then(|e| e.field(second))
+                        .map_or(span, |f| f.name_span),
+                ),
+                [_] => return,
+            };
+            problems.push(
+                Diagnostic::new(kind, message).at(file, at).element(name).note(
+                    "write resistance: \"...\" or conductance: \"...\", or a law: through: \"EXPR of across\" or across: \"EXPR of through\"",
+                ),
+            );
+            return;
+        }
         _ => return,
     };
     let (kind, message, at) = match (a.1, b.1) {

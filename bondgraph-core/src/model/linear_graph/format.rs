@@ -75,12 +75,18 @@ pub enum RawBranch {
         to: String,
     },
     /// D-type (damper, resistor, fluid or thermal resistance): `v = R f`, given by exactly
-    /// one of resistance or conductance (`b = 1/R`, a damping coefficient).
+    /// one of resistance, conductance (`b = 1/R`, a damping coefficient), or a nonlinear
+    /// law: `through` as an expression of the branch's `across` variable, or `across` of
+    /// its `through` variable (the bond graph's `R(effort: ...)` and `R(flow: ...)`).
     D {
         /// The resistance `R`: across per through.
         resistance: Option<String>,
         /// The conductance `1/R`: through per across (a damper's `b`).
         conductance: Option<String>,
+        /// A nonlinear law: the through variable as an expression of `across`.
+        through: Option<String>,
+        /// A nonlinear law: the across variable as an expression of `through`.
+        across: Option<String>,
         /// The node the branch starts at.
         from: String,
         /// The node the branch ends at.

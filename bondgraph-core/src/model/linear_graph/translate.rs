@@ -443,8 +443,19 @@ fn element_of(branch: &RawBranch) -> (RawElement, Vec<(&'static str, &'static st
         RawBranch::D {
             resistance,
             conductance,
+            through,
+            across,
             ..
         } => match (resistance, conductance) {
+            // A law: across is the bond graph's flow and through its effort.
+            (None, None) if through.is_some() || across.is_some() => (
+                RawElement::R {
+                    resistance: None,
+                    effort: through.map(|law| port_names_of_bond_graph(&law)),
+                    flow: across.map(|law| port_names_of_bond_graph(&law)),
+                },
+                vec![("effort", "through"), ("flow", "across")],
+            ),
             (Some(resistance), _) => (
                 RawElement::Conductance {
                     conductance: resistance,
@@ -521,6 +532,29 @@ fn element_of(branch: &RawBranch) -> (RawElement, Vec<(&'static str, &'static st
     }
 }
 
+/// A D-type's law with the branch's `across` and `through` variables written as the bond
+/// graph's `flow` and `effort`; every other name, and the layout, as written.
+fn port_names_of_bond_graph(law: &str) -> String {
+    let mut out = String::with_capacity(law.len());
+    let mut rest = law;
+    while let Some(start) = rest.find(|c: char| c.is_ascii_alphabetic() || c == '_') {
+        out.push_str(&rest[..start]);
+        let word = &rest[start..];
+        let end = word
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .unwrap_or(word.len());
+        let after_digit = out.ends_with(|c: char| c.is_ascii_digit() || c == '.');
+        out.push_str(match &word[..end] {
+            "across" if !after_digit => "flow",
+            "through" if !after_digit => "effort",
+            other => other,
+        });
+        rest = &word[end..];
+    }
+    out.push_str(rest);
+    out
+}
+
 fn kind_of(branch: &RawBranch) -> BranchKind {
     match branch {
         RawBranch::A { .. } => BranchKind::A,
@@ -557,8 +591,14 @@ fn value_of(branch: &RawBranch) -> String {
         RawBranch::D {
             resistance,
             conductance,
+            through,
+            across,
             ..
-        } => either(resistance, "resistance", conductance, "conductance"),
+        } => match (through, across) {
+            (Some(law), _) => format!("through {law}"),
+            (None, Some(law)) => format!("across {law}"),
+            _ => either(resistance, "resistance", conductance, "conductance"),
+        },
         RawBranch::AcrossSource { value, .. } | RawBranch::ThroughSource { value, .. } => {
             value.clone()
         }

@@ -412,7 +412,31 @@ impl Validator<'_> {
             return None;
         }
         match lower(&expr, scope, allowed) {
-            Ok(sym) => Some((sym, base)),
+            Ok(sym) => {
+                if let Some(zeros) = undefined_through_zeros(&sym, scope) {
+                    let values = zeros
+                        .iter()
+                        .map(|name| format!("{name} = 0"))
+                        .collect::<Vec<_>>()
+                        .join(", ");
+                    self.problems.push(
+                        Diagnostic::new(
+                            DiagnosticKind::InvalidValue,
+                            format!(
+                                "element '{element}': {field} \"{text}\" is 0/0 at {values}, its value in the model, whatever the state"
+                            ),
+                        )
+                        .at(&self.file, base)
+                        .element(element)
+                        .note(format!(
+                            "a parameter's no-effect value must leave the law defined: write it without dividing by {0} (a difference of roots over {0} times its conjugate: (sqrt(x) - y)/a = (x - y^2)/(a*(sqrt(x) + y)), where a cancels), or give {0} a value other than 0",
+                            zeros.join(", ")
+                        )),
+                    );
+                    return None;
+                }
+                Some((sym, base))
+            }
             Err((message, span)) => {
                 self.problems.push(
                     Diagnostic::new(
@@ -624,4 +648,29 @@ fn lower_unbounded(
                 .collect::<Result<_, _>>()?,
         ),
     })
+}
+
+/// The parameters at value zero that leave `law` undefined (not a number) at the model's
+/// values whatever its variables, when it is defined with any one of them moved off zero:
+/// a law singular at a parameter's no-effect value, as `(sqrt(A^2 + 2 a q) - A)/a` at
+/// `a = 0`. `None` where the law is defined somewhere, or is undefined for another reason.
+fn undefined_through_zeros(law: &Sym, scope: &Scope<'_>) -> Option<Vec<String>> {
+    // Variables are probed at a few magnitudes of either sign; one defined value suffices.
+    const PROBES: [f64; 6] = [0.5, 1.0, 2.0, -0.5, -1.0, -2.0];
+    let defined = |values: &[f64]| PROBES.iter().any(|&x| law.eval(&|_| x, values).is_finite());
+    if defined(scope.values) {
+        return None;
+    }
+    let zeros: Vec<String> = law
+        .parameters()
+        .into_iter()
+        .filter(|p| scope.values.get(p.index()) == Some(&0.0))
+        .filter(|p| {
+            let mut moved = scope.values.to_vec();
+            moved[p.index()] = 1e-3;
+            defined(&moved)
+        })
+        .map(|p| scope.symbols.name(p).to_string())
+        .collect();
+    (!zeros.is_empty()).then_some(zeros)
 }

@@ -3,8 +3,9 @@
 //!
 //! The variable must occur once along a chain of invertible steps: a sum (`a + c·g(x)`), a
 //! product (`c·g(x)^e` with an odd numerator of `e`, or a square root), `exp`, `ln`, `tanh`,
-//! `atan`, `tan`, and the odd power laws `sign(x)·|x|^e` that orifices and turbulent flow
-//! follow. Everything else (a `sin` of it, `x^2`, `x` twice) is not inverted: the law then
+//! `atan`, `tan`, the odd power laws `sign(x)·|x|^e` that orifices and turbulent flow
+//! follow, and the sum of a linear and a quadratic drag `a·u + b·u·|u|` (a pipe's laminar
+//! and turbulent losses). Everything else (a `sin` of it, `x^2`, `x` twice) is not inverted: the law then
 //! fixes its element's causality.
 
 use crate::expr::Function;
@@ -24,12 +25,8 @@ impl Sym {
         }
         match self.node() {
             Node::Sum(constant, terms) => {
-                let mut with: Vec<&(Sym, RatFunc)> =
+                let with: Vec<&(Sym, RatFunc)> =
                     terms.iter().filter(|(t, _)| t.mentions(x)).collect();
-                if with.len() != 1 {
-                    return None;
-                }
-                let (term, c) = with.pop().expect("one term");
                 let rest = Sym::sum(
                     std::iter::once((Sym::coefficient(constant.clone()), RatFunc::one())).chain(
                         terms
@@ -38,8 +35,12 @@ impl Sym {
                             .map(|(t, c)| (t.clone(), c.clone())),
                     ),
                 );
-                let inner = Sym::sub(target, &rest).scaled(&c.inv()?);
-                term.solve_for(x, &inner)
+                let y = Sym::sub(target, &rest);
+                match with.as_slice() {
+                    [(term, c)] => term.solve_for(x, &y.scaled(&c.inv()?)),
+                    [(t1, c1), (t2, c2)] => linear_and_quadratic(t1, c1, t2, c2, x, &y),
+                    _ => None,
+                }
             }
             Node::Product(factors) => {
                 let with: Vec<&(Sym, Rational)> =
@@ -114,4 +115,53 @@ fn odd_power_law(a: &Sym, ea: Rational, b: &Sym, eb: Rational, x: Atom, y: &Sym)
         &Sym::call(Function::Abs, vec![y.clone()]).pow(inverse)?,
     );
     sign[0].solve_for(x, &root)
+}
+
+/// `a·u + b·u·|u| = y` (in either order; `b·sign(u)·u^2` too) for `u`:
+/// `u = 2y / (a + sqrt(a^2 + 4b|y|))`, the root of the quadratic that keeps the sign of `y`,
+/// written so that it stays finite, and gives `y/a`, where `b` is zero.
+fn linear_and_quadratic(
+    t1: &Sym,
+    c1: &RatFunc,
+    t2: &Sym,
+    c2: &RatFunc,
+    x: Atom,
+    y: &Sym,
+) -> Option<Sym> {
+    let (u, a, b) = if is_signed_square_of(t2, t1) {
+        (t1, c1, c2)
+    } else if is_signed_square_of(t1, t2) {
+        (t2, c2, c1)
+    } else {
+        return None;
+    };
+    let a = Sym::coefficient(a.clone());
+    let discriminant = Sym::add(
+        &a.powi(2)?,
+        &Sym::call(Function::Abs, vec![y.clone()]).scaled(&(b * &RatFunc::integer(4))),
+    );
+    let denominator = Sym::add(&a, &Sym::call(Function::Sqrt, vec![discriminant]));
+    let root = Sym::div(&y.scaled(&RatFunc::integer(2)), &denominator)?;
+    u.solve_for(x, &root)
+}
+
+/// Whether `term` is `u·|u|` or `sign(u)·u^2` (either order of the factors).
+fn is_signed_square_of(term: &Sym, u: &Sym) -> bool {
+    let Node::Product(factors) = term.node() else {
+        return false;
+    };
+    let one = Rational::integer(1);
+    let is = |f: &(Sym, Rational), function: Function, e: Rational| {
+        f.1 == e && matches!(f.0.node(), Node::Call(g, args) if *g == function && args[0] == *u)
+    };
+    match factors.as_slice() {
+        [f, g] => {
+            let plain = |f: &(Sym, Rational), e: Rational| f.1 == e && f.0 == *u;
+            (plain(f, one) && is(g, Function::Abs, one))
+                || (plain(g, one) && is(f, Function::Abs, one))
+                || (plain(f, Rational::integer(2)) && is(g, Function::Sign, one))
+                || (plain(g, Rational::integer(2)) && is(f, Function::Sign, one))
+        }
+        _ => false,
+    }
 }

@@ -272,3 +272,46 @@ fn latex_reads_like_a_paper() {
         "-\\frac{g}{l} \\sin\\left(q\\right) - \\frac{1}{m} p"
     );
 }
+
+#[test]
+fn a_linear_and_quadratic_drag_inverts_and_stays_finite_without_its_quadratic_term() {
+    // R_2*u + K_o*u*|u| = y: for R_2 = 4, K_o = 0.5, y = 6 the root is u = 1.2915...
+    // (0.5u^2 + 4u - 6 = 0, u = -4 + sqrt(16 + 12) = 1.29150262...), and for y = -6 its
+    // negative. With K_o = 0 it is y/R_2.
+    let port = Sym::atom(Atom::Port);
+    let y = Sym::atom(Atom::Input(0));
+    let law = Sym::add(
+        &Sym::mul(&p("b"), &port),
+        &Sym::mul(
+            &p("c"),
+            &Sym::mul(&port, &Sym::call(Function::Abs, vec![port.clone()])),
+        ),
+    );
+    let inverse = law.solve_for(Atom::Port, &y).unwrap();
+    let at = |e: &Sym, v: f64, b: f64, c: f64| {
+        e.eval(
+            &|a| match a {
+                Atom::Input(0) | Atom::Port => v,
+                _ => f64::NAN,
+            },
+            &[b, c, 0.0, 0.0, 0.0, 0.0],
+        )
+    };
+    let root = -4.0 + 28f64.sqrt();
+    assert!((at(&inverse, 6.0, 4.0, 0.5) - root).abs() < 1e-12);
+    assert!((at(&inverse, -6.0, 4.0, 0.5) + root).abs() < 1e-12);
+    assert!((at(&inverse, 6.0, 4.0, 0.0) - 1.5).abs() < 1e-15);
+    // sign(u)*u^2 is the same law.
+    let signed = Sym::add(
+        &Sym::mul(&p("b"), &port),
+        &Sym::mul(
+            &p("c"),
+            &Sym::mul(
+                &Sym::call(Function::Sign, vec![port.clone()]),
+                &port.powi(2).unwrap(),
+            ),
+        ),
+    );
+    let inverse = signed.solve_for(Atom::Port, &y).unwrap();
+    assert!((at(&inverse, -6.0, 4.0, 0.5) + root).abs() < 1e-12);
+}
