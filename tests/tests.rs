@@ -19,4 +19,5 @@ mod scenarios;
 mod snapshots;
 mod support;
 mod teaching;
+mod timescales;
 mod units;

@@ -66,6 +66,8 @@ pub struct Calibration {
     pub table: Vec<CalibratedRow>,
     /// Forward-model evaluations used.
     pub evaluations: usize,
+    /// Trial predictions of the fit that failed or ran out of their budget, by reason.
+    pub failed_trials: Vec<crate::budget::FailedTrials>,
 }
 
 /// Calibrates the model in `source` on `data` (read against `experiment`).
@@ -85,7 +87,7 @@ pub fn calibrate(
     let (names, bounds, file_start) = fitted_parameters(&model, experiment, rows, &[])?;
     let predictor = Predictor::new(model.clone(), source, experiment)?;
     let mut evaluator = predictor.evaluator(&names)?;
-    discover::limit_to_settling(&mut evaluator);
+    discover::limit_to_budget(&mut evaluator, settings);
     let orderings = crate::global::orderings(&model, &names);
     let fit = fit_best(
         &mut evaluator,
@@ -97,6 +99,8 @@ pub fn calibrate(
         settings,
     )?
     .fit;
+    let failed_trials =
+        crate::budget::failed_trials(&model.name, &evaluator.trials(), &settings.budget);
     evaluator.set(&fit.values);
     let predictions = evaluator.predict(rows)?;
     let observed = &experiment.observed;
@@ -201,6 +205,7 @@ pub fn calibrate(
         residuals,
         table,
         evaluations: fit.evaluations,
+        failed_trials,
     })
 }
 
@@ -230,6 +235,7 @@ impl Calibration {
             let _ = writeln!(s, "residuals (model minus measured):");
             discover::write_residuals(&mut s, &self.residuals[column]);
         }
+        crate::budget::write_failed_trials(&mut s, &self.failed_trials);
         s
     }
 }

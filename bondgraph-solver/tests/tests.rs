@@ -15,6 +15,7 @@ mod nonlinear;
 mod nonlinear_events;
 mod oscillating_guards;
 mod properties;
+mod settling;
 mod stick_slip;
 mod stribeck;
 mod support;

@@ -176,6 +176,9 @@ pub struct Discovery {
     pub residuals_after: Option<Residuals>,
     /// Every row.
     pub table: Vec<RowResult>,
+    /// Trial predictions of the fits (the base model's, then each candidate's, folds
+    /// included) that failed or ran out of their budget, by model and reason.
+    pub failed_trials: Vec<crate::budget::FailedTrials>,
     /// The selected extended model with its fitted values, as a model file.
     #[serde(skip)]
     pub extended_model: Option<String>,
