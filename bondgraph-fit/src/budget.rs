@@ -242,7 +242,7 @@ pub fn write_failed_trials(s: &mut String, entries: &[FailedTrials]) {
     }
     let _ = writeln!(
         s,
-        "\nfailed trials (the fits treated these values as infeasible; budgets: \
+        "\nfailed trials (the fits rejected these values; budgets: \
          --max-mode-changes, --max-segments, --max-steps, --max-evaluations):"
     );
     for entry in entries {
