@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use bondgraph_core::DiagnosticKind;
 use bondgraph_core::source::SourceFile;
+use bondgraph_fit::budget::Budget;
 use bondgraph_fit::calibration::{self, Calibration};
 use bondgraph_fit::data;
 use bondgraph_fit::discover::Settings;
@@ -22,6 +23,8 @@ pub struct Args {
     pub experiment: Option<PathBuf>,
     /// JSON rather than text.
     pub json: bool,
+    /// The work each prediction and the fit may do.
+    pub budget: Budget,
 }
 
 /// Reads the model, its experiment (given, or `experiment.ron` beside the model) and the
@@ -89,14 +92,36 @@ pub fn calibrate(
     experiment: Option<&Path>,
     data: &[PathBuf],
 ) -> Result<Calibration, Failure> {
+    calibrate_within(model, experiment, data, &Budget::default())
+}
+
+/// [`calibrate`] within `budget`.
+///
+/// # Errors
+/// As [`calibrate`].
+pub fn calibrate_within(
+    model: &Path,
+    experiment: Option<&Path>,
+    data: &[PathBuf],
+    budget: &Budget,
+) -> Result<Calibration, Failure> {
     let (base, experiment_source, experiment, dataset) = inputs(model, experiment, data)?;
-    calibration::calibrate(&base, &experiment, &dataset, &Settings::default())
+    let settings = Settings {
+        budget: *budget,
+        ..Settings::default()
+    };
+    calibration::calibrate(&base, &experiment, &dataset, &settings)
         .map_err(|e| discover_failure(e, &[&experiment_source, &base]))
 }
 
 /// Runs `calibrate`.
 pub fn run(args: &Args) -> Result<(), Failure> {
-    let result = calibrate(&args.model, args.experiment.as_deref(), &args.data)?;
+    let result = calibrate_within(
+        &args.model,
+        args.experiment.as_deref(),
+        &args.data,
+        &args.budget,
+    )?;
     if args.json {
         print(&json(&result)?);
     } else {

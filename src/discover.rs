@@ -26,6 +26,8 @@ pub struct Args {
     pub json: bool,
     /// A folder for the report, the JSON, the extended model and the residual plots.
     pub out: Option<PathBuf>,
+    /// The work each prediction and each fit may do.
+    pub budget: bondgraph_fit::budget::Budget,
 }
 
 fn fail(kind: DiagnosticKind, message: impl std::fmt::Display) -> Failure {
@@ -136,12 +138,28 @@ impl Inputs {
     /// # Errors
     /// A failure located in the experiment or the model, or why the fits cannot be made.
     pub fn discover(&self, done: &(dyn Fn() + Sync)) -> Result<Discovery, Failure> {
+        self.discover_within(&bondgraph_fit::budget::Budget::default(), done)
+    }
+
+    /// [`Inputs::discover`] within `budget`.
+    ///
+    /// # Errors
+    /// As [`Inputs::discover`].
+    pub fn discover_within(
+        &self,
+        budget: &bondgraph_fit::budget::Budget,
+        done: &(dyn Fn() + Sync),
+    ) -> Result<Discovery, Failure> {
+        let settings = Settings {
+            budget: *budget,
+            ..Settings::default()
+        };
         discover::discover_with_progress(
             &self.base,
             &self.experiment,
             &self.dataset,
             &self.candidates,
-            &Settings::default(),
+            &settings,
             done,
         )
         .map_err(|e| discover_failure(e, &[&self.experiment_source, &self.base]))
@@ -159,7 +177,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let candidates = inputs.candidates.len();
     let started = std::time::Instant::now();
     let progress = progress_bar(candidates as u64 + 1);
-    let discovery = inputs.discover(&|| progress.inc(1))?;
+    let discovery = inputs.discover_within(&args.budget, &|| progress.inc(1))?;
     progress.finish_and_clear();
     let elapsed = started.elapsed();
     let text = json(&discovery)?;

@@ -16,6 +16,7 @@ use std::process::ExitCode;
 
 use bondgraph_core::DiagnosticKind;
 use bondgraph_core::equations::Variables;
+use bondgraph_fit::budget::Budget;
 use clap::{Parser, Subcommand, ValueEnum};
 
 /// Fits evaluate thousands of steady states, each a handful of short-lived vectors: a
@@ -29,6 +30,36 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+}
+
+/// The work a fit may do: each prediction of a row (or of a recorded run), and each fit. A
+/// trial past its budget is a failed trial, counted in the report.
+#[derive(clap::Args, Debug, Clone, Copy)]
+struct BudgetArgs {
+    /// Evaluations (predictions of every row at one trial point) one fit may make.
+    #[arg(long, value_name = "N", default_value_t = Budget::default().evaluations)]
+    max_evaluations: usize,
+    /// Mode changes one steady row may take to settle.
+    #[arg(long, value_name = "N", default_value_t = Budget::default().mode_changes)]
+    max_mode_changes: usize,
+    /// Stretches one steady row's search may simulate (settling horizons, windows, the way
+    /// to a predicted crossing).
+    #[arg(long, value_name = "N", default_value_t = Budget::default().segments)]
+    max_segments: usize,
+    /// Integration steps and event-location samples one prediction may take.
+    #[arg(long, value_name = "N", default_value_t = Budget::default().steps)]
+    max_steps: u64,
+}
+
+impl From<BudgetArgs> for Budget {
+    fn from(args: BudgetArgs) -> Self {
+        Budget {
+            mode_changes: args.max_mode_changes,
+            segments: args.max_segments,
+            steps: args.max_steps,
+            evaluations: args.max_evaluations,
+        }
+    }
 }
 
 #[derive(Subcommand, Debug)]
@@ -182,6 +213,8 @@ enum Command {
         /// Output format.
         #[arg(long, value_enum, default_value_t = ReproduceFormat::Text)]
         format: ReproduceFormat,
+        #[command(flatten)]
+        budget: BudgetArgs,
     },
     /// What a model gets wrong on measured data, and which candidate extension explains it.
     Discover {
@@ -204,6 +237,8 @@ enum Command {
         /// Also write the report, the JSON, the extended model and residual plots here.
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
+        #[command(flatten)]
+        budget: BudgetArgs,
     },
     /// Merge extensions (bond-graph fragments, or linear-graph fragments into a linear graph; RON) into a model; print the extended model file.
     Extend {
@@ -421,11 +456,13 @@ fn run(cli: Cli) -> Result<(), Failure> {
             data,
             experiment,
             format,
+            budget,
         } => calibrate::run(&calibrate::Args {
             model,
             data,
             experiment,
             json: format == ReproduceFormat::Json,
+            budget: budget.into(),
         }),
         Command::Discover {
             model,
@@ -434,6 +471,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             extensions,
             format,
             out,
+            budget,
         } => discover::run(&discover::Args {
             model,
             data,
@@ -441,6 +479,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             extensions,
             json: format == ReproduceFormat::Json,
             out,
+            budget: budget.into(),
         }),
         Command::Extend {
             model,

@@ -20,4 +20,5 @@ mod scenarios;
 mod snapshots;
 mod support;
 mod teaching;
+mod timescales;
 mod units;

@@ -69,6 +69,8 @@ pub struct Calibration {
     pub table: Vec<CalibratedRow>,
     /// Forward-model evaluations used.
     pub evaluations: usize,
+    /// Trial predictions of the fit that failed or ran out of their budget, by reason.
+    pub failed_trials: Vec<crate::budget::FailedTrials>,
 }
 
 /// Calibrates the model in `source` on `data` (read against `experiment`).
@@ -88,10 +90,11 @@ pub fn calibrate(
     let (names, bounds, file_start) = fitted_parameters(&model, experiment, rows, &[])?;
     let predictor = Predictor::new(model.clone(), source, experiment)?;
     let mut evaluator = predictor.evaluator(&names)?;
-    discover::limit_to_settling(&mut evaluator);
+    discover::limit_to_budget(&mut evaluator, settings);
     let orderings = crate::global::orderings(&model, &names);
+    let mut trials = crate::budget::Trials::default();
     let fit = if experiment.observed.len() == 1 {
-        fit_best(
+        let fit = fit_best(
             &mut evaluator,
             rows,
             None,
@@ -100,7 +103,9 @@ pub fn calibrate(
             (&orderings, &settings.search),
             settings,
         )?
-        .fit
+        .fit;
+        trials.merge(&evaluator.trials());
+        fit
     } else {
         weighted_fit(
             &model,
@@ -108,10 +113,11 @@ pub fn calibrate(
             experiment,
             rows,
             (&names, &bounds, &file_start),
-            &orderings,
+            (&orderings, &mut trials),
             settings,
         )?
     };
+    let failed_trials = crate::budget::failed_trials(&model.name, &trials, &settings.budget);
     evaluator.set(&fit.values);
     let predictions = evaluator.predict(rows)?;
     let observed = &experiment.observed;
@@ -212,6 +218,7 @@ pub fn calibrate(
         residuals,
         table,
         evaluations: fit.evaluations,
+        failed_trials,
     })
 }
 
@@ -224,7 +231,7 @@ fn weighted_fit(
     experiment: &Experiment,
     rows: &[crate::data::Measurement],
     (names, bounds, file_start): (&[String], &[(f64, f64)], &[f64]),
-    orderings: &[crate::global::Ordering],
+    (orderings, trials): (&[crate::global::Ordering], &mut crate::budget::Trials),
     settings: &Settings,
 ) -> Result<crate::calibrate::Fit, DiscoverError> {
     use crate::weights;
@@ -235,12 +242,12 @@ fn weighted_fit(
     let scales: Vec<f64> = (0..m)
         .map(|k| known[k].unwrap_or_else(|| weights::spread(rows, k)))
         .collect();
-    let fit_with = |scales: &[f64], starts: &[&[f64]], search: &crate::global::Search| {
+    let mut fit_with = |scales: &[f64], starts: &[&[f64]], search: &crate::global::Search| {
         let (scaled_experiment, scaled_rows) = weights::scaled(experiment, rows, scales);
         let predictor = Predictor::new(model.clone(), source, &scaled_experiment)?;
         let mut evaluator = predictor.evaluator(names)?;
-        discover::limit_to_settling(&mut evaluator);
-        fit_best(
+        discover::limit_to_budget(&mut evaluator, settings);
+        let fit = fit_best(
             &mut evaluator,
             &scaled_rows,
             None,
@@ -249,7 +256,9 @@ fn weighted_fit(
             (orderings, search),
             settings,
         )
-        .map(|searched| searched.fit)
+        .map(|searched| searched.fit);
+        trials.merge(&evaluator.trials());
+        fit
     };
     let first = fit_with(&scales, &[file_start], &settings.search)?;
     if known.iter().all(Option::is_some) {
@@ -258,7 +267,7 @@ fn weighted_fit(
     // The columns' residual noise at the first fit, in their units.
     let predictor = Predictor::new(model.clone(), source, experiment)?;
     let mut evaluator = predictor.evaluator(names)?;
-    discover::limit_to_settling(&mut evaluator);
+    discover::limit_to_budget(&mut evaluator, settings);
     evaluator.set(&first.values);
     let predicted: Vec<Vec<f64>> = evaluator
         .predict(rows)?
@@ -312,6 +321,7 @@ impl Calibration {
             let _ = writeln!(s, "residuals (model minus measured):");
             discover::write_residuals(&mut s, &self.residuals[column]);
         }
+        crate::budget::write_failed_trials(&mut s, &self.failed_trials);
         s
     }
 }

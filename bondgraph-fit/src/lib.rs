@@ -13,6 +13,7 @@
 //! - [`experiment`]: the experiment file (which columns set which inputs, what is observed,
 //!   what an empty cell removes, what is refitted);
 //! - [`data`]: the CSV reader (which refuses bad rows and says where they are) and writer;
+//! - [`budget`]: the work each prediction and each fit may do, and the trials that ran out;
 //! - [`predict`]: a model prepared once for an experiment, predicting rows as steady states
 //!   or, for a time series, along a simulated run (`timeseries`);
 //! - [`calibrate`]: bounded least squares for piecewise-smooth steady states, and [`global`]:
@@ -27,6 +28,7 @@
 //! - [`weights`]: several observed columns in one fit, each in levels of its noise;
 //! - [`synthetic`]: data made from a model with known values, for tests.
 
+pub mod budget;
 pub mod calibrate;
 pub mod calibration;
 pub mod data;

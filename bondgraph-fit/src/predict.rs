@@ -6,7 +6,7 @@
 //! simulator keeps every mode it has derived between predictions, so a calibration that
 //! tries thousands of parameter values derives nothing twice.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use bondgraph_core::equations::OutputSpec;
 use bondgraph_core::linear::Var;
@@ -15,8 +15,10 @@ use bondgraph_core::model::{self, ElementKind, Model};
 use bondgraph_core::modes::Mode;
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::{Diagnostic, DiagnosticKind, diagnostics::Diagnostics};
-use bondgraph_solver::steady::{SteadySettings, steady_state};
+use bondgraph_solver::steady::{Exhausted, SteadyError, SteadySettings, steady_state};
 use bondgraph_solver::{Output, Simulator};
+
+use crate::budget::{Budget, Failure, Trials};
 
 use crate::data::Measurement;
 use crate::experiment::{Experiment, ExperimentError};
@@ -187,13 +189,18 @@ impl Predictor {
                     .iter()
                     .map(|name| parameter_index(&variant.model, name))
                     .collect::<Result<Vec<_>, _>>()?;
-                Ok(Session::new(variant, slots))
+                Ok(Session::new(variant, slots, &Budget::default()))
             })
             .collect::<Result<Vec<_>, ExperimentError>>()?;
+        let budget = Budget::default();
         Ok(Evaluator {
             predictor: self,
             sessions,
-            settings: self.settings,
+            settings: steady_settings(self.settings, &budget),
+            budget,
+            names: names.to_vec(),
+            values: Vec::new(),
+            trials: Arc::new(Mutex::new(Trials::default())),
         })
     }
 
@@ -286,12 +293,27 @@ fn reduced(
     Ok(reduced)
 }
 
+/// `settings` limited to `budget`'s work per steady row.
+fn steady_settings(settings: SteadySettings, budget: &Budget) -> SteadySettings {
+    SteadySettings {
+        max_mode_changes: budget.mode_changes,
+        max_segments: budget.segments,
+        ..settings
+    }
+}
+
 /// Predicts rows with changing parameter values, keeping every mode derived so far.
 pub struct Evaluator<'p> {
     predictor: &'p Predictor,
     /// One per variant.
     sessions: Vec<Session<'p>>,
     settings: SteadySettings,
+    budget: Budget,
+    /// The parameters [`Evaluator::set`] takes, and their values last set.
+    names: Vec<String>,
+    values: Vec<f64>,
+    /// The trial predictions of this evaluator and its forks ([`Evaluator::predict_all`]).
+    trials: Arc<Mutex<Trials>>,
 }
 
 /// One variant's simulator and where the evaluator's parameters sit in its values.
@@ -303,7 +325,7 @@ struct Session<'p> {
 }
 
 impl<'p> Session<'p> {
-    fn new(variant: &'p Variant, slots: Vec<usize>) -> Self {
+    fn new(variant: &'p Variant, slots: Vec<usize>, budget: &Budget) -> Self {
         let outputs = variant
             .outputs
             .iter()
@@ -314,9 +336,13 @@ impl<'p> Session<'p> {
                 integral: *integral,
             })
             .collect();
+        let settings = bondgraph_solver::Settings {
+            max_steps: budget.steps,
+            ..bondgraph_solver::Settings::default()
+        };
         Self {
             variant,
-            simulator: Simulator::new(&variant.model, outputs),
+            simulator: Simulator::new(&variant.model, outputs).with_settings(settings),
             slots,
             values: variant.model.values.clone(),
         }
@@ -325,17 +351,60 @@ impl<'p> Session<'p> {
 
 impl<'p> Evaluator<'p> {
     /// A new evaluator of the same parameters with the same limits, to predict alongside
-    /// this one (on another thread): it derives its modes afresh.
+    /// this one (on another thread): it derives its modes afresh, and counts its trials
+    /// with this one's.
     pub fn fork(&self) -> Evaluator<'p> {
         Evaluator {
             predictor: self.predictor,
             sessions: self
                 .sessions
                 .iter()
-                .map(|s| Session::new(s.variant, s.slots.clone()))
+                .map(|s| Session::new(s.variant, s.slots.clone(), &self.budget))
                 .collect(),
             settings: self.settings,
+            budget: self.budget,
+            names: self.names.clone(),
+            values: self.values.clone(),
+            trials: Arc::clone(&self.trials),
         }
+    }
+
+    /// Limits each prediction to `budget`'s work ([`Budget`]); the parameter values set
+    /// stay, the modes derived so far do not.
+    pub fn set_budget(&mut self, budget: &Budget) {
+        self.budget = *budget;
+        self.settings = steady_settings(self.settings, budget);
+        for session in &mut self.sessions {
+            let values = session.values.clone();
+            *session = Session::new(session.variant, session.slots.clone(), budget);
+            session.values = values;
+            session
+                .simulator
+                .set_parameter_values(&session.values)
+                .expect("values indexed like the model's");
+        }
+    }
+
+    /// The budget each prediction has.
+    pub fn budget(&self) -> &Budget {
+        &self.budget
+    }
+
+    /// The trial predictions made so far ([`Evaluator::predict_all`]) by this evaluator and
+    /// its forks, and those that failed.
+    pub fn trials(&self) -> Trials {
+        self.trials
+            .lock()
+            .expect("no thread panicked holding it")
+            .clone()
+    }
+
+    /// Marks that a fit with this evaluator stopped at its budget of evaluations.
+    pub(crate) fn spent_evaluations(&self) {
+        self.trials
+            .lock()
+            .expect("no thread panicked holding it")
+            .evaluation_budget_spent = true;
     }
 
     /// Sets the values of the evaluator's parameters (in the order they were named).
@@ -343,6 +412,7 @@ impl<'p> Evaluator<'p> {
     /// # Panics
     /// When `values` does not have one value per parameter named.
     pub fn set(&mut self, values: &[f64]) {
+        self.values = values.to_vec();
         for session in &mut self.sessions {
             assert_eq!(values.len(), session.slots.len(), "one value per parameter");
             for (&slot, &value) in session.slots.iter().zip(values) {
@@ -380,29 +450,50 @@ impl<'p> Evaluator<'p> {
         rows.iter()
             .map(|row| {
                 self.predict_steady(row)
-                    .map_err(|failure| ExperimentError::Row {
-                        file: row.file.to_string(),
-                        row: row.row,
-                        cells: describe(&self.predictor.experiment, row),
-                        reason: failure.to_string(),
-                    })
+                    .map_err(|failure| self.located(row, failure))
             })
             .collect()
     }
 
     /// Every row's prediction, or `None` as soon as one row has none: what a fit's trial
-    /// values need, which are rejected whole, without the words of why.
+    /// values need, which are rejected whole. Each call is a trial ([`Evaluator::trials`]):
+    /// a failed one is counted with its reason and the first failed row in words.
     pub fn predict_all(&mut self, rows: &[Measurement]) -> Option<Vec<Prediction>> {
-        if let Some(drive) = &self.predictor.drive {
-            return self
-                .predict_runs(drive, rows)
-                .into_iter()
-                .map(Result::ok)
-                .collect();
+        let outcome: Result<Vec<Prediction>, (Failure, String)> =
+            if let Some(drive) = &self.predictor.drive {
+                self.predict_runs(drive, rows)
+                    .into_iter()
+                    .map(|p| p.map_err(|e| (Failure::Simulation, e.to_string())))
+                    .collect()
+            } else {
+                rows.iter()
+                    .map(|row| {
+                        self.predict_steady(row).map_err(|failure| {
+                            let reason = failure.kind();
+                            (reason, self.located(row, failure).to_string())
+                        })
+                    })
+                    .collect()
+            };
+        let (predictions, failure) = match outcome {
+            Ok(predictions) => (Some(predictions), None),
+            Err(failure) => (None, Some(failure)),
+        };
+        self.trials
+            .lock()
+            .expect("no thread panicked holding it")
+            .record(&self.names, &self.values, failure);
+        predictions
+    }
+
+    /// A row's failure, located at the row.
+    fn located(&self, row: &Measurement, failure: RowFailure) -> ExperimentError {
+        ExperimentError::Row {
+            file: row.file.to_string(),
+            row: row.row,
+            cells: describe(&self.predictor.experiment, row),
+            reason: failure.to_string(),
         }
-        rows.iter()
-            .map(|row| self.predict_steady(row).ok())
-            .collect()
     }
 
     /// One row's steady state.
@@ -476,19 +567,6 @@ impl<'p> Evaluator<'p> {
         }
         predictions
     }
-
-    /// Gives up on rows that have not settled after `seconds` of simulated time (a
-    /// calibration tries values where the model oscillates forever).
-    pub fn set_max_time(&mut self, seconds: f64) {
-        self.settings.max_time = seconds;
-    }
-
-    /// Gives up on rows whose simulation changes mode more than `count` times without
-    /// settling (a stick-slip cycle at trial values, which would otherwise be simulated to
-    /// the time limit, event by event).
-    pub fn set_max_mode_changes(&mut self, count: usize) {
-        self.settings.max_mode_changes = count;
-    }
 }
 
 /// `column = value, ...` of a row's condition cells, `column empty` for an empty one.
@@ -550,6 +628,24 @@ enum RowFailure {
     Steady(bondgraph_solver::steady::SteadyError),
     /// This observed column's prediction is not a finite number.
     NotFinite(String),
+}
+
+impl RowFailure {
+    /// The kind of failure, for the count of failed trials.
+    fn kind(&self) -> Failure {
+        match self {
+            RowFailure::Steady(SteadyError::NotSteady { exhausted, .. }) => match exhausted {
+                Some(Exhausted::ModeChanges) => Failure::ModeChangeBudget,
+                Some(Exhausted::Segments) => Failure::SegmentBudget,
+                Some(Exhausted::Steps) => Failure::StepBudget,
+                None => Failure::NotSteady,
+            },
+            RowFailure::FrictionLevels { .. } => Failure::Inconsistent,
+            RowFailure::Steady(SteadyError::Simulation(_)) | RowFailure::NotFinite(_) => {
+                Failure::Simulation
+            }
+        }
+    }
 }
 
 impl std::fmt::Display for RowFailure {

@@ -11,9 +11,10 @@
 use bondgraph_core::equations::nonlinear::{NonlinearEquations, OperatingPoint};
 use bondgraph_core::symbolic::expr::{Atom, Sym, TapeBuilder};
 use nalgebra::{DMatrix, DVector};
+use num_complex::Complex64;
 
-use crate::hybrid::{SimError, Stepper};
-use crate::steady::{Steady, SteadyError, SteadySettings};
+use crate::hybrid::Stepper;
+use crate::steady::{Search, Steady, SteadyError, SteadySettings};
 
 /// An equilibrium found by [`find`].
 #[derive(Clone, Debug, PartialEq)]
@@ -255,8 +256,17 @@ fn exact(value: f64) -> bondgraph_core::symbolic::RatFunc {
 }
 
 /// The steady state a simulation of a nonlinear mode settles in: integrated over windows
-/// that double until `f` stops changing (the change of `f` over a window would move the
-/// state by less than 1e-9 of its size), so that steady motion (a constant drift) counts.
+/// until `f` stops changing (the change of `f` over a window would move the state by less
+/// than 1e-9 of its size), so that steady motion (a constant drift) counts.
+///
+/// The windows come from the mode's linearisation where the stepper stands: the first is its
+/// fastest time scale, and each next one doubles, up to the settling horizon of the
+/// linearisation at the point reached ([`crate::steady::settling_horizon`]: the slowest
+/// decaying time constant times [`SteadySettings::settling_time_constants`]), so that the
+/// windows reach a tank's 30 s time constant from its pipe's milliseconds in a few dozen
+/// doublings, and a window never outgrows the motion it waits for (a window of days would
+/// hold rounding in `f` against a millionth of the state's size). The search is bounded by
+/// the settings' segments and mode changes and the simulator's steps, not by a time.
 ///
 /// # Errors
 /// As [`crate::steady::steady_state`].
@@ -264,54 +274,154 @@ pub fn steady_by_integration(
     mut stepper: Stepper<'_, '_>,
     settings: &SteadySettings,
 ) -> Result<Steady, SteadyError> {
-    let mut window = 1e-3;
+    let mut search = Search::new(settings);
+    let mut scales = TimeScales::at(&stepper, settings)?;
+    let mut window = scales.fastest;
+    // Time spent in this mode since the search entered it.
+    let mut waited = 0.0;
     loop {
-        if stepper.time() > settings.max_time {
-            return Err(SteadyError::NotSteady {
-                t: stepper.time(),
-                mode: stepper.mode().spec.clone(),
-                why: "it had not settled".into(),
-            });
-        }
-        let (u, rate) = stepper.inputs_at(stepper.time());
+        search.within_budget(&stepper)?;
+        let (u, _) = stepper.inputs_at(stepper.time());
         let before = stepper.mode().derivative(stepper.state(), &u);
-        let target = stepper.time() + window;
-        if stepper.advance(target).map_err(SimError::into_steady)? {
-            window = 1e-3;
+        let Some(length) = window else {
+            // f does not depend on the state here: the motion is already steady.
+            return Ok(settled(stepper, settings));
+        };
+        let target = stepper.time() + length;
+        if search.advance(&mut stepper, target)? {
+            scales = TimeScales::at(&stepper, settings)?;
+            window = scales.fastest;
+            waited = 0.0;
             continue;
         }
-        let mode = stepper.mode().clone();
+        waited += length;
         let x = stepper.state().to_vec();
-        let after = mode.derivative(&x, &u);
+        let after = stepper.mode().derivative(&x, &u);
         let change: f64 = before
             .iter()
             .zip(&after)
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max);
         let size: f64 = x.iter().map(|v| v.abs()).fold(0.0, f64::max);
-        if change * window <= 1e-9 * size + 1e-300 {
-            return Ok(Steady {
-                outputs: mode.outputs.iter().map(|r| r.eval(&x, &u, &rate)).collect(),
-                drift: mode
-                    .outputs
-                    .iter()
-                    .map(|r| mode.row_rate(r, &x, &u, &rate))
-                    .collect(),
-                mode: mode.spec.clone(),
-                time: stepper.time(),
-                events: if settings.events {
-                    stepper.events()
-                } else {
-                    Vec::new()
-                },
-            });
+        // Past two settling horizons (every decaying component at e^-72 of its start), what
+        // is left of a change in f is the integrator's error amplified by the fast modes
+        // (a relative error of 1e-13 in a state moves the rate of a state 1e5 times faster
+        // by more than the strict test allows): a looser test then.
+        let long_enough = scales.settling.is_some_and(|h| waited >= 2.0 * h);
+        let allowed = if long_enough { 1e-6 } else { 1e-9 };
+        if change * length <= allowed * size + 1e-300 {
+            return Ok(settled(stepper, settings));
         }
-        window *= 2.0;
+        // Still moving: wait longer, on the time scales of the point reached.
+        scales = TimeScales::at(&stepper, settings)?;
+        let mut next = 2.0 * length;
+        if let Some(horizon) = scales.settling {
+            next = next.min(horizon);
+        }
+        window = Some(scales.fastest.map_or(next, |fastest| next.max(fastest)));
     }
 }
 
-impl SimError {
-    fn into_steady(self) -> SteadyError {
-        SteadyError::Simulation(self)
+/// A mode's time scales where the stepper stands: of a linear mode's matrix, or of a
+/// nonlinear mode's linearisation there.
+struct TimeScales {
+    /// `1/max|λ|`; `None` when no rate depends on the state (nothing to wait for).
+    fastest: Option<f64>,
+    /// The settling horizon, [`crate::steady::settling_horizon`]; `None` when nothing decays.
+    settling: Option<f64>,
+}
+
+impl TimeScales {
+    /// # Errors
+    /// When the linearisation shows no finite time scale but has entries that are not
+    /// finite (every rate infinitely sensitive there): nothing says how long to wait.
+    fn at(stepper: &Stepper<'_, '_>, settings: &SteadySettings) -> Result<Self, SteadyError> {
+        let mode = stepper.mode();
+        let (u, _) = stepper.inputs_at(stepper.time());
+        let mut singular = false;
+        let eigenvalues = match &mode.nonlinear {
+            Some(nl) => {
+                let n = nl.n;
+                let input: Vec<f64> = stepper
+                    .state()
+                    .iter()
+                    .chain(&u)
+                    .copied()
+                    .chain(std::iter::repeat_n(0.0, u.len()))
+                    .collect();
+                let out = nl.f_and_jacobian.eval_alloc(&input);
+                // An entry that is not finite (a square root's slope at zero) says nothing
+                // of the time scales the others show.
+                let finite: Vec<f64> = out[n..n + n * n]
+                    .iter()
+                    .map(|&v| {
+                        singular |= !v.is_finite();
+                        if v.is_finite() { v } else { 0.0 }
+                    })
+                    .collect();
+                let jacobian = DMatrix::from_row_slice(n, n, &finite);
+                crate::analysis::eigenvalues(&jacobian).unwrap_or_else(|_| rates(&jacobian))
+            }
+            None => mode.propagator.eigenvalues().to_vec(),
+        };
+        let fastest = eigenvalues
+            .iter()
+            .map(|v| v.norm())
+            .filter(|r| r.is_finite())
+            .fold(0.0, f64::max);
+        if fastest == 0.0 && singular {
+            return Err(crate::steady::not_steady(
+                stepper,
+                "its linearisation where the search entered it has no finite time scale, so \
+                 nothing says how long to wait"
+                    .into(),
+            ));
+        }
+        Ok(Self {
+            fastest: (fastest > 0.0).then(|| 1.0 / fastest),
+            settling: crate::steady::settling_horizon(
+                &eigenvalues,
+                settings.settling_time_constants,
+                settings.zero_eigenvalue,
+            ),
+        })
+    }
+}
+
+/// Rates a Jacobian shows without its eigenvalues (when their iteration fails): each state's
+/// own rate `J_ii` (decaying when negative), and each pair's oscillation `√|J_ij J_ji|`; both
+/// in 1/s whatever the states' units.
+fn rates(jacobian: &DMatrix<f64>) -> Vec<Complex64> {
+    let n = jacobian.nrows();
+    let mut values = Vec::new();
+    for i in 0..n {
+        values.push(Complex64::new(jacobian[(i, i)], 0.0));
+        for j in i + 1..n {
+            let swing = (jacobian[(i, j)] * jacobian[(j, i)]).abs().sqrt();
+            values.push(Complex64::new(0.0, swing));
+        }
+    }
+    values
+}
+
+/// The steady state where the stepper stands.
+fn settled(stepper: Stepper<'_, '_>, settings: &SteadySettings) -> Steady {
+    let mode = stepper.mode().clone();
+    let (u, rate) = stepper.inputs_at(stepper.time());
+    let x = stepper.state().to_vec();
+    Steady {
+        outputs: mode.outputs.iter().map(|r| r.eval(&x, &u, &rate)).collect(),
+        drift: mode
+            .outputs
+            .iter()
+            .map(|r| mode.row_rate(r, &x, &u, &rate))
+            .collect(),
+        mode: mode.spec.clone(),
+        time: stepper.time(),
+        events: if settings.events {
+            stepper.events()
+        } else {
+            Vec::new()
+        },
     }
 }

@@ -19,6 +19,7 @@ mod nonlinear_events;
 mod oracle;
 mod oscillating_guards;
 mod properties;
+mod settling;
 mod stick_slip;
 mod stribeck;
 mod support;

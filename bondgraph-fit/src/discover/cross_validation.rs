@@ -7,29 +7,66 @@ use bondgraph_core::model::Model;
 use bondgraph_core::source::SourceFile;
 use rayon::prelude::*;
 
-use super::fit::{Assessment, FittedOnAll, fit_best, fit_on_all, limit_to_settling};
+use super::fit::{Assessment, FittedOnAll, fit_best, fit_on_all, limit_to_budget};
 use super::{Candidate, DiscoverError, Settings};
+use crate::budget::Trials;
 use crate::data::Measurement;
 use crate::experiment::Experiment;
 use crate::global::Search;
+use crate::noise::{self, NoiseLevel};
 use crate::predict::Predictor;
 
-/// Two models whose fits predict every row within this of each other are one model on the
-/// data: a fiftieth of the smallest measurement noise the project works with.
-pub(super) const SAME_PREDICTION_MM_S: f64 = 1e-3;
+/// Two models whose fits predict every row within this fraction of the noise are one model
+/// on the data ([`same_prediction`]).
+///
+/// Why a fiftieth: a candidate whose predictions stay within `δ = σ/50` of the base model's
+/// can lower the base's sum of squares by at most `2δ/σ + (δ/σ)² ≈ 4 %` where the base fits
+/// to the noise, far below what the F-test at 0.01 needs to select it; so its folds, which
+/// would refit the base model, are skipped.
+pub(super) const SAME_PREDICTION_NOISE: f64 = 1.0 / 50.0;
 
-/// A candidate fitted and cross-validated; `true` with it when it is not cross-validated and
-/// takes the base model's held-out errors instead: when its fit predicts every row as the
-/// base model's fit does (`base_predictions`, within [`SAME_PREDICTION_MM_S`]). At its best
-/// it is then the base model on this data: its own parameters change no prediction
-/// (friction at a contact the data never has, a ceiling above every row), or only as a
-/// refit of the base's parameters would (an alias), so its folds would refit the base model.
+/// How close two fits' predictions must be to count as the same, in the observed column's
+/// units: [`SAME_PREDICTION_NOISE`] of the noise level as the data give it before any
+/// candidate is fitted (declared, else the pure error of replicated steady conditions, else
+/// the base model's residual, [`crate::noise::NoiseLevel::estimate`]); for data the base model
+/// fits exactly, rounding: [`crate::noise::ROUNDING`] of the column's root mean square.
+pub(super) fn same_prediction(
+    experiment: &Experiment,
+    rows: &[Measurement],
+    base: &Assessment,
+) -> f64 {
+    if experiment.observed.len() > 1 {
+        // Several columns are fitted in their noise levels ([`crate::weights`]).
+        return SAME_PREDICTION_NOISE;
+    }
+    let replicates = if experiment.time().is_none() {
+        noise::pure_error(rows, 0)
+    } else {
+        None
+    };
+    let scale = noise::root_mean_square(rows, 0);
+    let level = NoiseLevel::estimate(
+        experiment.noise.first().copied(),
+        replicates,
+        noise::Residual {
+            sse: base.fit.sse,
+            dof: rows.len() as f64 - base.names.len() as f64,
+            model: "the base model",
+            scale,
+        },
+    );
+    match level.sd {
+        Some(sd) if sd > 0.0 && sd.is_finite() => SAME_PREDICTION_NOISE * sd,
+        _ => noise::ROUNDING * scale,
+    }
+}
+
 pub(super) fn assess_candidate(
     candidate: &Candidate,
     experiment: &Experiment,
     rows: &[Measurement],
     warm: (&[String], &[Vec<f64>]),
-    base_predictions: &[f64],
+    (base_predictions, same): (&[f64], f64),
     settings: &Settings,
 ) -> Result<(Assessment, bool), DiscoverError> {
     let mut fitted = fit_on_all(
@@ -46,7 +83,7 @@ pub(super) fn assess_candidate(
         .predictions
         .iter()
         .zip(base_predictions)
-        .all(|(a, b)| (a - b).abs() <= SAME_PREDICTION_MM_S);
+        .all(|(a, b)| (a - b).abs() <= same);
     if same_as_base {
         return Ok((fitted.assessment, true));
     }
@@ -97,7 +134,7 @@ pub(super) fn cross_validate(
         .par_iter()
         .map(|((train, train_kept), (test, test_kept))| {
             let mut evaluator = predictor.evaluator(&assessment.names)?;
-            limit_to_settling(&mut evaluator);
+            limit_to_budget(&mut evaluator, settings);
             let fit = fit_best(
                 &mut evaluator,
                 train,
@@ -112,6 +149,7 @@ pub(super) fn cross_validate(
             let predictions = evaluator.predict_each(test);
             let mut held_out = HeldOut {
                 evaluations: fit.evaluations,
+                trials: evaluator.trials(),
                 ..HeldOut::default()
             };
             held_out.by_column = vec![0.0; experiment.observed.len()];
@@ -134,6 +172,7 @@ pub(super) fn cross_validate(
     for held_out in scored {
         let held_out = held_out?;
         assessment.evaluations += held_out.evaluations;
+        assessment.trials.merge(&held_out.trials);
         assessment.heldout_sse += held_out.sse;
         assessment.heldout_count += held_out.count;
         for (total, part) in assessment
@@ -156,4 +195,5 @@ struct HeldOut {
     count: usize,
     unsettled: usize,
     evaluations: usize,
+    trials: Trials,
 }

@@ -9,6 +9,7 @@ use bondgraph_core::source::SourceFile;
 
 use super::summary::number;
 use super::{DiscoverError, Estimate, Settings};
+use crate::budget::Trials;
 use crate::calibrate::{CalibrationError, Fit};
 use crate::data::Measurement;
 use crate::experiment::Experiment;
@@ -31,24 +32,16 @@ pub(super) struct Assessment {
     pub(super) unsettled: usize,
     /// Predictions of every row made by the fit and the folds' refits.
     pub(super) evaluations: usize,
+    /// Those trial predictions, and the ones that failed.
+    pub(super) trials: Trials,
 }
 
-/// Simulated time within which a row must settle; the experiments filmed steady growth
-/// within seconds, and a model that has not settled after this is oscillating (a stick-slip
-/// cycle), which a steady velocity cannot describe.
-pub(crate) const SETTLE_WITHIN_S: f64 = 2.0;
-
-/// Mode changes within which a row must settle: a steady state is reached after a handful
-/// (a contact that sticks, then slides, a string that goes taut), and a trial value that
-/// makes a row stick and slip hundreds of times is a cycle, not a steady state. Without this
-/// a fit spends most of its time simulating such cycles to [`SETTLE_WITHIN_S`].
-pub(crate) const MODE_CHANGES_WITHIN: usize = 200;
-
-/// Limits an evaluator to what a steady row may take: [`SETTLE_WITHIN_S`] of simulated
-/// time and [`MODE_CHANGES_WITHIN`] mode changes.
-pub(crate) fn limit_to_settling(evaluator: &mut Evaluator<'_>) {
-    evaluator.set_max_time(SETTLE_WITHIN_S);
-    evaluator.set_max_mode_changes(MODE_CHANGES_WITHIN);
+/// Limits an evaluator to the work `settings` give each prediction ([`Budget`]): how long
+/// a row takes to settle is the model's own time scale
+/// ([`bondgraph_solver::steady::SteadySettings`]), and what bounds it is work. `calibrate`
+/// and `discover` predict every row under this one rule.
+pub(crate) fn limit_to_budget(evaluator: &mut Evaluator<'_>, settings: &Settings) {
+    evaluator.set_budget(&settings.budget);
 }
 
 impl Assessment {
@@ -254,7 +247,7 @@ pub(super) fn fit_on_all(
         }
     };
     let mut evaluator = predictor.evaluator(&names)?;
-    limit_to_settling(&mut evaluator);
+    limit_to_budget(&mut evaluator, settings);
     let start_refs: Vec<&[f64]> = starts.iter().map(Vec::as_slice).collect();
     let Searched { fit, basins } = fit_best(
         &mut evaluator,
@@ -298,6 +291,7 @@ pub(super) fn fit_on_all(
         modes: predictions.into_iter().map(|p| p.1).collect(),
         unsettled: 0,
         evaluations: fit.evaluations,
+        trials: evaluator.trials(),
         fit,
         heldout_sse: 0.0,
         heldout_count: 0,
@@ -345,12 +339,21 @@ pub(crate) fn fit_best(
         .iter()
         .flat_map(|&i| train[i].observed.iter().copied())
         .collect();
-    // Each search running side by side predicts with an evaluator of its own.
+    // Each search running side by side predicts with an evaluator of its own; all of them
+    // share the fit's budget of evaluations. A trial past it fails without a prediction, so
+    // the search ends on the best point found by then. (Which trials get in before the
+    // budget is spent can depend on the threads; a fit within its budget cannot.)
     let template = &*evaluator;
     let measured = &measured;
+    let made = std::sync::atomic::AtomicUsize::new(0);
+    let made = &made;
+    let budget = settings.budget.evaluations;
     let residuals = || -> global::Residuals<'_> {
         let mut evaluator = template.fork();
         Box::new(move |x: &[f64]| {
+            if made.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= budget {
+                return None;
+            }
             evaluator.set(x);
             let predictions = evaluator.predict_all(train)?;
             Some(
@@ -379,6 +382,9 @@ pub(crate) fn fit_best(
             ))
         }
     });
+    if made.load(std::sync::atomic::Ordering::Relaxed) > budget {
+        evaluator.spent_evaluations();
+    }
     match result {
         Ok(searched) => Ok(searched),
         Err(error) => {

@@ -60,7 +60,7 @@ mod verdicts;
 
 pub use candidate::Candidate;
 pub use fit::fitted_names;
-pub(crate) use fit::{fit_best, fitted_parameters, limit_to_settling};
+pub(crate) use fit::{fit_best, fitted_parameters, limit_to_budget};
 pub use procedure::{discover, discover_with_progress};
 pub(crate) use residuals::residuals;
 pub use results::{
@@ -71,6 +71,7 @@ pub use summary::{estimate_text, write_residuals};
 
 use bondgraph_core::diagnostics::Diagnostics;
 
+use crate::budget::Budget;
 use crate::calibrate::{self, CalibrationError};
 use crate::experiment::ExperimentError;
 use crate::global::Search;
@@ -86,6 +87,8 @@ pub struct Settings {
     pub calibration: calibrate::Settings,
     /// How widely each model's first fit searches (folds refit locally from it).
     pub search: Search,
+    /// The work each prediction and each fit may do.
+    pub budget: Budget,
 }
 
 impl Default for Settings {
@@ -95,6 +98,7 @@ impl Default for Settings {
             folds: 5,
             calibration: calibrate::Settings::default(),
             search: Search::GLOBAL,
+            budget: Budget::default(),
         }
     }
 }

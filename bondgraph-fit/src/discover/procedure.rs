@@ -8,8 +8,8 @@ use bondgraph_core::model::{self, Model};
 use bondgraph_core::source::SourceFile;
 use rayon::prelude::*;
 
-use super::cross_validation::{assess_candidate, cross_validate};
-use super::fit::{Assessment, FittedOnAll, fit_on_all, limit_to_settling};
+use super::cross_validation::{assess_candidate, cross_validate, same_prediction};
+use super::fit::{Assessment, FittedOnAll, fit_on_all, limit_to_budget};
 use super::residuals::residuals;
 use super::verdicts::Verdicts;
 use super::*;
@@ -31,10 +31,11 @@ impl Fitted<'_> {
         &self,
         experiment: &Experiment,
         rows: &[Measurement],
+        settings: &Settings,
     ) -> Result<Vec<f64>, DiscoverError> {
         let predictor = Predictor::new(self.model.clone(), self.source, experiment)?;
         let mut evaluator = predictor.evaluator(self.names)?;
-        limit_to_settling(&mut evaluator);
+        limit_to_budget(&mut evaluator, settings);
         evaluator.set(self.values);
         let columns = experiment.observed.len();
         Ok(evaluator
@@ -106,6 +107,7 @@ impl Models<'_> {
         let warm_basins = base_fitted.basins.clone();
         let warm = (warm_names.as_slice(), warm_basins.as_slice());
         let base_predictions = base_fitted.assessment.predictions.clone();
+        let same = same_prediction(self.experiment, self.rows, &base_fitted.assessment);
         let (base_validated, assessed) = rayon::join(
             || {
                 let result = cross_validate(
@@ -128,7 +130,7 @@ impl Models<'_> {
                             self.experiment,
                             self.rows,
                             warm,
-                            &base_predictions,
+                            (&base_predictions, same),
                             self.settings,
                         );
                         done();
@@ -164,7 +166,7 @@ impl Models<'_> {
     ) -> Result<Option<Vec<f64>>, DiscoverError> {
         let predictor = Predictor::new(self.base_model.clone(), self.base, self.experiment)?;
         let mut evaluator = predictor.evaluator(&baseline.names)?;
-        limit_to_settling(&mut evaluator);
+        limit_to_budget(&mut evaluator, self.settings);
         let p = baseline.names.len();
         let mut best: Option<(f64, Vec<f64>)> = None;
         for assessment in assessed {
@@ -524,6 +526,7 @@ impl Models<'_> {
             residuals_after,
             columns,
             table,
+            failed_trials: failed_trials(candidates, &baseline, &assessed, &self.settings.budget),
             extended_model,
         })
     }
@@ -575,6 +578,19 @@ fn noise_level(
             scale: noise::root_mean_square(rows, 0),
         },
     )
+}
+
+/// The failed trials of the base model's fits (`base`) and each candidate's.
+fn failed_trials(
+    candidates: &[Candidate],
+    baseline: &Assessment,
+    assessed: &[Assessment],
+    budget: &crate::budget::Budget,
+) -> Vec<crate::budget::FailedTrials> {
+    std::iter::once(("base", baseline))
+        .chain(candidates.iter().map(|c| c.id.as_str()).zip(assessed))
+        .flat_map(|(model, a)| crate::budget::failed_trials(model, &a.trials, budget))
+        .collect()
 }
 
 /// The candidates best held-out RMSE first, each with its verdict.

@@ -242,6 +242,9 @@ pub struct Discovery {
     pub columns: Vec<ColumnResiduals>,
     /// Every row.
     pub table: Vec<RowResult>,
+    /// Trial predictions of the fits (the base model's, then each candidate's, folds
+    /// included) that failed or ran out of their budget, by model and reason.
+    pub failed_trials: Vec<crate::budget::FailedTrials>,
     /// The selected extended model with its fitted values, as a model file.
     #[serde(skip)]
     pub extended_model: Option<String>,

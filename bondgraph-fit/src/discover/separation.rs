@@ -3,7 +3,7 @@
 //! grid wider than the data's), or where along the recorded run they differ most; or, when
 //! no observation separates them, what the extension's file says would show its effect.
 
-use super::cross_validation::SAME_PREDICTION_MM_S;
+use super::cross_validation::same_prediction;
 use super::fit::Assessment;
 use super::procedure::{Fitted, Models};
 use super::{DiscoverError, Separation};
@@ -47,11 +47,12 @@ impl Models<'_> {
                 values: &baseline.fit.values,
             },
         };
-        let reference_predictions = reference.predict(experiment, &probes)?;
+        let reference_predictions = reference.predict(experiment, &probes, self.settings)?;
         let against = self.name(selected);
+        let same = same_prediction(experiment, rows, baseline);
         let mut separation = Vec::new();
         for &i in indistinguishable {
-            let predictions = fitted(i).predict(experiment, &probes)?;
+            let predictions = fitted(i).predict(experiment, &probes, self.settings)?;
             let (k, difference) = predictions
                 .iter()
                 .zip(&reference_predictions)
@@ -78,7 +79,7 @@ impl Models<'_> {
                     reference_predicted,
                     difference / sd
                 )
-            } else if noise.is_none() && difference > SAME_PREDICTION_MM_S {
+            } else if noise.is_none() && difference > same {
                 format!(
                     "`{observed}` at {}: '{}' predicts {:.4}, {against} {:.4} (the largest difference; \
                      with no noise level it is not judged in noise levels)",

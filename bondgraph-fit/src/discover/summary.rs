@@ -117,6 +117,7 @@ impl Discovery {
                 );
             }
         }
+        crate::budget::write_failed_trials(&mut s, &self.failed_trials);
         s
     }
 }

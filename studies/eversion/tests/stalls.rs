@@ -33,7 +33,7 @@ fn a_catheter_that_once_stalled_the_stepper_slips_behind_and_settles() {
         .map(|s| s.to_string())
         .collect();
     let mut evaluator = predictor.evaluator(&names).unwrap();
-    evaluator.set_max_time(2.0);
+    evaluator.set_budget(&bondgraph_fit::budget::Budget::default());
     // Breakaway far above Coulomb at the catheter. The catheter is driven at 6.3 mm/s, faster
     // than the inner structure can move (2 v_ge <= v_ac = 5.8 mm/s with the string taut), so
     // it cannot stay stuck: it slips ahead of the inner structure (slip-: the relative
