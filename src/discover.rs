@@ -26,6 +26,9 @@ pub struct Args {
     pub json: bool,
     /// A folder for the report, the JSON, the extended model and the residual plots.
     pub out: Option<PathBuf>,
+    /// Resamples for the selection's stability: `Some(0)` none, `None` the default
+    /// ([`discover::Resampling`]).
+    pub resamples: Option<usize>,
 }
 
 fn fail(kind: DiagnosticKind, message: impl std::fmt::Display) -> Failure {
@@ -131,17 +134,24 @@ pub fn inputs(
 
 impl Inputs {
     /// Refits the base model and every candidate, cross-validates them and ranks them,
-    /// calling `done` after each model.
+    /// calling `done` after each model; then reruns the selection on `resamples` resamples
+    /// (`None`: the default, run when cheaper than the search; `Some(0)`: none).
     ///
     /// # Errors
     /// A failure located in the experiment or the model, or why the fits cannot be made.
-    pub fn discover(&self, done: &(dyn Fn() + Sync)) -> Result<Discovery, Failure> {
+    pub fn discover(
+        &self,
+        resamples: Option<usize>,
+        done: &(dyn Fn() + Sync),
+    ) -> Result<Discovery, Failure> {
+        let mut settings = Settings::default();
+        settings.resampling.count = resamples;
         discover::discover_with_progress(
             &self.base,
             &self.experiment,
             &self.dataset,
             &self.candidates,
-            &Settings::default(),
+            &settings,
             done,
         )
         .map_err(|e| discover_failure(e, &[&self.experiment_source, &self.base]))
@@ -159,7 +169,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let candidates = inputs.candidates.len();
     let started = std::time::Instant::now();
     let progress = progress_bar(candidates as u64 + 1);
-    let discovery = inputs.discover(&|| progress.inc(1))?;
+    let discovery = inputs.discover(args.resamples, &|| progress.inc(1))?;
     progress.finish_and_clear();
     let elapsed = started.elapsed();
     let text = json(&discovery)?;

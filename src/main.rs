@@ -204,6 +204,11 @@ enum Command {
         /// Also write the report, the JSON, the extended model and residual plots here.
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
+        /// Rerun the selection on N complementary half-samples of the data and report how
+        /// often each candidate is selected (0: none; default: 20 when they cost less than
+        /// the search itself).
+        #[arg(long, value_name = "N")]
+        resamples: Option<usize>,
     },
     /// Merge extensions (bond-graph fragments, RON) into a model; print the extended model file.
     Extend {
@@ -434,6 +439,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             extensions,
             format,
             out,
+            resamples,
         } => discover::run(&discover::Args {
             model,
             data,
@@ -441,6 +447,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             extensions,
             json: format == ReproduceFormat::Json,
             out,
+            resamples,
         }),
         Command::Extend {
             model,

@@ -40,6 +40,10 @@
 //! pure error of replicated conditions (steady data: a run's samples are not replicates),
 //! else the best model's residual ([`crate::noise`]);
 //! with a level that does not come from a model, the base model's lack of fit is tested too.
+//!
+//! 6. **Stability** of the selection: the selection rule rerun on complementary half-samples
+//!    of the data (rows, or runs or blocks of a time series), and how often each candidate or
+//!    nothing is selected ([`Stability`]; the design in `stability.rs`).
 
 mod alias;
 mod candidate;
@@ -49,6 +53,7 @@ mod procedure;
 mod residuals;
 mod results;
 mod separation;
+mod stability;
 mod summary;
 mod verdicts;
 
@@ -60,6 +65,10 @@ pub(crate) use residuals::residuals;
 pub use results::{
     Baseline, Discovery, Estimate, FactorTrend, Gain, Ranked, RegimeResiduals, Residuals,
     RowResult, Separation,
+};
+pub use stability::{
+    Cost, DEFAULT_RESAMPLES, DEFAULT_SEED, FIRM_FRACTION, MIN_DEFAULT_RESAMPLES, Resampling,
+    Stability, half_samples,
 };
 pub use summary::{estimate_text, write_residuals};
 
@@ -80,6 +89,8 @@ pub struct Settings {
     pub calibration: calibrate::Settings,
     /// How widely each model's first fit searches (folds refit locally from it).
     pub search: Search,
+    /// The resamples that say how firm the selection is ([`Stability`]).
+    pub resampling: Resampling,
 }
 
 impl Default for Settings {
@@ -89,6 +100,7 @@ impl Default for Settings {
             folds: 5,
             calibration: calibrate::Settings::default(),
             search: Search::GLOBAL,
+            resampling: Resampling::default(),
         }
     }
 }

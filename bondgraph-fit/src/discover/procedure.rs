@@ -11,6 +11,7 @@ use rayon::prelude::*;
 use super::cross_validation::{assess_candidate, cross_validate};
 use super::fit::{Assessment, FittedOnAll, fit_on_all, limit_to_settling};
 use super::residuals::residuals;
+use super::stability;
 use super::verdicts::Verdicts;
 use super::*;
 use crate::data::{Dataset, Measurement};
@@ -44,6 +45,9 @@ impl Fitted<'_> {
     }
 }
 
+/// The base model's assessment, the candidates' in order, and the base model's basins.
+type FittedAll = (Assessment, Vec<Assessment>, Vec<Vec<f64>>);
+
 /// What every fit of one discovery shares.
 pub(super) struct Models<'a> {
     pub(super) base_model: &'a Model,
@@ -59,10 +63,8 @@ impl Models<'_> {
     /// candidate's fit shows the base model a better basin than its own search found (a
     /// candidate contains the base model, so its base parameters can), the base refitted
     /// from there and the candidates from the new base fit, once.
-    fn fit_all(
-        &self,
-        done: &(dyn Fn() + Sync),
-    ) -> Result<(Assessment, Vec<Assessment>), DiscoverError> {
+    /// With them, the basins of the base model's search (its optimum first).
+    fn fit_all(&self, done: &(dyn Fn() + Sync)) -> Result<FittedAll, DiscoverError> {
         let fit_base = |warm: Option<(&[String], &[Vec<f64>])>| {
             fit_on_all(
                 self.base_model,
@@ -74,9 +76,9 @@ impl Models<'_> {
                 self.settings,
             )
         };
-        let (baseline, assessed) = self.fit_base_and_candidates(fit_base(None)?, done)?;
+        let (baseline, assessed, basins) = self.fit_base_and_candidates(fit_base(None)?, done)?;
         let Some(start) = self.better_base_start(&baseline, &assessed)? else {
-            return Ok((baseline, assessed));
+            return Ok((baseline, assessed, basins));
         };
         let basins = [start, baseline.fit.values.clone()];
         let refitted = fit_base(Some((baseline.names.as_slice(), basins.as_slice())))?;
@@ -91,12 +93,13 @@ impl Models<'_> {
     }
 
     /// Cross-validates the base model's fit and fits and cross-validates every candidate
-    /// from it, side by side: the base model's assessment, and the candidates' in order.
+    /// from it, side by side: the base model's assessment, the candidates' in order, and the
+    /// base model's basins.
     fn fit_base_and_candidates(
         &self,
         mut base_fitted: FittedOnAll,
         done: &(dyn Fn() + Sync),
-    ) -> Result<(Assessment, Vec<Assessment>), DiscoverError> {
+    ) -> Result<FittedAll, DiscoverError> {
         let warm_names = base_fitted.assessment.names.clone();
         let warm_basins = base_fitted.basins.clone();
         let warm = (warm_names.as_slice(), warm_basins.as_slice());
@@ -146,7 +149,7 @@ impl Models<'_> {
                 })
             })
             .collect::<Result<_, _>>()?;
-        Ok((baseline, assessed))
+        Ok((baseline, assessed, warm_basins))
     }
 
     /// The base parameters of the candidate fit that, put in the base model, fit it best,
@@ -229,7 +232,7 @@ pub fn discover_with_progress(
         candidates,
         settings,
     };
-    let (baseline, assessed) = models.fit_all(done)?;
+    let (baseline, assessed, base_basins) = models.fit_all(done)?;
     let verdicts = Verdicts::judge(candidates, &assessed, &baseline, settings.alpha);
     let selected = verdicts.selected;
     let best = selected.map_or(&baseline, |i| &assessed[i]);
@@ -242,6 +245,14 @@ pub fn discover_with_progress(
     );
     let noise = noise_level.sd;
     let indistinguishable = verdicts.indistinguishable(&assessed, noise);
+    let stability = stability::assess(
+        &models,
+        &baseline,
+        &base_basins,
+        &assessed,
+        &verdicts,
+        &indistinguishable,
+    );
     let separation =
         models.separations(&baseline, &assessed, selected, &indistinguishable, noise)?;
     let ranking = ranking(
@@ -325,6 +336,7 @@ pub fn discover_with_progress(
         residuals_before,
         residuals_after,
         table,
+        stability,
         extended_model,
     })
 }

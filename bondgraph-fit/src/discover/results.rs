@@ -176,6 +176,8 @@ pub struct Discovery {
     pub residuals_after: Option<Residuals>,
     /// Every row.
     pub table: Vec<RowResult>,
+    /// How firm the selection is over resamples; `None` when resampling is turned off.
+    pub stability: Option<super::Stability>,
     /// The selected extended model with its fitted values, as a model file.
     #[serde(skip)]
     pub extended_model: Option<String>,
