@@ -28,6 +28,9 @@ pub struct Args {
     pub out: Option<PathBuf>,
     /// The work each prediction and each fit may do.
     pub budget: bondgraph_fit::budget::Budget,
+    /// Resamples for the selection's stability: `Some(0)` none, `None` the default
+    /// ([`discover::Resampling`]).
+    pub resamples: Option<usize>,
 }
 
 fn fail(kind: DiagnosticKind, message: impl std::fmt::Display) -> Failure {
@@ -133,12 +136,17 @@ pub fn inputs(
 
 impl Inputs {
     /// Refits the base model and every candidate, cross-validates them and ranks them,
-    /// calling `done` after each model.
+    /// calling `done` after each model; then reruns the selection on `resamples` resamples
+    /// (`None`: the default, run when cheaper than the search; `Some(0)`: none).
     ///
     /// # Errors
     /// A failure located in the experiment or the model, or why the fits cannot be made.
-    pub fn discover(&self, done: &(dyn Fn() + Sync)) -> Result<Discovery, Failure> {
-        self.discover_within(&bondgraph_fit::budget::Budget::default(), done)
+    pub fn discover(
+        &self,
+        resamples: Option<usize>,
+        done: &(dyn Fn() + Sync),
+    ) -> Result<Discovery, Failure> {
+        self.discover_within(&bondgraph_fit::budget::Budget::default(), resamples, done)
     }
 
     /// [`Inputs::discover`] within `budget`.
@@ -148,12 +156,14 @@ impl Inputs {
     pub fn discover_within(
         &self,
         budget: &bondgraph_fit::budget::Budget,
+        resamples: Option<usize>,
         done: &(dyn Fn() + Sync),
     ) -> Result<Discovery, Failure> {
-        let settings = Settings {
+        let mut settings = Settings {
             budget: *budget,
             ..Settings::default()
         };
+        settings.resampling.count = resamples;
         discover::discover_with_progress(
             &self.base,
             &self.experiment,
@@ -177,7 +187,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let candidates = inputs.candidates.len();
     let started = std::time::Instant::now();
     let progress = progress_bar(candidates as u64 + 1);
-    let discovery = inputs.discover_within(&args.budget, &|| progress.inc(1))?;
+    let discovery = inputs.discover_within(&args.budget, args.resamples, &|| progress.inc(1))?;
     progress.finish_and_clear();
     let elapsed = started.elapsed();
     let text = json(&discovery)?;

@@ -239,6 +239,11 @@ enum Command {
         out: Option<PathBuf>,
         #[command(flatten)]
         budget: BudgetArgs,
+        /// Rerun the selection on N complementary half-samples of the data and report how
+        /// often each candidate is selected (0: none; default: 20 when they cost less than
+        /// the search itself).
+        #[arg(long, value_name = "N")]
+        resamples: Option<usize>,
     },
     /// Merge extensions (bond-graph fragments, or linear-graph fragments into a linear graph; RON) into a model; print the extended model file.
     Extend {
@@ -472,6 +477,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             format,
             out,
             budget,
+            resamples,
         } => discover::run(&discover::Args {
             model,
             data,
@@ -480,6 +486,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             json: format == ReproduceFormat::Json,
             out,
             budget: budget.into(),
+            resamples,
         }),
         Command::Extend {
             model,

@@ -36,9 +36,9 @@ pub fn calibrate(
 }
 
 /// `bondgraph discover --format json` (with `--out`: the report, the JSON, the extended
-/// model and the residual plots written there too).
+/// model and the residual plots written there too; `resamples` as `--resamples`).
 #[pyfunction]
-#[pyo3(signature = (model, data, experiment=None, extensions=None, out=None))]
+#[pyo3(signature = (model, data, experiment=None, extensions=None, out=None, resamples=None))]
 pub fn discover(
     py: Python<'_>,
     model: String,
@@ -46,6 +46,7 @@ pub fn discover(
     experiment: Option<String>,
     extensions: Option<String>,
     out: Option<String>,
+    resamples: Option<usize>,
 ) -> PyResult<String> {
     guard(py, || {
         let inputs = command::inputs(
@@ -54,7 +55,7 @@ pub fn discover(
             experiment.as_deref().map(Path::new),
             extensions.as_deref().map(Path::new),
         )?;
-        let discovery = inputs.discover(&|| {})?;
+        let discovery = inputs.discover(resamples, &|| {})?;
         let text = json(&discovery)?;
         if let Some(out) = &out {
             command::write_outputs(Path::new(out), &discovery, &text)?;

@@ -35,6 +35,9 @@
 //!    over a grid of conditions wider than the data's (for a time series: the time along the
 //!    recorded run where they differ most), or, when no such observation separates them,
 //!    what the extension's file says would show its effect directly.
+//! 6. **Stability** of the selection: the selection rule rerun on complementary half-samples
+//!    of the data (rows, or runs or blocks of a time series), and how often each candidate or
+//!    nothing is selected ([`Stability`]; the design in `stability.rs`).
 //!
 //! The noise level all of this is judged against is the experiment's declared one, else the
 //! pure error of replicated conditions (steady data: a run's samples are not replicates),
@@ -55,6 +58,7 @@ mod procedure;
 mod residuals;
 mod results;
 mod separation;
+mod stability;
 mod summary;
 mod verdicts;
 
@@ -66,6 +70,10 @@ pub(crate) use residuals::residuals;
 pub use results::{
     Baseline, ColumnResiduals, ColumnScore, Discovery, Estimate, FactorTrend, Gain, Ranked,
     RegimeResiduals, Residuals, RowResult, Separation,
+};
+pub use stability::{
+    Cost, DEFAULT_RESAMPLES, DEFAULT_SEED, FIRM_FRACTION, MIN_DEFAULT_RESAMPLES, Resampling,
+    Stability, half_samples,
 };
 pub use summary::{estimate_text, write_residuals};
 
@@ -89,6 +97,8 @@ pub struct Settings {
     pub search: Search,
     /// The work each prediction and each fit may do.
     pub budget: Budget,
+    /// The resamples that say how firm the selection is ([`Stability`]).
+    pub resampling: Resampling,
 }
 
 impl Default for Settings {
@@ -99,6 +109,7 @@ impl Default for Settings {
             calibration: calibrate::Settings::default(),
             search: Search::GLOBAL,
             budget: Budget::default(),
+            resampling: Resampling::default(),
         }
     }
 }

@@ -11,6 +11,7 @@ use rayon::prelude::*;
 use super::cross_validation::{assess_candidate, cross_validate, same_prediction};
 use super::fit::{Assessment, FittedOnAll, fit_on_all, limit_to_budget};
 use super::residuals::residuals;
+use super::stability;
 use super::verdicts::Verdicts;
 use super::*;
 use crate::data::{Dataset, Measurement};
@@ -46,6 +47,9 @@ impl Fitted<'_> {
     }
 }
 
+/// The base model's assessment, the candidates' in order, and the base model's basins.
+type FittedAll = (Assessment, Vec<Assessment>, Vec<Vec<f64>>);
+
 /// What every fit of one discovery shares.
 pub(super) struct Models<'a> {
     pub(super) base_model: &'a Model,
@@ -65,10 +69,8 @@ impl Models<'_> {
     /// candidate's fit shows the base model a better basin than its own search found (a
     /// candidate contains the base model, so its base parameters can), the base refitted
     /// from there and the candidates from the new base fit, once.
-    fn fit_all(
-        &self,
-        done: &(dyn Fn() + Sync),
-    ) -> Result<(Assessment, Vec<Assessment>), DiscoverError> {
+    /// With them, the basins of the base model's search (its optimum first).
+    fn fit_all(&self, done: &(dyn Fn() + Sync)) -> Result<FittedAll, DiscoverError> {
         let fit_base = |warm: Option<(&[String], &[Vec<f64>])>| {
             fit_on_all(
                 self.base_model,
@@ -80,9 +82,9 @@ impl Models<'_> {
                 self.settings,
             )
         };
-        let (baseline, assessed) = self.fit_base_and_candidates(fit_base(None)?, done)?;
+        let (baseline, assessed, basins) = self.fit_base_and_candidates(fit_base(None)?, done)?;
         let Some(start) = self.better_base_start(&baseline, &assessed)? else {
-            return Ok((baseline, assessed));
+            return Ok((baseline, assessed, basins));
         };
         let basins = [start, baseline.fit.values.clone()];
         let refitted = fit_base(Some((baseline.names.as_slice(), basins.as_slice())))?;
@@ -97,12 +99,13 @@ impl Models<'_> {
     }
 
     /// Cross-validates the base model's fit and fits and cross-validates every candidate
-    /// from it, side by side: the base model's assessment, and the candidates' in order.
+    /// from it, side by side: the base model's assessment, the candidates' in order, and the
+    /// base model's basins.
     fn fit_base_and_candidates(
         &self,
         mut base_fitted: FittedOnAll,
         done: &(dyn Fn() + Sync),
-    ) -> Result<(Assessment, Vec<Assessment>), DiscoverError> {
+    ) -> Result<FittedAll, DiscoverError> {
         let warm_names = base_fitted.assessment.names.clone();
         let warm_basins = base_fitted.basins.clone();
         let warm = (warm_names.as_slice(), warm_basins.as_slice());
@@ -154,7 +157,7 @@ impl Models<'_> {
                 })
             })
             .collect::<Result<_, _>>()?;
-        Ok((baseline, assessed))
+        Ok((baseline, assessed, warm_basins))
     }
 
     /// The base parameters of the candidate fit that, put in the base model, fit it best,
@@ -354,7 +357,7 @@ impl Models<'_> {
     ) -> Result<Discovery, DiscoverError> {
         let (experiment, rows, candidates) = (self.experiment, self.rows, self.candidates);
         let m = self.columns.len();
-        let (baseline, assessed) = self.fit_all(done)?;
+        let (baseline, assessed, base_basins) = self.fit_all(done)?;
         let verdicts = Verdicts::judge(candidates, &assessed, &baseline, self.settings.alpha);
         let selected = verdicts.selected;
         let best = selected.map_or(&baseline, |i| &assessed[i]);
@@ -391,6 +394,14 @@ impl Models<'_> {
             Some(_) => Some(1.0),
         };
         let indistinguishable = verdicts.indistinguishable(&assessed, noise);
+        let stability = stability::assess(
+            self,
+            &baseline,
+            &base_basins,
+            &assessed,
+            &verdicts,
+            &indistinguishable,
+        );
         let separation =
             self.separations(&baseline, &assessed, selected, &indistinguishable, noise)?;
         let ranking = ranking(
@@ -526,6 +537,7 @@ impl Models<'_> {
             residuals_after,
             columns,
             table,
+            stability,
             failed_trials: failed_trials(candidates, &baseline, &assessed, &self.settings.budget),
             extended_model,
         })

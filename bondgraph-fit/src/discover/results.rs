@@ -245,6 +245,8 @@ pub struct Discovery {
     /// Trial predictions of the fits (the base model's, then each candidate's, folds
     /// included) that failed or ran out of their budget, by model and reason.
     pub failed_trials: Vec<crate::budget::FailedTrials>,
+    /// How firm the selection is over resamples; `None` when resampling is turned off.
+    pub stability: Option<super::Stability>,
     /// The selected extended model with its fitted values, as a model file.
     #[serde(skip)]
     pub extended_model: Option<String>,

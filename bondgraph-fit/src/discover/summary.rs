@@ -83,6 +83,9 @@ impl Discovery {
             "held-out RMSE: {:.3} before, {:.3} after",
             self.gain.rmse_heldout_before, self.gain.rmse_heldout_after
         );
+        if let Some(stability) = &self.stability {
+            let _ = writeln!(s, "{}", stability.summary);
+        }
         if !self.separation.is_empty() {
             let against = self.selected.as_deref().unwrap_or("the base model");
             let _ = writeln!(s, "\ncannot be told apart from {against} on this data:");

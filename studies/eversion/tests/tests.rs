@@ -3,6 +3,7 @@
 mod global_fits;
 mod hidden;
 mod reproduce;
+mod stability;
 mod stalls;
 mod support;
 mod tables;
