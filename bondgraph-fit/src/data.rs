@@ -975,6 +975,7 @@ mod tests {
                 file: Arc::from("t.csv"),
                 row: 2,
             }],
+            ignored: Vec::new(),
         };
         assert_eq!(
             write(&dataset),

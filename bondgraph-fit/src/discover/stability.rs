@@ -586,8 +586,11 @@ impl<'a> Prepared<'a> {
         for &i in &held_out.kept {
             match &on_held_out[i] {
                 Ok(p) => {
-                    for (k, (predicted, measured)) in
-                        p.observed.iter().zip(&held_out.rows[i].observed).enumerate()
+                    for (k, (predicted, measured)) in p
+                        .observed
+                        .iter()
+                        .zip(&held_out.rows[i].observed)
+                        .enumerate()
                     {
                         let square = (predicted - measured).powi(2);
                         heldout_sse += square;

@@ -47,6 +47,7 @@ fn synthetic_table3(hidden: Option<(&str, &str, f64)>, seed: u64) -> Dataset {
         observed: vec!["v_ge_mm_s".into()],
         time: None,
         rows,
+        ignored: Vec::new(),
     });
     data::read("synthetic.csv", &csv, &experiment).unwrap()
 }
