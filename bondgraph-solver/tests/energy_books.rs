@@ -191,19 +191,19 @@ fn a_step_at_the_smallest_double_keeps_its_books_in_bounded_time() {
 /// 1600 periods, sampled each second. The energy left is the analytic
 /// E(t) = (k x² + m v²)/2 with x = x0 e^{-σt}(cos ωd t + (σ/ωd) sin ωd t),
 /// v = -x0 (ω0²/ωd) e^{-σt} sin ωd t, σ = b/2m; what the damper took is E0 - E(t). The books
-/// cost what the samples cost, not what the oscillations do.
+/// cost what the samples cost, not what the oscillations do (measured by the solver's
+/// `energy` bench, not here).
 #[test]
-fn a_lightly_damped_swing_keeps_its_books_for_1000_s_quickly() {
+fn a_lightly_damped_swing_keeps_its_books_for_1000_s() {
     let scenario = format!(
         r#"Scenario(name: "swing", parameters: {{"b": 0.01}}, inputs: {{"F": Constant(0.0)}},
             initial_state: {{"spring": 0.1}}, duration: 1000.0, record: {BOOKS})"#
     );
-    let (trajectory, took) = simulate_within(
+    let (trajectory, _) = simulate_within(
         "models/examples/mass_spring_damper.ron",
         &scenario,
         Duration::from_secs(60),
     );
-    assert!(took < Duration::from_secs(2), "took {took:?}");
     let (m, k, b, x0) = (2.0f64, 200.0f64, 0.01f64, 0.1f64);
     let (sigma, w0) = (b / (2.0 * m), (k / m).sqrt());
     let wd = (w0 * w0 - sigma * sigma).sqrt();

@@ -191,26 +191,9 @@ pub(super) fn fit_on_all(
         .iter()
         .map(|n| own.contains(n) && !predictor.uses_parameter(n, rows))
         .collect();
-    let active = |values: &[f64]| -> Vec<f64> {
-        values
-            .iter()
-            .zip(&idle)
-            .filter(|(_, i)| !**i)
-            .map(|(v, _)| *v)
-            .collect()
-    };
-    let names: Vec<String> = all_names
-        .iter()
-        .zip(&idle)
-        .filter(|(_, i)| !**i)
-        .map(|(n, _)| n.clone())
-        .collect();
-    let bounds: Vec<(f64, f64)> = all_bounds
-        .iter()
-        .zip(&idle)
-        .filter(|(_, i)| !**i)
-        .map(|(b, _)| *b)
-        .collect();
+    let active = |values: &[f64]| active_only(values, &idle);
+    let names = active_only(&all_names, &idle);
+    let bounds = active_only(&all_bounds, &idle);
     let orderings = global::orderings(model, &names);
     // Steady states are piecewise linear in the parameters, with basins that differ in which
     // rows slide (a low Coulomb force with a high viscous coefficient, or the reverse, or a
@@ -502,4 +485,15 @@ fn cell_text(value: f64) -> String {
     } else {
         format!("{value:e}")
     }
+}
+
+/// The entries of `items` whose parameter is not `idle` (a parameter no row's model uses,
+/// which a fit does not search).
+pub(super) fn active_only<T: Clone>(items: &[T], idle: &[bool]) -> Vec<T> {
+    items
+        .iter()
+        .zip(idle)
+        .filter(|(_, idle)| !**idle)
+        .map(|(item, _)| item.clone())
+        .collect()
 }

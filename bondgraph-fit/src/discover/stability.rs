@@ -55,7 +55,7 @@ use rand::seq::SliceRandom;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::fit::{Assessment, fit_best, fitted_parameters, limit_to_budget};
+use super::fit::{Assessment, active_only, fit_best, fitted_parameters, limit_to_budget};
 use super::procedure::Models;
 use super::verdicts::Verdicts;
 use super::{Candidate, DiscoverError, Settings};
@@ -530,28 +530,9 @@ impl<'a> Prepared<'a> {
             .iter()
             .map(|n| !self.predictor.uses_parameter(n, &fitted.rows))
             .collect();
-        let active = |values: &[f64]| -> Vec<f64> {
-            values
-                .iter()
-                .zip(&idle)
-                .filter(|(_, i)| !**i)
-                .map(|(v, _)| *v)
-                .collect()
-        };
-        let names: Vec<String> = self
-            .names
-            .iter()
-            .zip(&idle)
-            .filter(|(_, i)| !**i)
-            .map(|(n, _)| n.clone())
-            .collect();
-        let bounds: Vec<(f64, f64)> = self
-            .bounds
-            .iter()
-            .zip(&idle)
-            .filter(|(_, i)| !**i)
-            .map(|(b, _)| *b)
-            .collect();
+        let active = |values: &[f64]| active_only(values, &idle);
+        let names = active_only(&self.names, &idle);
+        let bounds = active_only(&self.bounds, &idle);
         let mut evaluator = self.predictor.evaluator(&names)?;
         limit_to_budget(&mut evaluator, settings);
         let orderings = global::orderings(self.model, &names);
