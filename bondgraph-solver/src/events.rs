@@ -392,8 +392,17 @@ pub fn first_crossing(
         slopes(segment, 0.0, previous_slopes);
         start_state.resize(n, 0.0);
         segment.state_into(0.0, start_state);
+        // Zero to the rounding of the guard's terms: in the state, and in eigen-coordinates
+        // where the segment is modal (a string's stretch at the switch read 4.4e-16 m
+        // there, the rounding of its coordinates' terms of 0.07 m, so a state-only level of
+        // 4e-25 m left it unarmed and its return, pulled taut within 75 ms, unseen).
+        let start_coordinates = modal.as_ref().and_then(|_| segment.modal_state(0.0));
         for i in 0..previous.len() {
-            let level = 1e-9 * mode.guards[i].row.magnitude(start_state, u0, u1);
+            let mut magnitude = mode.guards[i].row.magnitude(start_state, u0, u1);
+            if let (Some(guards), Some(z)) = (&modal, start_coordinates) {
+                magnitude = magnitude.max(guards.magnitude(i, z, 0.0));
+            }
+            let level = 1e-9 * magnitude;
             if !armed[i] && arm_below[i] >= 0.0 && previous[i] <= level && previous_slopes[i] < 0.0
             {
                 armed[i] = true;
