@@ -1,4 +1,4 @@
-//! Standard output that does not lose its errors: every write goes through [`print`],
+//! Standard output that does not lose its errors: every write goes through [`print()`],
 //! which remembers the first failure (a full disk, `> /dev/full`), and `main` asks
 //! [`finish`] before it reports success. A closed pipe (`bondgraph ... | head`) is not a
 //! failure: the reader has all it wanted.

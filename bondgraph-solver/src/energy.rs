@@ -10,13 +10,13 @@
 //! **Within a linear mode the books are exact.** Each port's effort and flow are affine in
 //! the state and the inputs, and the state is a sum of modal terms `e^{λτ}` and polynomials
 //! (`propagate.rs`), so a power is a sum of products of exponentials and polynomials, whose
-//! integrals are closed forms ([`modal`]): `∫ e^{(λ_i+λ_j)s} ds = h φ₁((λ_i+λ_j)h)` (exact
+//! integrals are closed forms (`modal`): `∫ e^{(λ_i+λ_j)s} ds = h φ₁((λ_i+λ_j)h)` (exact
 //! also where `λ_i + λ_j ≈ 0`, the steady part of a lightly damped swing), and moments
 //! `∫ sᵏ e^{λs} ds` by recurrences run in their stable direction. The cost of a stretch is
 //! the same whether it holds one oscillation or a million, so the books are kept
 //! incrementally from sample to sample at a cost linear in the run's duration, and a
 //! stiff mode's 1e-17 s transient is integrated as exactly as a slow swing. Quadrature
-//! ([`quadrature`]) is kept only for a mode whose matrix cannot be diagonalised, on panels
+//! (`quadrature`) is kept only for a mode whose matrix cannot be diagonalised, on panels
 //! bounded by a budget, with its own error estimate; nonlinear modes integrate the powers
 //! along with their states (`hybrid/integrate.rs`).
 //!
@@ -28,7 +28,7 @@
 //! **A step of an input that drives dependent storage** (a force on two springs meeting at
 //! a massless node) makes the state jump by `E Δu` ([`crate::numeric`]): the step is the
 //! limit of a ramp, along which the carried state `x - E u` stays put while the rate terms
-//! of the ports' rows carry an impulse. Its energy is that limit ([`jump`]): a port whose
+//! of the ports' rows carry an impulse. Its energy is that limit (`jump`): a port whose
 //! effort (or flow) has a rate coefficient `r` takes `r·Δu` times the mean of its flow (or
 //! effort) over the step. What the jump stores and what the ports took then balance, and
 //! what rounding leaves between them goes into the error bound. Only where one port's

@@ -8,7 +8,7 @@
 //! exponential; backward-stable eigenvalue algorithms, though, carry absolute errors of
 //! order `ε‖A‖`, which on a graded matrix can swamp the small eigenvalues. So:
 //!
-//! - The matrix is scaled first ([`balance`], then [`symmetrize`]: a diagonal similarity by
+//! - The matrix is scaled first ([`balance`], then `symmetrize`: a diagonal similarity by
 //!   powers of two that gives every coupling pair `a_ij`, `a_ji` magnitudes within a factor
 //!   of two, near the energy coordinates of a passive network). Powers of two make the
 //!   similarity exact, so the scaled matrix keeps the model's exact relations between entries:
@@ -27,11 +27,11 @@
 //!   body's, two springs side by side, two identical oscillators): refined one by one, such
 //!   eigenvalues come out as nearly parallel vectors, or a zero as a creep rate `1e-5 /s`
 //!   that is only `ε‖A‖` to the Schur form. It joins the eigenvalue whose eigenspace, one
-//!   dimension larger, exists ([`eigenspace`]: block inverse iteration and Newton's method
+//!   dimension larger, exists (`eigenspace`: block inverse iteration and Newton's method
 //!   on `A X = X M`, componentwise like single pairs); an SVD's null space is accurate only
 //!   to `ε‖A‖` over the gap to the next eigenvalue, `1e-7` beside a slow oscillation.
 //! - An oscillation's real part comes from the energy balance `Re λ = v* W B v / v* W v`
-//!   ([`oscillation_decay`]) when that is the more accurate: its lossless couplings cancel
+//!   (`oscillation_decay`) when that is the more accurate: its lossless couplings cancel
 //!   exactly, so a 7e150 rad/s oscillation's rounding (1e135 /s) does not reach its damping.
 //!   A conjugate pair is refined once and kept exactly conjugate.
 //!
@@ -64,7 +64,7 @@ pub struct Eigen {
     /// `V⁻¹`.
     pub inverse: DMatrix<Complex64>,
     /// The 1-norm condition number of the eigenvectors of the scaled matrix (`V` up to the
-    /// diagonal scaling of [`symmetrize`]).
+    /// diagonal scaling of `symmetrize`).
     pub condition: f64,
 }
 

@@ -5,7 +5,7 @@
 //! mass has none. The simulator therefore carries the **full state**, the energy variable
 //! (momentum or displacement) of every storage element of the model, and each mode maps it
 //! to and from its own states. Reconstruction `x_full = R x + S u + s` comes from the
-//! derivation ([`StateEquations::storage_energy`]). Projection is its inverse in the energy
+//! derivation (`StateEquations::storage_energy`). Projection is its inverse in the energy
 //! metric, `x = (Rᵀ W R)⁻¹ Rᵀ W (x_full - S u - s)` with `W` the inverse inertances and
 //! compliances: for bodies that stick it conserves their total momentum (a perfectly plastic
 //! contact), and for an unmerged state it is the identity.

@@ -5,7 +5,7 @@
 //! `bondgraph` program and returns the same JSON document as text, built by the same code,
 //! so that the bindings and the command line cannot disagree; the Python layer turns the
 //! documents into objects and numpy arrays. Every failure is a `BondGraphError` carrying the
-//! diagnostics ([`error`]), and no panic crosses into the interpreter.
+//! diagnostics (`error`), and no panic crosses into the interpreter.
 //!
 //! Built by maturin (`pip install ./python`), which sets `PYO3_BUILD_EXTENSION_MODULE` so
 //! that the module does not link libpython; a plain `cargo build` of the workspace links it

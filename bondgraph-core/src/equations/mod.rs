@@ -288,7 +288,7 @@ pub fn derive(model: &Model, laws: &[Law], options: &Options) -> Result<StateEqu
 /// Derives the state equations from an already assigned causality.
 ///
 /// # Errors
-/// As [`derive`]; a mode with a nonlinear law is [`DiagnosticKind::NotLinear`]: derive it
+/// As [`derive()`]; a mode with a nonlinear law is [`DiagnosticKind::NotLinear`]: derive it
 /// with [`nonlinear::derive`].
 ///
 /// [`DiagnosticKind::NotLinear`]: crate::diagnostics::DiagnosticKind::NotLinear

@@ -12,7 +12,7 @@
 //! - [`scale`]: exact factors to SI units (`kPa` is 1000 Pa, `rpm` 2π/60 rad/s);
 //! - [`parse`](mod@parse): unit strings to dimensions and factors;
 //! - [`convert`]: values between a file's units and SI, read once when a file is read;
-//! - [`format`]: dimensions back to readable units;
+//! - [`format`](mod@format): dimensions back to readable units;
 //! - [`infer`]: the dimension of an expression, and sums of different quantities;
 //! - [`domain`]: which effort and flow make a bond mechanical, electrical, ...;
 //! - [`label`]: what a recorded output is, in its domain's words and units;

@@ -119,7 +119,7 @@ pub fn derive(model: &Model, laws: &[Law], options: &Options) -> Result<Nonlinea
 /// Derives the equations from an already assigned causality.
 ///
 /// # Errors
-/// As [`derive`].
+/// As [`derive()`].
 pub fn derive_with(
     model: &Model,
     laws: &[Law],

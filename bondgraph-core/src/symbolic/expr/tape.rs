@@ -45,7 +45,7 @@ enum Op {
     Max(u32, u32, u32),
 }
 
-/// A compiled set of expressions; see the [module documentation](self).
+/// A compiled set of expressions; see the module documentation of `symbolic::expr::tape`.
 #[derive(Clone, Debug)]
 pub struct Tape {
     inputs: usize,
