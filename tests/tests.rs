@@ -3,6 +3,7 @@
 //! One test binary with modules (rather than one binary per file) keeps link times down.
 
 mod analyze;
+mod architecture;
 mod bond_graph_views;
 mod cli;
 mod diagnostics;
