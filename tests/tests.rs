@@ -7,6 +7,7 @@ mod architecture;
 mod bond_graph_views;
 mod cli;
 mod diagnostics;
+mod docs;
 mod every_model;
 mod examples;
 mod feedback;
