@@ -35,6 +35,7 @@
 
 pub(crate) mod decimal;
 pub mod expr;
+pub mod function;
 mod gcd;
 mod modgcd;
 mod modp;

@@ -4,7 +4,7 @@
 //! `min`/`max` are differentiated through `min(a, b) = (a + b)/2 - |a - b|/2`, so the
 //! derivative takes the branch that is active.
 
-use crate::expr::Function;
+use crate::symbolic::function::Function;
 use crate::symbolic::RatFunc;
 
 use super::{Atom, Node, Rational, Sym};

@@ -8,7 +8,7 @@
 //! and turbulent losses). Everything else (a `sin` of it, `x^2`, `x` twice) is not inverted: the law then
 //! fixes its element's causality.
 
-use crate::expr::Function;
+use crate::symbolic::function::Function;
 use crate::symbolic::RatFunc;
 
 use super::{Atom, Node, Rational, Sym};

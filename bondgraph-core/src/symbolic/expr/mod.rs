@@ -6,7 +6,7 @@
 //! parameter-only part as an exact [`RatFunc`] coefficient and adds only what is needed on
 //! top: variables ([`Atom`]: states, inputs, bond variables), sums with coefficients,
 //! products with rational exponents, real powers and the functions of
-//! [`expr::Function`](crate::expr::Function).
+//! [`Function`](crate::symbolic::function::Function).
 //!
 //! # Canonical form
 //! Every constructor normalises, so equal things print equally however they were built:
@@ -56,7 +56,7 @@ use num_bigint::BigInt;
 use num_integer::Integer;
 use num_traits::{Signed, ToPrimitive};
 
-use crate::expr::Function;
+use crate::symbolic::function::Function;
 use crate::symbolic::RatFunc;
 
 pub use tape::{Tape, TapeBuilder};
@@ -723,7 +723,7 @@ impl Sym {
     }
 
     /// The value in floating point, with `atoms` giving each variable's value and `values`
-    /// the parameters' (indexed like [`Model::values`](crate::model::Model::values)).
+    /// the parameters' (indexed like a model's `values`).
     pub fn eval(&self, atoms: &dyn Fn(Atom) -> f64, values: &[f64]) -> f64 {
         match &self.0.node {
             Node::Coefficient(c) => c.eval(values),
@@ -752,7 +752,7 @@ impl Sym {
     }
 
     /// `Σ |termᵢ|`: the size of the expression's terms, the scale against which a value
-    /// near zero is judged (as [`crate::linear`] forms do with their terms).
+    /// near zero is judged (as linear forms of the model do with their terms).
     pub fn magnitude(&self) -> Sym {
         let (constant, terms) = self.as_sum();
         let parts = std::iter::once(Sym::coefficient(constant))

@@ -25,7 +25,7 @@
 
 use std::collections::HashMap;
 
-use crate::expr::Function;
+use crate::symbolic::function::Function;
 
 use super::{Atom, Node, Rational, Sym, power};
 
