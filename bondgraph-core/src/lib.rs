@@ -67,7 +67,8 @@ pub mod number;
 pub mod read;
 pub mod scenario;
 pub mod source;
-pub mod symbolic;
+/// The exact algebra, a crate of its own ([`bondgraph_symbolic`]), under its old path.
+pub use bondgraph_symbolic as symbolic;
 pub mod units;
 
 pub use diagnostics::{Diagnostic, DiagnosticKind, Diagnostics};

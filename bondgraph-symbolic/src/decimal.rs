@@ -10,7 +10,7 @@ const MAX_EXPONENT: i64 = 400;
 /// `digits ('.' digits?)? ([eE] [+-]? digits)?` or `'.' digits ([eE] [+-]? digits)?`,
 /// into an exact fraction `(numerator, denominator)` with `denominator = 10^k > 0` (not
 /// reduced). `None` if the text is not such a literal or its exponent exceeds 400 in size.
-pub(crate) fn parse_decimal(text: &str) -> Option<(BigInt, BigInt)> {
+pub fn parse_decimal(text: &str) -> Option<(BigInt, BigInt)> {
     let bytes = text.as_bytes();
     let mut i = 0;
     let mut digits = String::new();

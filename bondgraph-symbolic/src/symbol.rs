@@ -8,7 +8,7 @@ use std::collections::HashMap;
 
 /// A symbol: the id of a name in a [`SymbolTable`]. A smaller id prints first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct Symbol(pub(crate) u32);
+pub struct Symbol(pub u32);
 
 impl Symbol {
     /// The symbol's position in its table; also its index in the value slice passed to

@@ -6,7 +6,7 @@
 //! parameter-only part as an exact [`RatFunc`] coefficient and adds only what is needed on
 //! top: variables ([`Atom`]: states, inputs, bond variables), sums with coefficients,
 //! products with rational exponents, real powers and the functions of
-//! [`Function`](crate::symbolic::function::Function).
+//! [`Function`].
 //!
 //! # Canonical form
 //! Every constructor normalises, so equal things print equally however they were built:
@@ -29,9 +29,9 @@
 //!
 //! # Example
 //! ```
-//! use bondgraph_core::expr::Function;
-//! use bondgraph_core::symbolic::expr::{Atom, Sym};
-//! use bondgraph_core::symbolic::{RatFunc, SymbolTable};
+//! use bondgraph_symbolic::function::Function;
+//! use bondgraph_symbolic::expr::{Atom, Sym};
+//! use bondgraph_symbolic::{RatFunc, SymbolTable};
 //!
 //! let table = SymbolTable::new(["g", "l"]);
 //! let (g, l) = (table.get("g").unwrap(), table.get("l").unwrap());
@@ -56,8 +56,8 @@ use num_bigint::BigInt;
 use num_integer::Integer;
 use num_traits::{Signed, ToPrimitive};
 
-use crate::symbolic::function::Function;
-use crate::symbolic::RatFunc;
+use crate::RatFunc;
+use crate::function::Function;
 
 pub use tape::{Tape, TapeBuilder};
 
@@ -277,7 +277,7 @@ fn cmp_list<T>(a: &[T], b: &[T], mut cmp: impl FnMut(&T, &T) -> Ordering) -> Ord
 
 /// A fixed total order on rational functions (by their terms), for sorting.
 fn cmp_ratfunc(a: &RatFunc, b: &RatFunc) -> Ordering {
-    let key = |p: &crate::symbolic::Poly| -> Vec<(Vec<(usize, u32)>, BigInt)> {
+    let key = |p: &crate::Poly| -> Vec<(Vec<(usize, u32)>, BigInt)> {
         p.terms()
             .map(|(m, c)| (m.iter().map(|(s, e)| (s.index(), e)).collect(), c.clone()))
             .collect()
@@ -383,13 +383,13 @@ impl Sym {
 
     /// Every parameter symbol the expression's coefficients use (`g` and `l` in
     /// `sqrt(g/l)*sin(q_pendulum)`).
-    pub fn parameters(&self) -> BTreeSet<crate::symbolic::Symbol> {
+    pub fn parameters(&self) -> BTreeSet<crate::Symbol> {
         let mut out = BTreeSet::new();
         self.collect_parameters(&mut out);
         out
     }
 
-    fn collect_parameters(&self, out: &mut BTreeSet<crate::symbolic::Symbol>) {
+    fn collect_parameters(&self, out: &mut BTreeSet<crate::Symbol>) {
         match &self.0.node {
             Node::Coefficient(c) => out.extend(c.symbols()),
             Node::Atom(_) => {}

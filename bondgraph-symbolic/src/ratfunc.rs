@@ -193,23 +193,29 @@ impl RatFunc {
         }
     }
 
-    pub(crate) fn add_ref(&self, other: &RatFunc) -> RatFunc {
+    /// `self + other`, by reference (the operators take values or references alike).
+    pub fn add_ref(&self, other: &RatFunc) -> RatFunc {
         self.clone().add_owned(other)
     }
 
-    pub(crate) fn sub_ref(&self, other: &RatFunc) -> RatFunc {
+    /// `self - other`, by reference.
+    pub fn sub_ref(&self, other: &RatFunc) -> RatFunc {
         self.clone().sub_owned(other)
     }
 
-    pub(crate) fn mul_ref(&self, other: &RatFunc) -> RatFunc {
+    /// `self * other`, by reference.
+    pub fn mul_ref(&self, other: &RatFunc) -> RatFunc {
         self.clone().mul_owned(other)
     }
 
-    pub(crate) fn sub_owned(self, other: &RatFunc) -> RatFunc {
+    /// `self - other`, reusing `self`'s storage.
+    pub fn sub_owned(self, other: &RatFunc) -> RatFunc {
         self.add_owned(&-other)
     }
 
-    pub(crate) fn add_owned(self, other: &RatFunc) -> RatFunc {
+    /// `self + other`, reusing `self`'s storage; gcds only where Henrici's rule says one can
+    /// cancel.
+    pub fn add_owned(self, other: &RatFunc) -> RatFunc {
         if other.is_zero() {
             return self;
         }
@@ -245,7 +251,8 @@ impl RatFunc {
         RatFunc::from_coprime(div_known_owned(t, &h), b1 * &d1 * &g1)
     }
 
-    pub(crate) fn mul_owned(self, other: &RatFunc) -> RatFunc {
+    /// `self * other`, reusing `self`'s storage.
+    pub fn mul_owned(self, other: &RatFunc) -> RatFunc {
         if self.is_zero() || other.is_zero() {
             return RatFunc::zero();
         }

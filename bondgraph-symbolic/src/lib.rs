@@ -33,7 +33,7 @@
 //! - `print`: plain-text and LaTeX rendering;
 //! - [`expr`]: symbolic expressions for nonlinear laws, with exact coefficients.
 
-pub(crate) mod decimal;
+pub mod decimal;
 pub mod expr;
 pub mod function;
 mod gcd;
@@ -62,9 +62,9 @@ pub use symbol::{Symbol, SymbolTable};
 /// `add_owned`-style methods that reuse the left operand's storage.
 macro_rules! forward_binops {
     ($t:ty, $add:ident, $sub:ident, $mul:ident, $add_o:ident, $sub_o:ident, $mul_o:ident) => {
-        $crate::symbolic::forward_binops!(@op $t, Add, add, AddAssign, add_assign, $add, $add_o);
-        $crate::symbolic::forward_binops!(@op $t, Sub, sub, SubAssign, sub_assign, $sub, $sub_o);
-        $crate::symbolic::forward_binops!(@op $t, Mul, mul, MulAssign, mul_assign, $mul, $mul_o);
+        $crate::forward_binops!(@op $t, Add, add, AddAssign, add_assign, $add, $add_o);
+        $crate::forward_binops!(@op $t, Sub, sub, SubAssign, sub_assign, $sub, $sub_o);
+        $crate::forward_binops!(@op $t, Mul, mul, MulAssign, mul_assign, $mul, $mul_o);
     };
     (@op $t:ty, $tr:ident, $m:ident, $tra:ident, $ma:ident, $imp:ident, $imp_o:ident) => {
         impl std::ops::$tr<&$t> for &$t {

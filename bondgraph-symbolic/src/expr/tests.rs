@@ -1,5 +1,5 @@
 use super::*;
-use crate::symbolic::SymbolTable;
+use crate::SymbolTable;
 
 fn table() -> SymbolTable {
     SymbolTable::new(["b", "c", "g", "k", "l", "m"])

@@ -8,8 +8,8 @@
 //! and turbulent losses). Everything else (a `sin` of it, `x^2`, `x` twice) is not inverted: the law then
 //! fixes its element's causality.
 
-use crate::symbolic::function::Function;
-use crate::symbolic::RatFunc;
+use crate::RatFunc;
+use crate::function::Function;
 
 use super::{Atom, Node, Rational, Sym};
 

@@ -4,8 +4,8 @@
 //! `min`/`max` are differentiated through `min(a, b) = (a + b)/2 - |a - b|/2`, so the
 //! derivative takes the branch that is active.
 
-use crate::symbolic::function::Function;
-use crate::symbolic::RatFunc;
+use crate::RatFunc;
+use crate::function::Function;
 
 use super::{Atom, Node, Rational, Sym};
 

@@ -2,7 +2,7 @@
 //! written and their values in floating point.
 //!
 //! They belong to the algebra, not to the grammar that reads them: symbolic expressions
-//! ([`crate::symbolic::expr`]) differentiate, invert, print and evaluate calls of them, and
+//! ([`crate::expr`]) differentiate, invert, print and evaluate calls of them, and
 //! the expression reader only looks their names up.
 
 /// The functions expressions may call.
@@ -109,4 +109,3 @@ pub fn sign(x: f64) -> f64 {
         x
     }
 }
-

@@ -7,8 +7,8 @@
 //!
 //! # Example
 //! ```
-//! use bondgraph_core::expr::Function;
-//! use bondgraph_core::symbolic::expr::{Atom, Sym, TapeBuilder};
+//! use bondgraph_symbolic::function::Function;
+//! use bondgraph_symbolic::expr::{Atom, Sym, TapeBuilder};
 //!
 //! let q = Sym::atom(Atom::State(0));
 //! let f = Sym::mul(&Sym::integer(3), &Sym::call(Function::Sin, vec![q.clone()]));
@@ -25,7 +25,7 @@
 
 use std::collections::HashMap;
 
-use crate::symbolic::function::Function;
+use crate::function::Function;
 
 use super::{Atom, Node, Rational, Sym, power};
 

@@ -5,8 +5,8 @@
 //! linear equations do (`p_mass/m`, `-(b + K_p)/M*v`), negative exponents go below the
 //! fraction bar, `x^(1/2)` is `sqrt(x)`.
 
-use crate::symbolic::function::Function;
-use crate::symbolic::{RatFunc, SymbolTable};
+use crate::function::Function;
+use crate::{RatFunc, SymbolTable};
 
 use super::{Atom, Node, Rational, Sym};
 
