@@ -7,9 +7,9 @@ use bondgraph_core::model::extension::{self, Extension};
 use std::sync::Arc;
 
 use bondgraph_core::source::SourceFile;
-use bondgraph_fit::discover::{self, Candidate, DiscoverError, Discovery, Settings};
-use bondgraph_fit::experiment::ExperimentError;
+use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};
 
+use crate::measured::discover_failure;
 use crate::{Failure, json, print, read_source, residual_plot, write_file};
 
 /// The command line of `discover`.
@@ -35,31 +35,6 @@ pub struct Args {
 
 fn fail(kind: DiagnosticKind, message: impl std::fmt::Display) -> Failure {
     Failure::message(kind, message.to_string())
-}
-
-/// An experiment's error as located diagnostics, rendered with the lines of `sources`.
-pub fn experiment_failure(error: ExperimentError, sources: &[&Arc<SourceFile>]) -> Failure {
-    match error {
-        ExperimentError::Diagnostics(diagnostics) => Failure {
-            diagnostics,
-            sources: sources.iter().map(|s| Arc::clone(s)).collect(),
-        },
-        other => fail(DiagnosticKind::Simulation, other),
-    }
-}
-
-/// A discovery's (or calibration's) error, its diagnostics located where they point.
-pub fn discover_failure(error: DiscoverError, sources: &[&Arc<SourceFile>]) -> Failure {
-    let located = |diagnostics| Failure {
-        diagnostics,
-        sources: sources.iter().map(|s| Arc::clone(s)).collect(),
-    };
-    match error {
-        DiscoverError::Model(diagnostics) => located(diagnostics),
-        DiscoverError::Fitted(diagnostics) => located(diagnostics),
-        DiscoverError::Experiment(error) => experiment_failure(error, sources),
-        other => fail(DiagnosticKind::Simulation, other),
-    }
 }
 
 /// Reads the library: every `*.ron` in `dir`, in name order.
@@ -121,7 +96,7 @@ pub fn inputs(
     extensions: Option<&Path>,
 ) -> Result<Inputs, Failure> {
     let (base, experiment_source, experiment, dataset) =
-        crate::calibrate::inputs(model, experiment, data)?;
+        crate::measured::inputs(model, experiment, data)?;
     let folder = model.parent().unwrap_or(Path::new("."));
     let extensions = extensions.map_or_else(|| folder.join("extensions"), Path::to_path_buf);
     let candidates = library(&base, &extensions)?;

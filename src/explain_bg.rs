@@ -16,18 +16,10 @@ use bondgraph_core::laws::{self, Law};
 use bondgraph_core::model::{BondId, ElementId, Model};
 use bondgraph_core::modes::{self, Mode};
 use bondgraph_core::source::SourceFile;
-use clap::ValueEnum;
 
 use crate::{Failure, print, with_source};
 
-/// How `bondgraph explain` writes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum ExplainFormat {
-    /// Plain text.
-    Text,
-    /// Markdown (headings, numbered lists), for lecture notes.
-    Markdown,
-}
+pub use crate::formats::ExplainFormat;
 
 /// An explanation, and why the mode's equations cannot be derived where they cannot: the
 /// causality is explained all the same, so a reader sees how far the assignment got.
@@ -63,9 +55,9 @@ pub fn explain(
     source: &Arc<SourceFile>,
     format: ExplainFormat,
 ) -> Result<Explanation, Failure> {
-    if model.linear_graph.is_some() {
+    if let Some(graph) = &model.linear_graph {
         Ok(Explanation {
-            text: crate::explain_lg::document(model, mode, source, format)?,
+            text: crate::explain_lg::document(model, graph, mode, source, format)?,
             underivable: None,
         })
     } else {

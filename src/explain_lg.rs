@@ -3,7 +3,7 @@
 //! and compatibility (loop) equations the tree gives, the elemental equations of the mode,
 //! and the state equations they lead to.
 //!
-//! A bond-graph model is explained by [`crate::explain_bg`].
+//! A bond-graph model is explained by `explain_bg`, which also dispatches here.
 
 use std::sync::Arc;
 
@@ -18,27 +18,24 @@ use bondgraph_core::normal_tree::{self, NormalTree, Reason, Role, Terms};
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::symbolic::RatFunc;
 
-use crate::explain_bg::ExplainFormat;
+use crate::formats::ExplainFormat;
 use crate::{Failure, with_source};
 
 /// The explanation of linear graph `model` in `mode`; in Markdown, with headings, numbered
 /// lists and the equations in code blocks, as a bond graph's. A bond graph is explained by
-/// [`crate::explain_bg`].
+/// `explain_bg`.
 ///
 /// # Errors
 /// A failure when the mode has no causality or its equations cannot be derived.
 pub fn document(
     model: &Model,
+    graph: &LinearGraph,
     mode: &Mode,
     source: &Arc<SourceFile>,
     format: ExplainFormat,
 ) -> Result<String, Failure> {
     let laws = laws::for_mode(model, mode);
     causality::assign(model, &laws).map_err(|d| with_source(reword(model, d), source))?;
-    let Some(graph) = &model.linear_graph else {
-        let explanation = crate::explain_bg::document(model, mode, source, format)?;
-        return explanation.underivable.map_or(Ok(explanation.text), Err);
-    };
     let tree = normal_tree::of_mode(model, &laws).expect("a linear graph has a normal tree");
     let derived = modes::derive(
         model,

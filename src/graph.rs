@@ -10,20 +10,10 @@ use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::{causality, equations, graph, laws};
-use clap::ValueEnum;
 
 use crate::{Failure, bg_svg, lg_graph, with_source};
 
-/// How `bondgraph graph` writes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum GraphFormat {
-    /// The elements, bonds and causality (a linear graph: nodes, branches, normal tree).
-    Text,
-    /// Graphviz DOT (render with `dot -Tsvg`).
-    Dot,
-    /// SVG, drawn by the program.
-    Svg,
-}
+pub use crate::formats::GraphFormat;
 
 /// The graph of `model` (read from `source`) in `mode`, in `format`.
 ///

@@ -12,7 +12,7 @@ use bondgraph_core::normal_tree::{self, NormalTree};
 use bondgraph_core::source::SourceFile;
 
 use crate::Failure;
-use crate::graph::GraphFormat;
+use crate::formats::GraphFormat;
 
 /// The linear graph of `model` in `mode`, in `format`.
 ///

@@ -85,8 +85,8 @@ fn every_command(model: &Model, source: &Arc<SourceFile>, mode: &Mode, what: &st
     );
 
     // explain: the steps, and the states they end with.
-    let text = if model.linear_graph.is_some() {
-        explain_lg::document(model, mode, source, ExplainFormat::Markdown)
+    let text = if let Some(graph) = &model.linear_graph {
+        explain_lg::document(model, graph, mode, source, ExplainFormat::Markdown)
             .unwrap_or_else(|e| failed(&format!("{what}: explain"), e))
     } else {
         let explanation = explain_bg::document(model, mode, source, ExplainFormat::Markdown)
