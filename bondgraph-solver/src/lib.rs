@@ -4,6 +4,7 @@ pub mod analysis;
 pub mod energy;
 pub mod equilibrium;
 pub mod events;
+mod gauss;
 pub mod hybrid;
 pub mod linalg;
 pub mod nonlinear;

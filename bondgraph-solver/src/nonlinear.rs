@@ -210,7 +210,7 @@ impl StorageLawTape {
         for p in 0..PANELS {
             let a = p as f64 * width;
             let (mid, half) = (a + width / 2.0, width / 2.0);
-            for (node, weight) in crate::energy::NODES.iter().zip(crate::energy::WEIGHTS) {
+            for (node, weight) in crate::gauss::NODES.iter().zip(crate::gauss::WEIGHTS) {
                 self.tape.eval(&[mid + half * node], &mut scratch, &mut out);
                 total += weight * half * out[0];
             }
