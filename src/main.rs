@@ -36,7 +36,8 @@ struct Cli {
 /// trial past its budget is a failed trial, counted in the report.
 #[derive(clap::Args, Debug, Clone, Copy)]
 struct BudgetArgs {
-    /// Evaluations (predictions of every row at one trial point) one fit may make.
+    /// Evaluations (predictions of every row at one trial point) one search of a fit may make
+    /// (a fit runs several side by side, each with this budget).
     #[arg(long, value_name = "N", default_value_t = Budget::default().evaluations)]
     max_evaluations: usize,
     /// Mode changes one steady row may take to settle.

@@ -31,8 +31,10 @@ pub struct Budget {
     /// a whole simulation, well over what any row of the examples takes (a two-tank row
     /// about a thousand, the flagship's under a hundred).
     pub steps: u64,
-    /// Evaluations (a prediction of every row at one trial point) one fit may make: the
-    /// flagship's Table III takes under 2,000 per fit.
+    /// Evaluations (a prediction of every row at one trial point) one search of a fit may
+    /// make: a face's screening, or a local fit from one start. A fit runs several side by
+    /// side, each with this budget to itself, so that what it finds does not depend on the
+    /// threads. The flagship's Table III fits take under 2,000 evaluations in all.
     pub evaluations: usize,
 }
 
@@ -225,8 +227,8 @@ pub fn failed_trials(model: &str, trials: &Trials, budget: &Budget) -> Vec<Faile
             values: BTreeMap::new(),
             first: String::new(),
             text: format!(
-                "{model}: a fit stopped at its budget of {} evaluations (--max-evaluations); its \
-                 result is the best point found by then",
+                "{model}: a fit's search stopped at its budget of {} evaluations \
+                 (--max-evaluations); the fit's result is the best point found by then",
                 thousands(budget.evaluations)
             ),
         });

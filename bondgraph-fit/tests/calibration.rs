@@ -229,3 +229,47 @@ fn a_time_series_scenario_that_edits_the_model_is_refused_at_the_experiment() {
         "{error}"
     );
 }
+
+/// A fit that runs out of its budget of evaluations ends on the best point its searches found
+/// by then; which points those are must not depend on how many threads run the searches side
+/// by side, or a report (and a selection) would change from one run to the next. With a
+/// budget of 60 evaluations (the geared motor's fit takes hundreds), one thread and four give
+/// the same estimates and the same number of evaluations, and both say the budget was spent.
+#[test]
+fn a_fit_cut_short_by_its_budget_is_the_same_on_any_number_of_threads() {
+    let model = file("models/examples/geared_motor/geared_motor.ron");
+    let experiment =
+        Experiment::from_source(&file("models/examples/geared_motor/experiment.ron")).unwrap();
+    let csv = file("models/examples/geared_motor/data/steady.csv");
+    let dataset = data::read(csv.name(), csv.text(), &experiment).unwrap();
+    let mut settings = Settings::default();
+    settings.budget.evaluations = 60;
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| calibrate(&model, &experiment, &dataset, &settings).unwrap())
+    };
+    let one = on(1);
+    assert!(
+        one.failed_trials
+            .iter()
+            .any(|f| f.text.contains("budget of 60 evaluations")),
+        "{:?}",
+        one.failed_trials
+    );
+    for _ in 0..3 {
+        let four = on(4);
+        assert_eq!(four.evaluations, one.evaluations);
+        for (name, estimate) in &one.params {
+            assert_eq!(
+                four.params[name].value.to_bits(),
+                estimate.value.to_bits(),
+                "{name}: {} on four threads, {} on one",
+                four.params[name].value,
+                estimate.value
+            );
+        }
+    }
+}

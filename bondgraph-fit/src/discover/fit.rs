@@ -322,21 +322,25 @@ pub(crate) fn fit_best(
         .iter()
         .flat_map(|&i| train[i].observed.iter().copied())
         .collect();
-    // Each search running side by side predicts with an evaluator of its own; all of them
-    // share the fit's budget of evaluations. A trial past it fails without a prediction, so
-    // the search ends on the best point found by then. (Which trials get in before the
-    // budget is spent can depend on the threads; a fit within its budget cannot.)
+    // Each search running side by side (a face's screening, a local fit from one start)
+    // predicts with an evaluator of its own and has the budget of evaluations to itself, so
+    // the trials each makes, and so the fit, are the same however the threads interleave. A
+    // trial past its search's budget fails without a prediction, so that search ends on the
+    // best point it found by then.
     let template = &*evaluator;
     let measured = &measured;
-    let made = std::sync::atomic::AtomicUsize::new(0);
-    let made = &made;
+    let spent = std::sync::atomic::AtomicBool::new(false);
+    let spent = &spent;
     let budget = settings.budget.evaluations;
     let residuals = || -> global::Residuals<'_> {
         let mut evaluator = template.fork();
+        let mut made = 0;
         Box::new(move |x: &[f64]| {
-            if made.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= budget {
+            if made >= budget {
+                spent.store(true, std::sync::atomic::Ordering::Relaxed);
                 return None;
             }
+            made += 1;
             evaluator.set(x);
             let predictions = evaluator.predict_all(train)?;
             Some(
@@ -365,7 +369,7 @@ pub(crate) fn fit_best(
             ))
         }
     });
-    if made.load(std::sync::atomic::Ordering::Relaxed) > budget {
+    if spent.load(std::sync::atomic::Ordering::Relaxed) {
         evaluator.spent_evaluations();
     }
     match result {
