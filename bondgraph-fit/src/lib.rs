@@ -27,6 +27,39 @@
 //! - [`discover`]: which candidate extension explains the misfit;
 //! - [`weights`]: several observed columns in one fit, each in levels of its noise;
 //! - [`synthetic`]: data made from a model with known values, for tests.
+//!
+//! # Example
+//!
+//! A mass dragged through a damper by a constant force settles at `v = F/b`; three steady
+//! rows measured at `b = 4 N·s/m` calibrate `b` back from a start of 1:
+//!
+//! ```
+//! use bondgraph_core::source::SourceFile;
+//! use bondgraph_fit::{calibration::calibrate, data, discover::Settings, experiment::Experiment};
+//!
+//! let model = SourceFile::new("drag.ron", r#"Model(
+//!     name: "drag",
+//!     parameters: {
+//!         "m": (value: 1.0, unit: "kg"),
+//!         "b": (value: 1.0, unit: "N*s/m", bounds: (0.1, 100.0)),
+//!     },
+//!     inputs: { "F": (unit: "N") },
+//!     elements: { "pull": Se(effort: "F"), "v": One, "mass": I(inertance: "m"),
+//!                 "damper": R(resistance: "b") },
+//!     bonds: [("pull", "v"), ("v", "mass"), ("v", "damper")],
+//! )"#);
+//! let experiment = Experiment::from_source(&SourceFile::new("experiment.ron", r#"Experiment(
+//!     kind: Steady,
+//!     conditions: [("F_N", "F", 1.0)],
+//!     observed: [("v_m_s", "flow:mass", 1.0)],
+//!     fitted: ["b"],
+//! )"#)).unwrap();
+//! let dataset = data::read("rows.csv", "F_N,v_m_s\n1,0.25\n2,0.5\n3,0.75\n", &experiment).unwrap();
+//!
+//! let calibration = calibrate(&model, &experiment, &dataset, &Settings::default()).unwrap();
+//! let b = calibration.params["b"].value;
+//! assert!((b - 4.0).abs() < 1e-9, "b = {b}");
+//! ```
 
 pub mod budget;
 pub mod calibrate;
