@@ -109,8 +109,14 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         work = [(args.system, args.binary, h, s, kinds, tmp)
                 for h in hidden_ids for s in range(101, 101 + args.seeds)]
+        outcomes = []
         with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-            outcomes = list(pool.map(one, work))
+            for hidden, seed, results in pool.map(one, work):
+                outcomes.append((hidden, seed, results))
+                said = ", ".join(f"{k}: {'found' if r['correct'] else 'missed'}"
+                                 f"{' (' + r['error'] + ')' if r['error'] else ''}"
+                                 for k, r in results.items())
+                print(f"{hidden} seed {seed}: {said}", file=sys.stderr, flush=True)
     print(f"| hidden ({args.system}, {args.seeds} seeds) | " + " | ".join(kinds) + " |")
     print("|---|" + "---|" * len(kinds))
     for hidden in hidden_ids:
