@@ -203,17 +203,18 @@ impl NoiseLevel {
                 format!("cannot be estimated: the residual of {model} has no degrees of freedom"),
             )
         } else if sd > ROUNDING * scale && sd.is_finite() {
-            (Some(sd), format!("residual of {model} ({dof} dof)"))
+            (Some(sd), format!("residual of {model} ({} dof)", dof_text(dof)))
         } else {
             (
                 None,
                 format!(
-                    "cannot be estimated: the residual of {model} is {} ({dof} dof)",
+                    "cannot be estimated: the residual of {model} is {} ({} dof)",
                     if sd.is_finite() {
                         format!("{sd:.1e}, rounding error: the fit is exact")
                     } else {
                         sd.to_string()
-                    }
+                    },
+                    dof_text(dof)
                 ),
             )
         };
@@ -317,6 +318,16 @@ impl LackOfFit {
     }
 }
 
+/// Degrees of freedom as a reader wants them: whole when whole (`26`), else to a tenth
+/// (`26.3`: a threshold parameter takes part of one).
+fn dof_text(dof: f64) -> String {
+    if dof.fract() == 0.0 {
+        format!("{dof:.0}")
+    } else {
+        format!("{dof:.1}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use std::sync::Arc;
@@ -389,6 +400,7 @@ mod tests {
         let level = NoiseLevel::estimate(None, pure_error(&rows[..5], 0), residual);
         assert_eq!(level.sd, Some(3.0));
         assert_eq!(level.source, "residual of 'shaft-windage' (2 dof)");
+        assert_eq!(super::dof_text(26.333333333333332), "26.3");
         assert_eq!(level.pure_error.map(|p| p.dof), Some(2));
     }
 
