@@ -203,7 +203,10 @@ impl NoiseLevel {
                 format!("cannot be estimated: the residual of {model} has no degrees of freedom"),
             )
         } else if sd > ROUNDING * scale && sd.is_finite() {
-            (Some(sd), format!("residual of {model} ({} dof)", dof_text(dof)))
+            (
+                Some(sd),
+                format!("residual of {model} ({} dof)", dof_text(dof)),
+            )
         } else {
             (
                 None,
