@@ -777,8 +777,24 @@ pub fn power(x: f64, e: Rational) -> f64 {
             -magnitude
         };
     }
-    if e.num == 1 && e.den == 2 {
-        return x.sqrt();
+    // Halves and quarters by square roots, the powers laws use most (an orifice's square
+    // root, free convection's 5/4): several times faster than `powf`, and within two ulps of
+    // it. Zero, infinities and NaN keep `powf`'s conventions.
+    if x.is_finite() && x > 0.0 && (e.den == 2 || e.den == 4) {
+        let whole = i32::try_from(e.num.div_euclid(e.den));
+        let root = match (e.den, e.num.rem_euclid(e.den)) {
+            (2, 1) | (4, 2) => x.sqrt(),
+            (4, 1) => x.sqrt().sqrt(),
+            (4, 3) => {
+                let half = x.sqrt();
+                half * half.sqrt()
+            }
+            _ => 1.0,
+        };
+        // A whole part of a few multiplications keeps the error at a couple of ulps.
+        if let Ok(whole @ -4..=4) = whole {
+            return if whole == 0 { root } else { x.powi(whole) * root };
+        }
     }
     x.powf(e.to_f64())
 }

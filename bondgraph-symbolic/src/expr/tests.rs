@@ -315,3 +315,30 @@ fn a_linear_and_quadratic_drag_inverts_and_stays_finite_without_its_quadratic_te
     let inverse = signed.solve_for(Atom::Port, &y).unwrap();
     assert!((at(&inverse, -6.0, 4.0, 0.5) + root).abs() < 1e-12);
 }
+
+/// Halves and quarters are taken by square roots: exact where the answer is a small integer
+/// (16^(5/4) = 32, 81^(3/4) = 27, 4^(-1/2) = 1/2), within 3 ulps of `powf` elsewhere, and
+/// `powf`'s conventions at zero and infinity.
+#[test]
+fn halves_and_quarters_by_square_roots() {
+    let r = |n, d| Rational::new(n, d).unwrap();
+    assert_eq!(power(16.0, r(5, 4)), 32.0);
+    assert_eq!(power(81.0, r(3, 4)), 27.0);
+    assert_eq!(power(4.0, r(-1, 2)), 0.5);
+    assert_eq!(power(256.0, r(-7, 4)), 1.0 / 16384.0);
+    assert_eq!(power(0.0, r(5, 4)), 0.0);
+    assert_eq!(power(0.0, r(-3, 4)), f64::INFINITY);
+    assert_eq!(power(f64::INFINITY, r(-1, 4)), 0.0);
+    let mut x = 1.234_567e-7;
+    while x < 1e9 {
+        for (n, d) in [(1, 2), (3, 2), (5, 2), (1, 4), (3, 4), (5, 4), (7, 4), (-5, 4), (-3, 2)] {
+            let fast = power(x, r(n, d));
+            let reference = x.powf(n as f64 / d as f64);
+            assert!(
+                (fast - reference).abs() <= 3.0 * f64::EPSILON * reference,
+                "{x}^({n}/{d}): {fast} against {reference}"
+            );
+        }
+        x *= 1.7;
+    }
+}
