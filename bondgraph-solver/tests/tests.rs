@@ -11,6 +11,7 @@ mod flagship;
 mod flow_limit;
 mod hardening;
 mod hardening_events;
+mod held_nonlinear;
 mod input_rates;
 mod multiscale_events;
 mod natural_laws;
