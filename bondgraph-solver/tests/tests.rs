@@ -23,5 +23,6 @@ mod properties;
 mod settling;
 mod stick_slip;
 mod stribeck;
+mod stribeck_zero;
 mod support;
 mod trouble;
