@@ -222,7 +222,7 @@ fn parse_outputs<T>(
         .collect()
 }
 
-/// `ELEMENT: CONDITION -> ELEMENT=MODE` for each guard.
+/// `ELEMENT: CONDITION -> ELEMENT=MODE` for each guard that applies at the model's values.
 fn guard_lines<E>(
     model: &Model,
     guards: &[Guard<E>],
@@ -230,6 +230,7 @@ fn guard_lines<E>(
 ) -> Vec<String> {
     guards
         .iter()
+        .filter(|guard| guard.applies(model, &model.values))
         .map(|guard| {
             let element = &model.element(guard.element).name;
             format!(

@@ -8,7 +8,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use bondgraph_core::diagnostics::DiagnosticKind;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::{self, ElementKind, Model};
 use bondgraph_core::modes;
 use bondgraph_core::source::SourceFile;
 
@@ -51,16 +51,34 @@ pub fn load(path: &Path) -> Result<(Model, Arc<SourceFile>), Failure> {
     Ok((model, source))
 }
 
-/// The mode given (`fr=stuck,string=taut`), or the model's initial mode.
+/// The mode given (`fr=stuck,string=taut`), or the model's initial mode, as the model has
+/// it at its values: a contact whose Stribeck velocity is zero there has no creeping range,
+/// so its initial `creep±` is `slip±` and a mode given with it creeping is refused.
 pub fn parse_mode(
     model: &Model,
     spec: Option<&str>,
     source: &Arc<SourceFile>,
 ) -> Result<modes::Mode, Failure> {
-    match spec {
-        Some(spec) => modes::Mode::parse(model, spec).map_err(|d| with_source(d, source)),
-        None => Ok(modes::Mode::initial(model)),
+    let Some(spec) = spec else {
+        return Ok(modes::Mode::initial(model).at_values(model, &model.values));
+    };
+    let mode = modes::Mode::parse(model, spec).map_err(|d| with_source(d, source))?;
+    for &(id, element_mode) in mode.assignments() {
+        if let ElementKind::Friction(contact) = &model.element(id).kind
+            && contact.mode_at(element_mode, &model.values) != element_mode
+        {
+            let stribeck = contact.stribeck.as_ref().map_or("", |s| s.text.as_str());
+            return Err(Failure::message(
+                DiagnosticKind::BadMode,
+                format!(
+                    "mode '{spec}': contact '{}' cannot be {}: its Stribeck velocity \"{stribeck}\" is 0, which leaves no creeping range (it slips as a Karnopp contact)",
+                    model.element(id).name,
+                    element_mode.name()
+                ),
+            ));
+        }
     }
+    Ok(mode)
 }
 
 /// A value as pretty JSON with a final newline, as the commands print it.

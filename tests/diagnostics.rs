@@ -899,6 +899,21 @@ fn stribeck_drop_depends_on_input() {
 }
 
 #[test]
+fn negative_stribeck() {
+    check(
+        "negative_stribeck",
+        Expect {
+            kind: DiagnosticKind::InvalidValue,
+            line: 12,
+            column: 74,
+            element: Some("contact"),
+            underlined: "v_s",
+            message: "element 'contact': stribeck \"v_s\" = -1 (with v_s = -1) must be zero or positive",
+        },
+    );
+}
+
+#[test]
 fn flow_limit_unknown_mode() {
     check(
         "flow_limit_unknown_mode",

@@ -20,6 +20,7 @@ mod overflow;
 mod paper;
 mod scenarios;
 mod snapshots;
+mod stribeck_zero;
 mod support;
 mod teaching;
 mod timescales;

@@ -25,6 +25,15 @@
 //! | flow limit `open` | the flow into it | `≥ max_flow` (if the limit then holds back a positive effort) | `limiting` |
 //! | flow limit `limiting` | the effort it holds back (power it absorbs per unit flow) | `≤ 0` | `open` |
 //!
+//! A Stribeck velocity of zero leaves no creeping range: the contact is then exactly the
+//! Karnopp contact with the same breakaway and Coulomb forces, and the guards of the first
+//! table apply. The Stribeck velocity is a parameter like any other, and a fit moves it
+//! between zero and positive values by substituting numbers into modes derived once (it
+//! never re-checks or re-derives the model per trial). So a Stribeck contact's modes carry
+//! both sets of guards where they differ, each marked with the [`Regime`] it belongs to, and
+//! the one that applies is chosen where numbers are bound ([`Guard::applies`]); a listing
+//! shows those that apply at the model's own values.
+//!
 //! The holding force of a stuck contact is an output equation of the stuck mode: for a
 //! catheter stuck to a robot tip it is the force that makes the catheter accelerate with the
 //! tip, which is how papers derive their stick conditions by hand. A guard marked
@@ -74,6 +83,32 @@ impl Watched {
     }
 }
 
+/// Which Stribeck velocities a guard applies at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Regime {
+    /// At any: the guards of every element other than a Stribeck contact, and those of a
+    /// Stribeck contact that do not depend on its creeping range.
+    Always,
+    /// Only where the contact's Stribeck velocity is not zero: breaking away into `creep±`,
+    /// sliding down into `creep±`.
+    Weakening,
+    /// Only where the contact's Stribeck velocity is zero, which makes it a Karnopp
+    /// contact: breaking away into `slip±`, sliding to a stop or through zero.
+    Karnopp,
+}
+
+impl Regime {
+    /// Whether a guard of this regime applies to a contact that has a creeping range
+    /// (`creeps`) or not.
+    pub fn applies(self, creeps: bool) -> bool {
+        match self {
+            Regime::Always => true,
+            Regime::Weakening => creeps,
+            Regime::Karnopp => !creeps,
+        }
+    }
+}
+
 /// Which way the watched quantity crosses its threshold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Crossing {
@@ -103,6 +138,20 @@ pub struct Guard<Q = LinearForm> {
     /// `stuck` within its breakaway force, a flow limit going `limiting` with a positive
     /// restraining effort.
     pub requires_hold: bool,
+    /// The Stribeck velocities it applies at.
+    pub regime: Regime,
+}
+
+impl<Q> Guard<Q> {
+    /// Whether the guard applies with the parameter `values` (indexed like
+    /// [`Model::values`]): a guard of one [`Regime`] of a Stribeck contact applies only where
+    /// the contact's Stribeck velocity is, or is not, zero.
+    pub fn applies(&self, model: &Model, values: &[f64]) -> bool {
+        match &model.element(self.element).kind {
+            ElementKind::Friction(friction) => self.regime.applies(friction.creeps_at(values)),
+            _ => true,
+        }
+    }
 }
 
 impl Guard<Sym> {
@@ -251,34 +300,46 @@ fn derive_in<E: GuardForms>(model: &Model, mode: &Mode, equations: &E) -> Vec<Gu
                 threshold,
                 leaves_to,
                 requires_hold,
+                regime: Regime::Always,
             };
+        let only = |regime, guard: Guard<E::Form>| Guard { regime, ..guard };
         match (&model.element(element).kind, element_mode) {
             (ElementKind::Friction(friction), ElementMode::Stuck) => {
                 let hold = effort();
                 let breakaway = lift(&friction.breakaway.value);
                 let negative_breakaway =
                     lift(&friction.breakaway.value.scaled(&RatFunc::integer(-1)));
-                let (forward, backward) = if friction.stribeck.is_some() {
-                    (ElementMode::CreepPositive, ElementMode::CreepNegative)
+                let slip = (ElementMode::SlipPositive, ElementMode::SlipNegative);
+                let creep = (ElementMode::CreepPositive, ElementMode::CreepNegative);
+                let targets = if friction.stribeck.is_some() {
+                    vec![(Regime::Weakening, creep), (Regime::Karnopp, slip)]
                 } else {
-                    (ElementMode::SlipPositive, ElementMode::SlipNegative)
+                    vec![(Regime::Always, slip)]
                 };
-                guards.push(guard(
-                    Watched::HoldingForce,
-                    hold.clone(),
-                    Crossing::Rises,
-                    breakaway,
-                    forward,
-                    false,
-                ));
-                guards.push(guard(
-                    Watched::HoldingForce,
-                    hold,
-                    Crossing::Falls,
-                    negative_breakaway,
-                    backward,
-                    false,
-                ));
+                for (regime, (forward, backward)) in targets {
+                    guards.push(only(
+                        regime,
+                        guard(
+                            Watched::HoldingForce,
+                            hold.clone(),
+                            Crossing::Rises,
+                            breakaway.clone(),
+                            forward,
+                            false,
+                        ),
+                    ));
+                    guards.push(only(
+                        regime,
+                        guard(
+                            Watched::HoldingForce,
+                            hold.clone(),
+                            Crossing::Falls,
+                            negative_breakaway.clone(),
+                            backward,
+                            false,
+                        ),
+                    ));
+                }
             }
             (ElementKind::Friction(friction), slip) => {
                 let velocity = flow();
@@ -309,19 +370,25 @@ fn derive_in<E: GuardForms>(model: &Model, mode: &Mode, equations: &E) -> Vec<Gu
                             (Crossing::Rises, minus(&below), ElementMode::CreepNegative)
                         }
                     };
-                    guards.push(guard(
-                        Watched::StribeckVelocity,
-                        velocity.clone(),
-                        crossing,
-                        threshold,
-                        to,
-                        false,
+                    guards.push(only(
+                        Regime::Weakening,
+                        guard(
+                            Watched::StribeckVelocity,
+                            velocity.clone(),
+                            crossing,
+                            threshold,
+                            to,
+                            false,
+                        ),
                     ));
-                    if !creeping {
-                        // Sliding faster than v_s, it must creep before it can stop.
-                        continue;
-                    }
                 }
+                // Sliding faster than a positive v_s, it must creep before it can stop; with
+                // v_s zero it stops or reverses as a Karnopp contact does.
+                let regime = if friction.stribeck.is_some() && !creeping {
+                    Regime::Karnopp
+                } else {
+                    Regime::Always
+                };
                 let dead_band = friction.dead_band.value.clone();
                 let (crossing, band, reverse) = match (forward, creeping) {
                     (true, false) => (Crossing::Falls, dead_band, ElementMode::SlipNegative),
@@ -329,21 +396,27 @@ fn derive_in<E: GuardForms>(model: &Model, mode: &Mode, equations: &E) -> Vec<Gu
                     (true, true) => (Crossing::Falls, dead_band, ElementMode::CreepNegative),
                     (false, true) => (Crossing::Rises, -dead_band, ElementMode::CreepPositive),
                 };
-                guards.push(guard(
-                    Watched::RelativeVelocity,
-                    velocity.clone(),
-                    crossing,
-                    lift(&LinearForm::constant(band)),
-                    ElementMode::Stuck,
-                    true,
+                guards.push(only(
+                    regime,
+                    guard(
+                        Watched::RelativeVelocity,
+                        velocity.clone(),
+                        crossing,
+                        lift(&LinearForm::constant(band)),
+                        ElementMode::Stuck,
+                        true,
+                    ),
                 ));
-                guards.push(guard(
-                    Watched::RelativeVelocity,
-                    velocity,
-                    crossing,
-                    lift(&LinearForm::zero()),
-                    reverse,
-                    false,
+                guards.push(only(
+                    regime,
+                    guard(
+                        Watched::RelativeVelocity,
+                        velocity,
+                        crossing,
+                        lift(&LinearForm::zero()),
+                        reverse,
+                        false,
+                    ),
                 ));
             }
             (ElementKind::TensionOnly(_), ElementMode::Taut) => {

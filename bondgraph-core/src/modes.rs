@@ -35,7 +35,7 @@ use serde::Serialize;
 use crate::equations::nonlinear::{self, NonlinearEquations};
 use crate::guards::{self, Crossing, Guard};
 use crate::laws;
-use crate::model::{ElementId, ElementMode, Model};
+use crate::model::{ElementId, ElementKind, ElementMode, Model};
 use crate::symbolic::expr::Sym;
 
 /// The mode of every switching element of a model, in element order.
@@ -120,6 +120,30 @@ impl Mode {
         )
     }
 
+    /// This mode as it is with the parameter `values` (indexed like [`Model::values`]): a
+    /// friction contact said to creep whose Stribeck velocity is zero there slips instead
+    /// ([`crate::model::Friction::mode_at`]).
+    pub fn at_values(&self, model: &Model, values: &[f64]) -> Self {
+        Self(
+            self.0
+                .iter()
+                .map(|&(e, m)| match &model.element(e).kind {
+                    ElementKind::Friction(friction) => (e, friction.mode_at(m, values)),
+                    _ => (e, m),
+                })
+                .collect(),
+        )
+    }
+
+    /// Whether the model has this mode at its own values: not when a contact creeps whose
+    /// Stribeck velocity is zero there. Such a mode is derived all the same, without
+    /// refusing the coefficients that its zero Stribeck velocity makes infinite: a fit sets
+    /// other values before it binds its numbers, and the simulator never binds them at zero
+    /// ([`Mode::at_values`]).
+    pub fn exists_at_values(&self, model: &Model) -> bool {
+        self.at_values(model, &model.values) == *self
+    }
+
     /// The switching elements and their modes, in element order.
     pub fn assignments(&self) -> &[(ElementId, ElementMode)] {
         &self.0
@@ -155,10 +179,11 @@ pub struct ModeEquations {
 ///
 /// # Errors
 /// As [`equations::derive`]; a mode whose causality conflicts (a stuck contact between two
-/// velocity sources) cannot be entered.
+/// velocity sources) cannot be entered. Coefficients are checked at the model's values only
+/// in a mode the model has there ([`Mode::exists_at_values`]).
 pub fn derive(model: &Model, mode: &Mode, options: &Options) -> Result<ModeEquations> {
     let laws = laws::for_mode(model, mode);
-    let equations = equations::derive(model, &laws, options)
+    let equations = equations::derive_checking(model, &laws, options, mode.exists_at_values(model))
         .map_err(|d| crate::model::linear_graph::reword(model, d))?;
     let guards = guards::derive(model, mode, &equations);
     Ok(ModeEquations {
@@ -189,7 +214,8 @@ pub fn derive_nonlinear(
     options: &Options,
 ) -> Result<NonlinearModeEquations> {
     let laws = laws::for_mode(model, mode);
-    let equations = nonlinear::derive(model, &laws, options)?;
+    let equations =
+        nonlinear::derive_checking(model, &laws, options, mode.exists_at_values(model))?;
     let guards = guards::derive_nonlinear(model, mode, &equations);
     Ok(NonlinearModeEquations {
         mode: mode.clone(),
@@ -313,10 +339,11 @@ impl ListedMode for ModeEquations {
             .map(|s| s.name.clone())
             .collect()
     }
-    fn guard_rows(&self, _: &Model) -> Vec<GuardRow> {
+    fn guard_rows(&self, model: &Model) -> Vec<GuardRow> {
         let eq = &self.equations;
         self.guards
             .iter()
+            .filter(|g| g.applies(model, &model.values))
             .map(|g| GuardRow {
                 element: g.element,
                 leaves_to: g.leaves_to,
@@ -342,10 +369,11 @@ impl ListedMode for NonlinearModeEquations {
             .map(|s| s.name.clone())
             .collect()
     }
-    fn guard_rows(&self, _: &Model) -> Vec<GuardRow> {
+    fn guard_rows(&self, model: &Model) -> Vec<GuardRow> {
         let eq = &self.equations;
         self.guards
             .iter()
+            .filter(|g| g.applies(model, &model.values))
             .map(|g| GuardRow {
                 element: g.element,
                 leaves_to: g.leaves_to,
@@ -368,11 +396,7 @@ impl ListedMode for NonlinearModeEquations {
 /// ([`Model::is_nonlinear`]) use [`reachable_nonlinear`].
 pub fn reachable(model: &Model, options: &Options) -> Result<Reachable> {
     let mut cache = ModeCache::new(model, *options);
-    explore(
-        model,
-        |mode| cache.get(mode),
-        |m| m.guards.iter().map(|g| (g.element, g.leaves_to)).collect(),
-    )
+    explore(model, |mode| cache.get(mode), |m| targets(model, &m.guards))
 }
 
 /// Every mode of a nonlinear model reachable from its initial mode.
@@ -388,8 +412,18 @@ pub fn reachable_nonlinear(
     explore(
         model,
         |mode| cache.get_nonlinear(mode),
-        |m| m.guards.iter().map(|g| (g.element, g.leaves_to)).collect(),
+        |m| targets(model, &m.guards),
     )
+}
+
+/// Where the `guards` that apply at the model's own values lead: which element switches to
+/// which of its modes.
+fn targets<Q>(model: &Model, guards: &[Guard<Q>]) -> Vec<(ElementId, ElementMode)> {
+    guards
+        .iter()
+        .filter(|g| g.applies(model, &model.values))
+        .map(|g| (g.element, g.leaves_to))
+        .collect()
 }
 
 /// Breadth-first search over the modes that guards lead to, at most
@@ -403,7 +437,7 @@ fn explore<M>(
     mut derive: impl FnMut(&Mode) -> Result<Arc<M>>,
     targets: impl Fn(&M) -> Vec<(ElementId, ElementMode)>,
 ) -> Result<Reachable<M>> {
-    let initial = Mode::initial(model);
+    let initial = Mode::initial(model).at_values(model, &model.values);
     derive(&initial)?;
     let mut seen = vec![initial.clone()];
     let mut queue = VecDeque::from([initial.clone()]);

@@ -527,13 +527,21 @@ impl<'m> Simulator<'m> {
         self.model
     }
 
-    /// The numeric form of `mode`, derived on first use.
+    /// The numeric form of `mode`, derived on first use; a contact said to creep whose
+    /// Stribeck velocity is zero with the values substituted slips instead
+    /// ([`Mode::at_values`]).
     ///
     /// # Errors
     /// [`SimError::Derivation`] if the mode cannot be derived.
     pub fn mode(&mut self, mode: &Mode) -> Result<Arc<NumericMode>, SimError> {
         if let Some(numeric) = self.numeric.get(mode) {
             return Ok(numeric.clone());
+        }
+        let bound = mode.at_values(self.model, &self.values);
+        if bound != *mode {
+            let numeric = self.mode(&bound)?;
+            self.numeric.insert(mode.clone(), numeric.clone());
+            return Ok(numeric);
         }
         if self.model.is_nonlinear() {
             let numeric = Arc::new(integrate::numeric_mode(self, mode)?);
@@ -653,7 +661,7 @@ impl<'m> Simulator<'m> {
         let mut switched_ids: Vec<ElementId> = Vec::new();
         let mut previous: Option<(Arc<NumericMode>, ElementId, Why)> =
             trigger.map(|trigger| (trigger.mode.clone(), trigger.element, trigger.why));
-        let mut mode = candidate;
+        let mut mode = candidate.at_values(self.model, &self.values);
         loop {
             if tried.contains(&mode) {
                 let mut switched: Vec<String> = switched_ids
@@ -756,7 +764,7 @@ impl<'m> Simulator<'m> {
             let Some(id) = self.model.element_named(name) else {
                 continue;
             };
-            let options = self.model.element(id).kind.modes();
+            let options = self.model.element(id).kind.modes_at(&self.values);
             if !options.is_empty() {
                 choices.push((id, options));
             }
@@ -800,7 +808,7 @@ impl<'m> Simulator<'m> {
         elements
             .iter()
             .filter_map(|name| self.model.element_named(name))
-            .map(|id| self.model.element(id).kind.modes().len())
+            .map(|id| self.model.element(id).kind.modes_at(&self.values).len())
             .filter(|&n| n > 0)
             .collect()
     }

@@ -127,7 +127,8 @@ impl NonlinearNumeric {
         }
         let f_and_jacobian = compile(n, m, values, &with_jacobian);
         let mut guard_exprs = Vec::new();
-        for guard in &derived.guards {
+        // Only the guards that apply at these values, in order, as the mode lists them.
+        for guard in derived.guards.iter().filter(|g| g.applies(model, values)) {
             let g = guard.function();
             guard_exprs.push(g.clone());
             guard_exprs.push(g.magnitude());

@@ -310,6 +310,7 @@ impl NumericMode {
         let guards: Vec<NumericGuard> = forms
             .guards
             .iter()
+            .filter(|g| g.applies(values))
             .map(|g| NumericGuard {
                 element: g.element,
                 leaves_to: g.leaves_to,
@@ -377,6 +378,7 @@ impl NumericMode {
         let guards = derived
             .guards
             .iter()
+            .filter(|g| g.applies(model, values))
             .enumerate()
             .map(|(k, g)| NumericGuard {
                 element: g.element,

@@ -275,6 +275,17 @@ pub struct StateEquations {
 /// resistances that must set a flow, and coefficients that overflow at the parameter
 /// values; each names the elements concerned.
 pub fn derive(model: &Model, laws: &[Law], options: &Options) -> Result<StateEquations> {
+    derive_checking(model, laws, options, true)
+}
+
+/// As [`derive`]; with `check_finite` false the coefficients are not checked at the model's
+/// values, for a mode the model has only at other values ([`crate::modes::derive`]).
+pub(crate) fn derive_checking(
+    model: &Model,
+    laws: &[Law],
+    options: &Options,
+    check_finite: bool,
+) -> Result<StateEquations> {
     if let Some(element) = model
         .element_ids()
         .find(|e| laws[e.index()].nonlinear().is_some())
@@ -282,7 +293,14 @@ pub fn derive(model: &Model, laws: &[Law], options: &Options) -> Result<StateEqu
         return Err(nonlinear::not_linear(model, element));
     }
     let causal = causality::assign(model, laws)?;
-    derive_with(model, laws, causal, options)
+    derive_parts(
+        model,
+        laws,
+        causal,
+        options,
+        vec![None; model.elements.len()],
+        check_finite,
+    )
 }
 
 /// Derives the state equations from an already assigned causality.
@@ -310,17 +328,20 @@ pub fn derive_with(
         causal,
         options,
         vec![None; model.elements.len()],
+        true,
     )
 }
 
 /// The derivation with the outputs of nonlinear laws kept as auxiliary variables
-/// (`auxiliary`: the first auxiliary index of each nonlinear element).
+/// (`auxiliary`: the first auxiliary index of each nonlinear element); `check_finite` refuses
+/// coefficients that overflow at the model's values ([`finite`]).
 pub(crate) fn derive_parts(
     model: &Model,
     laws: &[Law],
     causal: Causality,
     options: &Options,
     auxiliary: Vec<Option<u32>>,
+    check_finite: bool,
 ) -> Result<StateEquations> {
     let (numbering, state_elements) = number_storage(model, laws, &causal, auxiliary);
     let solved = elimination::solve(model, laws, &causal, &numbering)?;
@@ -415,7 +436,9 @@ pub(crate) fn derive_parts(
         bond_vars,
         storage_energy,
     };
-    finite::check(model, &equations, &state_elements)?;
+    if check_finite {
+        finite::check(model, &equations, &state_elements)?;
+    }
     Ok(equations)
 }
 

@@ -306,6 +306,12 @@ impl NonlinearLaw {
 /// falling linearly from the breakaway force at rest to the Coulomb force at `v_s`; faster
 /// (`slip±`) it is the Coulomb law above. The piecewise-linear curve keeps every mode linear,
 /// so each still has its own A and B.
+///
+/// A Stribeck velocity of zero leaves no creeping range: the contact is then the Karnopp
+/// contact with the same forces. The velocity may be a parameter that a fit sets to zero or
+/// to positive values on the same checked model, so which it is gets decided where numbers
+/// are bound ([`Friction::creeps_at`], [`crate::guards::Regime`]); one written as a literal
+/// zero is no Stribeck velocity at all (`stribeck` is `None`).
 #[derive(Clone, Debug)]
 pub struct Friction {
     /// The breakaway (static) force `F_S`; affine in the inputs.
@@ -339,7 +345,34 @@ impl Friction {
             .checked_div(&stribeck.value)?;
         Some(self.viscous.value.sub_ref(&slope))
     }
+
+    /// Whether the contact has a creeping range with the parameter `values` (indexed like
+    /// [`Model::values`]): a Stribeck velocity that is not zero there. Without one it breaks
+    /// away into `slip±` and slides to a stop as a Karnopp contact.
+    pub fn creeps_at(&self, values: &[f64]) -> bool {
+        self.stribeck
+            .as_ref()
+            .is_some_and(|stribeck| stribeck.value.eval(values) != 0.0)
+    }
+
+    /// The mode the contact is in with the parameter `values` when its mode is said to be
+    /// `mode`: without a creeping range there, `creep±` is `slip±` (the two laws meet at
+    /// the Stribeck velocity, which is zero).
+    pub fn mode_at(&self, mode: ElementMode, values: &[f64]) -> ElementMode {
+        match mode {
+            ElementMode::CreepPositive if !self.creeps_at(values) => ElementMode::SlipPositive,
+            ElementMode::CreepNegative if !self.creeps_at(values) => ElementMode::SlipNegative,
+            _ => mode,
+        }
+    }
 }
+
+/// The modes of a friction contact without a creeping range.
+const KARNOPP_MODES: &[ElementMode] = &[
+    ElementMode::Stuck,
+    ElementMode::SlipPositive,
+    ElementMode::SlipNegative,
+];
 
 /// A compliance that carries tension only, like a string.
 ///
@@ -477,14 +510,20 @@ impl ElementKind {
                 ElementMode::CreepPositive,
                 ElementMode::CreepNegative,
             ],
-            ElementKind::Friction(_) => &[
-                ElementMode::Stuck,
-                ElementMode::SlipPositive,
-                ElementMode::SlipNegative,
-            ],
+            ElementKind::Friction(_) => KARNOPP_MODES,
             ElementKind::TensionOnly(_) => &[ElementMode::Taut, ElementMode::Slack],
             ElementKind::FlowLimit(_) => &[ElementMode::Open, ElementMode::Limiting],
             _ => &[],
+        }
+    }
+
+    /// The modes a switching element can be in with the parameter `values` (indexed like
+    /// [`Model::values`]): a friction contact's Stribeck velocity of zero there leaves it
+    /// no `creep±`.
+    pub fn modes_at(&self, values: &[f64]) -> &'static [ElementMode] {
+        match self {
+            ElementKind::Friction(f) if !f.creeps_at(values) => KARNOPP_MODES,
+            _ => self.modes(),
         }
     }
 

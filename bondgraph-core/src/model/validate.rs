@@ -664,9 +664,14 @@ impl Validator<'_> {
                 let viscous = self.optional_coefficient(name, index, "viscous", viscous, scope);
                 let dead_band =
                     self.optional_coefficient(name, index, "dead_band", dead_band, scope);
-                let stribeck = stribeck.as_ref().map(|text| {
-                    self.coefficient(name, index, "stribeck", text, scope, Sign::Positive)
-                });
+                // Zero is no creeping range, the Karnopp contact (a fit may set it there, see
+                // `Friction`); written as a literal zero it is no Stribeck velocity at all.
+                let stribeck = stribeck
+                    .as_ref()
+                    .map(|text| {
+                        self.coefficient(name, index, "stribeck", text, scope, Sign::NonNegative)
+                    })
+                    .filter(|coefficient| coefficient.as_ref().is_none_or(|c| !c.value.is_zero()));
                 let mut allowed = vec![
                     ElementMode::Stuck,
                     ElementMode::SlipPositive,

@@ -284,11 +284,8 @@ fn a_linear_graph_circuit_takes_currents_as_through_variables() {
 }
 
 /// Extensions written as issue 31 asks, for what the library cannot read yet, each with
-/// the error it gives today: a Stribeck velocity at its no-effect value zero. Whoever makes one pass takes it off this list.
-const AWAITING_THE_LIBRARY: &[(&str, &str)] = &[(
-    "actuator/extensions/stribeck-weakening.ron",
-    "must be positive",
-)];
+/// the error it gives today (none at present). Whoever makes one pass takes it off this list.
+const AWAITING_THE_LIBRARY: &[(&str, &str)] = &[];
 
 /// Every shipped model, and each with each of its extensions, passes the check (those
 /// awaiting the library fail as listed).

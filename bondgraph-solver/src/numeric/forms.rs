@@ -7,9 +7,9 @@
 //! values. [`ModeForms`] holds the result, so that new values only cost evaluating rational
 //! functions ([`super::NumericMode::from_forms`]).
 
-use bondgraph_core::guards::Watched;
+use bondgraph_core::guards::{Regime, Watched};
 use bondgraph_core::linear::LinearForm;
-use bondgraph_core::model::{ElementId, ElementKind, ElementMode, Model};
+use bondgraph_core::model::{ElementId, ElementKind, ElementMode, Friction, Model};
 use bondgraph_core::modes::{Mode, ModeEquations};
 use bondgraph_core::symbolic::RatFunc;
 
@@ -24,6 +24,18 @@ pub(super) struct GuardForm {
     pub watched: Watched,
     /// `g(x, u)`, firing when it reaches zero from below.
     pub function: LinearForm,
+    /// For a guard of one regime of a Stribeck contact, the regime and the contact, whose
+    /// Stribeck velocity at the values bound says whether the guard applies.
+    pub only_in: Option<(Regime, Friction)>,
+}
+
+impl GuardForm {
+    /// Whether the guard applies with the parameter `values`.
+    pub fn applies(&self, values: &[f64]) -> bool {
+        self.only_in
+            .as_ref()
+            .is_none_or(|(regime, contact)| regime.applies(contact.creeps_at(values)))
+    }
 }
 
 /// A one-port's effort and the flow into it.
@@ -77,6 +89,11 @@ impl ModeForms {
                 requires_hold: g.requires_hold,
                 watched: g.watched,
                 function: g.function(),
+                only_in: match (&model.element(g.element).kind, g.regime) {
+                    (_, Regime::Always) => None,
+                    (ElementKind::Friction(contact), regime) => Some((regime, (**contact).clone())),
+                    _ => None,
+                },
             })
             .collect();
         let ports = model

@@ -379,6 +379,10 @@ impl Dop853 {
 /// zeros).
 fn combine(x: &[f64], h: f64, a: &[f64], k: &[f64], n: usize, out: &mut [f64]) {
     out[..n].copy_from_slice(&x[..n]);
+    if n == 0 {
+        // A mode with no states (every body held by a stuck contact): nothing to combine.
+        return;
+    }
     for (&weight, stage) in a.iter().zip(k.chunks_exact(n)) {
         if weight != 0.0 {
             let w = h * weight;

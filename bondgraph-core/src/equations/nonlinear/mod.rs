@@ -112,8 +112,19 @@ struct Auxiliary {
 /// # Errors
 /// As [`crate::equations::derive`], and what the module documentation lists.
 pub fn derive(model: &Model, laws: &[Law], options: &Options) -> Result<NonlinearEquations> {
+    derive_checking(model, laws, options, true)
+}
+
+/// As [`derive`]; with `check_finite` false the coefficients are not checked at the model's
+/// values, for a mode the model has only at other values ([`crate::modes::derive`]).
+pub(crate) fn derive_checking(
+    model: &Model,
+    laws: &[Law],
+    options: &Options,
+    check_finite: bool,
+) -> Result<NonlinearEquations> {
     let causal = causality::assign(model, laws)?;
-    derive_with(model, laws, causal, options)
+    derive_with_checking(model, laws, causal, options, check_finite)
 }
 
 /// Derives the equations from an already assigned causality.
@@ -125,6 +136,16 @@ pub fn derive_with(
     laws: &[Law],
     causal: Causality,
     options: &Options,
+) -> Result<NonlinearEquations> {
+    derive_with_checking(model, laws, causal, options, true)
+}
+
+fn derive_with_checking(
+    model: &Model,
+    laws: &[Law],
+    causal: Causality,
+    options: &Options,
+    check_finite: bool,
 ) -> Result<NonlinearEquations> {
     for &element in &causal.dependent {
         if laws[element.index()].nonlinear().is_some() {
@@ -167,7 +188,14 @@ pub fn derive_with(
         }
     }
 
-    let linear = crate::equations::derive_parts(model, laws, causal, options, first_auxiliary)?;
+    let linear = crate::equations::derive_parts(
+        model,
+        laws,
+        causal,
+        options,
+        first_auxiliary,
+        check_finite,
+    )?;
 
     // Definitions in the mode's states, inputs and other auxiliaries.
     let storage_energy: Vec<(ElementId, LinearForm)> = linear.storage_energy().to_vec();
