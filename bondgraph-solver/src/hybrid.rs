@@ -1116,6 +1116,11 @@ impl<'s, 'm> Stepper<'s, 'm> {
         &self.armed
     }
 
+    /// The steps taken so far: integration steps and event-location samples.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
     /// The number of events so far.
     pub fn event_count(&self) -> usize {
         self.recorder.events.len()

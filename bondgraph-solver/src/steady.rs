@@ -87,8 +87,23 @@ pub struct Steady {
     pub mode: String,
     /// When it was judged settled.
     pub time: f64,
+    /// The energy variables of every storage element there (in the simulator's storage
+    /// order); where the motion drifts, at [`Steady::time`].
+    pub state: Vec<f64>,
+    /// The work the search took.
+    pub work: Work,
     /// The events on the way (none unless [`SteadySettings::events`]).
     pub events: Vec<Event>,
+}
+
+/// The work a steady-state search took, counted against its budgets.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Work {
+    /// Stretches simulated ([`SteadySettings::max_segments`]).
+    pub segments: usize,
+    /// The simulator's steps ([`crate::hybrid::Settings::max_steps`]): integration steps
+    /// and event-location samples.
+    pub steps: u64,
 }
 
 /// Why no steady state was found.
@@ -298,6 +313,8 @@ pub fn steady_state(
             drift: drift_outputs,
             mode: mode.spec.clone(),
             time: stepper.time(),
+            state: mode.reconstruct(&x, &u),
+            work: search.work(&stepper),
             events: if settings.events {
                 stepper.into_events()
             } else {
@@ -323,6 +340,14 @@ impl<'a> Search<'a> {
         Self {
             settings,
             segments: 0,
+        }
+    }
+
+    /// The work done so far.
+    pub(crate) fn work(&self, stepper: &Stepper<'_, '_>) -> Work {
+        Work {
+            segments: self.segments,
+            steps: stepper.steps(),
         }
     }
 

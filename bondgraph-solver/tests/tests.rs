@@ -21,6 +21,7 @@ mod oracle;
 mod oscillating_guards;
 mod properties;
 mod settling;
+mod steady_polish;
 mod stick_slip;
 mod stribeck;
 mod stribeck_zero;
