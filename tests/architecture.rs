@@ -63,8 +63,8 @@ const FUNCTION_BUDGET: usize = 150;
 
 /// Files over [`FILE_BUDGET`] today, with their size now (each may only shrink).
 const OVERSIZED_FILES: &[(&str, usize)] = &[
-    ("bondgraph-solver/src/hybrid.rs", 1747),
-    ("bondgraph-core/src/model/validate.rs", 1533),
+    ("bondgraph-solver/src/hybrid.rs", 1688),
+    ("bondgraph-core/src/model/validate.rs", 1489),
     ("bondgraph-solver/src/linalg.rs", 1439),
     ("bondgraph-core/src/scenario.rs", 1246),
     ("bondgraph-core/src/model/source_map.rs", 1092),
@@ -76,7 +76,7 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("bondgraph-solver/src/events.rs", "first_crossing", 347),
     ("bondgraph-core/src/equations/merging.rs", "merge", 280),
     ("bondgraph-core/src/model/validate.rs", "validate_as", 260),
-    ("bondgraph-core/src/model/validate.rs", "element_kind", 258),
+    ("bondgraph-core/src/model/validate.rs", "element_kind", 213),
     ("src/lg_svg.rs", "draw", 250),
     ("src/explain_lg.rs", "explain", 232),
     ("bondgraph-core/src/equations/elimination.rs", "define", 230),
@@ -99,7 +99,6 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("bondgraph-core/src/diagram.rs", "layout", 181),
     ("bondgraph-solver/src/energy/modal.rs", "over", 177),
     ("studies/eversion/src/report.rs", "table3_findings", 169),
-    ("bondgraph-core/src/guards.rs", "derive_in", 169),
     ("bondgraph-core/src/units/check.rs", "constraints", 166),
     (
         "bondgraph-core/src/model/linear_graph/check.rs",

@@ -45,7 +45,7 @@
 use crate::equations::nonlinear::NonlinearEquations;
 use crate::equations::{StateEquations, StateVariable};
 use crate::linear::{LinearForm, Var};
-use crate::model::{BondId, ElementId, ElementKind, ElementMode, Model};
+use crate::model::{BondId, ElementId, ElementKind, ElementMode, Friction, Model};
 use crate::modes::Mode;
 use crate::symbolic::RatFunc;
 use crate::symbolic::expr::{Atom, Sym};
@@ -302,121 +302,15 @@ fn derive_in<E: GuardForms>(model: &Model, mode: &Mode, equations: &E) -> Vec<Gu
                 requires_hold,
                 regime: Regime::Always,
             };
-        let only = |regime, guard: Guard<E::Form>| Guard { regime, ..guard };
         match (&model.element(element).kind, element_mode) {
-            (ElementKind::Friction(friction), ElementMode::Stuck) => {
-                let hold = effort();
-                let breakaway = lift(&friction.breakaway.value);
-                let negative_breakaway =
-                    lift(&friction.breakaway.value.scaled(&RatFunc::integer(-1)));
-                let slip = (ElementMode::SlipPositive, ElementMode::SlipNegative);
-                let creep = (ElementMode::CreepPositive, ElementMode::CreepNegative);
-                let targets = if friction.stribeck.is_some() {
-                    vec![(Regime::Weakening, creep), (Regime::Karnopp, slip)]
-                } else {
-                    vec![(Regime::Always, slip)]
-                };
-                for (regime, (forward, backward)) in targets {
-                    guards.push(only(
-                        regime,
-                        guard(
-                            Watched::HoldingForce,
-                            hold.clone(),
-                            Crossing::Rises,
-                            breakaway.clone(),
-                            forward,
-                            false,
-                        ),
-                    ));
-                    guards.push(only(
-                        regime,
-                        guard(
-                            Watched::HoldingForce,
-                            hold.clone(),
-                            Crossing::Falls,
-                            negative_breakaway.clone(),
-                            backward,
-                            false,
-                        ),
-                    ));
-                }
-            }
-            (ElementKind::Friction(friction), slip) => {
-                let velocity = flow();
-                let forward =
-                    matches!(slip, ElementMode::SlipPositive | ElementMode::CreepPositive);
-                let creeping = matches!(
-                    slip,
-                    ElementMode::CreepPositive | ElementMode::CreepNegative
-                );
-                if let Some(stribeck) = &friction.stribeck {
-                    // The two laws agree at v_s, so where the motion settles right at v_s
-                    // (a taut string holding the contact there) switching on either side of
-                    // one threshold would chatter on rounding. A hysteresis of the dead band
-                    // prevents it, at a force error of at most (F_S - F_C) Δv/v_s.
-                    let band = &friction.dead_band.value;
-                    let above = LinearForm::constant(stribeck.value.add_ref(band));
-                    let below = LinearForm::constant(stribeck.value.sub_ref(band));
-                    let minus = |form: &LinearForm| lift(&form.scaled(&RatFunc::integer(-1)));
-                    let (crossing, threshold, to) = match (forward, creeping) {
-                        (true, true) => (Crossing::Rises, lift(&above), ElementMode::SlipPositive),
-                        (false, true) => {
-                            (Crossing::Falls, minus(&above), ElementMode::SlipNegative)
-                        }
-                        (true, false) => {
-                            (Crossing::Falls, lift(&below), ElementMode::CreepPositive)
-                        }
-                        (false, false) => {
-                            (Crossing::Rises, minus(&below), ElementMode::CreepNegative)
-                        }
-                    };
-                    guards.push(only(
-                        Regime::Weakening,
-                        guard(
-                            Watched::StribeckVelocity,
-                            velocity.clone(),
-                            crossing,
-                            threshold,
-                            to,
-                            false,
-                        ),
-                    ));
-                }
-                // Sliding faster than a positive v_s, it must creep before it can stop; with
-                // v_s zero it stops or reverses as a Karnopp contact does.
-                let regime = if friction.stribeck.is_some() && !creeping {
-                    Regime::Karnopp
-                } else {
-                    Regime::Always
-                };
-                let dead_band = friction.dead_band.value.clone();
-                let (crossing, band, reverse) = match (forward, creeping) {
-                    (true, false) => (Crossing::Falls, dead_band, ElementMode::SlipNegative),
-                    (false, false) => (Crossing::Rises, -dead_band, ElementMode::SlipPositive),
-                    (true, true) => (Crossing::Falls, dead_band, ElementMode::CreepNegative),
-                    (false, true) => (Crossing::Rises, -dead_band, ElementMode::CreepPositive),
-                };
-                guards.push(only(
-                    regime,
-                    guard(
-                        Watched::RelativeVelocity,
-                        velocity.clone(),
-                        crossing,
-                        lift(&LinearForm::constant(band)),
-                        ElementMode::Stuck,
-                        true,
-                    ),
-                ));
-                guards.push(only(
-                    regime,
-                    guard(
-                        Watched::RelativeVelocity,
-                        velocity,
-                        crossing,
-                        lift(&LinearForm::zero()),
-                        reverse,
-                        false,
-                    ),
+            (ElementKind::Friction(friction), _) => {
+                let forms = (effort(), flow());
+                guards.extend(friction_guards(
+                    friction,
+                    element,
+                    element_mode,
+                    forms,
+                    &lift,
                 ));
             }
             (ElementKind::TensionOnly(_), ElementMode::Taut) => {
@@ -474,5 +368,128 @@ fn derive_in<E: GuardForms>(model: &Model, mode: &Mode, equations: &E) -> Vec<Gu
             _ => {}
         }
     }
+    guards
+}
+
+/// The guards of a friction contact in `element_mode`: from stuck, breaking away; from a slide
+/// or a creep, stopping, reversing, or crossing the Stribeck velocity. `effort` and
+/// `velocity` are the contact's (the flow signed into it); `lift` makes a threshold a form.
+/// Where a Stribeck velocity is given each guard carries the [`Regime`] of values it applies
+/// at (`v_s` zero or not), since a fit moves `v_s` on one derived model.
+fn friction_guards<F: Clone>(
+    friction: &Friction,
+    element: ElementId,
+    element_mode: ElementMode,
+    (effort, velocity): (F, F),
+    lift: &dyn Fn(&LinearForm) -> F,
+) -> Vec<Guard<F>> {
+    let guard =
+        |regime, watched, quantity: F, crossing, threshold, leaves_to, requires_hold| Guard {
+            element,
+            watched,
+            quantity,
+            crossing,
+            threshold,
+            leaves_to,
+            requires_hold,
+            regime,
+        };
+    let mut guards = Vec::new();
+    if element_mode == ElementMode::Stuck {
+        let breakaway = lift(&friction.breakaway.value);
+        let negative_breakaway = lift(&friction.breakaway.value.scaled(&RatFunc::integer(-1)));
+        let slip = (ElementMode::SlipPositive, ElementMode::SlipNegative);
+        let creep = (ElementMode::CreepPositive, ElementMode::CreepNegative);
+        let targets = if friction.stribeck.is_some() {
+            vec![(Regime::Weakening, creep), (Regime::Karnopp, slip)]
+        } else {
+            vec![(Regime::Always, slip)]
+        };
+        for (regime, (forward, backward)) in targets {
+            let hold = Watched::HoldingForce;
+            guards.push(guard(
+                regime,
+                hold,
+                effort.clone(),
+                Crossing::Rises,
+                breakaway.clone(),
+                forward,
+                false,
+            ));
+            guards.push(guard(
+                regime,
+                hold,
+                effort.clone(),
+                Crossing::Falls,
+                negative_breakaway.clone(),
+                backward,
+                false,
+            ));
+        }
+        return guards;
+    }
+    let forward = matches!(
+        element_mode,
+        ElementMode::SlipPositive | ElementMode::CreepPositive
+    );
+    let creeping = matches!(
+        element_mode,
+        ElementMode::CreepPositive | ElementMode::CreepNegative
+    );
+    if let Some(stribeck) = &friction.stribeck {
+        // The two laws agree at v_s, so where the motion settles right at v_s (a taut string
+        // holding the contact there) switching on either side of one threshold would chatter
+        // on rounding. A hysteresis of the dead band prevents it, at a force error of at most
+        // (F_S - F_C) Δv/v_s.
+        let band = &friction.dead_band.value;
+        let above = LinearForm::constant(stribeck.value.add_ref(band));
+        let below = LinearForm::constant(stribeck.value.sub_ref(band));
+        let minus = |form: &LinearForm| lift(&form.scaled(&RatFunc::integer(-1)));
+        let (crossing, threshold, to) = match (forward, creeping) {
+            (true, true) => (Crossing::Rises, lift(&above), ElementMode::SlipPositive),
+            (false, true) => (Crossing::Falls, minus(&above), ElementMode::SlipNegative),
+            (true, false) => (Crossing::Falls, lift(&below), ElementMode::CreepPositive),
+            (false, false) => (Crossing::Rises, minus(&below), ElementMode::CreepNegative),
+        };
+        let watched = Watched::StribeckVelocity;
+        guards.push(guard(
+            Regime::Weakening,
+            watched,
+            velocity.clone(),
+            crossing,
+            threshold,
+            to,
+            false,
+        ));
+    }
+    // Sliding faster than a positive v_s, it must creep before it can stop; with v_s zero it
+    // stops or reverses as a Karnopp contact does.
+    let regime = if friction.stribeck.is_some() && !creeping {
+        Regime::Karnopp
+    } else {
+        Regime::Always
+    };
+    let dead_band = friction.dead_band.value.clone();
+    let (crossing, band, reverse) = match (forward, creeping) {
+        (true, false) => (Crossing::Falls, dead_band, ElementMode::SlipNegative),
+        (false, false) => (Crossing::Rises, -dead_band, ElementMode::SlipPositive),
+        (true, true) => (Crossing::Falls, dead_band, ElementMode::CreepNegative),
+        (false, true) => (Crossing::Rises, -dead_band, ElementMode::CreepPositive),
+    };
+    let relative = Watched::RelativeVelocity;
+    let stop = lift(&LinearForm::constant(band));
+    guards.push(guard(
+        regime,
+        relative,
+        velocity.clone(),
+        crossing,
+        stop,
+        ElementMode::Stuck,
+        true,
+    ));
+    let zero = lift(&LinearForm::zero());
+    guards.push(guard(
+        regime, relative, velocity, crossing, zero, reverse, false,
+    ));
     guards
 }

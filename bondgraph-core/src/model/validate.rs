@@ -15,8 +15,8 @@ use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::expr::{self, Expr, ExprKind};
 use crate::linear::{LinearForm, Var};
 use crate::model::checked::{
-    Bond, BondId, Coefficient, Element, ElementId, ElementKind, ElementMode, FlowLimit, Friction,
-    Input, Model, Parameter, SourceValue, TensionOnly,
+    Bond, BondId, Coefficient, Element, ElementId, ElementKind, ElementMode, FlowLimit, Input,
+    Model, Parameter, SourceValue, TensionOnly,
 };
 use crate::model::raw::{RawElement, RawModel};
 use crate::model::source_map::{EntrySpans, SourceMap};
@@ -25,6 +25,7 @@ use crate::symbolic::{RatFunc, SymbolTable};
 use crate::units::Unit;
 use crate::units::check::Convention;
 
+mod friction;
 mod laws;
 
 /// Checks `raw` (parsed from `file`, with positions in `map`) and builds the [`Model`].
@@ -658,59 +659,9 @@ impl Validator<'_> {
                 stribeck,
                 initial,
             } => {
-                let breakaway =
-                    self.source_value(name, index, "breakaway", breakaway, scope, false);
-                let coulomb = self.source_value(name, index, "coulomb", coulomb, scope, false);
-                let viscous = self.optional_coefficient(name, index, "viscous", viscous, scope);
-                let dead_band =
-                    self.optional_coefficient(name, index, "dead_band", dead_band, scope);
-                // Zero is no creeping range, the Karnopp contact (a fit may set it there, see
-                // `Friction`); written as a literal zero it is no Stribeck velocity at all.
-                let stribeck = stribeck
-                    .as_ref()
-                    .map(|text| {
-                        self.coefficient(name, index, "stribeck", text, scope, Sign::NonNegative)
-                    })
-                    .filter(|coefficient| coefficient.as_ref().is_none_or(|c| !c.value.is_zero()));
-                let mut allowed = vec![
-                    ElementMode::Stuck,
-                    ElementMode::SlipPositive,
-                    ElementMode::SlipNegative,
-                ];
-                if stribeck.is_some() {
-                    allowed.extend([ElementMode::CreepPositive, ElementMode::CreepNegative]);
-                }
-                let initial = self.initial_mode(name, index, initial.as_deref(), &allowed);
-                let (breakaway, coulomb) = (breakaway?, coulomb?);
-                self.check_friction_levels(name, &breakaway, &coulomb, scope)?;
-                let friction = Friction {
-                    breakaway,
-                    coulomb,
-                    viscous: viscous?,
-                    dead_band: dead_band?,
-                    stribeck: match stribeck {
-                        Some(coefficient) => Some(coefficient?),
-                        None => None,
-                    },
-                    initial: initial?,
-                };
-                if friction.stribeck.is_some() && friction.creep_resistance().is_none() {
-                    let span = friction.breakaway.span;
-                    self.problems.push(
-                        Diagnostic::new(
-                            DiagnosticKind::InvalidValue,
-                            format!(
-                                "friction contact '{name}': with a Stribeck velocity, breakaway \"{}\" and Coulomb \"{}\" must differ by an amount that does not depend on inputs",
-                                friction.breakaway.text, friction.coulomb.text
-                            ),
-                        )
-                        .at(&self.file, span)
-                        .element(name)
-                        .note("the weakening slope (breakaway - coulomb)/stribeck is a coefficient of the creeping modes' equations"),
-                    );
-                    return None;
-                }
-                ElementKind::Friction(Box::new(friction))
+                let levels = (breakaway, coulomb);
+                let optional = [viscous, dead_band, stribeck, initial];
+                self.friction(name, index, levels, optional, scope)?
             }
             RawElement::TensionOnly {
                 compliance,

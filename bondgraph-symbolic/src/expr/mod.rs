@@ -793,7 +793,11 @@ pub fn power(x: f64, e: Rational) -> f64 {
         };
         // A whole part of a few multiplications keeps the error at a couple of ulps.
         if let Ok(whole @ -4..=4) = whole {
-            return if whole == 0 { root } else { x.powi(whole) * root };
+            return if whole == 0 {
+                root
+            } else {
+                x.powi(whole) * root
+            };
         }
     }
     x.powf(e.to_f64())

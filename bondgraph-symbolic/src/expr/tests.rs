@@ -331,7 +331,17 @@ fn halves_and_quarters_by_square_roots() {
     assert_eq!(power(f64::INFINITY, r(-1, 4)), 0.0);
     let mut x = 1.234_567e-7;
     while x < 1e9 {
-        for (n, d) in [(1, 2), (3, 2), (5, 2), (1, 4), (3, 4), (5, 4), (7, 4), (-5, 4), (-3, 2)] {
+        for (n, d) in [
+            (1, 2),
+            (3, 2),
+            (5, 2),
+            (1, 4),
+            (3, 4),
+            (5, 4),
+            (7, 4),
+            (-5, 4),
+            (-3, 2),
+        ] {
             let fast = power(x, r(n, d));
             let reference = x.powf(n as f64 / d as f64);
             assert!(
