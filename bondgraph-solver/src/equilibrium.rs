@@ -295,6 +295,9 @@ pub fn steady_by_integration(
     let mut polish = Polish::entering(&stepper);
     loop {
         search.within_budget(&stepper)?;
+        if at_rest(&stepper, settings) {
+            return Ok(settled(stepper, &search, settings));
+        }
         let (u, _) = stepper.inputs_at(stepper.time());
         let before = stepper.mode().derivative(stepper.state(), &u);
         let Some(length) = window else {
@@ -338,6 +341,42 @@ pub fn steady_by_integration(
         }
         window = Some(scales.fastest.map_or(next, |fastest| next.max(fastest)));
     }
+}
+
+/// A rate within this fraction of the magnitude of its terms is zero: rounding.
+const AT_REST: f64 = 1e-12;
+
+/// Whether the stepper's state is a stable equilibrium where it stands: every rate zero to
+/// the rounding of its terms ([`AT_REST`] of their magnitude), and every eigenvalue of the
+/// Jacobian there decaying. Two heated blocks with the heaters off in a room at their
+/// temperature radiate `σ((T + 0)^4 - T^4)`, zero but for rounding of its 0.4 W terms: the
+/// state then moves by rounding (1e-16 K/s), which no test of its motion relative to its own
+/// size (1e-13 K) sees settle, and the search ran out of its steps.
+fn at_rest(stepper: &Stepper<'_, '_>, settings: &SteadySettings) -> bool {
+    let Some(nl) = stepper.mode().nonlinear.as_ref() else {
+        return false;
+    };
+    let (u, _) = stepper.inputs_at(stepper.time());
+    let input: Vec<f64> = stepper
+        .state()
+        .iter()
+        .chain(&u)
+        .copied()
+        .chain(std::iter::repeat_n(0.0, u.len()))
+        .collect();
+    let n = nl.n;
+    let f = nl.f_and_jacobian.eval_alloc(&input);
+    let magnitude = nl.f_magnitude.eval_alloc(&input);
+    let still = f[..n]
+        .iter()
+        .zip(&magnitude)
+        .all(|(r, size)| r.is_finite() && r.abs() <= AT_REST * size);
+    if !still || f[n..].iter().any(|v| !v.is_finite()) {
+        return false;
+    }
+    let jacobian = DMatrix::from_row_slice(n, n, &f[n..n + n * n]);
+    crate::analysis::eigenvalues(&jacobian)
+        .is_ok_and(|values| values.iter().all(|v| v.re < -settings.zero_eigenvalue))
 }
 
 /// A mode's time scales where the stepper stands: of a linear mode's matrix, or of a

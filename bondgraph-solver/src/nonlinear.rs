@@ -54,6 +54,9 @@ pub struct NonlinearNumeric {
     pub f: Tape,
     /// `f` then `∂f/∂x` row-major: `n + n²` outputs.
     pub f_and_jacobian: Tape,
+    /// The magnitude of each rate's terms (the sum of their absolute values): what `f`'s
+    /// rounding is judged against.
+    pub f_magnitude: Tape,
     /// Per guard: value, magnitude, rate.
     pub guards: Arc<Tape>,
     /// The requested outputs, then their rates along the motion.
@@ -126,6 +129,8 @@ impl NonlinearNumeric {
             with_jacobian.extend(row);
         }
         let f_and_jacobian = compile(n, m, values, &with_jacobian);
+        let magnitudes: Vec<Sym> = eq.derivatives.iter().map(Sym::magnitude).collect();
+        let f_magnitude = compile(n, m, values, &magnitudes);
         let mut guard_exprs = Vec::new();
         // Only the guards that apply at these values, in order, as the mode lists them.
         for guard in derived.guards.iter().filter(|g| g.applies(model, values)) {
@@ -166,6 +171,7 @@ impl NonlinearNumeric {
             m,
             f,
             f_and_jacobian,
+            f_magnitude,
             guards,
             outputs,
             ports,

@@ -207,3 +207,43 @@ fn a_pendulum_released_near_the_top_settles_hanging_not_at_the_top() {
     assert!(steady.work.segments <= 7, "{:?}", steady.work);
     assert!(steady.work.steps <= 300, "{:?}", steady.work);
 }
+
+/// Two heated blocks (`models/examples/thermal/`) with block 1 radiating to the room,
+/// `eA σ ((T₁ - T_amb + T_amb)⁴ - T_amb⁴)`, heaters off, started at room temperature: the
+/// blocks are at rest where they start, every rise 0 (no heat flows anywhere). The rate there
+/// is zero but for the rounding of radiation's two 0.4 W terms, so the search once watched a
+/// state of 1e-13 K move by rounding and ran out of its steps; it now sees it at rest, in no
+/// window at all.
+#[test]
+fn blocks_at_rest_where_they_start_are_steady_at_once() {
+    use bondgraph_core::model::extension::{self, Extension};
+    use bondgraph_core::source::SourceFile;
+    let read = |relative: &str| {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("..")
+            .join(relative);
+        SourceFile::new(relative, std::fs::read_to_string(path).unwrap())
+    };
+    let base = read("models/examples/thermal/thermal.lg.ron");
+    let radiation =
+        Extension::load(&read("models/examples/thermal/extensions/radiation.ron")).unwrap();
+    let mut model = extension::merge(&base, std::slice::from_ref(&radiation))
+        .and_then(|extended| extended.load())
+        .unwrap();
+    let ea = model.symbols.get("eA").unwrap();
+    model.values[ea.index()] = 0.01;
+    for room in [290.0, 300.0, 310.0] {
+        let steady = settle(
+            &model,
+            &["across:block_1", "across:block_2"],
+            &[0.0, 0.0, room],
+            &[],
+        );
+        assert_eq!(steady.state, [0.0, 0.0], "room at {room} K");
+        assert_eq!(
+            steady.work.segments, 0,
+            "room at {room} K: {:?}",
+            steady.work
+        );
+    }
+}
