@@ -1014,3 +1014,33 @@ fn every_linear_graph_is_drawn_readably_in_every_mode() {
         }
     }
 }
+
+/// A linear graph made nonlinear by an extension (two heated blocks, block 1 radiating to the
+/// room) keeps the linear graph's words for its states: an A-type's across variable is a
+/// temperature. The nonlinear printer once used the bond graph's words, where the state is
+/// the flow, and called it a heat flow.
+#[test]
+fn a_nonlinear_linear_graph_describes_its_states_in_its_own_words() {
+    let dir = std::env::temp_dir().join(format!("bondgraph-lg-words-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let extended = dir.join("radiating.lg.ron");
+    let out = extended.to_string_lossy().to_string();
+    crate::cli::succeed(&[
+        "extend",
+        "models/examples/thermal/thermal.lg.ron",
+        "models/examples/thermal/extensions/radiation.ron",
+        "--out",
+        &out,
+    ]);
+    let text = crate::cli::succeed(&["equations", &out]);
+    assert!(text.contains("nonlinear"), "{text}");
+    assert!(
+        text.contains("  v_block_1  temperature of 'block_1'\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains("  v_block_2  temperature of 'block_2'\n"),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -256,7 +256,7 @@ impl NonlinearEquations {
                 .iter()
                 .map(|(e, form)| (*e, affine(&form_to_sym(form))))
                 .collect(),
-            linear_graph: false,
+            linear_graph: self.linear_graph,
         }
     }
 

@@ -67,6 +67,9 @@ pub struct NonlinearEquations {
     pub symbols: SymbolTable,
     /// The parameter values, indexed by symbol.
     pub values: Vec<f64>,
+    /// Whether the model is a linear graph's, whose through variable is the bond graph's
+    /// effort (states are described in its words).
+    pub linear_graph: bool,
     /// Effort (`2b`) and flow (`2b + 1`) of every bond.
     bond_vars: Vec<Sym>,
     /// Energy variable of each storage element of the mode, affine in the states and inputs.
@@ -262,18 +265,11 @@ fn derive_with_checking(
         .collect();
 
     let mut notes = linear.notes.clone();
-    for elements in loops {
-        let (junctions, others): (Vec<ElementId>, Vec<ElementId>) = elements
+    notes.extend(
+        loops
             .iter()
-            .partition(|e| matches!(laws[e.index()], Law::ZeroJunction | Law::OneJunction));
-        let names = |ids: Vec<ElementId>| -> Vec<String> {
-            ids.iter().map(|e| model.element(*e).name.clone()).collect()
-        };
-        notes.push(Note::AlgebraicLoop {
-            elements: names(others),
-            junctions: names(junctions),
-        });
-    }
+            .map(|elements| loop_note(model, laws, elements)),
+    );
 
     Ok(NonlinearEquations {
         model: linear.model.clone(),
@@ -286,9 +282,24 @@ fn derive_with_checking(
         causality: linear.causality.clone(),
         symbols: linear.symbols.clone(),
         values: linear.values.clone(),
+        linear_graph: linear.linear_graph,
         bond_vars,
         storage_energy,
     })
+}
+
+/// The note on an algebraic loop through nonlinear laws: its elements, junctions apart.
+fn loop_note(model: &Model, laws: &[Law], elements: &[ElementId]) -> Note {
+    let (junctions, others): (Vec<ElementId>, Vec<ElementId>) = elements
+        .iter()
+        .partition(|e| matches!(laws[e.index()], Law::ZeroJunction | Law::OneJunction));
+    let names = |ids: Vec<ElementId>| -> Vec<String> {
+        ids.iter().map(|e| model.element(*e).name.clone()).collect()
+    };
+    Note::AlgebraicLoop {
+        elements: names(others),
+        junctions: names(junctions),
+    }
 }
 
 /// The definitions of a nonlinear law's auxiliary variables, in bond variables, the

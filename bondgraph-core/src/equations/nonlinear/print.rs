@@ -155,7 +155,9 @@ impl NonlinearEquations {
                 out.push_str(&format!(
                     "  {:width$}  {} of '{}'{detail}\n",
                     state.name,
-                    state.quantity.description_in(state.domain, false),
+                    state
+                        .quantity
+                        .description_in(state.domain, self.linear_graph),
                     state.element
                 ));
             }
