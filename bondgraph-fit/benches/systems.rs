@@ -22,13 +22,12 @@ use criterion::{Criterion, criterion_group, criterion_main};
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn file(relative: &str) -> Arc<SourceFile> {
+    // Named by its full path: a time series' experiment finds its scenario beside it.
     let path: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("..")
         .join(relative);
-    SourceFile::new(
-        relative,
-        std::fs::read_to_string(path).expect("bundled file"),
-    )
+    let text = std::fs::read_to_string(&path).expect("bundled file");
+    SourceFile::new(path.to_string_lossy(), text)
 }
 
 fn dataset(experiment: &Experiment, files: &[&str]) -> Dataset {
