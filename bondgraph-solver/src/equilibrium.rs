@@ -343,6 +343,19 @@ pub fn steady_by_integration(
     }
 }
 
+/// A nonlinear mode's tape input where the stepper stands: `[x, u, u̇ = 0]` (a steady search
+/// holds its inputs constant).
+fn tape_input(stepper: &Stepper<'_, '_>) -> Vec<f64> {
+    let (u, _) = stepper.inputs_at(stepper.time());
+    stepper
+        .state()
+        .iter()
+        .chain(&u)
+        .copied()
+        .chain(std::iter::repeat_n(0.0, u.len()))
+        .collect()
+}
+
 /// A rate within this fraction of the magnitude of its terms is zero: rounding.
 const AT_REST: f64 = 1e-12;
 
@@ -356,14 +369,7 @@ fn at_rest(stepper: &Stepper<'_, '_>, settings: &SteadySettings) -> bool {
     let Some(nl) = stepper.mode().nonlinear.as_ref() else {
         return false;
     };
-    let (u, _) = stepper.inputs_at(stepper.time());
-    let input: Vec<f64> = stepper
-        .state()
-        .iter()
-        .chain(&u)
-        .copied()
-        .chain(std::iter::repeat_n(0.0, u.len()))
-        .collect();
+    let input = tape_input(stepper);
     let n = nl.n;
     let f = nl.f_and_jacobian.eval_alloc(&input);
     let magnitude = nl.f_magnitude.eval_alloc(&input);
@@ -394,19 +400,11 @@ impl TimeScales {
     /// finite (every rate infinitely sensitive there): nothing says how long to wait.
     fn at(stepper: &Stepper<'_, '_>, settings: &SteadySettings) -> Result<Self, SteadyError> {
         let mode = stepper.mode();
-        let (u, _) = stepper.inputs_at(stepper.time());
         let mut singular = false;
         let eigenvalues = match &mode.nonlinear {
             Some(nl) => {
                 let n = nl.n;
-                let input: Vec<f64> = stepper
-                    .state()
-                    .iter()
-                    .chain(&u)
-                    .copied()
-                    .chain(std::iter::repeat_n(0.0, u.len()))
-                    .collect();
-                let out = nl.f_and_jacobian.eval_alloc(&input);
+                let out = nl.f_and_jacobian.eval_alloc(&tape_input(stepper));
                 // An entry that is not finite (a square root's slope at zero) says nothing
                 // of the time scales the others show.
                 let finite: Vec<f64> = out[n..n + n * n]
@@ -655,14 +653,7 @@ impl Polish {
     fn candidate(&self, stepper: &Stepper<'_, '_>) -> Option<Candidate> {
         let nl = stepper.mode().nonlinear.as_ref()?;
         let n = nl.n;
-        let (u, _) = stepper.inputs_at(stepper.time());
-        let start = stepper.state();
-        let mut input: Vec<f64> = start
-            .iter()
-            .chain(&u)
-            .copied()
-            .chain(std::iter::repeat_n(0.0, u.len()))
-            .collect();
+        let mut input = tape_input(stepper);
         let tape = &nl.f_and_jacobian;
         let mut scratch = tape.scratch();
         let mut out = vec![0.0; tape.output_count()];
@@ -696,7 +687,7 @@ impl Polish {
         let jacobian = DMatrix::from_row_slice(n, n, &out[n..n + n * n]);
         let point = input[..n].to_vec();
         Some(Candidate {
-            from: start.to_vec(),
+            from: stepper.state().to_vec(),
             point,
             jacobian,
         })

@@ -12,7 +12,8 @@ counts the verdicts a correct answer gives:
   base model ("aliased with the base", or listed in `indistinguishable`);
 - nothing hidden: nothing selected.
 
-A discover that fails counts as a miss, and its first error line is kept.
+A discover that fails, or a data set generate.py cannot make, counts as a miss, and its first
+error line is kept.
 
 Run from the repository root after `cargo build --release`, with numpy and scipy (the
 versions of SYSTEM/data/requirements.txt):
@@ -76,8 +77,14 @@ def one(args):
     model, experiments, refit = SYSTEMS[system]
     folder = os.path.join(EXAMPLES, system)
     out = os.path.join(tmp, f"{hidden}-{seed}")
-    subprocess.run([sys.executable, os.path.join(folder, "data", "generate.py"), "--seed", str(seed),
-                    "--hidden", hidden, "--out", out], check=True, capture_output=True)
+    made = subprocess.run([sys.executable, os.path.join(folder, "data", "generate.py"), "--seed",
+                           str(seed), "--hidden", hidden, "--out", out], capture_output=True, text=True)
+    if made.returncode != 0:
+        # A data set that could not be made is a miss with its reason, not the end of the study.
+        lines = made.stderr.strip().splitlines()
+        error = f"generate.py failed: {lines[-1] if lines else made.returncode}"
+        return hidden, seed, {k: {"correct": False, "selected": None, "error": error, "seconds": 0.0}
+                              for k in kinds}
     results = {}
     for kind in kinds:
         experiment = experiments[0] if kind == "steady" else experiments[1]
