@@ -52,7 +52,6 @@ const MODULE_CYCLES: &[(&str, &[&str])] = &[
             "units",
         ],
     ),
-    ("bondgraph-solver", &["equilibrium", "steady"]),
     ("bondgraph-fit", &["predict", "timeseries"]),
 ];
 

@@ -7,7 +7,8 @@
 //! integrated ([`ode`]: DOP853, switching to Radau IIA where the mode is stiff). Events are
 //! the zeros of the guards ([`events`]), located to a few ulps; what happens at them (a
 //! contact sticks, a string goes slack) is the modes' business ([`hybrid`]). Around that:
-//! steady states read off the exact asymptote ([`steady`], [`equilibrium`]), energy books
+//! steady states read off the exact asymptote or polished by Newton's method, and continued
+//! to nearby parameter values for fits ([`steady`]), equilibria ([`equilibrium`]), energy books
 //! that balance to rounding ([`energy`]), poles and step responses ([`analysis`]), and
 //! parasitic storage found from the eigen-structure ([`parasitic`]). Every loop has a budget
 //! of work ([`Settings`]), and exhausting one is an error that says which and where.

@@ -8,7 +8,7 @@ use bondgraph_core::modes::Mode;
 use bondgraph_solver::steady::{Steady, SteadySettings, steady_state};
 use bondgraph_solver::{Output, Run, Simulator};
 
-use crate::support::load;
+use crate::support::{DOUBLE_WELL, load};
 
 fn output(model: &Model, spec: &str) -> Output {
     Output {
@@ -84,31 +84,6 @@ fn the_two_tank_settles_on_the_orifice_law_in_a_few_windows() {
     assert!(steady.work.steps <= 650, "{:?}", steady.work);
 }
 
-/// A mass in a double well, `m q̈ + b q̇ - k q + k₃ q³ = 0`: wells at `q = ±√(k/k₃) = ±1`, a
-/// saddle at 0. Pushed from `q = 0` to the right with `p = 2.2`, it crosses the hump several
-/// times and settles in the left well, `q = -1` (scipy's DOP853 at rtol 1e-12 to t = 600 s,
-/// also from `p = 2.1` and `2.3`).
-const DOUBLE_WELL: &str = r#"Model(
-    name: "double_well",
-    parameters: {
-        "m": (value: 1.0, unit: "kg"),
-        "k": (value: 1.0, unit: "N/m"),
-        "k_3": (value: 1.0, unit: "N/m^3"),
-        "b": (value: 0.1, unit: "N*s/m"),
-    },
-    elements: {
-        "v": One,
-        "mass": I(inertance: "m"),
-        "spring": C(effort: "-k*q_spring + k_3*q_spring^3"),
-        "damper": R(resistance: "b"),
-    },
-    bonds: [
-        ("v", "mass"),
-        ("v", "spring"),
-        ("v", "damper"),
-    ],
-)"#;
-
 /// Newton's method on the double well's `f = (k q - k₃ q³ - b p/m, p/m)` from `(p, q)`,
 /// written out: its Jacobian is `[[-b, k - 3 k₃ q²], [1, 0]]`, so `p` goes to 0 in one step.
 fn double_well_newton(mut p: f64, mut q: f64) -> (f64, f64) {
@@ -121,6 +96,9 @@ fn double_well_newton(mut p: f64, mut q: f64) -> (f64, f64) {
     (p, q)
 }
 
+/// The double well ([`DOUBLE_WELL`]) pushed from `q = 0` to the right with `p = 2.2` crosses
+/// the hump several times and settles in the left well, `q = -1` (scipy's DOP853 at rtol
+/// 1e-12 to t = 600 s, also from `p = 2.1` and `2.3`).
 #[test]
 fn a_double_well_settles_in_the_well_the_trajectory_reaches() {
     let model = model::load_str("double_well.ron", DOUBLE_WELL).unwrap();

@@ -49,3 +49,26 @@ impl Signal for Ramp {
         vec![(self.ceiling - self.initial) / self.slope]
     }
 }
+
+/// A mass in a double well, `m q̈ + b q̇ - k q + k₃ q³ = 0`: wells at `q = ±√(k/k₃) = ±1`, a
+/// saddle at 0.
+pub const DOUBLE_WELL: &str = r#"Model(
+    name: "double_well",
+    parameters: {
+        "m": (value: 1.0, unit: "kg"),
+        "k": (value: 1.0, unit: "N/m"),
+        "k_3": (value: 1.0, unit: "N/m^3"),
+        "b": (value: 0.1, unit: "N*s/m"),
+    },
+    elements: {
+        "v": One,
+        "mass": I(inertance: "m"),
+        "spring": C(effort: "-k*q_spring + k_3*q_spring^3"),
+        "damper": R(resistance: "b"),
+    },
+    bonds: [
+        ("v", "mass"),
+        ("v", "spring"),
+        ("v", "damper"),
+    ],
+)"#;

@@ -1,6 +1,7 @@
 //! Whole-crate tests of the solver on real model files, against closed-form solutions.
 
 mod analysis;
+mod continuation;
 mod energy;
 mod energy_books;
 mod energy_records;

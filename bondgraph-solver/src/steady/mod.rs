@@ -12,6 +12,9 @@
 //! again. The outputs are read off the asymptote, not the last state, so a stiff mode's
 //! rounding noise does not reach them.
 
+pub mod continuation;
+mod nonlinear;
+
 use bondgraph_core::modes::Mode;
 use num_complex::Complex64;
 
@@ -94,6 +97,10 @@ pub struct Steady {
     pub work: Work,
     /// The events on the way (none unless [`SteadySettings::events`]).
     pub events: Vec<Event>,
+    /// Where it can be continued to nearby parameter values without simulating again
+    /// ([`continuation`]): an isolated, stable equilibrium of a nonlinear mode
+    /// reached with no mode change; `None` otherwise.
+    pub anchor: Option<continuation::Anchor>,
 }
 
 /// The work a steady-state search took, counted against its budgets.
@@ -230,7 +237,7 @@ pub fn steady_state(
         }
         let mode = stepper.mode().clone();
         if mode.nonlinear.is_some() {
-            return crate::equilibrium::steady_by_integration(stepper, settings);
+            return nonlinear::steady_by_integration(stepper, settings);
         }
         let values = mode.propagator.eigenvalues();
         if let Some(v) = values.iter().find(|v| {
@@ -320,6 +327,7 @@ pub fn steady_state(
             } else {
                 Vec::new()
             },
+            anchor: None,
         });
     }
 }

@@ -1,0 +1,159 @@
+//! Steady states continued to nearby parameter values, without simulating again.
+//!
+//! A fit asks for the steady state of the same row at parameter values a hair apart: a
+//! finite-difference Jacobian moves each parameter by a hundred-thousandth of its range, and a
+//! descent near its optimum takes steps as small. Where the steady-state search ended at an
+//! isolated, stable equilibrium `x*` of a smooth nonlinear mode, with no mode change on the
+//! way, the steady state at the nearby values is the equilibrium on the same branch: Newton's
+//! method on `f(x, u; p') = 0` from `x*(p)` converges to `x*(p')` in two or three iterations,
+//! where the search integrates the whole transient again (a tank filling from empty: hundreds
+//! of steps).
+//!
+//! That the trajectory from the row's start still reaches the continued equilibrium follows
+//! from continuity: `x*` is hyperbolic and stable, so it and its basin move continuously with
+//! the parameters, and the start, inside the basin at `p`, stays inside at `p'` close enough
+//! to `p`. The continuation checks what it can: Newton converges, the point is stable, it
+//! moved little (a fraction [`MOST_MOVED`] of each state's scale, so a jump to another branch
+//! is refused), and every guard of the mode keeps its sign and stays clear of its threshold.
+//! What "close enough" means is the caller's: a fit continues only within a small radius of
+//! the values a search was simulated at, never from one continued point to the next
+//! ([`Anchor`]s come only from simulations).
+//!
+//! The state found is the equilibrium to double precision, as the search's own Newton polish
+//! gives it ([`super`]), so a continued prediction agrees with a simulated one
+//! to rounding.
+
+use bondgraph_core::modes::Mode;
+use nalgebra::{DMatrix, DVector};
+
+use super::{Steady, SteadySettings, Work};
+use crate::hybrid::Simulator;
+
+/// A steady state that can be continued: an isolated, stable equilibrium of a nonlinear
+/// mode, reached with no mode change ([`Steady::anchor`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Anchor {
+    /// The mode it settled in.
+    pub mode: Mode,
+    /// The equilibrium, in the mode's own states.
+    pub state: Vec<f64>,
+    /// The constant inputs it settled at.
+    pub inputs: Vec<f64>,
+    /// Each state's scale: the largest magnitude it had on the way.
+    pub scale: Vec<f64>,
+    /// When the search judged it reached.
+    pub time: f64,
+}
+
+/// Newton iterations a continuation takes at most: from an equilibrium a hair away it
+/// converges quadratically in two or three.
+const ITERATIONS: usize = 12;
+
+/// A Newton step below this fraction of each state's scale is the equilibrium to double
+/// precision (as the search's polish judges it).
+const CONVERGED_STEP: f64 = 1e-12;
+
+/// The most a continued equilibrium may move from its anchor, as a fraction of each state's
+/// scale: a continuation within a fit's radius moves it by about that radius; a larger move
+/// is a jump to another branch, or a fold nearby, and the search is run instead.
+pub const MOST_MOVED: f64 = 1e-2;
+
+/// A fraction of the terms of a guard within which it is at its threshold (as event location
+/// judges it).
+const GUARD_ROUNDING: f64 = 1e-9;
+
+/// The steady state at the simulator's current parameter values on the branch of `anchor`,
+/// found at other values; `None` where it cannot be vouched for (Newton does not converge,
+/// the point is unstable or moved too far, a guard is at its threshold or changed sign), and
+/// the caller then runs the search.
+pub fn continue_steady(
+    simulator: &mut Simulator<'_>,
+    anchor: &Anchor,
+    settings: &SteadySettings,
+) -> Option<Steady> {
+    let mode = simulator.mode(&anchor.mode).ok()?;
+    let nl = mode.nonlinear.as_ref()?;
+    let (n, m) = (nl.n, nl.m);
+    if anchor.state.len() != n || anchor.inputs.len() != m {
+        return None;
+    }
+    let rate = vec![0.0; m];
+    let mut input: Vec<f64> = anchor
+        .state
+        .iter()
+        .chain(&anchor.inputs)
+        .chain(&rate)
+        .copied()
+        .collect();
+    let tape = &nl.f_and_jacobian;
+    let mut scratch = tape.scratch();
+    let mut out = vec![0.0; tape.output_count()];
+    let mut converged = false;
+    for _ in 0..ITERATIONS {
+        tape.eval(&input, &mut scratch, &mut out);
+        if out.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let jacobian = DMatrix::from_row_slice(n, n, &out[n..n + n * n]);
+        let step = jacobian
+            .lu()
+            .solve(&(-DVector::from_column_slice(&out[..n])))?;
+        if step.iter().any(|d| !d.is_finite()) {
+            return None;
+        }
+        converged = step
+            .iter()
+            .zip(&anchor.scale)
+            .all(|(d, s)| d.abs() <= CONVERGED_STEP * s || d.abs() <= f64::MIN_POSITIVE);
+        for (x, d) in input.iter_mut().zip(step.iter()) {
+            *x += d;
+        }
+        if converged {
+            break;
+        }
+    }
+    if !converged {
+        return None;
+    }
+    let x = input[..n].to_vec();
+    let moved_little = x
+        .iter()
+        .zip(&anchor.state)
+        .zip(&anchor.scale)
+        .all(|((a, b), s)| (a - b).abs() <= MOST_MOVED * s);
+    if !moved_little {
+        return None;
+    }
+    tape.eval(&input, &mut scratch, &mut out);
+    if out.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let jacobian = DMatrix::from_row_slice(n, n, &out[n..n + n * n]);
+    let eigenvalues = crate::analysis::eigenvalues(&jacobian).ok()?;
+    if !eigenvalues.iter().all(|v| v.re < -settings.zero_eigenvalue) {
+        return None;
+    }
+    let u = &anchor.inputs;
+    let guards_hold = mode.guards.iter().all(|g| {
+        let before = g.row.eval(&anchor.state, u, &rate);
+        let now = g.row.eval(&x, u, &rate);
+        (before < 0.0) == (now < 0.0) && now.abs() > GUARD_ROUNDING * g.row.magnitude(&x, u, &rate)
+    });
+    if !guards_hold {
+        return None;
+    }
+    Some(Steady {
+        outputs: mode.outputs.iter().map(|r| r.eval(&x, u, &rate)).collect(),
+        drift: mode
+            .outputs
+            .iter()
+            .map(|r| mode.row_rate(r, &x, u, &rate))
+            .collect(),
+        mode: mode.spec.clone(),
+        time: anchor.time,
+        state: mode.reconstruct(&x, u),
+        work: Work::default(),
+        events: Vec::new(),
+        anchor: None,
+    })
+}
