@@ -59,6 +59,7 @@ impl From<BudgetArgs> for Budget {
             segments: args.max_segments,
             steps: args.max_steps,
             evaluations: args.max_evaluations,
+            ..Budget::default()
         }
     }
 }

@@ -36,6 +36,14 @@ pub struct Budget {
     /// side, each with this budget to itself, so that what it finds does not depend on the
     /// threads. The flagship's Table III fits take under 2,000 evaluations in all.
     pub evaluations: usize,
+    /// How far, as a fraction of each fitted parameter's range (its bounds' width), trial
+    /// values may be from those a steady row was last simulated at for that row's steady
+    /// state to be continued from there by Newton's method instead of simulated again
+    /// ([`bondgraph_solver::steady::continuation`]): where the row settled at a stable equilibrium of
+    /// a smooth mode with no mode change. Ten of calibration's forward-difference steps
+    /// (1e-5), so a Jacobian's differences and a descent's last steps continue; `0` turns it
+    /// off.
+    pub continuation: f64,
 }
 
 impl Default for Budget {
@@ -45,6 +53,7 @@ impl Default for Budget {
             segments: 1_000,
             steps: bondgraph_core::limits::MAX_STEPS / 20,
             evaluations: 20_000,
+            continuation: 1e-4,
         }
     }
 }

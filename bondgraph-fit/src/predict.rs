@@ -6,6 +6,7 @@
 //! simulator keeps every mode it has derived between predictions, so a calibration that
 //! tries thousands of parameter values derives nothing twice.
 
+use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 use bondgraph_core::equations::OutputSpec;
@@ -15,6 +16,7 @@ use bondgraph_core::model::{self, ElementKind, Model};
 use bondgraph_core::modes::Mode;
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::{Diagnostic, DiagnosticKind, diagnostics::Diagnostics};
+use bondgraph_solver::steady::continuation::{Anchor, continue_steady};
 use bondgraph_solver::steady::{Exhausted, SteadyError, SteadySettings, steady_state};
 use bondgraph_solver::{Output, Simulator};
 
@@ -321,7 +323,13 @@ struct Session<'p> {
     variant: &'p Variant,
     simulator: Simulator<'p>,
     slots: Vec<usize>,
+    /// Each slot's parameter range (its bounds' width; its value's magnitude without
+    /// bounds), which [`Budget::continuation`] is a fraction of.
+    ranges: Vec<f64>,
     values: Vec<f64>,
+    /// Per row (file and line), the last steady state simulated that can be continued, and
+    /// the values of the slots it was simulated at.
+    anchors: HashMap<(Arc<str>, usize), (Vec<f64>, Anchor)>,
 }
 
 impl<'p> Session<'p> {
@@ -340,12 +348,40 @@ impl<'p> Session<'p> {
             max_steps: budget.steps,
             ..bondgraph_solver::Settings::default()
         };
+        let model = &variant.model;
+        let ranges = slots
+            .iter()
+            .map(|&slot| {
+                let parameter = model.parameters.iter().find(|p| p.symbol.index() == slot);
+                match parameter.and_then(|p| p.bounds) {
+                    Some((low, high)) => high - low,
+                    None => model.values[slot].abs(),
+                }
+            })
+            .collect();
         Self {
             variant,
-            simulator: Simulator::new(&variant.model, outputs).with_settings(settings),
+            simulator: Simulator::new(model, outputs).with_settings(settings),
             slots,
-            values: variant.model.values.clone(),
+            ranges,
+            values: model.values.clone(),
+            anchors: HashMap::new(),
         }
+    }
+
+    /// The values of the evaluator's parameters now.
+    fn slot_values(&self) -> Vec<f64> {
+        self.slots.iter().map(|&slot| self.values[slot]).collect()
+    }
+
+    /// Whether `at` (slot values) is within `radius` of each slot's range of the current
+    /// values.
+    fn near(&self, at: &[f64], radius: f64) -> bool {
+        self.slots
+            .iter()
+            .zip(at)
+            .zip(&self.ranges)
+            .all(|((&slot, a), range)| (self.values[slot] - a).abs() <= radius * range)
     }
 }
 
@@ -508,15 +544,41 @@ impl<'p> Evaluator<'p> {
             }
         }
         check_friction_levels(&variant.model, &session.values, &inputs)?;
-        let storage = session.simulator.storage().len();
-        let steady = steady_state(
-            &mut session.simulator,
-            &inputs,
-            variant.initial.clone(),
-            vec![0.0; storage],
-            &self.settings,
-        )
-        .map_err(RowFailure::Steady)?;
+        let key = (Arc::clone(&row.file), row.row);
+        let continued = match session.anchors.get(&key) {
+            Some((at, anchor))
+                if self.budget.continuation > 0.0
+                    && anchor.inputs == inputs
+                    && session.near(at, self.budget.continuation) =>
+            {
+                continue_steady(&mut session.simulator, anchor, &self.settings)
+            }
+            _ => None,
+        };
+        let steady = match continued {
+            Some(steady) => steady,
+            None => {
+                let storage = session.simulator.storage().len();
+                let steady = steady_state(
+                    &mut session.simulator,
+                    &inputs,
+                    variant.initial.clone(),
+                    vec![0.0; storage],
+                    &self.settings,
+                )
+                .map_err(RowFailure::Steady)?;
+                match &steady.anchor {
+                    Some(anchor) => {
+                        let at = session.slot_values();
+                        session.anchors.insert(key, (at, anchor.clone()));
+                    }
+                    None => {
+                        session.anchors.remove(&key);
+                    }
+                }
+                steady
+            }
+        };
         let observed: Vec<f64> = steady
             .outputs
             .iter()
