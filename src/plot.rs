@@ -1,4 +1,4 @@
-//! A simulated trajectory drawn as an SVG figure, in the style of the paper's Fig. 6.
+//! A simulated trajectory as an SVG figure: stacked panels over one time axis, modes shaded.
 //!
 //! Panels are stacked top to bottom and share the time axis (seconds). Behind the curves,
 //! the time spent in each mode is shaded in a pale colour of its own (the same in every
@@ -81,7 +81,7 @@ const CURVE_COLOURS: [RGBColor; 5] = [
 ];
 
 /// Draws a trajectory as an SVG document, one panel per group of outputs, stacked top to
-/// bottom over a shared time axis, like the paper's Fig. 6.
+/// bottom over a shared time axis.
 ///
 /// # Arguments
 ///

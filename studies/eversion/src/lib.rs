@@ -9,9 +9,12 @@
 //!
 //! - [`columns`]: the robot's measurement columns, read from rows of its experiment;
 //! - [`designs`]: the paper's experimental designs, for synthetic data;
-//! - [`reproduce`]: the main job, and [`report`], its report.
+//! - [`reproduce`]: the main job, and [`report`], its report;
+//! - [`main_job`]: the files `bondgraph reproduce` builds in, `discover` on Table III, and
+//!   the command's JSON document.
 
 pub mod columns;
 pub mod designs;
+pub mod main_job;
 pub mod report;
 pub mod reproduce;
