@@ -35,8 +35,8 @@
 //! shows those that apply at the model's own values.
 //!
 //! The holding force of a stuck contact is an output equation of the stuck mode: for a
-//! catheter stuck to a robot tip it is the force that makes the catheter accelerate with the
-//! tip, which is how papers derive their stick conditions by hand. A guard marked
+//! block stuck to a moving carriage it is the force that makes the block accelerate with the
+//! carriage, which is how papers derive their stick conditions by hand. A guard marked
 //! [`Guard::requires_hold`] leads to `stuck` only if the target mode's holding force is then
 //! within `±F_S`; otherwise the contact slips through zero velocity and the next guard
 //! (velocity through zero, to the opposite slip) applies. A flow limit's guard into

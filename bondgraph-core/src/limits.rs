@@ -5,7 +5,7 @@
 //! `(m + k + b)^300` expands into 45 451 terms with 480-bit coefficients, and the
 //! derivation's greatest common divisors over such polynomials once took 3.9 GB before the
 //! allocator gave up. No physical law needs anything near these limits; the textbook
-//! models and the flagship stay below a tenth of them.
+//! models and the examples with data stay below a tenth of them.
 //!
 //! | what | limit |
 //! |---|---|
@@ -62,14 +62,14 @@ pub const MAX_STEPS: u64 = 1_000_000;
 /// a simulation searches when no single switch is consistent. Each friction contact has
 /// three modes and each string or flow limit two, so the modes grow as `3^N`, each derived
 /// symbolically: eight contacts in a chain (6561 modes) took 3.4 s, twelve ran out of
-/// patience. The flagship has 18.
+/// patience. A model with two contacts and a string has 18.
 pub const MAX_MODES: usize = 1000;
 
-/// The largest input file read as text, in bytes (16 MiB: the flagship is 12 kB).
+/// The largest input file read as text, in bytes (16 MiB: the largest example is 12 kB).
 pub const MAX_FILE_BYTES: u64 = 16 << 20;
 
 /// The largest CSV data file read, in bytes (256 MiB: a million rows of ten columns of
-/// full-precision numbers is about 250 MB; the flagship's tables are a few kilobytes).
+/// full-precision numbers is about 250 MB; the examples' data are a few kilobytes).
 pub const MAX_DATA_FILE_BYTES: u64 = 256 << 20;
 
 /// The most measurements (rows) in one CSV data file: as many as the samples of a

@@ -15,18 +15,18 @@
 //!
 //! ```ron
 //! Scenario(
-//!     name: "fig6",
-//!     description: "The robot without its catheter, pressurised by a ramp.",   // optional
-//!     remove: ["rubbing", "fr_ct", "catheter", "ct", "servo_force", "servo", "servo_command"],
+//!     name: "ramp",
+//!     description: "The rig without its second load, driven by a ramp.",   // optional
+//!     remove: ["load_2", "fr_2", "v_2"],
 //!     parameters: { "dv": 1e-6 },                   // optional: parameter values set
 //!     inputs: {                                     // a signal for every input the model uses
-//!         "P_s": Ramp(slope: 1.0e6, ceiling: 2.0e5), // start: 0, initial: 0 by default
-//!         "v_ac": Constant(5.8e-3),
+//!         "F": Ramp(slope: 100.0, ceiling: 20.0),   // start: 0, initial: 0 by default
+//!         "v_belt": Constant(5.8e-3),
 //!     },
-//!     initial_mode: "fr_ge=stuck,k=slack",         // optional: the model's initial mode
+//!     initial_mode: "fr=stuck,k=slack",             // optional: the model's initial mode
 //!     initial_state: { "k": -1.0e-4 },             // optional: p or q by storage element
 //!     duration: 0.2,                                // seconds
-//!     record: ["flow:ge", "effort:k", "integral:flow:ge"],
+//!     record: ["flow:mass", "effort:k", "integral:flow:mass"],
 //!     sample: 1.0e-4,                               // optional: output interval
 //! )
 //! ```

@@ -29,12 +29,13 @@ pub struct Budget {
     /// Integration steps and event-location samples one prediction (a steady row, or one
     /// recorded run of a time series) may take: a twentieth of the simulator's own limit for
     /// a whole simulation, well over what any row of the examples takes (a two-tank row
-    /// about a thousand, the flagship's under a hundred).
+    /// about a thousand, a two-contact model's with linear modes under a hundred).
     pub steps: u64,
     /// Evaluations (a prediction of every row at one trial point) one search of a fit may
     /// make: a face's screening, or a local fit from one start. A fit runs several side by
     /// side, each with this budget to itself, so that what it finds does not depend on the
-    /// threads. The flagship's Table III fits take under 2,000 evaluations in all.
+    /// threads. A 27-row fit of a two-contact model with eight candidates takes under
+    /// 2,000 evaluations in all.
     pub evaluations: usize,
     /// How far, as a fraction of each fitted parameter's range (its bounds' width), trial
     /// values may be from those a steady row was last simulated at for that row's steady

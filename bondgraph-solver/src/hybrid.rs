@@ -671,8 +671,8 @@ impl<'m> Simulator<'m> {
     /// one element at a time cycles.
     ///
     /// Switching one contact at a time judges each against the others' current modes. Two
-    /// contacts at rest can then send each other round in a circle: the nozzle cannot hold
-    /// the tip alone, the catheter cannot hold it alone, and with both slipping each looks
+    /// contacts at rest can then send each other round in a circle: neither of two contacts
+    /// on one body can hold it alone, and with both slipping each looks
     /// as if it could stick again because its velocity is still inside the dead band. Here a
     /// combination is consistent when no guard is entered, where a dead-band guard (back to
     /// stuck) counts only if its relative velocity is not already leaving the band: a contact
@@ -1593,7 +1593,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
 /// still while state and inputs disagreed, and the same stick was declined until 'time
 /// stopped advancing'). Such an event lands on the next double, its state still the root's:
 /// taken there instead, a stiff state would move on by what it changes in an ulp of time
-/// (the flagship's tip, with a time constant of 4e-18 s, went through zero velocity and
+/// (a light tip, with a time constant of 4e-18 s, went through zero velocity and
 /// back, and read as slipping both ways). Both the closed-form and the integrated path time
 /// their events so.
 fn event_time(start: f64, tau: f64, end: f64) -> f64 {

@@ -1,7 +1,7 @@
 //! Small dense linear algebra for mode matrices: eigendecomposition that stays accurate on
 //! stiff matrices, and a matrix exponential for the matrices it cannot diagonalise.
 //!
-//! Why not a library's matrix exponential: the flagship robot's modes pair an eigenvalue near
+//! Why not a library's matrix exponential: a light tip on a stiff damper pairs an eigenvalue near
 //! -2.5e17 1/s (a 5e-15 kg tip against a 1250 N·s/m damper) with ones near -1. Scaling and
 //! squaring loses the slow part entirely (a relative error of 0.73 over a 1 s step was
 //! measured on nalgebra's `exp`). An eigendecomposition gives each time scale its own exact
@@ -136,7 +136,7 @@ pub fn eigen(a: &DMatrix<f64>) -> Result<Eigen, EigenError> {
         }
     };
     // Each value beside the Schur form's own, unsnapped: on a graded matrix the Schur form's
-    // absolute error (ε‖B‖, 55 /s for the flagship's tip) can exceed a slow oscillation's
+    // absolute error (ε‖B‖, 55 /s for a 5e-15 kg tip on a 1250 N·s/m damper) can exceed a slow oscillation's
     // frequency, and the snapped value must then be checked (below).
     let mut values: Vec<(Complex64, Complex64)> = schur
         .complex_eigenvalues()
@@ -1479,7 +1479,7 @@ mod tests {
 
     #[test]
     fn stiff_two_by_two_keeps_its_slow_eigenvalue() {
-        // The robot tip on a taut inner structure, in energy variables p, q:
+        // A light tip on a taut string, in energy variables p, q:
         // dp/dt = -(b/m) p - 2 k q, dq/dt = 2 p/m. Eigenvalues solve
         // λ² + (b/m) λ + 4k/m = 0; the slow one is -1600.000000000010240 (50-digit arithmetic).
         let (m, b, k) = (0.5e-14, 1250.0, 5e5);

@@ -1,6 +1,6 @@
 //! Parasitic storage: an inertia or compliance whose time constant is far below every other.
 //!
-//! The flagship robot's tip has an apparent mass of 5e-15 kg against a 1250 N·s/m damper:
+//! A tip with an apparent mass of 5e-15 kg against a 1250 N·s/m damper has
 //! a time constant of 4e-18 s, some fourteen orders of magnitude faster than anything else
 //! in the model. Such storage makes the equations stiff without changing any result at the
 //! time scales that matter; removing it (a massless tip whose velocity follows from a force

@@ -836,7 +836,7 @@ mod tests {
 
     #[test]
     fn stiff_mode_settles_exactly_at_its_quasi_steady_state() {
-        // The robot tip on a slack inner structure: m dv/dt = F - b v, m = 5e-15, b = 1250.
+        // A light tip on a slack string: m dv/dt = F - b v, m = 5e-15, b = 1250.
         // After 1e-3 s the exact solution is F/b to machine precision.
         let (m, b, force) = (0.5e-14, 1250.0, 2.875);
         let p = Propagator::new(

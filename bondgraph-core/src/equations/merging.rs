@@ -13,8 +13,8 @@
 //! a state equation keeps as its `E du/dt` term where storage held by an input feeds a
 //! state.
 //! So the group keeps one state per independent inertia, its momentum now including the
-//! dependent ones: two masses on one 1-junction become one mass `m1 + m2`, and a catheter
-//! stuck to a robot tip becomes the single body `M = m_ct + m_ge` of that mode.
+//! dependent ones: two masses on one 1-junction become one mass `m1 + m2`, and a block
+//! stuck to a carriage becomes the single body `M = m_block + m_carriage` of that mode.
 //!
 //! The group's matrix `M'` is dense as soon as one dependent follows all its states, so it
 //! is kept as its diagonal plus one rank-one term per dependent ([`StorageMatrix`]), and

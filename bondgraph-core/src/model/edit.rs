@@ -1,7 +1,7 @@
 //! Variants of a model, made by editing the model file's text.
 //!
-//! A scenario drives a model with some elements taken out (the robot without its
-//! catheter) or some parameters changed (another dead band), and fitting will try candidate
+//! A scenario drives a model with some elements taken out (a rig without its load) or
+//! some parameters changed (another dead band), and fitting will try candidate
 //! variants of a model. Such a variant is made by editing the RON text of the model file
 //! rather than the checked [`Model`](super::Model): the result is an ordinary model file,
 //! comments and layout kept, that [`load_source`](super::load_source) reads and checks like
@@ -70,7 +70,7 @@ impl Edit {
 }
 
 /// Applies `edit` to the model file `source`: a new [`SourceFile`] named after the original
-/// with ` (edited)` added (`models/eversion/robot.ron (edited)`), holding the edited text.
+/// with ` (edited)` added (`models/examples/two_tank/two_tank.ron (edited)`), holding the edited text.
 ///
 /// The edited text is not validated here: load it with
 /// [`load_source`](super::load_source), which reports what the edit broke (a junction left

@@ -1,7 +1,7 @@
 //! Optional model reduction: taking out parasitic storage.
 //!
 //! A mass or compliance whose time constant is many orders of magnitude below every other
-//! (the eversion robot's 5e-15 kg tip against a 1250 N·s/m damper: 4e-18 s) makes the state
+//! (a 5e-15 kg tip against a 1250 N·s/m damper: 4e-18 s) makes the state
 //! equations stiff without changing anything at the time scales of interest. Removing it is
 //! the singular-perturbation limit: its junction then balances its efforts (or flows)
 //! algebraically, and causality gives the velocity it carried to a neighbouring resistor.

@@ -203,8 +203,8 @@ pub(super) fn fit_on_all(
     // (a candidate contains the base model there, so it does no worse than the base), besides
     // the base model's full screening: a candidate's optimum can lie far from the base's, in
     // parameters the base does not have, and a lighter screening (a quarter of the points, or
-    // one local fit per face) missed one candidate's optimum in 3 of the flagship study's 20
-    // synthetic sets, and another's on its measured data (see the README). A candidate none
+    // one local fit per face) missed one candidate's optimum in 3 of 20 synthetic sets of
+    // a two-contact model with a string, and another's on its measured data. A candidate none
     // of whose parameters is in use is the base model on these rows: it is refitted locally
     // from the base model's optimum.
     let (starts, search) = match warm {

@@ -1,8 +1,8 @@
 //! Steady states: where a trajectory settles for constant inputs.
 //!
-//! A steady state here is steady motion, not rest: a growing robot's tip settles at a
-//! constant velocity while the slack length of its inner structure keeps changing at a
-//! constant rate. So the search simulates from the given start until the current mode's
+//! A steady state here is steady motion, not rest: a carriage pulled through a damper
+//! settles at a constant velocity while its position (and the slack of a string that
+//! trails it) keeps changing at a constant rate. So the search simulates from the given start until the current mode's
 //! decaying components have died out (36 time constants of its slowest decaying eigenvalue:
 //! `e^-36 ≈ 2e-16`), then takes the asymptote `x∞ + ẋ∞ τ` exactly from the modal form
 //! ([`Propagator::asymptote`](crate::propagate::Propagator::asymptote)): no component may grow
