@@ -40,8 +40,9 @@ pub struct Budget {
     /// How far, as a fraction of each fitted parameter's range (its bounds' width), trial
     /// values may be from those a steady row was last simulated at for that row's steady
     /// state to be continued from there by Newton's method instead of simulated again
-    /// ([`bondgraph_solver::steady::continuation`]): where the row settled at a stable equilibrium of
-    /// a smooth mode with no mode change. Ten of calibration's forward-difference steps
+    /// ([`bondgraph_solver::steady::continuation`]): where the row settled at a stable
+    /// equilibrium of a mode without guards, never having left it. Ten of calibration's
+    /// forward-difference steps
     /// (1e-5), so a Jacobian's differences and a descent's last steps continue; `0` turns it
     /// off.
     pub continuation: f64,

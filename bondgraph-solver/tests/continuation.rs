@@ -184,3 +184,45 @@ const BELT: &str = r#"Model(
             bonds: [("belt", "contact"), ("contact", "friction"), ("contact", "v_block"),
                     ("v_block", "block"), ("v_block", "spring"), ("v_block", "damper")],
         )"#;
+
+/// A motor held by static friction, its winding's resistance nonlinear (a brush drop
+/// `U_b tanh(i/i_0)` beside `R i`): the current settles at a stable equilibrium of the stuck
+/// mode, `R i + U_b tanh(i/i_0) = V`, with no mode change, but the mode has a guard (the
+/// breakaway), so it is no anchor. Whether a transient reaches that guard depends on the
+/// parameters along the whole path, not at the equilibrium: continuing such rows once gave a
+/// stuck contact at trial values where a fresh search breaks away.
+#[test]
+fn a_mode_with_guards_is_no_anchor() {
+    let motor = model::load_str(
+        "held_motor.ron",
+        r#"Model(
+            name: "held_motor",
+            parameters: {
+                "R": (value: 1.2, unit: "ohm"), "L": (value: 4.0e-4, unit: "H"),
+                "U_b": (value: 0.25, unit: "V"), "i_0": (value: 0.01, unit: "A"),
+                "K": (value: 0.03, unit: "N*m/A"), "J": (value: 1.5e-5, unit: "kg*m^2"),
+                "T_S": (value: 0.05, unit: "N*m"), "T_C": (value: 0.03, unit: "N*m"),
+            },
+            inputs: { "V": (unit: "V") },
+            elements: {
+                "supply": Se(effort: "V"), "armature": One,
+                "winding": R(effort: "R*flow + U_b*tanh(flow/i_0)"),
+                "inductance": I(inertance: "L"), "motor": GY(ratio: "K"),
+                "rotor": One, "inertia": I(inertance: "J"),
+                "bearing": Friction(breakaway: "T_S", coulomb: "T_C", initial: "stuck"),
+            },
+            bonds: [("supply", "armature"), ("armature", "winding"),
+                    ("armature", "inductance"), ("armature", "motor"), ("motor", "rotor"),
+                    ("rotor", "inertia"), ("rotor", "bearing")],
+        )"#,
+    )
+    .unwrap();
+    let mut simulator = self::simulator(&motor, &["flow:winding"]);
+    let steady = settle(&mut simulator, &[1.0], &[]);
+    assert_eq!(steady.mode, "bearing=stuck");
+    // R i + U_b tanh(i/i_0) = 1 V: i = 0.625 A (tanh(62.5) = 1 to rounding), holding
+    // K i = 0.01875 N m < T_S.
+    let i = steady.outputs[0];
+    assert!((i - 0.625).abs() < 1e-12, "{i}");
+    assert!(steady.anchor.is_none());
+}

@@ -3,8 +3,9 @@
 //! A fit asks for the steady state of the same row at parameter values a hair apart: a
 //! finite-difference Jacobian moves each parameter by a hundred-thousandth of its range, and a
 //! descent near its optimum takes steps as small. Where the steady-state search ended at an
-//! isolated, stable equilibrium `x*` of a smooth nonlinear mode, with no mode change on the
-//! way, the steady state at the nearby values is the equilibrium on the same branch: Newton's
+//! isolated, stable equilibrium `x*` of a nonlinear mode without guards (nothing can switch),
+//! never having left it, the steady state at the nearby values is the equilibrium on the same
+//! branch: Newton's
 //! method on `f(x, u; p') = 0` from `x*(p)` converges to `x*(p')` in two or three iterations,
 //! where the search integrates the whole transient again (a tank filling from empty: hundreds
 //! of steps).
@@ -12,9 +13,12 @@
 //! That the trajectory from the row's start still reaches the continued equilibrium follows
 //! from continuity: `x*` is hyperbolic and stable, so it and its basin move continuously with
 //! the parameters, and the start, inside the basin at `p`, stays inside at `p'` close enough
-//! to `p`. The continuation checks what it can: Newton converges, the point is stable, it
-//! moved little (a fraction [`MOST_MOVED`] of each state's scale, so a jump to another branch
-//! is refused), and every guard of the mode keeps its sign and stays clear of its threshold.
+//! to `p`. The continuation checks what it can: Newton converges, the point is stable, and
+//! it moved little (a fraction [`MOST_MOVED`] of each state's scale, so a jump to another
+//! branch is refused). A mode with guards is never continued: whether the transient reaches
+//! a guard depends on the parameters along the whole path (a stuck contact whose holding
+//! force peaks just below its breakaway on the way breaks away at values a hair apart), which
+//! the equilibrium alone does not tell.
 //! What "close enough" means is the caller's: a fit continues only within a small radius of
 //! the values a search was simulated at, never from one continued point to the next
 //! ([`Anchor`]s come only from simulations).
@@ -30,7 +34,7 @@ use super::{Steady, SteadySettings, Work};
 use crate::hybrid::Simulator;
 
 /// A steady state that can be continued: an isolated, stable equilibrium of a nonlinear
-/// mode, reached with no mode change ([`Steady::anchor`]).
+/// mode without guards, reached without leaving it ([`Steady::anchor`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Anchor {
     /// The mode it settled in.
@@ -58,20 +62,19 @@ const CONVERGED_STEP: f64 = 1e-12;
 /// is a jump to another branch, or a fold nearby, and the search is run instead.
 pub const MOST_MOVED: f64 = 1e-2;
 
-/// A fraction of the terms of a guard within which it is at its threshold (as event location
-/// judges it).
-const GUARD_ROUNDING: f64 = 1e-9;
-
 /// The steady state at the simulator's current parameter values on the branch of `anchor`,
-/// found at other values; `None` where it cannot be vouched for (Newton does not converge,
-/// the point is unstable or moved too far, a guard is at its threshold or changed sign), and
-/// the caller then runs the search.
+/// found at other values; `None` where it cannot be vouched for (the mode has guards, Newton
+/// does not converge, the point is unstable or moved too far), and the caller then runs the
+/// search.
 pub fn continue_steady(
     simulator: &mut Simulator<'_>,
     anchor: &Anchor,
     settings: &SteadySettings,
 ) -> Option<Steady> {
     let mode = simulator.mode(&anchor.mode).ok()?;
+    if !mode.guards.is_empty() {
+        return None;
+    }
     let nl = mode.nonlinear.as_ref()?;
     let (n, m) = (nl.n, nl.m);
     if anchor.state.len() != n || anchor.inputs.len() != m {
@@ -134,14 +137,6 @@ pub fn continue_steady(
         return None;
     }
     let u = &anchor.inputs;
-    let guards_hold = mode.guards.iter().all(|g| {
-        let before = g.row.eval(&anchor.state, u, &rate);
-        let now = g.row.eval(&x, u, &rate);
-        (before < 0.0) == (now < 0.0) && now.abs() > GUARD_ROUNDING * g.row.magnitude(&x, u, &rate)
-    });
-    if !guards_hold {
-        return None;
-    }
     Some(Steady {
         outputs: mode.outputs.iter().map(|r| r.eval(&x, u, &rate)).collect(),
         drift: mode

@@ -285,8 +285,11 @@ fn settled(stepper: Stepper<'_, '_>, search: &Search<'_>, settings: &SteadySetti
 
 /// The steady state `x` of the stepper's mode, judged reached at the stepper's time: the
 /// outputs and their rates read at `x`. `equilibrium` holds each state's scale where `x` is
-/// a stable equilibrium shown to be reached: it is then an [`Anchor`] if no mode changed on
-/// the way.
+/// a stable equilibrium shown to be reached: it is then an [`Anchor`] if the search never
+/// left the mode and the mode has no guard. (A mode with guards is not continued: whether
+/// a transient reaches a guard depends on the parameters along the whole path, not at the
+/// equilibrium alone; a contact stuck at rest whose holding force peaked just below its
+/// breakaway on the way breaks away at values a hair apart.)
 fn settled_at(
     stepper: Stepper<'_, '_>,
     search: &Search<'_>,
@@ -297,7 +300,9 @@ fn settled_at(
     let mode = stepper.mode().clone();
     let (u, rate) = stepper.inputs_at(stepper.time());
     let anchor = equilibrium
-        .filter(|_| stepper.event_count() == 0 && rate.iter().all(|r| *r == 0.0))
+        .filter(|_| {
+            stepper.event_count() == 0 && mode.guards.is_empty() && rate.iter().all(|r| *r == 0.0)
+        })
         .map(|scale| Anchor {
             mode: mode.mode.clone(),
             state: x.to_vec(),
