@@ -15,7 +15,7 @@
 //! - [`data`]: the CSV reader (which refuses bad rows and says where they are) and writer;
 //! - [`budget`]: the work each prediction and each fit may do, and the trials that ran out;
 //! - [`predict`]: a model prepared once for an experiment, predicting rows as steady states
-//!   or, for a time series, along a simulated run (`timeseries`);
+//!   or, for a time series, along a simulated run;
 //! - [`calibrate`]: bounded least squares for piecewise-smooth steady states, and [`global`]:
 //!   the search over the faces where friction thresholds tie, around it;
 //! - [`calibration`]: a model calibrated on data, with residuals by regime and condition;
@@ -74,5 +74,4 @@ pub mod predict;
 pub mod probes;
 pub mod stats;
 pub mod synthetic;
-mod timeseries;
 pub mod weights;

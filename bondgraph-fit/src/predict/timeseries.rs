@@ -26,9 +26,9 @@ use bondgraph_core::source::SourceFile;
 use bondgraph_solver::hybrid::Stepper;
 use bondgraph_solver::{Signal, Simulator};
 
+use super::prediction::{Prediction, describe};
 use crate::data::Measurement;
 use crate::experiment::{Experiment, ExperimentError, Kind};
-use crate::predict::{Prediction, describe};
 
 /// What a time series' scenario gives every run.
 #[derive(Debug)]

@@ -4,7 +4,9 @@
 //! An experiment's `absent` entries make several variants of one model (for each set of
 //! empty columns, the model without their elements). Each variant is validated once, and its
 //! simulator keeps every mode it has derived between predictions, so a calibration that
-//! tries thousands of parameter values derives nothing twice.
+//! tries thousands of parameter values derives nothing twice. A time series' rows are
+//! predicted along a simulated run of each file (`timeseries`); both kinds give a
+//! [`Prediction`] per row.
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
@@ -21,10 +23,14 @@ use bondgraph_solver::steady::{Exhausted, SteadyError, SteadySettings, steady_st
 use bondgraph_solver::{Output, Simulator};
 
 use crate::budget::{Budget, Failure, Trials};
-
 use crate::data::Measurement;
 use crate::experiment::{Experiment, ExperimentError};
-use crate::timeseries::{Drive, RunSetup, predict_run};
+
+mod prediction;
+mod timeseries;
+
+pub use prediction::{Prediction, describe};
+use timeseries::{Drive, RunSetup, predict_run};
 
 /// Removals combined into variants, at most: 2^6 models to validate.
 const MAX_ABSENT: usize = 6;
@@ -55,15 +61,6 @@ pub struct Predictor {
     settings: SteadySettings,
     /// For a time series: the scenario's signals and start.
     drive: Option<Drive>,
-}
-
-/// The prediction of one row.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Prediction {
-    /// The predicted value of each observed column, in the column's units.
-    pub observed: Vec<f64>,
-    /// The mode the model settles in (`fr=slip+,k=slack`).
-    pub mode: String,
 }
 
 impl Predictor {
@@ -629,20 +626,6 @@ impl<'p> Evaluator<'p> {
         }
         predictions
     }
-}
-
-/// `column = value, ...` of a row's condition cells, `column empty` for an empty one.
-pub fn describe(experiment: &Experiment, row: &Measurement) -> String {
-    experiment
-        .condition_columns()
-        .iter()
-        .zip(&row.conditions)
-        .map(|(column, value)| match value {
-            Some(v) => format!("{column} = {v}"),
-            None => format!("{column} empty"),
-        })
-        .collect::<Vec<_>>()
-        .join(", ")
 }
 
 /// A friction contact must break away at or above its Coulomb force, and neither may be
