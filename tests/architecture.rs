@@ -59,7 +59,6 @@ const FUNCTION_BUDGET: usize = 150;
 
 /// Files over [`FILE_BUDGET`] today, with their size now (each may only shrink).
 const OVERSIZED_FILES: &[(&str, usize)] = &[
-    ("bondgraph-solver/src/hybrid.rs", 1688),
     ("bondgraph-core/src/model/validate.rs", 1489),
     ("bondgraph-solver/src/linalg.rs", 1439),
     ("bondgraph-core/src/scenario.rs", 1246),
@@ -89,7 +88,11 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
         214,
     ),
     ("bondgraph-core/src/model/extension.rs", "merge", 201),
-    ("bondgraph-solver/src/hybrid.rs", "closed_form_segment", 200),
+    (
+        "bondgraph-solver/src/hybrid/stepper.rs",
+        "closed_form_segment",
+        200,
+    ),
     ("src/analyze.rs", "analyze", 197),
     ("bondgraph-fit/src/discover/procedure.rs", "discover", 193),
     ("bondgraph-core/src/diagram.rs", "layout", 181),
