@@ -60,7 +60,6 @@ const FUNCTION_BUDGET: usize = 150;
 /// Files over [`FILE_BUDGET`] today, with their size now (each may only shrink).
 const OVERSIZED_FILES: &[(&str, usize)] = &[
     ("bondgraph-core/src/model/validate.rs", 1489),
-    ("bondgraph-solver/src/linalg.rs", 1439),
     ("bondgraph-core/src/scenario.rs", 1246),
     ("bondgraph-core/src/model/source_map.rs", 1092),
 ];
@@ -76,7 +75,7 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("src/explain_lg.rs", "explain", 232),
     ("bondgraph-core/src/equations/elimination.rs", "define", 230),
     ("bondgraph-core/src/analysis/compare.rs", "compare", 230),
-    ("bondgraph-solver/src/linalg.rs", "eigen", 228),
+    ("bondgraph-solver/src/linalg/mod.rs", "eigen", 228),
     (
         "bondgraph-core/src/model/linear_graph/translate.rs",
         "translate",
