@@ -2,7 +2,7 @@
 with an independent reference generator: two_tank, thermal, actuator.
 
 For each hidden effect of SYSTEM/data/generate.py (and for nothing hidden), draws `--seeds`
-data sets (generate.py --seed K --hidden ID, K = 101, 102, ...; the parameter drawn in the
+data sets (generate.py --seed K --hidden ID, K = 101, 102, ... or from `--first`; the parameter drawn in the
 seeded range its data/README.md gives), hands each to `bondgraph discover --format json` with
 the system's experiment and extension library, on the steady sweep and on the two runs, and
 counts the verdicts a correct answer gives:
@@ -18,7 +18,7 @@ error line is kept.
 Run from the repository root after `cargo build --release`, with numpy and scipy (the
 versions of SYSTEM/data/requirements.txt):
 
-    python3 models/examples/detection_rates.py SYSTEM [--seeds 20] [--kind steady|step|both]
+    python3 models/examples/detection_rates.py SYSTEM [--seeds 20] [--first 101] [--kind steady|step|both]
         [--jobs N] [--json FILE]
 
 It prints a Markdown table: one row per hidden id, one column per kind, `found/seeds`, with
@@ -105,6 +105,8 @@ def main():
     parser.add_argument("system", choices=sorted(SYSTEMS))
     parser.add_argument("--binary", default="target/release/bondgraph")
     parser.add_argument("--seeds", type=int, default=20)
+    parser.add_argument("--first", type=int, default=101,
+                        help="the first seed (to add seeds to a table measured before)")
     parser.add_argument("--kind", choices=["steady", "step", "both"], default="both")
     parser.add_argument("--jobs", type=int, default=1)
     parser.add_argument("--json", help="write every run's outcome to this file")
@@ -115,7 +117,7 @@ def main():
     hidden_ids = list(generate.COMMITTED) + ["none"]
     with tempfile.TemporaryDirectory() as tmp:
         work = [(args.system, args.binary, h, s, kinds, tmp)
-                for h in hidden_ids for s in range(101, 101 + args.seeds)]
+                for h in hidden_ids for s in range(args.first, args.first + args.seeds)]
         outcomes = []
         with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
             for hidden, seed, results in pool.map(one, work):
