@@ -27,11 +27,10 @@
 //! gives it ([`super`]), so a continued prediction agrees with a simulated one
 //! to rounding.
 
-use bondgraph_core::modes::Mode;
-use nalgebra::{DMatrix, DVector};
-
-use super::{Steady, SteadySettings, Work};
+use super::nonlinear::{newton, steady_at};
+use super::{Steady, SteadySettings};
 use crate::hybrid::Simulator;
+use bondgraph_core::modes::Mode;
 
 /// A steady state that can be continued: an isolated, stable equilibrium of a nonlinear
 /// mode without guards, reached without leaving it ([`Steady::anchor`]).
@@ -53,10 +52,6 @@ pub struct Anchor {
 /// converges quadratically in two or three.
 const ITERATIONS: usize = 12;
 
-/// A Newton step below this fraction of each state's scale is the equilibrium to double
-/// precision (as the search's polish judges it).
-const CONVERGED_STEP: f64 = 1e-12;
-
 /// The most a continued equilibrium may move from its anchor, as a fraction of each state's
 /// scale: a continuation within a fit's radius moves it by about that radius; a larger move
 /// is a jump to another branch, or a fold nearby, and the search is run instead.
@@ -76,49 +71,18 @@ pub fn continue_steady(
         return None;
     }
     let nl = mode.nonlinear.as_ref()?;
-    let (n, m) = (nl.n, nl.m);
-    if anchor.state.len() != n || anchor.inputs.len() != m {
+    if anchor.state.len() != nl.n || anchor.inputs.len() != nl.m {
         return None;
     }
-    let rate = vec![0.0; m];
-    let mut input: Vec<f64> = anchor
+    let rate = vec![0.0; nl.m];
+    let input: Vec<f64> = anchor
         .state
         .iter()
         .chain(&anchor.inputs)
         .chain(&rate)
         .copied()
         .collect();
-    let tape = &nl.f_and_jacobian;
-    let mut scratch = tape.scratch();
-    let mut out = vec![0.0; tape.output_count()];
-    let mut converged = false;
-    for _ in 0..ITERATIONS {
-        tape.eval(&input, &mut scratch, &mut out);
-        if out.iter().any(|v| !v.is_finite()) {
-            return None;
-        }
-        let jacobian = DMatrix::from_row_slice(n, n, &out[n..n + n * n]);
-        let step = jacobian
-            .lu()
-            .solve(&(-DVector::from_column_slice(&out[..n])))?;
-        if step.iter().any(|d| !d.is_finite()) {
-            return None;
-        }
-        converged = step
-            .iter()
-            .zip(&anchor.scale)
-            .all(|(d, s)| d.abs() <= CONVERGED_STEP * s || d.abs() <= f64::MIN_POSITIVE);
-        for (x, d) in input.iter_mut().zip(step.iter()) {
-            *x += d;
-        }
-        if converged {
-            break;
-        }
-    }
-    if !converged {
-        return None;
-    }
-    let x = input[..n].to_vec();
+    let (x, jacobian) = newton(nl, input, ITERATIONS, &|_: &[f64]| anchor.scale.clone())?;
     let moved_little = x
         .iter()
         .zip(&anchor.state)
@@ -127,28 +91,9 @@ pub fn continue_steady(
     if !moved_little {
         return None;
     }
-    tape.eval(&input, &mut scratch, &mut out);
-    if out.iter().any(|v| !v.is_finite()) {
-        return None;
-    }
-    let jacobian = DMatrix::from_row_slice(n, n, &out[n..n + n * n]);
     let eigenvalues = crate::analysis::eigenvalues(&jacobian).ok()?;
     if !eigenvalues.iter().all(|v| v.re < -settings.zero_eigenvalue) {
         return None;
     }
-    let u = &anchor.inputs;
-    Some(Steady {
-        outputs: mode.outputs.iter().map(|r| r.eval(&x, u, &rate)).collect(),
-        drift: mode
-            .outputs
-            .iter()
-            .map(|r| mode.row_rate(r, &x, u, &rate))
-            .collect(),
-        mode: mode.spec.clone(),
-        time: anchor.time,
-        state: mode.reconstruct(&x, u),
-        work: Work::default(),
-        events: Vec::new(),
-        anchor: None,
-    })
+    Some(steady_at(&mode, &x, &anchor.inputs, &rate, anchor.time))
 }

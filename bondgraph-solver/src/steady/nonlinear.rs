@@ -15,8 +15,10 @@ use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
 use super::continuation::Anchor;
-use super::{Search, Steady, SteadyError, SteadySettings};
+use super::{Search, Steady, SteadyError, SteadySettings, Work};
 use crate::hybrid::Stepper;
+use crate::nonlinear::NonlinearNumeric;
+use crate::numeric::NumericMode;
 
 /// The steady state a simulation of a nonlinear mode settles in: integrated over windows
 /// until `f` stops changing (the change of `f` over a window would move the state by less
@@ -312,21 +314,89 @@ fn settled_at(
         });
     Steady {
         anchor,
-        outputs: mode.outputs.iter().map(|r| r.eval(x, &u, &rate)).collect(),
-        drift: mode
-            .outputs
-            .iter()
-            .map(|r| mode.row_rate(r, x, &u, &rate))
-            .collect(),
-        mode: mode.spec.clone(),
-        time: stepper.time(),
-        state: mode.reconstruct(x, &u),
         work: search.work(&stepper),
         events: if settings.events {
             stepper.events()
         } else {
             Vec::new()
         },
+        ..steady_at(&mode, x, &u, &rate, stepper.time())
+    }
+}
+
+/// Newton's method on a nonlinear mode's `f(x, u) = 0` from `input` (`[x, u, u̇]`, the tapes'
+/// order), at most `iterations` steps: converged when every step is below [`POLISH_STEP`] of
+/// its state's `scale` at the current point (or below the smallest normal double). The
+/// equilibrium and the Jacobian there, or `None` when it does not converge or meets a value
+/// that is not finite. The search's polish and the continuation of an anchor share it.
+pub(super) fn newton(
+    nl: &NonlinearNumeric,
+    mut input: Vec<f64>,
+    iterations: usize,
+    scale: &dyn Fn(&[f64]) -> Vec<f64>,
+) -> Option<(Vec<f64>, DMatrix<f64>)> {
+    let n = nl.n;
+    let tape = &nl.f_and_jacobian;
+    let mut scratch = tape.scratch();
+    let mut out = vec![0.0; tape.output_count()];
+    let mut converged = false;
+    for _ in 0..iterations {
+        tape.eval(&input, &mut scratch, &mut out);
+        if out.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let jacobian = DMatrix::from_row_slice(n, n, &out[n..n + n * n]);
+        let f = DVector::from_column_slice(&out[..n]);
+        let step = jacobian.lu().solve(&(-f))?;
+        if step.iter().any(|d| !d.is_finite()) {
+            return None;
+        }
+        let scale = scale(&input[..n]);
+        converged = step
+            .iter()
+            .zip(&scale)
+            .all(|(d, s)| d.abs() <= POLISH_STEP * s || d.abs() <= f64::MIN_POSITIVE);
+        for (x, d) in input.iter_mut().zip(step.iter()) {
+            *x += d;
+        }
+        if converged {
+            break;
+        }
+    }
+    if !converged {
+        return None;
+    }
+    tape.eval(&input, &mut scratch, &mut out);
+    if out.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let jacobian = DMatrix::from_row_slice(n, n, &out[n..n + n * n]);
+    Some((input[..n].to_vec(), jacobian))
+}
+
+/// The steady state `x` of `mode` at constant inputs `u` (rates `rate`), judged reached at
+/// `time`: the outputs and their rates read at `x`, the full state rebuilt; no work, events
+/// or anchor (the caller adds its own).
+pub(super) fn steady_at(
+    mode: &NumericMode,
+    x: &[f64],
+    u: &[f64],
+    rate: &[f64],
+    time: f64,
+) -> Steady {
+    Steady {
+        outputs: mode.outputs.iter().map(|r| r.eval(x, u, rate)).collect(),
+        drift: mode
+            .outputs
+            .iter()
+            .map(|r| mode.row_rate(r, x, u, rate))
+            .collect(),
+        mode: mode.spec.clone(),
+        time,
+        state: mode.reconstruct(x, u),
+        work: Work::default(),
+        events: Vec::new(),
+        anchor: None,
     }
 }
 
@@ -465,40 +535,12 @@ impl Polish {
     /// than the Newton solve).
     fn candidate(&self, stepper: &Stepper<'_, '_>) -> Option<Candidate> {
         let nl = stepper.mode().nonlinear.as_ref()?;
-        let n = nl.n;
-        let mut input = tape_input(stepper);
-        let tape = &nl.f_and_jacobian;
-        let mut scratch = tape.scratch();
-        let mut out = vec![0.0; tape.output_count()];
-        let mut converged = false;
-        for _ in 0..POLISH_ITERATIONS {
-            tape.eval(&input, &mut scratch, &mut out);
-            if out.iter().any(|v| !v.is_finite()) {
-                return None;
-            }
-            let jacobian = DMatrix::from_row_slice(n, n, &out[n..n + n * n]);
-            let f = DVector::from_column_slice(&out[..n]);
-            let step = jacobian.lu().solve(&(-f))?;
-            let scale = self.scale(&input[..n]);
-            converged = step.iter().zip(&scale).all(|(d, s)| {
-                d.is_finite() && (d.abs() <= POLISH_STEP * s || d.abs() <= f64::MIN_POSITIVE)
-            });
-            for (x, d) in input.iter_mut().zip(step.iter()) {
-                *x += d;
-            }
-            if converged || step.iter().any(|d| !d.is_finite()) {
-                break;
-            }
-        }
-        if !converged {
-            return None;
-        }
-        tape.eval(&input, &mut scratch, &mut out);
-        if out.iter().any(|v| !v.is_finite()) {
-            return None;
-        }
-        let jacobian = DMatrix::from_row_slice(n, n, &out[n..n + n * n]);
-        let point = input[..n].to_vec();
+        let (point, jacobian) = newton(
+            nl,
+            tape_input(stepper),
+            POLISH_ITERATIONS,
+            &|x: &[f64]| self.scale(x),
+        )?;
         Some(Candidate {
             from: stepper.state().to_vec(),
             point,
