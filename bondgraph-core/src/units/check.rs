@@ -48,7 +48,7 @@ use crate::source::Span;
 use super::dimension::Dim;
 use super::domain::{self, Domain};
 use super::format::{readable, readable_with};
-use super::infer::{Symbols, infer};
+use super::infer::{Mismatch, Symbols, infer};
 use super::parse::parse_unit;
 use super::solve::{Conflict, Solver, Var, effort, flow};
 
@@ -125,11 +125,16 @@ pub(crate) fn check(
             units.insert(name.as_str(), (dim, unit.as_str()));
         }
     }
-    let constraints = constraints(model, raw, map, convention);
-    let run = |without: Option<Field>| {
+    let names: HashMap<&str, ElementId> = model
+        .element_ids()
+        .map(|id| (model.element(id).name.as_str(), id))
+        .collect();
+    let constraints = constraints(model, raw, map, &names, convention);
+    let run_with = |without: Option<Field>, schedule: Schedule| {
         let mut checker = Checker {
             model,
             units: &units,
+            names: &names,
             solver: Solver::new(2 * model.bonds.len()),
             problems: Vec::new(),
             blamed: Vec::new(),
@@ -141,9 +146,24 @@ pub(crate) fn check(
             .filter(|c| Some((c.element, c.field)) != without)
             .cloned()
             .collect();
-        checker.solve(&mut laws);
+        match schedule {
+            Schedule::Closure => checker.close(&mut laws),
+            Schedule::Ordered => checker.solve(&mut laws),
+        }
         checker.powers();
         checker
+    };
+    // Laws that agree reach the same dimensions in any order, so the closure, linear in the
+    // model's size, is the answer wherever it finds no problem; where it finds one, the
+    // laws are applied again in the order the messages follow (see the module docs).
+    let run = |without: Option<Field>| {
+        if !ordered_only() {
+            let closed = run_with(without, Schedule::Closure);
+            if closed.problems.is_empty() {
+                return closed;
+            }
+        }
+        run_with(without, Schedule::Ordered)
     };
     let found = run(None);
     let checker = if found.problems.is_empty() {
@@ -163,16 +183,34 @@ pub(crate) fn check(
     (checker.problems, dimensions)
 }
 
+#[cfg(test)]
+thread_local! {
+    /// Tests set this to check every model in [`Schedule::Ordered`] alone, the reference
+    /// the closure must agree with.
+    pub(super) static ORDERED_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+#[cfg(test)]
+fn ordered_only() -> bool {
+    ORDERED_ONLY.with(std::cell::Cell::get)
+}
+
+#[cfg(not(test))]
+fn ordered_only() -> bool {
+    false
+}
+
 /// The laws of every element of `model`, in file order, worded as `convention` says.
 fn constraints(
     model: &Model,
     raw: &RawModel,
     map: &SourceMap,
+    names: &HashMap<&str, ElementId>,
     convention: Convention,
 ) -> Vec<Constraint> {
     let mut out = Vec::new();
     for (index, (name, raw_element)) in raw.elements.iter().enumerate() {
-        let Some(id) = model.element_named(name) else {
+        let Some(&id) = names.get(name.as_str()) else {
             continue;
         };
         let element = model.element(id);
@@ -413,9 +451,23 @@ fn blame<'a>(
     (!checker.problems.is_empty()).then_some(checker)
 }
 
+/// In which order the laws are applied.
+#[derive(Clone, Copy)]
+enum Schedule {
+    /// Every law as soon as its dimension is known, pass after pass: the same dimensions
+    /// as [`Schedule::Ordered`] where the laws agree, at a cost linear in the model's size.
+    Closure,
+    /// Sources and two-ports first, then one law at a time in file order, each followed by
+    /// all it lets the graph propagate: the order a reader checks in, which decides which
+    /// law a disagreement is reported at.
+    Ordered,
+}
+
 struct Checker<'a> {
     model: &'a Model,
     units: &'a HashMap<&'a str, (Dim, &'a str)>,
+    /// Each element by name.
+    names: &'a HashMap<&'a str, ElementId>,
     solver: Solver,
     problems: Vec<Diagnostic>,
     /// The field each problem of a law blames, in order: at most one problem per field.
@@ -443,7 +495,7 @@ impl Symbols for Scope<'_, '_> {
         }
         let model = self.checker.model;
         let (letter, element) = name.split_once('_')?;
-        let id = model.element_named(element)?;
+        let id = *self.checker.names.get(element)?;
         let bond = model.element(id).bonds.first()?.index();
         match (letter, model.storage_name(id)) {
             ("q", Some(state)) if state == name => {
@@ -482,6 +534,43 @@ impl Checker<'_> {
         }
     }
 
+    /// [`Schedule::Closure`]: passes over the pending laws, each applying every law whose
+    /// dimension is known, and the power rule after each, until a pass learns nothing. Laws
+    /// whose dimensions come from their parameters' units alone (most of them) apply in the
+    /// first pass; later passes see only the laws that read a bond (`effort`, `q_X`).
+    fn close(&mut self, constraints: &mut Vec<Constraint>) {
+        loop {
+            let pending = constraints.len();
+            constraints.retain(|c| {
+                let scope = Scope {
+                    checker: self,
+                    port: c.port,
+                };
+                match infer(&c.text, &c.expr, &scope) {
+                    Ok(None) => true,
+                    Ok(Some(dim)) => {
+                        if let Some(problem) = self.enforce(c, dim) {
+                            self.report(c, problem);
+                        }
+                        false
+                    }
+                    Err(mismatch) => {
+                        self.report_mismatch(c, mismatch);
+                        false
+                    }
+                }
+            });
+            if !self.problems.is_empty() {
+                return;
+            }
+            let learnt = self.power_step();
+            if constraints.len() == pending && !learnt {
+                return;
+            }
+        }
+    }
+
+    /// [`Schedule::Ordered`].
     fn solve(&mut self, constraints: &mut Vec<Constraint>) {
         loop {
             if self.apply(constraints, true, usize::MAX) || self.power_step() {
@@ -515,13 +604,8 @@ impl Checker<'_> {
                     continue;
                 }
                 Err(mismatch) => {
-                    let span = Span::new(
-                        c.span.start + mismatch.span.start,
-                        c.span.start + mismatch.span.end,
-                    );
-                    let d = self.diagnostic(c, span, mismatch.message);
-                    self.report(c, d);
-                    constraints.remove(index);
+                    let c = constraints.remove(index);
+                    self.report_mismatch(&c, mismatch);
                     continue;
                 }
             };
@@ -532,6 +616,16 @@ impl Checker<'_> {
             }
         }
         applied > 0
+    }
+
+    /// Records a mismatch inside `c`'s expression, at its place in the expression.
+    fn report_mismatch(&mut self, c: &Constraint, mismatch: Mismatch) {
+        let span = Span::new(
+            c.span.start + mismatch.span.start,
+            c.span.start + mismatch.span.end,
+        );
+        let d = self.diagnostic(c, span, mismatch.message);
+        self.report(c, d);
     }
 
     /// Records `problem` with `c`'s law, unless its field has a problem already.

@@ -961,3 +961,68 @@ fn an_edit_writes_an_si_value_in_the_parameters_own_unit() {
         );
     }
 }
+
+/// Every model file of the repository (examples, teaching models, the flagship, the test
+/// fixtures) checked both ways: the closure that `check` runs first must find exactly the
+/// dimensions, or the diagnostics, of the ordered schedule that was the whole check before.
+#[test]
+fn the_linear_closure_agrees_with_the_ordered_check_on_every_model_file() {
+    use std::path::{Path, PathBuf};
+    fn ron_files(dir: &Path, out: &mut Vec<PathBuf>) {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                ron_files(&path, out);
+            } else if path.extension().is_some_and(|e| e == "ron") {
+                out.push(path);
+            }
+        }
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut files = Vec::new();
+    for dir in ["models", "tests/fixtures", "studies"] {
+        ron_files(&root.join(dir), &mut files);
+    }
+    let load = |path: &Path, text: &str, ordered: bool| {
+        super::check::ORDERED_ONLY.with(|o| o.set(ordered));
+        let result = model::load_str(&path.display().to_string(), text);
+        super::check::ORDERED_ONLY.with(|o| o.set(false));
+        result
+    };
+    let (mut models, mut rejected) = (0, 0);
+    for path in &files {
+        let text = std::fs::read_to_string(path).unwrap();
+        match (load(path, &text, false), load(path, &text, true)) {
+            (Ok(closed), Ok(ordered)) => {
+                assert_eq!(
+                    closed.bond_dimensions,
+                    ordered.bond_dimensions,
+                    "{}",
+                    path.display()
+                );
+                models += usize::from(closed.bond_dimensions.iter().any(|d| d.effort.is_some()));
+            }
+            (Err(closed), Err(ordered)) => {
+                let messages = |d: &Diagnostics| -> Vec<String> {
+                    d.0.iter().map(|d| d.message.clone()).collect()
+                };
+                assert_eq!(messages(&closed), messages(&ordered), "{}", path.display());
+                rejected += usize::from(closed.first().kind == DiagnosticKind::UnitMismatch);
+            }
+            (closed, ordered) => panic!(
+                "{}: the closure says {:?}, the ordered check {:?}",
+                path.display(),
+                closed.err(),
+                ordered.err()
+            ),
+        }
+    }
+    // Scenario, experiment and extension files are rejected as models, alike both ways.
+    assert!(
+        models >= 40 && rejected >= 1,
+        "{models} models with units, {rejected} rejected for their units"
+    );
+}
