@@ -11,7 +11,7 @@ use serde::Serialize;
 
 use bondgraph_core::DiagnosticKind;
 use bondgraph_core::equations::nonlinear::{NonlinearOutput, OperatingPoint};
-use bondgraph_core::equations::{self, OutputEquation, Variables};
+use bondgraph_core::equations::{self, Layout, OutputEquation, Variables};
 use bondgraph_core::guards::Guard;
 use bondgraph_core::model::Model;
 use bondgraph_core::modes::{self, ModeEquations, NonlinearModeEquations};
@@ -35,6 +35,9 @@ pub struct Request {
     pub at: Option<String>,
     /// Search a nonlinear mode's equilibrium (from `at`, or from zero) and linearise there.
     pub equilibrium: bool,
+    /// How the JSON writes a linear mode's `A`, `B` and `E`; dense up to
+    /// [`Layout::DENSE_UP_TO`] states and sparse above if `None`.
+    pub matrices: Option<Layout>,
 }
 
 /// The equations of one mode, ready to be written in any of the three formats.
@@ -48,6 +51,8 @@ pub struct Derived {
     /// The LaTeX comment saying what the matrices need.
     preamble: String,
     spec: String,
+    /// How the JSON writes the matrices (`None`: by the number of states).
+    matrices: Option<Layout>,
     kind: Kind,
     /// A nonlinear mode's operating point (given, or the equilibrium found).
     point: Option<OperatingPoint>,
@@ -185,6 +190,7 @@ pub fn derive(
         conventions: conventions::text(model),
         preamble: conventions::latex_preamble(model),
         spec: mode.spec(model),
+        matrices: request.matrices,
         kind,
         point,
         found,
@@ -322,7 +328,12 @@ impl Derived {
         let parameters = &self.parameters;
         match &self.kind {
             Kind::Linear { derived, outputs } => json(&WithParameters {
-                equations: derived.equations.to_json(&self.spec, outputs),
+                equations: {
+                    let layout = self
+                        .matrices
+                        .unwrap_or_else(|| Layout::for_states(derived.equations.states.len()));
+                    derived.equations.to_json_as(&self.spec, outputs, layout)
+                },
                 parameters,
             }),
             Kind::Nonlinear { derived, outputs } => json(&WithParameters {

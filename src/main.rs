@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use bondgraph_core::DiagnosticKind;
-use bondgraph_core::equations::Variables;
+use bondgraph_core::equations::{Layout, Variables};
 use bondgraph_fit::budget::Budget;
 use clap::{Parser, Subcommand, ValueEnum};
 
@@ -123,6 +123,10 @@ enum Command {
         /// starting from its states) and linearise there.
         #[arg(long)]
         equilibrium: bool,
+        /// How --format json writes A, B and E: rows of entries (dense), or the non-zero
+        /// entries as row, col, data (sparse); auto is dense up to 500 states.
+        #[arg(long, value_enum, default_value_t = MatricesArg::Auto)]
+        matrices: MatricesArg,
     },
     /// Poles, time constants, the transfer function, zeros, DC gain and step response of a
     /// linear mode (a nonlinear model: of its linearisation).
@@ -291,6 +295,23 @@ enum ModesFormat {
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
+enum MatricesArg {
+    Auto,
+    Dense,
+    Sparse,
+}
+
+impl MatricesArg {
+    fn layout(self) -> Option<Layout> {
+        match self {
+            Self::Auto => None,
+            Self::Dense => Some(Layout::Dense),
+            Self::Sparse => Some(Layout::Sparse),
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
 enum StatesArg {
     Energy,
     Coenergy,
@@ -391,6 +412,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             outputs,
             at,
             equilibrium,
+            matrices,
         } => {
             let (model, source) = load(&model)?;
             let request = derive::Request {
@@ -399,6 +421,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 outputs,
                 at,
                 equilibrium,
+                matrices: matrices.layout(),
             };
             let derived = derive::derive(&model, &source, &request)?;
             print(&match format {

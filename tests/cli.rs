@@ -354,7 +354,7 @@ fn an_unknown_output_element_is_a_clear_error_naming_it() {
 }
 
 /// A fresh directory under the system's temporary directory.
-fn scratch(name: &str) -> std::path::PathBuf {
+pub(crate) fn scratch(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("bondgraph-cli-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     dir

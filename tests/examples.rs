@@ -3,14 +3,15 @@
 //! Each test states the physics, derives the equations on paper (in the comment), and
 //! checks both the symbolic entries and their values with the file's parameters.
 
-use bondgraph_core::equations::{Note, OutputSpec, Quantity, Variables};
+use bondgraph_core::equations::{Layout, Matrix, Note, OutputSpec, Quantity, Variables};
 
 use crate::support::{assert_numeric, assert_symbolic, derive, expected, load, value};
 
 /// Numeric matrices of a derivation.
 fn values(eq: &bondgraph_core::equations::StateEquations) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
-    let json = eq.to_json("", &[]);
-    (json.A_value, json.B_value)
+    let json = eq.to_json_as("", &[], Layout::Dense);
+    let rows = |m: &Matrix<f64>| m.rows().expect("dense").to_vec();
+    (rows(&json.A_value), rows(&json.B_value))
 }
 
 fn state_names(eq: &bondgraph_core::equations::StateEquations) -> Vec<&str> {

@@ -12,6 +12,7 @@ mod every_model;
 mod examples;
 mod feedback;
 mod hardening;
+mod large_models;
 mod linear_graph_diagnostics;
 mod linear_graphs;
 mod new_systems;

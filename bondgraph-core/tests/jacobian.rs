@@ -46,7 +46,7 @@
 
 use crate::random_graph::{Features, Graph, GraphSpec, Kind, graph_spec};
 use bondgraph_core::DiagnosticKind;
-use bondgraph_core::equations::{self, Note, Options, Quantity, StateEquations, Variables};
+use bondgraph_core::equations::{self, Layout, Note, Options, Quantity, StateEquations, Variables};
 use bondgraph_core::laws;
 use bondgraph_core::model;
 use bondgraph_core::symbolic::{Poly, RatFunc};
@@ -540,7 +540,11 @@ fn check_case(spec: &GraphSpec) -> Result<Outcome, TestCaseError> {
     let x = point(&mut seed, n_x);
     let u = point(&mut seed, n_u);
 
-    let json = eq.to_json("", &[]);
+    let json = eq.to_json_as("", &[], Layout::Dense);
+    let (json_a, json_b) = (
+        json.A_value.rows().expect("dense"),
+        json.B_value.rows().expect("dense"),
+    );
     let (a, b, c) = (eq.a(), eq.b(), eq.c());
     let values = &eq.values;
 
@@ -572,7 +576,7 @@ fn check_case(spec: &GraphSpec) -> Result<Outcome, TestCaseError> {
         let (mut xp, mut xm) = (x.clone(), x.clone());
         xp[j] += STEP;
         xm[j] -= STEP;
-        let library = |i: usize| (json.A_value[i][j], eval_error(&a[i][j], values));
+        let library = |i: usize| (json_a[i][j], eval_error(&a[i][j], values));
         column(
             "A",
             j,
@@ -585,7 +589,7 @@ fn check_case(spec: &GraphSpec) -> Result<Outcome, TestCaseError> {
         let (mut up, mut um) = (u.clone(), u.clone());
         up[j] += STEP;
         um[j] -= STEP;
-        let library = |i: usize| (json.B_value[i][j], eval_error(&b[i][j], values));
+        let library = |i: usize| (json_b[i][j], eval_error(&b[i][j], values));
         column(
             "B",
             j,
@@ -618,7 +622,11 @@ fn check_case(spec: &GraphSpec) -> Result<Outcome, TestCaseError> {
             )));
         }
     };
-    let co_json = co.to_json("", &[]);
+    let co_json = co.to_json_as("", &[], Layout::Dense);
+    let (co_a, co_b) = (
+        co_json.A_value.rows().expect("dense"),
+        co_json.B_value.rows().expect("dense"),
+    );
     let (a_co, b_co, c_co) = (co.a(), co.b(), co.c());
     let d: Vec<f64> = storage.iter().map(|&e| graph.coenergy_factor(e)).collect();
     for (state, &e) in co.states.iter().zip(&storage) {
@@ -631,26 +639,26 @@ fn check_case(spec: &GraphSpec) -> Result<Outcome, TestCaseError> {
     for i in 0..n_x {
         for j in 0..n_x {
             let scale = d[i] / d[j];
-            let expected = d[i] * json.A_value[i][j] / d[j];
+            let expected = d[i] * json_a[i][j] / d[j];
             let bound = eval_error(&a_co[i][j], values)
                 + scale * eval_error(&a[i][j], values)
                 + gamma(3) * expected.abs();
             assert_close(
                 &format!("A_co[{i}][{j}]"),
-                co_json.A_value[i][j],
+                co_a[i][j],
                 expected,
                 bound,
                 &text,
             )?;
         }
         for j in 0..n_u {
-            let expected = d[i] * json.B_value[i][j];
+            let expected = d[i] * json_b[i][j];
             let bound = eval_error(&b_co[i][j], values)
                 + d[i] * eval_error(&b[i][j], values)
                 + gamma(2) * expected.abs();
             assert_close(
                 &format!("B_co[{i}][{j}]"),
-                co_json.B_value[i][j],
+                co_b[i][j],
                 expected,
                 bound,
                 &text,

@@ -44,6 +44,7 @@ __all__ = [
     "Explanation",
     "Model",
     "Simulation",
+    "SparseMatrix",
     "Svg",
     "calibrate",
     "compare",
@@ -105,6 +106,60 @@ def _symbols(rows: Any) -> np.ndarray:
     return array
 
 
+class SparseMatrix:
+    """A large mode's matrix as its non-zero entries (``--matrices sparse``, the default
+    above 500 states): entry ``k`` is ``data[k]`` at ``(row[k], col[k])``, as
+    ``scipy.sparse.coo_array((data, (row, col)), shape)`` takes them.
+
+    ``data`` is a float array for the ``_value`` matrices and an array of Python strings
+    for the symbolic ones. ``to_scipy()`` builds the scipy array (scipy is not a
+    dependency of this package: install it to use this), ``toarray()`` the dense numpy
+    array (zeros filled in; beware the memory of a large model).
+    """
+
+    def __init__(self, document: Dict[str, Any], numeric: bool) -> None:
+        self.shape = tuple(document["shape"])
+        self.row = np.asarray(document["row"], dtype=np.int64)
+        self.col = np.asarray(document["col"], dtype=np.int64)
+        if numeric:
+            self.data = np.array(
+                [np.nan if x is None else x for x in document["data"]], dtype=float
+            )
+        else:
+            self.data = np.empty(len(document["data"]), dtype=object)
+            for k, entry in enumerate(document["data"]):
+                self.data[k] = entry
+        self.numeric = numeric
+
+    @property
+    def nnz(self) -> int:
+        """How many entries are stored."""
+        return len(self.data)
+
+    def toarray(self) -> np.ndarray:
+        """The dense array: ``0.0`` (or ``"0"``) where no entry is stored."""
+        if self.numeric:
+            dense = np.zeros(self.shape)
+        else:
+            dense = np.full(self.shape, "0", dtype=object)
+        dense[self.row, self.col] = self.data
+        return dense
+
+    def to_scipy(self) -> Any:
+        """A ``scipy.sparse.coo_array`` of the numeric entries."""
+        if not self.numeric:
+            raise TypeError("symbolic entries are strings; take the _value matrix")
+        try:
+            from scipy import sparse
+        except ImportError as error:
+            raise ImportError("to_scipy() needs scipy: pip install scipy") from error
+        return sparse.coo_array((self.data, (self.row, self.col)), shape=self.shape)
+
+    def __repr__(self) -> str:
+        kind = "numbers" if self.numeric else "symbols"
+        return f"<SparseMatrix {self.shape[0]}x{self.shape[1]}: {self.nnz} {kind}>"
+
+
 class Svg:
     """An SVG drawing; a notebook shows it (``_repr_svg_``)."""
 
@@ -130,7 +185,8 @@ class Equations:
     """The state equations of one mode, ``bondgraph equations --format json``.
 
     A linear mode has ``A``, ``B``, ``c`` (symbolic: arrays of strings) and ``A_value``,
-    ``B_value``, ``c_value`` (float arrays), ``E`` and ``E_value`` where input derivatives
+    ``B_value``, ``c_value`` (float arrays; above 500 states, or with
+    ``matrices="sparse"``, ``A``, ``B`` and ``E`` are :class:`SparseMatrix`), ``E`` and ``E_value`` where input derivatives
     enter, and with outputs ``C``, ``D``, ``d`` (and ``F``) with their ``_value`` twins. A
     nonlinear mode has ``f`` (one string per state) and, at an operating point, its
     Jacobians ``A``, ``B``. ``c`` and ``d`` are column vectors. Any other field of the
@@ -160,6 +216,8 @@ class Equations:
         if name not in document:
             raise AttributeError(name)
         value = document[name]
+        if isinstance(value, dict) and "row" in value and "col" in value:
+            return SparseMatrix(value, numeric)
         if isinstance(value, list) and value and isinstance(value[0], list):
             return _numbers(value) if numeric else _symbols(value)
         if isinstance(value, list) and base == "c":
@@ -444,6 +502,7 @@ class Model:
         outputs: Sequence[str] = (),
         at: Optional[Union[str, Dict[str, float]]] = None,
         equilibrium: bool = False,
+        matrices: Optional[str] = None,
     ) -> Equations:
         """``bondgraph equations``: the state equations of one mode.
 
@@ -458,11 +517,15 @@ class Model:
                 mode's Jacobians are evaluated there.
             equilibrium: search a nonlinear mode's equilibrium ``f(x, u) = 0`` (the inputs
                 as ``at`` gives them, starting from its states) and linearise there.
+            matrices: ``"dense"`` (numpy arrays), ``"sparse"`` (:class:`SparseMatrix`) or
+                ``"auto"``, the default: dense up to 500 states.
         """
         if isinstance(outputs, str):
             outputs = [outputs]
         return Equations(
-            self._native.equations(mode, states, list(outputs), _point(at), equilibrium)
+            self._native.equations(
+                mode, states, list(outputs), _point(at), equilibrium, matrices
+            )
         )
 
     def graph(self, mode: Optional[str] = None, format: str = "text") -> str:

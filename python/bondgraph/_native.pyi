@@ -92,6 +92,7 @@ class NativeModel:
         outputs: List[str] = ...,
         at: Optional[str] = None,
         equilibrium: bool = False,
+        matrices: Optional[str] = None,
     ) -> NativeEquations:
         """``bondgraph equations``."""
     def analyze(

@@ -9,7 +9,7 @@
 use std::sync::Arc;
 
 use bondgraph::{check, compare, derive, explain_bg, graph, parse_mode};
-use bondgraph_core::equations::Variables;
+use bondgraph_core::equations::{Layout, Variables};
 use bondgraph_core::model::{self, Model};
 use bondgraph_core::source::SourceFile;
 use pyo3::prelude::*;
@@ -38,6 +38,15 @@ fn variables(states: Option<&str>) -> Result<Option<Variables>, Failure> {
         Some("energy") => Ok(Some(Variables::Energy)),
         Some("coenergy") => Ok(Some(Variables::CoEnergy)),
         Some(other) => Err(bad_choice("states", other, &["energy", "coenergy"])),
+    }
+}
+
+fn layout(matrices: Option<&str>) -> Result<Option<Layout>, Failure> {
+    match matrices {
+        None | Some("auto") => Ok(None),
+        Some("dense") => Ok(Some(Layout::Dense)),
+        Some("sparse") => Ok(Some(Layout::Sparse)),
+        Some(other) => Err(bad_choice("matrices", other, &["auto", "dense", "sparse"])),
     }
 }
 
@@ -125,7 +134,8 @@ impl PyModel {
     }
 
     /// `bondgraph equations`: its JSON, LaTeX and text.
-    #[pyo3(signature = (mode=None, states=None, outputs=Vec::new(), at=None, equilibrium=false))]
+    #[pyo3(signature = (mode=None, states=None, outputs=Vec::new(), at=None, equilibrium=false, matrices=None))]
+    #[allow(clippy::too_many_arguments)]
     fn equations(
         &self,
         py: Python<'_>,
@@ -134,6 +144,7 @@ impl PyModel {
         outputs: Vec<String>,
         at: Option<String>,
         equilibrium: bool,
+        matrices: Option<String>,
     ) -> PyResult<PyEquations> {
         guard(py, || {
             let request = derive::Request {
@@ -142,6 +153,7 @@ impl PyModel {
                 outputs,
                 at,
                 equilibrium,
+                matrices: layout(matrices.as_deref())?,
             };
             let derived = derive::derive(&self.model, &self.source, &request)?;
             Ok(PyEquations {

@@ -59,6 +59,24 @@ def test_mass_spring_damper_matrices_by_hand():
     assert eq.A_value.dtype == float and eq.A.dtype == object
 
 
+def test_sparse_matrices_are_the_dense_ones_entry_by_entry():
+    # The same mass-spring-damper asked for its non-zero entries: A has three (-b/m, -k,
+    # 1/m), B one; expanded, they are the dense matrices above.
+    model = bondgraph.load(rel(EXAMPLES / "mass_spring_damper.ron"))
+    sparse = model.equations(matrices="sparse")
+    assert sparse.matrices == "sparse"
+    assert isinstance(sparse.A_value, bondgraph.SparseMatrix)
+    assert sparse.A_value.shape == (2, 2) and sparse.A_value.nnz == 3
+    assert sparse.A.row.tolist() == [0, 0, 1] and sparse.A.col.tolist() == [0, 1, 0]
+    assert sparse.A.data.tolist() == ["-b/m", "-k", "1/m"]
+    np.testing.assert_array_equal(sparse.A_value.toarray(), [[-2, -200], [0.5, 0]])
+    assert sparse.A.toarray().tolist() == [["-b/m", "-k"], ["1/m", "0"]]
+    dense = model.equations(matrices="dense")
+    np.testing.assert_array_equal(sparse.B_value.toarray(), dense.B_value)
+    with pytest.raises(bondgraph.BondGraphError, match="matrices"):
+        model.equations(matrices="triangular")
+
+
 def test_coenergy_and_linear_graph_defaults():
     # A linear graph is read in co-energy variables by default (Rowell & Wormley's states):
     # the series RLC's capacitor voltage and inductor current.

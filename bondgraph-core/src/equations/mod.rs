@@ -34,7 +34,7 @@ use crate::symbolic::{RatFunc, SymbolTable};
 
 pub use elimination::AlgebraicLoop;
 pub use outputs::{OutputEquation, OutputQuantity, OutputSpec};
-pub use print::{EquationsJson, OutputJson, StateJson};
+pub use print::{EquationsJson, Layout, Matrix, OutputJson, StateJson, Triplets};
 
 use elimination::Numbering;
 use merging::Domain;
@@ -506,6 +506,22 @@ impl StateEquations {
         self.derivatives
             .iter()
             .map(|row| row.coefficient(Var::Constant))
+            .collect()
+    }
+
+    /// The non-zero entries of `A` (`column` maps a state to its column), `B` (inputs) or
+    /// `E` (inputs' rates) as `(row, column, entry)`, row by row, columns ascending: a large
+    /// model's matrices in memory linear in their non-zeros.
+    pub fn nonzeros(&self, column: impl Fn(Var) -> Option<usize>) -> Vec<(usize, usize, &RatFunc)> {
+        self.derivatives
+            .iter()
+            .enumerate()
+            .flat_map(|(i, row)| {
+                let column = &column;
+                row.terms()
+                    .iter()
+                    .filter_map(move |(var, entry)| column(*var).map(|j| (i, j, entry)))
+            })
             .collect()
     }
 

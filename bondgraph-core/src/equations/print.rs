@@ -26,29 +26,92 @@ pub struct EquationsJson {
     pub states: Vec<StateJson>,
     /// The inputs' names.
     pub inputs: Vec<String>,
+    /// How `A`, `B` and `E` are written: `dense` or `sparse`.
+    pub matrices: Layout,
     /// `A`, symbolic, row by row.
-    pub A: Vec<Vec<String>>,
+    pub A: Matrix<String>,
     /// `B`, symbolic.
-    pub B: Vec<Vec<String>>,
+    pub B: Matrix<String>,
     /// `c`, symbolic.
     pub c: Vec<String>,
     /// `A` with the parameter values substituted.
-    pub A_value: Vec<Vec<f64>>,
+    pub A_value: Matrix<f64>,
     /// `B` with the parameter values substituted.
-    pub B_value: Vec<Vec<f64>>,
+    pub B_value: Matrix<f64>,
     /// `c` with the parameter values substituted.
     pub c_value: Vec<f64>,
     /// `E`, symbolic (states × inputs): the coefficients of the inputs' rates, present only
     /// where they enter (`dx/dt = A x + B u + E du/dt + c`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub E: Option<Vec<Vec<String>>>,
+    pub E: Option<Matrix<String>>,
     /// `E` with the parameter values substituted, where `E` is present.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub E_value: Option<Vec<Vec<f64>>>,
+    pub E_value: Option<Matrix<f64>>,
     /// Output equations requested.
     pub outputs: Vec<OutputJson>,
     /// What the derivation merged, held and solved.
     pub notes: Vec<String>,
+}
+
+/// How the JSON document writes the matrices `A`, `B` and `E`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Layout {
+    /// Rows of entries, zeros included: what small models are read as.
+    Dense,
+    /// The non-zero entries only ([`Triplets`]): memory linear in the non-zeros, for large
+    /// models, whose dense matrices grow with the square of their states.
+    Sparse,
+}
+
+impl Layout {
+    /// The most states whose matrices [`Layout::for_states`] writes dense: 500 states make
+    /// a dense `A` of 250,000 entries, a few megabytes of JSON.
+    pub const DENSE_UP_TO: usize = 500;
+
+    /// Dense up to [`Layout::DENSE_UP_TO`] states, sparse above.
+    pub fn for_states(states: usize) -> Self {
+        if states <= Self::DENSE_UP_TO {
+            Self::Dense
+        } else {
+            Self::Sparse
+        }
+    }
+}
+
+/// A matrix of the JSON document, as its [`Layout`] says.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Matrix<T> {
+    /// Rows of entries.
+    Dense(Vec<Vec<T>>),
+    /// The non-zero entries.
+    Sparse(Triplets<T>),
+}
+
+impl<T> Matrix<T> {
+    /// The rows, if the matrix is dense.
+    pub fn rows(&self) -> Option<&[Vec<T>]> {
+        match self {
+            Self::Dense(rows) => Some(rows),
+            Self::Sparse(_) => None,
+        }
+    }
+}
+
+/// A sparse matrix as its non-zero entries, named as scipy's coordinate format names them
+/// (`scipy.sparse.coo_array((data, (row, col)), shape)`): entry `k` is `data[k]` at row
+/// `row[k]`, column `col[k]`; rows ascending, and columns ascending within a row.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Triplets<T> {
+    /// Rows and columns.
+    pub shape: [usize; 2],
+    /// Each entry's row.
+    pub row: Vec<usize>,
+    /// Each entry's column.
+    pub col: Vec<usize>,
+    /// The entries.
+    pub data: Vec<T>,
 }
 
 /// One state in the JSON document.
@@ -337,16 +400,83 @@ impl StateEquations {
         out
     }
 
-    /// The JSON document; `mode` is the mode's specification (empty for plain models).
+    /// The JSON document; `mode` is the mode's specification (empty for plain models). Its
+    /// matrices are dense up to [`Layout::DENSE_UP_TO`] states and sparse above
+    /// ([`StateEquations::to_json_as`] chooses).
     pub fn to_json(&self, mode: &str, outputs: &[OutputEquation]) -> EquationsJson {
-        let texts = |m: &[Vec<RatFunc>]| self.text_entries(m);
-        let values = |m: &[Vec<RatFunc>]| -> Vec<Vec<f64>> {
-            m.iter()
-                .map(|row| row.iter().map(|e| self.evaluate(e)).collect())
-                .collect()
-        };
-        let (a, b, c) = (self.a(), self.b(), self.c());
-        let e = self.has_input_rates().then(|| self.e());
+        self.to_json_as(mode, outputs, Layout::for_states(self.states.len()))
+    }
+
+    /// The JSON document with its matrices written as `layout` says.
+    pub fn to_json_as(
+        &self,
+        mode: &str,
+        outputs: &[OutputEquation],
+        layout: Layout,
+    ) -> EquationsJson {
+        let n = self.states.len();
+        let columns =
+            |m: usize, column: &dyn Fn(Var) -> Option<usize>| -> (Matrix<String>, Matrix<f64>) {
+                match layout {
+                    Layout::Dense => {
+                        let dense: Vec<Vec<RatFunc>> = (0..n)
+                            .map(|i| {
+                                let mut row = vec![RatFunc::zero(); m];
+                                for (var, entry) in self.derivatives[i].terms() {
+                                    if let Some(j) = column(*var) {
+                                        row[j] = entry.clone();
+                                    }
+                                }
+                                row
+                            })
+                            .collect();
+                        let values = dense
+                            .iter()
+                            .map(|row| row.iter().map(|e| self.evaluate(e)).collect())
+                            .collect();
+                        (
+                            Matrix::Dense(self.text_entries(&dense)),
+                            Matrix::Dense(values),
+                        )
+                    }
+                    Layout::Sparse => {
+                        let entries = self.nonzeros(column);
+                        let row: Vec<usize> = entries.iter().map(|e| e.0).collect();
+                        let col: Vec<usize> = entries.iter().map(|e| e.1).collect();
+                        let texts = Triplets {
+                            shape: [n, m],
+                            row: row.clone(),
+                            col: col.clone(),
+                            data: entries.iter().map(|e| e.2.text(&self.symbols)).collect(),
+                        };
+                        let values = Triplets {
+                            shape: [n, m],
+                            row,
+                            col,
+                            data: entries.iter().map(|e| self.evaluate(e.2)).collect(),
+                        };
+                        (Matrix::Sparse(texts), Matrix::Sparse(values))
+                    }
+                }
+            };
+        let index = |i: &u32| Some(*i as usize);
+        let (a, a_value) = columns(n, &|v| match &v {
+            Var::State(i) => index(i),
+            _ => None,
+        });
+        let inputs = self.inputs.len();
+        let (b, b_value) = columns(inputs, &|v| match &v {
+            Var::Input(i) => index(i),
+            _ => None,
+        });
+        let e = self.has_input_rates().then(|| {
+            columns(inputs, &|v| match &v {
+                Var::InputRate(i) => index(i),
+                _ => None,
+            })
+        });
+        let (e, e_value) = e.map_or((None, None), |(e, v)| (Some(e), Some(v)));
+        let c = self.c();
         EquationsJson {
             model: self.model.clone(),
             mode: mode.to_string(),
@@ -363,14 +493,15 @@ impl StateEquations {
                 })
                 .collect(),
             inputs: self.inputs.clone(),
-            A: texts(&a),
-            B: texts(&b),
+            matrices: layout,
+            A: a,
+            B: b,
             c: c.iter().map(|e| e.text(&self.symbols)).collect(),
-            A_value: values(&a),
-            B_value: values(&b),
+            A_value: a_value,
+            B_value: b_value,
             c_value: c.iter().map(|e| self.evaluate(e)).collect(),
-            E: e.as_deref().map(texts),
-            E_value: e.as_deref().map(values),
+            E: e,
+            E_value: e_value,
             outputs: outputs.iter().map(|o| self.output_json(o)).collect(),
             notes: self.notes.iter().map(|n| n.text(&self.symbols)).collect(),
         }
