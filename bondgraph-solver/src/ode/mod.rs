@@ -13,11 +13,17 @@
 //! Jacobian (differentiated symbolically, compiled to a tape) its simplified Newton
 //! iteration converges in a few steps. LSODA switches between Adams and BDF the same way.
 //!
-//! Radau IIA follows Hairer and Wanner (Solving ODEs II, IV.8): the stage system
-//! `(I - h A⊗J) ΔZ = -G(Z)` is solved with one LU decomposition per step (the systems here
-//! are small), the error estimate is the embedded third-order formula filtered by
-//! `(I - h γ₀ J)⁻¹`, and the step size follows it with exponent 1/4. Work buffers are
-//! allocated once per integrator, so steps allocate nothing.
+//! Radau IIA follows Hairer and Wanner (Solving ODEs II, IV.8) and their RADAU5: the stage
+//! system `(I - h A⊗J) ΔZ = -G(Z)` is solved as one real `3n × 3n` system (the systems here
+//! are small, so RADAU5's split into a real and a complex `n × n` one is not worth its
+//! bookkeeping); the Jacobian is kept from step to step while Newton's iteration contracts
+//! fast, and its factorisation too while the step size would change by less than 20 %;
+//! Newton starts from the last step's collocation polynomial; the error estimate is the
+//! embedded third-order formula filtered by `(I - h γ₀ J)⁻¹` (estimated again from
+//! `f(x + err)` at the first step and after a rejection); and the step size follows
+//! Gustafsson's predictive controller. On Van der Pol's stiff oscillator this takes no
+//! more evaluations of `f` than scipy's RADAU5 at the same accuracy (`radau.rs`). Work
+//! buffers are allocated once per integrator, so steps allocate nothing.
 //!
 //! `diffsol` (BDF and SDIRK with root finding) was considered: it builds from crates.io,
 //! but brings faer and the gemm family with it (about 150 crates, 2 min 19 s of a cold

@@ -69,4 +69,7 @@ pub struct OdeStats {
     pub rhs: usize,
     /// Evaluations of the Jacobian.
     pub jacobians: usize,
+    /// LU factorisations of the implicit method's matrices (one per step size and
+    /// Jacobian it uses).
+    pub factorizations: usize,
 }

@@ -59,6 +59,7 @@ impl Switching {
             rejected: a.rejected + b.rejected,
             rhs: a.rhs + b.rhs,
             jacobians: a.jacobians + b.jacobians,
+            factorizations: a.factorizations + b.factorizations,
         }
     }
 
