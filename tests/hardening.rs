@@ -522,3 +522,35 @@ fn data_and_experiment_files_over_their_limits_are_refused() {
         "{stderr}"
     );
 }
+
+/// A friction contact with no friction at all (`T_S = T_C = 0`) on the geared motor, 1 V
+/// against a brake of exactly the stall torque (`N K V/R_a = 20·0.05·1/2 = 0.5 N m`): the
+/// shaft swings about rest, and each time through zero the contact sticks and lets go at
+/// once. It once flipped stuck -> slip -> stuck 29,604 times in 5 s, unreported. With a slow
+/// armature (`L_a = 0.1 H`) the swings die out in a few events; with a faster one (0.01 H)
+/// the flips come faster than any of the model's time scales, and the run stops, naming
+/// the contact and the time.
+#[test]
+fn a_contact_without_friction_at_exact_balance_does_not_chatter_unreported() {
+    let scenario = |inductance: f64| {
+        format!(
+            r#"Scenario(name: "balance", parameters: {{ "T_S": 0.0, "T_C": 0.0, "K": 0.05, "L_a": {inductance} }},
+    inputs: {{ "V": Constant(1.0), "tau_load": Constant(0.5) }}, initial_mode: "bearings=stuck",
+    duration: 5.0, record: ["flow:load_inertia"], sample: 0.5)"#
+        )
+    };
+    let model = "models/examples/geared_motor/geared_motor.ron";
+    let slow = temporary("balance_slow.ron", scenario(0.1).as_bytes());
+    let settled = crate::cli::succeed(&["simulate", model, "--scenario", slow.to_str().unwrap()]);
+    // The last sample is at the duration.
+    assert!(
+        settled.lines().last().unwrap().starts_with("5,"),
+        "{settled}"
+    );
+    let fast = temporary("balance_fast.ron", scenario(0.01).as_bytes());
+    let error = crate::cli::fail(&["simulate", model, "--scenario", fast.to_str().unwrap()]);
+    assert!(
+        error.contains("chattering at t = ") && error.contains("switching 'bearings'"),
+        "{error}"
+    );
+}
