@@ -1,0 +1,1 @@
+//! The peers compared in `benches/`; nothing of its own.
