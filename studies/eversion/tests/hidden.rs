@@ -55,10 +55,22 @@ pub fn library() -> Vec<Candidate> {
 /// Synthetic data on `design` with `hidden` (an id and its parameter value), or nothing,
 /// written as CSV and read back, then discovered.
 fn discover_on(design: &[Measurement], hidden: Option<(&str, &str, f64)>, seed: u64) -> Discovery {
+    discover_at_noise(design, hidden, seed, None)
+}
+
+/// [`discover_on`] with the noise's standard deviation `sigma` (mm/s) instead of one drawn
+/// from the seed (the draw is made all the same, so the noise has the same shape).
+fn discover_at_noise(
+    design: &[Measurement],
+    hidden: Option<(&str, &str, f64)>,
+    seed: u64,
+    sigma: Option<f64>,
+) -> Discovery {
     let library = library();
     let experiment = experiment();
     let mut noise = Noise::new(seed);
-    let sigma = 0.05 + 0.05 * noise.uniform();
+    let drawn = 0.05 + 0.05 * noise.uniform();
+    let sigma = sigma.unwrap_or(drawn);
     let (model, source, values) = match hidden {
         Some((id, parameter, value)) => {
             let c = library
@@ -495,5 +507,74 @@ fn detection_rate() {
             "detection rate, {name}: {found}/{}",
             seeds.end - seeds.start
         );
+    }
+}
+
+/// Where detection stops (slow: run with `cargo test --release -p bondgraph-eversion --test
+/// tests detection_power -- --ignored --nocapture`; `DETECTION_SEEDS=a..b` as above): how
+/// often each channel effect is found on Table III (selected, or reported indistinguishable
+/// from the selection) against its size and the noise, ten seeds a cell. A sliding tip
+/// gains `c_ac v_ac / b` of speed from fluid displacement and about `2 c_sd v_ac / b` from
+/// sheath drag (`b` = 1250 N s/m): at the fastest channel speed, 11.6 mm/s, `c_ac` = 80 or
+/// `c_sd` = 40 N s/m is 0.74 mm/s.
+#[test]
+#[ignore = "slow: a statistic for the docs, not a check"]
+fn detection_power_curve() {
+    let seeds = std::env::var("DETECTION_SEEDS")
+        .ok()
+        .and_then(|s| {
+            let (a, b) = s.split_once("..")?;
+            Some(a.parse().ok()?..b.parse().ok()?)
+        })
+        .unwrap_or(200u64..210);
+    // `DETECTION_CASES=id=size,...` narrows it down.
+    let only = std::env::var("DETECTION_CASES").ok();
+    let table3 = designs::table3_design();
+    let effects: [(&str, &str, f64, [f64; 5]); 2] = [
+        (
+            "ac-fluid-displacement",
+            "c_ac",
+            1.0,
+            [5.0, 10.0, 20.0, 40.0, 80.0],
+        ),
+        ("ac-sheath-drag", "c_sd", 2.0, [2.5, 5.0, 10.0, 20.0, 40.0]),
+    ];
+    println!(
+        "| hidden | size (N s/m) | speed gained at 11.6 mm/s | noise 0.05 mm/s | noise 0.1 mm/s |"
+    );
+    println!("|---|---:|---:|---:|---:|");
+    for (id, parameter, per_unit, sizes) in effects {
+        for size in sizes {
+            let case = format!("{id}={size}");
+            if only
+                .as_ref()
+                .is_some_and(|o| !o.split(',').any(|c| c == case))
+            {
+                continue;
+            }
+            let mut found = [0; 2];
+            for (slot, sigma) in [0.05, 0.1].into_iter().enumerate() {
+                for seed in seeds.clone() {
+                    let d =
+                        discover_at_noise(&table3, Some((id, parameter, size)), seed, Some(sigma));
+                    let reported = d.indistinguishable.iter().any(|i| i == id);
+                    let ok = d.selected.as_deref() == Some(id) || reported;
+                    if !ok && std::env::var("DETECTION_VERBOSE").is_ok() {
+                        println!(
+                            "{id} = {size}, noise {sigma}, seed {seed}: missed\n{}",
+                            d.summary()
+                        );
+                    }
+                    found[slot] += usize::from(ok);
+                }
+            }
+            let n = seeds.end - seeds.start;
+            println!(
+                "| `{id}` | `{parameter}` = {size} | {:.2} mm/s | {}/{n} | {}/{n} |",
+                per_unit * size * 11.6 / 1250.0,
+                found[0],
+                found[1]
+            );
+        }
     }
 }
