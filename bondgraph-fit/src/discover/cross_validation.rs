@@ -116,15 +116,16 @@ pub(super) fn cross_validate(
     } = fitted;
     let predictor = Predictor::new(model.clone(), source, experiment)?;
     // What each fold simulates (a time series: whole runs) and which residuals it keeps.
-    let pick = |indices: &[usize]| -> (Vec<Measurement>, Vec<usize>) {
+    let pick = |indices: &[usize]| -> (Vec<Measurement>, Vec<usize>, Vec<usize>) {
         let simulated = crate::folds::simulated(experiment, rows, indices);
         let picked = simulated.rows.iter().map(|&i| rows[i].clone()).collect();
-        (picked, simulated.kept)
+        (picked, simulated.kept, simulated.rows)
     };
     let folds: Vec<_> = crate::folds::folds(experiment, rows, settings.folds)
         .into_iter()
         .map(|fold| (pick(&fold.train), pick(&fold.test)))
         .collect();
+    let columns = experiment.observed.len();
     // A fold refits locally from each basin the full data's search found (its optimum
     // first), each start on its own face, and keeps the best: as the whole search would, it
     // may change basin when the rows held out favoured one, without screening again. Folds
@@ -132,7 +133,7 @@ pub(super) fn cross_validate(
     let starts: Vec<&[f64]> = basins.iter().map(Vec::as_slice).collect();
     let scored: Vec<Result<HeldOut, DiscoverError>> = folds
         .par_iter()
-        .map(|((train, train_kept), (test, test_kept))| {
+        .map(|((train, train_kept, _), (test, test_kept, test_rows))| {
             let mut evaluator = predictor.evaluator(&assessment.names)?;
             limit_to_budget(&mut evaluator, settings);
             let fit = fit_best(
@@ -161,6 +162,7 @@ pub(super) fn cross_validate(
                             held_out.sse += square;
                             held_out.by_column[k] += square;
                             held_out.count += 1;
+                            held_out.cells.push((test_rows[i] * columns + k, square));
                         }
                     }
                     Err(_) => held_out.unsettled += 1,
@@ -183,6 +185,14 @@ pub(super) fn cross_validate(
             *total += part;
         }
         assessment.unsettled += held_out.unsettled;
+        for (cell, square) in held_out.cells {
+            let total = &mut assessment.heldout_cells[cell];
+            *total = if total.is_nan() {
+                square
+            } else {
+                *total + square
+            };
+        }
     }
     Ok(())
 }
@@ -191,6 +201,8 @@ pub(super) fn cross_validate(
 #[derive(Default)]
 struct HeldOut {
     sse: f64,
+    /// Each residual scored: its place in the assessment's `predictions`, and its square.
+    cells: Vec<(usize, f64)>,
     by_column: Vec<f64>,
     count: usize,
     unsettled: usize,

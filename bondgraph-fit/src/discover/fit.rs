@@ -28,6 +28,10 @@ pub(super) struct Assessment {
     pub(super) heldout_count: usize,
     /// Of `heldout_sse`, each observed column's part.
     pub(super) heldout_by_column: Vec<f64>,
+    /// Of `heldout_sse`, each residual's part (the squares of every fold that held it out;
+    /// `NaN` where none scored it), laid out the same for every model of one analysis (as
+    /// `predictions`, for the folds of all the rows), so that they pair up across models.
+    pub(super) heldout_cells: Vec<f64>,
     /// Predictions (held out, or of the final fit) that did not settle.
     pub(super) unsettled: usize,
     /// Predictions of every row made by the fit and the folds' refits.
@@ -279,7 +283,9 @@ pub(super) fn fit_on_all(
         heldout_sse: 0.0,
         heldout_count: 0,
         heldout_by_column: vec![0.0; columns],
+        heldout_cells: Vec::new(),
     };
+    assessment.heldout_cells = vec![f64::NAN; assessment.predictions.len()];
     assessment.unsettled = assessment
         .predictions
         .chunks(columns)

@@ -25,9 +25,11 @@
 //!    aliased with the base.
 //! 4. **Selection**: a candidate qualifies when its gain is beyond the noise — an F-test of
 //!    its sum of squares against the baseline's at level 0.01 divided by the number of
-//!    candidates tried (Bonferroni), a lower corrected Akaike criterion, and a lower
-//!    held-out RMSE. The qualifying candidate with the lowest held-out RMSE is selected; if
-//!    none qualifies, `selected` is `null`.
+//!    candidates tried (Bonferroni), a lower corrected Akaike criterion, and better
+//!    held-out predictions: a lower held-out RMSE, or most held-out residuals smaller than
+//!    the baseline's (one row near a threshold, put on its other side by a fold's refit,
+//!    cannot veto a gain on every other row). The qualifying candidate with the lowest
+//!    held-out RMSE is selected; if none qualifies, `selected` is `null`.
 //! 5. **Indistinguishable** candidates: those that also qualify and fit the data no worse
 //!    than the selected one beyond the noise (or, when nothing is selected, those aliased
 //!    with the base), each with the measurement that would separate them: a condition where

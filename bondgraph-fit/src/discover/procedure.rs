@@ -152,6 +152,7 @@ impl Models<'_> {
                         assessment.heldout_sse = baseline.heldout_sse;
                         assessment.heldout_count = baseline.heldout_count;
                         assessment.heldout_by_column = baseline.heldout_by_column.clone();
+                        assessment.heldout_cells = baseline.heldout_cells.clone();
                     }
                     assessment
                 })

@@ -564,7 +564,9 @@ impl<'a> Prepared<'a> {
         let on_held_out = evaluator.predict_each(&held_out.rows);
         let (mut heldout_sse, mut heldout_count, mut unsettled) = (0.0, 0, 0);
         let mut heldout_by_column = vec![0.0; columns];
-        for &i in &held_out.kept {
+        // One slot per residual of the half held out, the same for every model.
+        let mut heldout_cells = vec![f64::NAN; held_out.kept.len() * columns];
+        for (slot, &i) in held_out.kept.iter().enumerate() {
             match &on_held_out[i] {
                 Ok(p) => {
                     for (k, (predicted, measured)) in p
@@ -577,6 +579,7 @@ impl<'a> Prepared<'a> {
                         heldout_sse += square;
                         heldout_by_column[k] += square;
                         heldout_count += 1;
+                        heldout_cells[slot * columns + k] = square;
                     }
                 }
                 Err(_) => unsettled += 1,
@@ -595,6 +598,7 @@ impl<'a> Prepared<'a> {
                 heldout_sse,
                 heldout_count,
                 heldout_by_column,
+                heldout_cells,
                 unsettled,
                 evaluations,
                 trials: evaluator.trials(),
