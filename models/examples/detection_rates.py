@@ -19,7 +19,7 @@ Run from the repository root after `cargo build --release`, with numpy and scipy
 versions of SYSTEM/data/requirements.txt):
 
     python3 models/examples/detection_rates.py SYSTEM [--seeds 20] [--first 101] [--kind steady|step|both]
-        [--jobs N] [--json FILE]
+        [--jobs N] [--json FILE] [--only ID,...]
 
 It prints a Markdown table: one row per hidden id, one column per kind, `found/seeds`, with
 the median seconds of one discover.
@@ -110,11 +110,18 @@ def main():
     parser.add_argument("--kind", choices=["steady", "step", "both"], default="both")
     parser.add_argument("--jobs", type=int, default=1)
     parser.add_argument("--json", help="write every run's outcome to this file")
+    parser.add_argument("--only", help="comma-separated hidden ids (and `none`) to run, all by default")
     args = parser.parse_args()
     kinds = ["steady", "step"] if args.kind == "both" else [args.kind]
     sys.path.insert(0, os.path.join(EXAMPLES, args.system, "data"))
     import generate  # noqa: E402
     hidden_ids = list(generate.COMMITTED) + ["none"]
+    if args.only:
+        wanted = args.only.split(",")
+        unknown = [h for h in wanted if h not in hidden_ids]
+        if unknown:
+            parser.error(f"--only: unknown hidden id {unknown[0]} (known: {', '.join(hidden_ids)})")
+        hidden_ids = [h for h in hidden_ids if h in wanted]
     with tempfile.TemporaryDirectory() as tmp:
         work = [(args.system, args.binary, h, s, kinds, tmp)
                 for h in hidden_ids for s in range(args.first, args.first + args.seeds)]
