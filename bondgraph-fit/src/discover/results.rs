@@ -100,8 +100,10 @@ pub struct Ranked {
     /// Predictions of every row made by its fit and its folds' refits: the search's cost.
     pub evaluations: usize,
     /// What the data says of it: `selected`, `indistinguishable`, `qualifies`,
-    /// `not significant`, `aliased with the base`, `no effect on this data` or
-    /// `worse than the base` (its bounds keep it from containing the base model here).
+    /// `not significant`, `significant, no AICc gain`, `significant, no held-out gain`,
+    /// `significant, a prediction did not settle`, `aliased with the base`, `no effect on
+    /// this data` or `worse than the base` (its bounds keep it from containing the base
+    /// model here).
     pub verdict: String,
 }
 

@@ -8,6 +8,10 @@ use super::alias::{aliased_with_base, no_effect, reproduced_by_base};
 use super::fit::Assessment;
 use crate::stats;
 
+/// The verdict of a significant candidate some of whose predictions (of its fit, or of a
+/// fold's rows held out) did not settle: a stick-slip cycle where the data hold still.
+pub(super) const SIGNIFICANT_BUT_UNSETTLED: &str = "significant, a prediction did not settle";
+
 /// The verdict of a candidate that fits worse than the base model it contains.
 pub(super) const WORSE_THAN_THE_BASE: &str = "worse than the base";
 
@@ -64,6 +68,8 @@ pub(super) struct Verdicts {
     pub(super) qualifies: Vec<bool>,
     /// The qualifying candidate with the lowest held-out RMSE.
     pub(super) selected: Option<usize>,
+    /// For a significant candidate that does not qualify, what it lacks, in words.
+    pub(super) shortfall: Vec<Option<&'static str>>,
 }
 
 impl Verdicts {
@@ -121,6 +127,20 @@ impl Verdicts {
                     && predicts_held_out_better(&assessed[i], baseline)
             })
             .collect();
+        let shortfall = (0..candidates.len())
+            .map(|i| {
+                let significant = !untestable[i] && p_values[i] < level;
+                if !significant || qualifies[i] {
+                    None
+                } else if assessed[i].unsettled > 0 {
+                    Some(SIGNIFICANT_BUT_UNSETTLED)
+                } else if assessed[i].aicc() >= baseline.aicc() {
+                    Some("significant, no AICc gain")
+                } else {
+                    Some("significant, no held-out gain")
+                }
+            })
+            .collect();
         let selected = (0..candidates.len())
             .filter(|&i| qualifies[i])
             .min_by(|&a, &b| {
@@ -136,6 +156,7 @@ impl Verdicts {
             level,
             qualifies,
             selected,
+            shortfall,
         }
     }
 
@@ -180,6 +201,8 @@ impl Verdicts {
             "qualifies"
         } else if self.worse[i] {
             WORSE_THAN_THE_BASE
+        } else if let Some(shortfall) = self.shortfall[i] {
+            shortfall
         } else {
             "not significant"
         }
