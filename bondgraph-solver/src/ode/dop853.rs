@@ -396,6 +396,7 @@ fn combine(x: &[f64], h: f64, a: &[f64], k: &[f64], n: usize, out: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ode::test_systems::Oscillator;
 
     /// `dx/dt = -x²` from 1: `x = 1/(1 + t)`.
     struct Riccati;
@@ -430,26 +431,6 @@ mod tests {
         }
         fn jacobian(&mut self, _: f64, _: &[f64], j: &mut [f64]) {
             j[0] = 0.0;
-        }
-    }
-
-    /// `x'' = -x` with a quadrature of `x²`.
-    struct Oscillator;
-
-    impl System for Oscillator {
-        fn dimension(&self) -> usize {
-            3
-        }
-        fn controlled(&self) -> usize {
-            2
-        }
-        fn rhs(&mut self, _: f64, x: &[f64], dx: &mut [f64]) {
-            dx[0] = x[1];
-            dx[1] = -x[0];
-            dx[2] = x[0] * x[0];
-        }
-        fn jacobian(&mut self, _: f64, _: &[f64], j: &mut [f64]) {
-            j.fill(0.0);
         }
     }
 

@@ -36,6 +36,8 @@ mod lu;
 mod problem;
 pub mod radau;
 pub mod switching;
+#[cfg(test)]
+mod test_systems;
 
 pub use dop853::Dop853;
 pub use problem::{OdeStats, StepOutcome, System, Tolerances};

@@ -555,47 +555,7 @@ impl Radau {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// `x'' = -x` as a first-order system, with a quadrature of `x²`.
-    struct Oscillator;
-
-    impl System for Oscillator {
-        fn dimension(&self) -> usize {
-            3
-        }
-        fn controlled(&self) -> usize {
-            2
-        }
-        fn rhs(&mut self, _: f64, x: &[f64], dx: &mut [f64]) {
-            dx[0] = x[1];
-            dx[1] = -x[0];
-            dx[2] = x[0] * x[0];
-        }
-        fn jacobian(&mut self, _: f64, x: &[f64], j: &mut [f64]) {
-            j.fill(0.0);
-            j[1] = 1.0;
-            j[3] = -1.0;
-            j[6] = 2.0 * x[0];
-        }
-    }
-
-    /// The stiff test `x' = -1e6 (x - cos t)`.
-    struct Stiff;
-
-    impl System for Stiff {
-        fn dimension(&self) -> usize {
-            1
-        }
-        fn controlled(&self) -> usize {
-            1
-        }
-        fn rhs(&mut self, t: f64, x: &[f64], dx: &mut [f64]) {
-            dx[0] = -1e6 * (x[0] - t.cos());
-        }
-        fn jacobian(&mut self, _: f64, _: &[f64], j: &mut [f64]) {
-            j[0] = -1e6;
-        }
-    }
+    use crate::ode::test_systems::{Oscillator, Stiff, VanDerPol};
 
     fn integrate(
         system: &mut dyn System,
@@ -704,29 +664,6 @@ mod tests {
         assert!((mid[0] - x[0]).abs() < 1e-15);
     }
 
-    /// Van der Pol's oscillator with `ε = 1e-6`, the stiff test of Hairer and Wanner
-    /// (Solving ODEs II, IV.10; the IVP test set's `vdpol`), from `(2, 0)` over `[0, 2]`.
-    struct VanDerPol;
-
-    impl System for VanDerPol {
-        fn dimension(&self) -> usize {
-            2
-        }
-        fn controlled(&self) -> usize {
-            2
-        }
-        fn rhs(&mut self, _: f64, x: &[f64], dx: &mut [f64]) {
-            dx[0] = x[1];
-            dx[1] = ((1.0 - x[0] * x[0]) * x[1] - x[0]) / 1e-6;
-        }
-        fn jacobian(&mut self, _: f64, x: &[f64], j: &mut [f64]) {
-            j[0] = 0.0;
-            j[1] = 1.0;
-            j[2] = (-2.0 * x[0] * x[1] - 1.0) / 1e-6;
-            j[3] = (1.0 - x[0] * x[0]) / 1e-6;
-        }
-    }
-
     /// Against the published reference (the IVP test set's `vdpol`, y(2) =
     /// (1.706167732170483, -0.8928097010247975)) and scipy's Radau (1.17), which follows
     /// RADAU5 on the tolerance as given (`benches/peers/van_der_pol.py`): at rtol 5e-7 it is
@@ -746,7 +683,7 @@ mod tests {
             absolute: relative,
             peak_fraction: 0.0,
         };
-        let radau = integrate(&mut VanDerPol, &mut x, 2.0, tolerances);
+        let radau = integrate(&mut VanDerPol { epsilon: 1e-6 }, &mut x, 2.0, tolerances);
         let error = (0..2)
             .map(|i| ((x[i] - reference[i]) / reference[i]).abs())
             .fold(0.0, f64::max);

@@ -145,24 +145,7 @@ impl Switching {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The stiff test `x' = -1e6 (x - cos t)`.
-    struct Stiff;
-
-    impl System for Stiff {
-        fn dimension(&self) -> usize {
-            1
-        }
-        fn controlled(&self) -> usize {
-            1
-        }
-        fn rhs(&mut self, t: f64, x: &[f64], dx: &mut [f64]) {
-            dx[0] = -1e6 * (x[0] - t.cos());
-        }
-        fn jacobian(&mut self, _: f64, _: &[f64], j: &mut [f64]) {
-            j[0] = -1e6;
-        }
-    }
+    use crate::ode::test_systems::{Stiff, VanDerPol};
 
     /// The stiff test at the scale of 1e-170: `x' = -1e6 (x - 1e-170 cos t)`.
     struct TinyStiff;
@@ -179,28 +162,6 @@ mod tests {
         }
         fn jacobian(&mut self, _: f64, _: &[f64], j: &mut [f64]) {
             j[0] = -1e6;
-        }
-    }
-
-    /// Van der Pol's oscillator with `μ = 1`: not stiff.
-    struct VanDerPol;
-
-    impl System for VanDerPol {
-        fn dimension(&self) -> usize {
-            2
-        }
-        fn controlled(&self) -> usize {
-            2
-        }
-        fn rhs(&mut self, _: f64, x: &[f64], dx: &mut [f64]) {
-            dx[0] = x[1];
-            dx[1] = (1.0 - x[0] * x[0]) * x[1] - x[0];
-        }
-        fn jacobian(&mut self, _: f64, x: &[f64], j: &mut [f64]) {
-            j[0] = 0.0;
-            j[1] = 1.0;
-            j[2] = -2.0 * x[0] * x[1] - 1.0;
-            j[3] = 1.0 - x[0] * x[0];
         }
     }
 
@@ -274,7 +235,12 @@ mod tests {
         const AMPLITUDE: f64 = 2.008_619_860_874_843;
         let mut x = [AMPLITUDE, 0.0];
         let period = 6.663_286_859_323_13;
-        let method = integrate(&mut VanDerPol, &mut x, period, Tolerances::default());
+        let method = integrate(
+            &mut VanDerPol { epsilon: 1.0 },
+            &mut x,
+            period,
+            Tolerances::default(),
+        );
         assert_eq!(method.method(), Method::Explicit);
         assert!((x[0] - AMPLITUDE).abs() < 1e-8, "{x:?}");
         assert!(x[1].abs() < 1e-8, "{x:?}");
