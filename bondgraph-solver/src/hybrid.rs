@@ -38,6 +38,7 @@ mod stepper;
 mod time_scale;
 mod trajectory;
 use crate::numeric::{ModeForms, NumericGuard, NumericMode, Storage, dot};
+use crate::ode::Tolerances;
 use crate::propagate::SegmentBuffers;
 use crossing::{Crossed, Trigger};
 pub use error::SimError;
@@ -88,7 +89,21 @@ pub struct Settings {
     /// closer on average than this many of the fastest time scale of the (linear) modes they
     /// entered, is chattering too: switching faster than the motion can move.
     pub chatter_time_scales: f64,
+    /// The integrator's tolerances in nonlinear modes (linear modes are propagated
+    /// exactly): by default [`TOLERANCES`].
+    pub tolerances: Tolerances,
 }
+
+/// The integrator's default tolerances for nonlinear modes.
+///
+/// Relative 1e-10; the absolute part of each state's tolerance is 1e-3 of that times the
+/// largest magnitude the state has had in the segment, with a floor of 1e-18 (in the state's
+/// SI unit) for a state that starts at zero.
+pub const TOLERANCES: Tolerances = Tolerances {
+    relative: 1e-10,
+    absolute: 1e-18,
+    peak_fraction: 1e-3,
+};
 
 impl Default for Settings {
     fn default() -> Self {
@@ -98,6 +113,7 @@ impl Default for Settings {
             chatter_events: 200,
             chatter_window: 1e-6,
             chatter_time_scales: 1.0,
+            tolerances: TOLERANCES,
         }
     }
 }
@@ -201,6 +217,16 @@ impl<'m> Simulator<'m> {
     pub fn with_settings(mut self, settings: Settings) -> Self {
         self.settings = settings;
         self
+    }
+
+    /// The limits on numerical trouble and the integrator's tolerances.
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// Integrates nonlinear modes to `tolerances` from now on.
+    pub fn set_tolerances(&mut self, tolerances: Tolerances) {
+        self.settings.tolerances = tolerances;
     }
 
     /// Substitutes other parameter values (indexed like [`Model::values`]) from now on,

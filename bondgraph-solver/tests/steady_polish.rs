@@ -78,10 +78,12 @@ fn the_two_tank_settles_on_the_orifice_law_in_a_few_windows() {
     );
     assert!((outflow - q).abs() <= 1e-12 * q, "{outflow}");
     // Integrated until the rate stopped changing: 10 windows, 726 steps, to t = 4294 s.
-    // Polished: 4 windows, 561 steps, to t = 66 s (524 of them in the first window, 4.4 s,
-    // most near t = 0, where tank 2 is empty and the orifice's slope infinite).
+    // Polished: 4 windows to t = 66 s. At the simulator's own tolerances (relative 1e-10,
+    // floor 1e-18 m³) that took 561 steps, 524 of them in the first window (4.4 s), most
+    // near t = 0, where tank 2 is held empty by the orifice's infinite slope and its volume
+    // chatters around zero at the floor; at the search's (1e-7, 1e-15) 173.
     assert!(steady.work.segments <= 5, "{:?}", steady.work);
-    assert!(steady.work.steps <= 650, "{:?}", steady.work);
+    assert!(steady.work.steps <= 200, "{:?}", steady.work);
 }
 
 /// Newton's method on the double well's `f = (k q - k₃ q³ - b p/m, p/m)` from `(p, q)`,

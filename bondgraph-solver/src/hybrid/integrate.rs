@@ -28,18 +28,7 @@ use super::{SimError, Simulator, Stepper, TimeScale};
 use crate::events::Crossing;
 use crate::nonlinear::NonlinearNumeric;
 use crate::numeric::NumericMode;
-use crate::ode::{Method, StepOutcome, Switching, System, Tolerances};
-
-/// The integrator's tolerances for nonlinear modes.
-///
-/// Relative 1e-10; the absolute part of each state's tolerance is 1e-3 of that times the
-/// largest magnitude the state has had in the segment, with a floor of 1e-18 (in the state's
-/// SI unit) for a state that starts at zero.
-pub(crate) const TOLERANCES: Tolerances = Tolerances {
-    relative: 1e-10,
-    absolute: 1e-18,
-    peak_fraction: 1e-3,
-};
+use crate::ode::{Method, StepOutcome, Switching, System};
 
 /// The numeric form of a mode of a nonlinear model.
 pub(super) fn numeric_mode(
@@ -388,7 +377,7 @@ impl Stepper<'_, '_> {
         }
         self.sample_until(&mut system, start, &z, None, start, mode_index);
 
-        let mut integrator = Switching::new(size, n, TOLERANCES);
+        let mut integrator = Switching::new(size, n, self.simulator.settings.tolerances);
         let mut tau = 0.0;
         let mut h = if length > 0.0 {
             integrator.initial_step(&mut system, 0.0, &z, length)

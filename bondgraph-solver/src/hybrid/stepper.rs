@@ -49,6 +49,11 @@ pub struct Stepper<'s, 'm> {
 }
 
 impl<'s, 'm> Stepper<'s, 'm> {
+    /// Integrates nonlinear modes to `tolerances` from here on.
+    pub(crate) fn set_tolerances(&mut self, tolerances: crate::ode::Tolerances) {
+        self.simulator.set_tolerances(tolerances);
+    }
+
     /// Starts at time zero, making the initial mode consistent; records outputs every
     /// `sample` seconds (none when `None`, for searches that only need the end).
     ///

@@ -20,6 +20,7 @@ use num_complex::Complex64;
 
 use crate::hybrid::{Event, Signal, SimError, Simulator, Stepper};
 use crate::numeric::dot;
+use crate::ode::Tolerances;
 
 /// How long a mode's decaying motion is waited for, in its slowest time constants:
 /// `e^-36 ≈ 2e-16`, below the rounding of the state.
@@ -50,7 +51,29 @@ pub struct SteadySettings {
     /// Whether [`Steady::events`] lists the events on the way (a fit needs only where the
     /// search settles, and wording thousands of events was a few percent of its time).
     pub events: bool,
+    /// The integrator's tolerances in nonlinear modes while the search follows the
+    /// transient ([`SEARCH_TOLERANCES`]); the simulator's own finish it.
+    pub tolerances: Tolerances,
 }
+
+/// The integrator's tolerances while a steady-state search follows a nonlinear mode's
+/// transient: relative 1e-7, a floor of 1e-15 (the simulator's
+/// [`TOLERANCES`](crate::hybrid::TOLERANCES), 1e-10 and 1e-18, scaled alike).
+///
+/// The transient only has to carry the state into the basin of the equilibrium it settles
+/// at and to the guards it crosses; the equilibrium itself is polished by Newton's method to
+/// double precision, whatever the tolerance. A state that the search judges settled without
+/// that polish (steady motion, a rate no longer changing) is followed for one more window at
+/// the simulator's own tolerances, and read there. What the looser tolerance saves is the
+/// crawl of a state held at zero by a law with an infinite slope there (a tank pinned empty
+/// by its orifice's `√p` while the pipe upstream starts to flow): its chatter around zero is
+/// resolved to the floor, 1e-18 m³, in steps of microseconds, five hundred of them per
+/// steady row of the two-tank rig; at 1e-15 a few dozen.
+pub const SEARCH_TOLERANCES: Tolerances = Tolerances {
+    relative: 1e-7,
+    absolute: 1e-15,
+    peak_fraction: 1e-3,
+};
 
 impl Default for SteadySettings {
     fn default() -> Self {
@@ -60,6 +83,7 @@ impl Default for SteadySettings {
             max_mode_changes: 10_000,
             max_segments: 100_000,
             events: true,
+            tolerances: SEARCH_TOLERANCES,
         }
     }
 }
@@ -211,6 +235,30 @@ pub fn steady_state(
     initial_state: Vec<f64>,
     settings: &SteadySettings,
 ) -> Result<Steady, SteadyError> {
+    let own = simulator.settings().tolerances;
+    simulator.set_tolerances(settings.tolerances);
+    let steady = search_from(
+        simulator,
+        inputs,
+        initial_mode,
+        initial_state,
+        settings,
+        own,
+    );
+    simulator.set_tolerances(own);
+    steady
+}
+
+/// [`steady_state`], with the simulator integrating to the search's tolerances and `own`
+/// the simulator's own, which finish a state settled without a polish.
+fn search_from(
+    simulator: &mut Simulator<'_>,
+    inputs: &[f64],
+    initial_mode: Mode,
+    initial_state: Vec<f64>,
+    settings: &SteadySettings,
+    own: Tolerances,
+) -> Result<Steady, SteadyError> {
     let constants: Vec<Constant> = inputs.iter().map(|&u| Constant(u)).collect();
     let signals: Vec<&dyn Signal> = constants.iter().map(|c| c as &dyn Signal).collect();
     let mut stepper = Stepper::new(simulator, &signals, initial_mode, initial_state, None)?;
@@ -237,7 +285,7 @@ pub fn steady_state(
         }
         let mode = stepper.mode().clone();
         if mode.nonlinear.is_some() {
-            return nonlinear::steady_by_integration(stepper, settings);
+            return nonlinear::steady_by_integration(stepper, settings, own);
         }
         let values = mode.propagator.eigenvalues();
         if let Some(v) = values.iter().find(|v| {

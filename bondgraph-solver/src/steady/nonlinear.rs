@@ -19,6 +19,7 @@ use super::{Search, Steady, SteadyError, SteadySettings, Work};
 use crate::hybrid::Stepper;
 use crate::nonlinear::NonlinearNumeric;
 use crate::numeric::NumericMode;
+use crate::ode::Tolerances;
 
 /// The steady state a simulation of a nonlinear mode settles in: integrated over windows
 /// until `f` stops changing (the change of `f` over a window would move the state by less
@@ -41,7 +42,10 @@ use crate::numeric::NumericMode;
 pub fn steady_by_integration(
     mut stepper: Stepper<'_, '_>,
     settings: &SteadySettings,
+    own: Tolerances,
 ) -> Result<Steady, SteadyError> {
+    // Whether the simulator's own tolerances are in force (see `SEARCH_TOLERANCES`).
+    let mut finishing = settings.tolerances == own;
     let mut search = Search::new(settings);
     let mut scales = TimeScales::at(&stepper, settings)?;
     let mut window = scales.fastest;
@@ -96,7 +100,15 @@ pub fn steady_by_integration(
         let long_enough = scales.settling.is_some_and(|h| waited >= 2.0 * h);
         let allowed = if long_enough { 1e-6 } else { 1e-9 };
         if change * length <= allowed * size + 1e-300 {
-            return Ok(settled(stepper, &search, settings));
+            if finishing {
+                return Ok(settled(stepper, &search, settings));
+            }
+            // Settled at the search's tolerances: one more window at the simulator's own,
+            // read at its end.
+            stepper.set_tolerances(own);
+            finishing = true;
+            window = Some(length);
+            continue;
         }
         // Still moving: wait longer, on the time scales of the point reached.
         scales = TimeScales::at(&stepper, settings)?;
