@@ -159,9 +159,30 @@ pub const BASINS_KEPT: usize = 2;
 /// are one basin.
 const SAME_BASIN: f64 = 1e-3;
 
-/// A function of the parameters giving the residuals, `None` where the model cannot be
-/// evaluated; it may keep caches (the modes derived so far), so it is called mutably.
-pub type Residuals<'a> = Box<dyn FnMut(&[f64]) -> Option<Vec<f64>> + 'a>;
+/// What a search minimises: the residuals at a point of the parameters, `None` where the
+/// model cannot be evaluated. It may keep caches (the modes derived so far), so it is called
+/// mutably. Any `FnMut(&[f64]) -> Option<Vec<f64>>` is one.
+pub trait Objective {
+    /// The residuals at `x`; `None` where the model cannot be evaluated there.
+    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>>;
+
+    /// The sum of squared residuals at `x`, or any value above `limit` once it is known to
+    /// exceed it: a screening that keeps only the best few points need not predict the rest
+    /// of a point's rows once the rows predicted so far already put it out of them.
+    fn sum_of_squares(&mut self, x: &[f64], limit: f64) -> Option<f64> {
+        let _ = limit;
+        self.residuals(x).map(|r| r.iter().map(|v| v * v).sum())
+    }
+}
+
+impl<F: FnMut(&[f64]) -> Option<Vec<f64>>> Objective for F {
+    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>> {
+        self(x)
+    }
+}
+
+/// A search's own [`Objective`] (each search running side by side makes one).
+pub type Residuals<'a> = Box<dyn Objective + 'a>;
 
 /// Minimises the sum of squared residuals over the box `bounds` subject to `orderings`,
 /// searching as `search` says from `starts` (every start is tried, on the face it lies on).
@@ -204,7 +225,7 @@ pub fn least_squares<'a>(
                 .collect();
             let mut screening = residuals();
             face_starts.extend(screen(
-                &mut |u: &[f64]| screening(&reduced.expand(u)),
+                &mut |u: &[f64], limit: f64| screening.sum_of_squares(&reduced.expand(u), limit),
                 &reduced.bounds,
                 search,
             ));
@@ -213,7 +234,7 @@ pub fn least_squares<'a>(
                 .map(|start| {
                     let mut local = residuals();
                     calibrate::least_squares(
-                        &mut |u: &[f64]| local(&reduced.expand(u)),
+                        &mut |u: &[f64]| local.residuals(&reduced.expand(u)),
                         start,
                         &reduced.bounds,
                         settings,
@@ -253,7 +274,13 @@ pub fn least_squares<'a>(
     // Polish on every parameter from the face's optimum: the tied parameters part where the
     // data allows it, and the errors come from the full Jacobian.
     let start = reduced.expand(&face_fit.values);
-    let mut fit = calibrate::least_squares(&mut residuals(), &start, bounds, settings)?;
+    let mut polish = residuals();
+    let mut fit = calibrate::least_squares(
+        &mut |x: &[f64]| polish.residuals(x),
+        &start,
+        bounds,
+        settings,
+    )?;
     fit.evaluations += evaluations;
     errors_on_the_face(&mut fit, &face_fit, &reduced);
     optima.push((f64::NEG_INFINITY, fit.values.clone()));
@@ -337,27 +364,36 @@ fn face_of(x: &[f64], bounds: &[(f64, f64)], orderings: &[Ordering]) -> Vec<Orde
 
 /// The best `search.local_fits` of `search.screened` Halton points in `bounds`.
 fn screen(
-    residuals: &mut dyn FnMut(&[f64]) -> Option<Vec<f64>>,
+    sum_of_squares: &mut dyn FnMut(&[f64], f64) -> Option<f64>,
     bounds: &[(f64, f64)],
     search: &Search,
 ) -> Vec<Vec<f64>> {
-    let mut scored: Vec<(f64, Vec<f64>)> = (1..=search.screened)
-        .filter_map(|k| {
-            let x: Vec<f64> = bounds
-                .iter()
-                .enumerate()
-                .map(|(d, &(lo, hi))| lo + halton(k, PRIMES[d % PRIMES.len()]) * (hi - lo))
-                .collect();
-            let r = residuals(&x)?;
-            Some((r.iter().map(|v| v * v).sum(), x))
-        })
-        .collect();
-    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
-    scored
-        .into_iter()
-        .take(search.local_fits)
-        .map(|(_, x)| x)
-        .collect()
+    // The best `local_fits` so far, best first. A point is evaluated only as far as it can
+    // still join them (partial sums of squares only grow), so the points kept are those a
+    // full evaluation of every point would keep.
+    let mut best: Vec<(f64, Vec<f64>)> = Vec::with_capacity(search.local_fits + 1);
+    for k in 1..=search.screened {
+        let x: Vec<f64> = bounds
+            .iter()
+            .enumerate()
+            .map(|(d, &(lo, hi))| lo + halton(k, PRIMES[d % PRIMES.len()]) * (hi - lo))
+            .collect();
+        let limit = if best.len() < search.local_fits {
+            f64::INFINITY
+        } else {
+            best.last().map_or(f64::INFINITY, |(worst, _)| *worst)
+        };
+        let Some(sse) = sum_of_squares(&x, limit) else {
+            continue;
+        };
+        // Ties keep the earlier point, as a stable sort of every point would.
+        let at = best.partition_point(|(b, _)| b.total_cmp(&sse).is_le());
+        if at < search.local_fits {
+            best.insert(at, (sse, x));
+            best.truncate(search.local_fits);
+        }
+    }
+    best.into_iter().map(|(_, x)| x).collect()
 }
 
 /// Bases of the Halton sequence, one per dimension.
@@ -455,6 +491,51 @@ impl Reduced {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn screening_keeps_the_points_a_full_evaluation_keeps_and_stops_rows_early() {
+        // Twenty "rows" alike, each with residuals x0 - 0.3 and x1 - 0.7 (the sums of
+        // squares then tie only where the points do); a failure where x0 > 0.95. Sorting every screened point by its
+        // whole sum of squares (ties in order) is the reference.
+        let bounds = [(0.0, 1.0), (0.0, 1.0)];
+        let search = Search {
+            screened: 64,
+            local_fits: 3,
+            every_face: true,
+        };
+        let row = |x: &[f64], _r: usize| (x[0] - 0.3).powi(2) + (x[1] - 0.7).powi(2);
+        let mut reference: Vec<(f64, Vec<f64>)> = (1..=search.screened)
+            .map(|k| vec![halton(k, 2), halton(k, 3)])
+            .filter(|x| x[0] <= 0.95)
+            .map(|x| ((0..20).map(|r| row(&x, r)).sum(), x))
+            .collect();
+        reference.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let expected: Vec<Vec<f64>> = reference.into_iter().take(3).map(|(_, x)| x).collect();
+
+        let mut rows_predicted = 0;
+        let mut bounded = |x: &[f64], limit: f64| {
+            if x[0] > 0.95 {
+                return None;
+            }
+            let mut sum = 0.0;
+            for r in 0..20 {
+                rows_predicted += 1;
+                sum += row(x, r);
+                if sum > limit {
+                    break;
+                }
+            }
+            Some(sum)
+        };
+        assert_eq!(screen(&mut bounded, &bounds, &search), expected);
+        // Evaluated whole, the 61 points that do not fail would cost 20 rows each; most are
+        // put out of the best three after a few of their rows.
+        let whole = 20 * 61;
+        assert!(
+            rows_predicted < whole / 2,
+            "{rows_predicted} rows of {whole}"
+        );
+    }
 
     #[test]
     fn basins_keep_the_best_optimum_of_each_and_the_best_basins() {

@@ -338,24 +338,24 @@ pub(crate) fn fit_best(
     let spent = std::sync::atomic::AtomicBool::new(false);
     let spent = &spent;
     let budget = settings.budget.evaluations;
+    // Where each training row's cells start in `measured`, for the rows kept.
+    let mut offsets = vec![None; train.len()];
+    let mut offset = 0;
+    for &i in kept {
+        offsets[i] = Some(offset);
+        offset += train[i].observed.len();
+    }
+    let offsets = &offsets;
     let residuals = || -> global::Residuals<'_> {
-        let mut evaluator = template.fork();
-        let mut made = 0;
-        Box::new(move |x: &[f64]| {
-            if made >= budget {
-                spent.store(true, std::sync::atomic::Ordering::Relaxed);
-                return None;
-            }
-            made += 1;
-            evaluator.set(x);
-            let predictions = evaluator.predict_all(train)?;
-            Some(
-                kept.iter()
-                    .flat_map(|&i| predictions[i].observed.iter().copied())
-                    .zip(measured)
-                    .map(|(p, m)| p - m)
-                    .collect(),
-            )
+        Box::new(TrainingFit {
+            evaluator: template.fork(),
+            made: 0,
+            budget,
+            spent,
+            train,
+            kept,
+            offsets,
+            measured,
         })
     };
     let result = global::least_squares(
@@ -506,4 +506,70 @@ pub(super) fn active_only<T: Clone>(items: &[T], idle: &[bool]) -> Vec<T> {
         .filter(|(_, idle)| !**idle)
         .map(|(item, _)| item.clone())
         .collect()
+}
+
+/// One search's objective in [`fit_best`]: the residuals of the kept training rows, within
+/// the search's budget of evaluations.
+struct TrainingFit<'s, 'p> {
+    evaluator: Evaluator<'p>,
+    /// Evaluations made, against `budget`.
+    made: usize,
+    budget: usize,
+    /// Set when a trial is refused for the budget.
+    spent: &'s std::sync::atomic::AtomicBool,
+    train: &'s [Measurement],
+    kept: &'s [usize],
+    /// Where each training row's cells start in `measured`; `None` for a row not kept.
+    offsets: &'s [Option<usize>],
+    measured: &'s [f64],
+}
+
+impl TrainingFit<'_, '_> {
+    /// Sets `x` if the budget allows another evaluation.
+    fn start(&mut self, x: &[f64]) -> bool {
+        if self.made >= self.budget {
+            self.spent.store(true, std::sync::atomic::Ordering::Relaxed);
+            return false;
+        }
+        self.made += 1;
+        self.evaluator.set(x);
+        true
+    }
+}
+
+impl global::Objective for TrainingFit<'_, '_> {
+    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>> {
+        if !self.start(x) {
+            return None;
+        }
+        let predictions = self.evaluator.predict_all(self.train)?;
+        Some(
+            self.kept
+                .iter()
+                .flat_map(|&i| predictions[i].observed.iter().copied())
+                .zip(self.measured)
+                .map(|(p, m)| p - m)
+                .collect(),
+        )
+    }
+
+    fn sum_of_squares(&mut self, x: &[f64], limit: f64) -> Option<f64> {
+        if !self.start(x) {
+            return None;
+        }
+        let (offsets, measured) = (self.offsets, self.measured);
+        let mut sum = 0.0;
+        self.evaluator.predict_until(self.train, |i, prediction| {
+            if let Some(at) = offsets[i] {
+                sum += prediction
+                    .observed
+                    .iter()
+                    .zip(&measured[at..])
+                    .map(|(p, m)| (p - m) * (p - m))
+                    .sum::<f64>();
+            }
+            sum > limit
+        })?;
+        Some(sum)
+    }
 }

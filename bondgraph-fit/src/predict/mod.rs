@@ -519,6 +519,43 @@ impl<'p> Evaluator<'p> {
         predictions
     }
 
+    /// The steady rows' predictions in order, as [`Evaluator::predict_all`], stopping after
+    /// the row at which `enough` (given its position and prediction) says the rest are not
+    /// needed: the predictions so far, then. A time series is predicted whole.
+    pub fn predict_until(
+        &mut self,
+        rows: &[Measurement],
+        mut enough: impl FnMut(usize, &Prediction) -> bool,
+    ) -> Option<Vec<Prediction>> {
+        if self.predictor.drive.is_some() {
+            return self.predict_all(rows);
+        }
+        let mut predictions = Vec::with_capacity(rows.len());
+        let mut failure = None;
+        for (i, row) in rows.iter().enumerate() {
+            match self.predict_steady(row) {
+                Ok(prediction) => {
+                    let stop = enough(i, &prediction);
+                    predictions.push(prediction);
+                    if stop {
+                        break;
+                    }
+                }
+                Err(error) => {
+                    let reason = error.kind();
+                    failure = Some((reason, self.located(row, error).to_string()));
+                    break;
+                }
+            }
+        }
+        let failed = failure.is_some();
+        self.trials
+            .lock()
+            .expect("no thread panicked holding it")
+            .record(&self.names, &self.values, failure);
+        (!failed).then_some(predictions)
+    }
+
     /// A row's failure, located at the row.
     fn located(&self, row: &Measurement, failure: RowFailure) -> ExperimentError {
         ExperimentError::Row {
