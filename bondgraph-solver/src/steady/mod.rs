@@ -57,21 +57,22 @@ pub struct SteadySettings {
 }
 
 /// The integrator's tolerances while a steady-state search follows a nonlinear mode's
-/// transient: relative 1e-7, a floor of 1e-15 (the simulator's
+/// transient: relative 1e-6, a floor of 1e-14 (the simulator's
 /// [`TOLERANCES`](crate::hybrid::TOLERANCES), 1e-10 and 1e-18, scaled alike).
 ///
 /// The transient only has to carry the state into the basin of the equilibrium it settles
 /// at and to the guards it crosses; the equilibrium itself is polished by Newton's method to
 /// double precision, whatever the tolerance. A state that the search judges settled without
 /// that polish (steady motion, a rate no longer changing) is followed for one more window at
-/// the simulator's own tolerances, and read there. What the looser tolerance saves is the
-/// crawl of a state held at zero by a law with an infinite slope there (a tank pinned empty
-/// by its orifice's `√p` while the pipe upstream starts to flow): its chatter around zero is
-/// resolved to the floor, 1e-18 m³, in steps of microseconds, five hundred of them per
-/// steady row of the two-tank rig; at 1e-15 a few dozen.
+/// the simulator's own tolerances, and read there. What the looser tolerance saves is mostly
+/// the crawl of a state held at zero by a law with an infinite slope there (a tank pinned
+/// empty by its orifice's `√p` while the pipe upstream starts to flow): its chatter around
+/// zero is resolved to the floor in steps of microseconds. A steady row of the two-tank rig
+/// filled from empty takes 561 steps at the simulator's tolerances (524 of them in the first
+/// 4.4 s), 173 at 1e-7 and 1e-15, 112 at these.
 pub const SEARCH_TOLERANCES: Tolerances = Tolerances {
-    relative: 1e-7,
-    absolute: 1e-15,
+    relative: 1e-6,
+    absolute: 1e-14,
     peak_fraction: 1e-3,
 };
 
