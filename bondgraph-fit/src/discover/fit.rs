@@ -356,6 +356,9 @@ pub(crate) fn fit_best(
             kept,
             offsets,
             measured,
+            order: (0..train.len()).collect(),
+            largest: vec![0.0; train.len()],
+            squares: vec![f64::NAN; train.len()],
         })
     };
     let result = global::least_squares(
@@ -522,6 +525,14 @@ struct TrainingFit<'s, 'p> {
     /// Where each training row's cells start in `measured`; `None` for a row not kept.
     offsets: &'s [Option<usize>],
     measured: &'s [f64],
+    /// The order in which a bounded evaluation predicts the training rows: those with the
+    /// largest squared residuals so far first, so that a point that cannot be kept shows it
+    /// after few rows.
+    order: Vec<usize>,
+    /// Each training row's largest sum of squared residuals so far.
+    largest: Vec<f64>,
+    /// Each training row's sum of squared residuals at the point being evaluated.
+    squares: Vec<f64>,
 }
 
 impl TrainingFit<'_, '_> {
@@ -557,19 +568,44 @@ impl global::Objective for TrainingFit<'_, '_> {
         if !self.start(x) {
             return None;
         }
-        let (offsets, measured) = (self.offsets, self.measured);
-        let mut sum = 0.0;
-        self.evaluator.predict_until(self.train, |i, prediction| {
-            if let Some(at) = offsets[i] {
-                sum += prediction
-                    .observed
-                    .iter()
-                    .zip(&measured[at..])
-                    .map(|(p, m)| (p - m) * (p - m))
-                    .sum::<f64>();
+        // The rows' partial sum only grows, whatever their order, so a point past `limit`
+        // on some rows is past it on all; a margin keeps rounding (the partial sum in this
+        // order against the whole in the rows' own) from stopping a point that is not.
+        let stop = limit * (1.0 + 1e-9);
+        let (offsets, measured, squares) = (self.offsets, self.measured, &mut self.squares);
+        squares.fill(f64::NAN);
+        let mut partial = 0.0;
+        let predicted = self
+            .evaluator
+            .predict_until(self.train, &self.order, |i, prediction| {
+                let square = offsets[i].map_or(0.0, |at| {
+                    prediction
+                        .observed
+                        .iter()
+                        .zip(&measured[at..])
+                        .map(|(p, m)| (p - m) * (p - m))
+                        .sum::<f64>()
+                });
+                squares[i] = square;
+                partial += square;
+                partial > stop
+            });
+        if !predicted {
+            return None;
+        }
+        for (largest, square) in self.largest.iter_mut().zip(&self.squares) {
+            if *square > *largest {
+                *largest = *square;
             }
-            sum > limit
-        })?;
-        Some(sum)
+        }
+        let largest = &self.largest;
+        self.order
+            .sort_by(|&a, &b| largest[b].total_cmp(&largest[a]).then(a.cmp(&b)));
+        if self.squares.iter().any(|v| v.is_nan()) {
+            // Stopped: any value above the limit will do.
+            return Some(partial);
+        }
+        // Every row predicted: the sum in the rows' own order, as the residuals give it.
+        Some(self.squares.iter().sum())
     }
 }

@@ -519,31 +519,39 @@ impl<'p> Evaluator<'p> {
         predictions
     }
 
-    /// The steady rows' predictions in order, as [`Evaluator::predict_all`], stopping after
-    /// the row at which `enough` (given its position and prediction) says the rest are not
-    /// needed: the predictions so far, then. A time series is predicted whole.
+    /// Predicts `rows` as [`Evaluator::predict_all`] does, handing each prediction to
+    /// `enough` (with its row's position) in the order `order` gives, and stopping once
+    /// `enough` says the rest are not needed; false when a row cannot be predicted. Steady
+    /// rows are predicted one at a time in that order, so a stop saves the rest; a time
+    /// series is simulated whole first.
     pub fn predict_until(
         &mut self,
         rows: &[Measurement],
+        order: &[usize],
         mut enough: impl FnMut(usize, &Prediction) -> bool,
-    ) -> Option<Vec<Prediction>> {
+    ) -> bool {
         if self.predictor.drive.is_some() {
-            return self.predict_all(rows);
+            let Some(predictions) = self.predict_all(rows) else {
+                return false;
+            };
+            for &i in order {
+                if enough(i, &predictions[i]) {
+                    break;
+                }
+            }
+            return true;
         }
-        let mut predictions = Vec::with_capacity(rows.len());
         let mut failure = None;
-        for (i, row) in rows.iter().enumerate() {
-            match self.predict_steady(row) {
+        for &i in order {
+            match self.predict_steady(&rows[i]) {
                 Ok(prediction) => {
-                    let stop = enough(i, &prediction);
-                    predictions.push(prediction);
-                    if stop {
+                    if enough(i, &prediction) {
                         break;
                     }
                 }
                 Err(error) => {
                     let reason = error.kind();
-                    failure = Some((reason, self.located(row, error).to_string()));
+                    failure = Some((reason, self.located(&rows[i], error).to_string()));
                     break;
                 }
             }
@@ -553,7 +561,7 @@ impl<'p> Evaluator<'p> {
             .lock()
             .expect("no thread panicked holding it")
             .record(&self.names, &self.values, failure);
-        (!failed).then_some(predictions)
+        !failed
     }
 
     /// A row's failure, located at the row.
