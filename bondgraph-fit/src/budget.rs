@@ -46,6 +46,12 @@ pub struct Budget {
     /// (1e-5), so a Jacobian's differences and a descent's last steps continue; `0` turns it
     /// off.
     pub continuation: f64,
+    /// The same for a refit on part of the rows (a fold, a resample), from the steady states
+    /// of the fit on every row at its optimum, where the refit starts: a refit moves about a
+    /// standard error from there, well within a hundredth of a range, and each of its
+    /// training rows is then continued instead of simulated from its start at every trial.
+    /// The rows a refit holds out, which score it, are simulated. `0` turns it off.
+    pub refit_continuation: f64,
 }
 
 impl Default for Budget {
@@ -56,6 +62,7 @@ impl Default for Budget {
             steps: bondgraph_core::limits::MAX_STEPS / 20,
             evaluations: 20_000,
             continuation: 1e-4,
+            refit_continuation: 1e-2,
         }
     }
 }

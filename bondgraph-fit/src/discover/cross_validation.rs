@@ -136,6 +136,7 @@ pub(super) fn cross_validate(
         .map(|((train, train_kept, _), (test, test_kept, test_rows))| {
             let mut evaluator = predictor.evaluator(&assessment.names)?;
             limit_to_budget(&mut evaluator, settings);
+            evaluator.seed(&assessment.anchors, train);
             let fit = fit_best(
                 &mut evaluator,
                 train,

@@ -14,7 +14,7 @@ use crate::calibrate::{CalibrationError, Fit};
 use crate::data::Measurement;
 use crate::experiment::Experiment;
 use crate::global::{self, Ordering, Search, Searched};
-use crate::predict::{Evaluator, Predictor};
+use crate::predict::{Anchors, Evaluator, Predictor};
 
 /// A model fitted and cross-validated.
 pub(super) struct Assessment {
@@ -38,6 +38,10 @@ pub(super) struct Assessment {
     pub(super) evaluations: usize,
     /// Those trial predictions, and the ones that failed.
     pub(super) trials: Trials,
+    /// The steady states of the fit's own prediction of every row, where they can be
+    /// continued: where refits on part of the rows (folds, resamples), which start at the
+    /// fit's optimum, start from instead of simulating every row again.
+    pub(super) anchors: Anchors,
 }
 
 /// Limits an evaluator to the work `settings` give each prediction ([`Budget`]): how long
@@ -284,6 +288,7 @@ pub(super) fn fit_on_all(
         heldout_count: 0,
         heldout_by_column: vec![0.0; columns],
         heldout_cells: Vec::new(),
+        anchors: evaluator.anchors(),
     };
     assessment.heldout_cells = vec![f64::NAN; assessment.predictions.len()];
     assessment.unsettled = assessment

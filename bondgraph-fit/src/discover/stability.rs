@@ -62,6 +62,7 @@ use super::{Candidate, DiscoverError, Settings};
 use crate::data::Measurement;
 use crate::experiment::Experiment;
 use crate::global::{self, Search};
+use crate::predict::Anchors;
 use crate::predict::Predictor;
 
 /// Resamples run by default, when they cost less than the search ([`Resampling`]).
@@ -492,6 +493,8 @@ struct Prepared<'a> {
     own_values: Vec<f64>,
     /// Its optimum on the whole data.
     optimum: Vec<f64>,
+    /// The steady states of its fit on the whole data that can be continued.
+    anchors: Anchors,
 }
 
 impl<'a> Prepared<'a> {
@@ -511,6 +514,7 @@ impl<'a> Prepared<'a> {
             names,
             bounds,
             optimum: fitted.fit.values.clone(),
+            anchors: fitted.anchors.clone(),
         })
     }
 
@@ -535,6 +539,7 @@ impl<'a> Prepared<'a> {
         let bounds = active_only(&self.bounds, &idle);
         let mut evaluator = self.predictor.evaluator(&names)?;
         limit_to_budget(&mut evaluator, settings);
+        evaluator.seed(&self.anchors, &fitted.rows);
         let orderings = global::orderings(self.model, &names);
         let starts_active: Vec<Vec<f64>> = starts.iter().map(|s| active(s)).collect();
         let start_refs: Vec<&[f64]> = starts_active.iter().map(Vec::as_slice).collect();
@@ -602,6 +607,7 @@ impl<'a> Prepared<'a> {
                 unsettled,
                 evaluations,
                 trials: evaluator.trials(),
+                anchors: Anchors::default(),
             },
             cost,
         ))

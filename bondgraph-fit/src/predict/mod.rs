@@ -324,10 +324,28 @@ struct Session<'p> {
     /// bounds), which [`Budget::continuation`] is a fraction of.
     ranges: Vec<f64>,
     values: Vec<f64>,
-    /// Per row (file and line), the last steady state simulated that can be continued, and
-    /// the values of the slots it was simulated at.
-    anchors: HashMap<(Arc<str>, usize), (Vec<f64>, Anchor)>,
+    /// Per row (file and line), the last steady state simulated that can be continued.
+    anchors: RowAnchors,
 }
+
+/// A steady state that can be continued, with the parameter values (all of the model's) it
+/// was simulated at, and whether it was seeded from the fit on every row
+/// ([`Evaluator::seed`]: [`Budget::refit_continuation`] applies) or simulated here
+/// ([`Budget::continuation`]).
+#[derive(Clone, Debug)]
+struct RowAnchor {
+    at: Vec<f64>,
+    anchor: Anchor,
+    seeded: bool,
+}
+
+/// Per row (file and line), a steady state that can be continued.
+type RowAnchors = HashMap<(Arc<str>, usize), RowAnchor>;
+
+/// The steady states an evaluator simulated that can be continued, one set per variant: what
+/// a refit on part of the rows ([`Evaluator::seed`]) starts from where the whole fit ended.
+#[derive(Clone, Debug, Default)]
+pub struct Anchors(Vec<RowAnchors>);
 
 impl<'p> Session<'p> {
     fn new(variant: &'p Variant, slots: Vec<usize>, budget: &Budget) -> Self {
@@ -366,19 +384,17 @@ impl<'p> Session<'p> {
         }
     }
 
-    /// The values of the evaluator's parameters now.
-    fn slot_values(&self) -> Vec<f64> {
-        self.slots.iter().map(|&slot| self.values[slot]).collect()
-    }
-
-    /// Whether `at` (slot values) is within `radius` of each slot's range of the current
-    /// values.
+    /// Whether `at` (all of the model's parameter values) is within `radius` of each slot's
+    /// range of the current values, and equal to them elsewhere (an anchor seeded from
+    /// another evaluator may have been simulated with other parameters fitted).
     fn near(&self, at: &[f64], radius: f64) -> bool {
-        self.slots
-            .iter()
-            .zip(at)
-            .zip(&self.ranges)
-            .all(|((&slot, a), range)| (self.values[slot] - a).abs() <= radius * range)
+        at.len() == self.values.len()
+            && self.values.iter().zip(at).enumerate().all(|(k, (v, a))| {
+                match self.slots.iter().position(|&slot| slot == k) {
+                    Some(j) => (v - a).abs() <= radius * self.ranges[j],
+                    None => v == a,
+                }
+            })
     }
 }
 
@@ -392,13 +408,41 @@ impl<'p> Evaluator<'p> {
             sessions: self
                 .sessions
                 .iter()
-                .map(|s| Session::new(s.variant, s.slots.clone(), &self.budget))
+                .map(|s| {
+                    let mut fork = Session::new(s.variant, s.slots.clone(), &self.budget);
+                    fork.anchors.clone_from(&s.anchors);
+                    fork
+                })
                 .collect(),
             settings: self.settings,
             budget: self.budget,
             names: self.names.clone(),
             values: self.values.clone(),
             trials: Arc::clone(&self.trials),
+        }
+    }
+
+    /// The steady states simulated so far that can be continued.
+    pub fn anchors(&self) -> Anchors {
+        Anchors(self.sessions.iter().map(|s| s.anchors.clone()).collect())
+    }
+
+    /// Starts `rows` from `anchors`, taken from an evaluator of the same model and experiment
+    /// at the optimum of a fit on every row, for a refit on part of them: a row whose anchor
+    /// is within [`Budget::refit_continuation`] of the values set is continued from it
+    /// instead of simulated from its start. This evaluator's forks start from them too. Seed
+    /// only the rows the refit fits: the rows it holds out score it, and are simulated.
+    pub fn seed(&mut self, anchors: &Anchors, rows: &[Measurement]) {
+        for (session, seeded) in self.sessions.iter_mut().zip(&anchors.0) {
+            for row in rows {
+                let key = (Arc::clone(&row.file), row.row);
+                if let Some(anchor) = seeded.get(&key) {
+                    session.anchors.entry(key).or_insert_with(|| RowAnchor {
+                        seeded: true,
+                        ..anchor.clone()
+                    });
+                }
+            }
         }
     }
 
@@ -588,14 +632,17 @@ impl<'p> Evaluator<'p> {
         check_friction_levels(&variant.model, &session.values, &inputs)?;
         let key = (Arc::clone(&row.file), row.row);
         let continued = match session.anchors.get(&key) {
-            Some((at, anchor))
-                if self.budget.continuation > 0.0
-                    && anchor.inputs == inputs
-                    && session.near(at, self.budget.continuation) =>
-            {
-                continue_steady(&mut session.simulator, anchor, &self.settings)
+            Some(RowAnchor { at, anchor, seeded }) => {
+                let radius = if *seeded {
+                    self.budget.refit_continuation
+                } else {
+                    self.budget.continuation
+                };
+                (radius > 0.0 && anchor.inputs == inputs && session.near(at, radius))
+                    .then(|| continue_steady(&mut session.simulator, anchor, &self.settings))
+                    .flatten()
             }
-            _ => None,
+            None => None,
         };
         let steady = match continued {
             Some(steady) => steady,
@@ -611,8 +658,15 @@ impl<'p> Evaluator<'p> {
                 .map_err(RowFailure::Steady)?;
                 match &steady.anchor {
                     Some(anchor) => {
-                        let at = session.slot_values();
-                        session.anchors.insert(key, (at, anchor.clone()));
+                        let at = session.values.clone();
+                        session.anchors.insert(
+                            key,
+                            RowAnchor {
+                                at,
+                                anchor: anchor.clone(),
+                                seeded: false,
+                            },
+                        );
                     }
                     None => {
                         session.anchors.remove(&key);
