@@ -158,17 +158,23 @@ pub fn least_squares(
             )));
         }
     }
-    let mut problem = Problem {
-        residuals,
-        bounds,
-        evaluations: 0,
-        last_jacobian: None,
-    };
     let mut u: Vec<f64> = start
         .iter()
         .zip(bounds)
         .map(|(&x, &(lo, hi))| ((x - lo) / (hi - lo)).clamp(0.0, 1.0))
         .collect();
+    let mut problem = Problem {
+        residuals,
+        bounds,
+        origin: u
+            .iter()
+            .zip(start)
+            .zip(bounds)
+            .map(|((&u, &x), &(lo, hi))| (u, x.clamp(lo, hi)))
+            .collect(),
+        evaluations: 0,
+        last_jacobian: None,
+    };
     let mut r = problem.eval(&u).ok_or_else(|| {
         CalibrationError("the model cannot be evaluated at the starting values".into())
     })?;
@@ -245,7 +251,7 @@ pub fn least_squares(
     }
     let to_x = |j: usize, v: f64| bounds[j].0 + v * scale[j];
     Ok(Fit {
-        values: u.iter().enumerate().map(|(j, &v)| to_x(j, v)).collect(),
+        values: problem.values(&u),
         sse: total,
         residuals: r,
         std_errors,
@@ -295,6 +301,11 @@ fn sse(r: &[f64]) -> f64 {
 struct Problem<'a> {
     residuals: &'a mut dyn FnMut(&[f64]) -> Option<Vec<f64>>,
     bounds: &'a [(f64, f64)],
+    /// Each parameter's start in unit coordinates and its value there: a parameter a step
+    /// leaves where it started keeps that value exactly, not its round trip through the
+    /// unit coordinates (an ulp away; a model at a knife edge, a Coulomb force tied to its
+    /// breakaway force, could evaluate at one and not the other).
+    origin: Vec<(f64, f64)>,
     evaluations: usize,
     /// The last full Jacobian and where it was taken: a descent ends where it last
     /// differenced every column, and the scans and the standard errors need the same one.
@@ -302,13 +313,18 @@ struct Problem<'a> {
 }
 
 impl Problem<'_> {
+    /// The parameter values at unit coordinates `u`.
+    fn values(&self, u: &[f64]) -> Vec<f64> {
+        u.iter()
+            .zip(self.bounds)
+            .zip(&self.origin)
+            .map(|((&v, &(lo, hi)), &(u0, x0))| if v == u0 { x0 } else { lo + v * (hi - lo) })
+            .collect()
+    }
+
     fn eval(&mut self, u: &[f64]) -> Option<Vec<f64>> {
         self.evaluations += 1;
-        let x: Vec<f64> = u
-            .iter()
-            .zip(self.bounds)
-            .map(|(&v, &(lo, hi))| lo + v * (hi - lo))
-            .collect();
+        let x = self.values(u);
         (self.residuals)(&x).filter(|r| r.iter().all(|v| v.is_finite()))
     }
 
@@ -550,6 +566,27 @@ impl Problem<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_parameter_no_step_moves_keeps_its_start_exactly() {
+        // A model evaluable only at its start's exact value of the first parameter (a
+        // Coulomb force tied to its breakaway force: a knife edge). Through the unit
+        // coordinates of its bounds that value comes back an ulp away, so the fit could not
+        // start ("cannot be evaluated at the starting values"); kept exactly, it fits the
+        // second parameter to the data's 2.
+        let (k0, (lo, hi)) = (0.03186021586121698, (0.005, 0.1));
+        assert_ne!(lo + ((k0 - lo) / (hi - lo)) * (hi - lo), k0);
+        let mut residuals = |x: &[f64]| (x[0] == k0).then(|| vec![x[1] - 2.0, 2.0 - x[1]]);
+        let fit = least_squares(
+            &mut residuals,
+            &[k0, 1.0],
+            &[(lo, hi), (0.0, 5.0)],
+            &Settings::default(),
+        )
+        .unwrap();
+        assert_eq!(fit.values[0], k0);
+        assert!((fit.values[1] - 2.0).abs() < 1e-9, "{:?}", fit.values);
+    }
 
     fn fit(
         mut f: impl FnMut(&[f64]) -> Option<Vec<f64>>,

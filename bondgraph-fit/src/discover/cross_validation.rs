@@ -10,6 +10,7 @@ use rayon::prelude::*;
 use super::fit::{Assessment, FittedOnAll, fit_best, fit_on_all, limit_to_budget};
 use super::{Candidate, DiscoverError, Settings};
 use crate::budget::Trials;
+use crate::calibrate::CalibrationError;
 use crate::data::Measurement;
 use crate::experiment::Experiment;
 use crate::global::Search;
@@ -69,6 +70,14 @@ pub(super) fn assess_candidate(
     (base_predictions, same): (&[f64], f64),
     settings: &Settings,
 ) -> Result<(Assessment, bool), DiscoverError> {
+    // A search that cannot start names the candidate it was fitting.
+    let named = |error: DiscoverError| match error {
+        DiscoverError::Calibration { data, error } => DiscoverError::Calibration {
+            data,
+            error: CalibrationError(format!("candidate '{}': {}", candidate.id, error.0)),
+        },
+        other => other,
+    };
     let mut fitted = fit_on_all(
         &candidate.model,
         &candidate.source,
@@ -77,7 +86,8 @@ pub(super) fn assess_candidate(
         &candidate.parameters,
         Some(warm),
         settings,
-    )?;
+    )
+    .map_err(named)?;
     let same_as_base = fitted
         .assessment
         .predictions
@@ -94,7 +104,8 @@ pub(super) fn assess_candidate(
         rows,
         &mut fitted,
         settings,
-    )?;
+    )
+    .map_err(named)?;
     Ok((fitted.assessment, false))
 }
 
