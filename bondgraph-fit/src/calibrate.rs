@@ -151,6 +151,41 @@ pub fn least_squares(
     bounds: &[(f64, f64)],
     settings: &Settings,
 ) -> Result<Fit, CalibrationError> {
+    least_squares_toward(residuals, start, bounds, settings, f64::INFINITY).map(|(fit, _)| fit)
+}
+
+/// Descents a thousandth of their sum of squares or less apart over [`PACE_WINDOW`] accepted
+/// steps crawl (Levenberg–Marquardt's damping grown large in a curved valley).
+const CRAWL: f64 = 1e-3;
+
+/// Accepted steps over which a descent's pace is measured.
+const PACE_WINDOW: usize = 5;
+
+/// As [`least_squares`], for one of several local fits of a search whose best start has
+/// the sum of squares `bar`, so that some local fit ends at `bar` or below: a descent still
+/// above `bar` that crawls ([`CRAWL`]), and that at its pace over the last [`PACE_WINDOW`]
+/// steps would still be above `bar` after the rest of its iterations, cannot make this fit
+/// the search's best by descending on, and its round of descent ends there. The scans of
+/// the parameters the residuals are flat in follow as after any descent: a threshold that
+/// held the descent in a narrow valley (a breakaway force deciding which rows slide) moves
+/// there, and the next round descends from the better point (on the flagship's catheter
+/// sweep, a crawl at 62 ended its round, its scan moved a threshold and the next rounds
+/// reached 1.05, the search's best). Returns the fit and whether its last round ended on a
+/// crawl.
+///
+/// Only crawls are extrapolated: a descent from far away that still falls steeply (a tenth
+/// of its sum of squares a step) may reach the best optimum of all, from thousands of times
+/// `bar` (a candidate's on the actuator's runs does).
+///
+/// # Errors
+/// As [`least_squares`].
+pub(crate) fn least_squares_toward(
+    residuals: &mut dyn FnMut(&[f64]) -> Option<Vec<f64>>,
+    start: &[f64],
+    bounds: &[(f64, f64)],
+    settings: &Settings,
+    bar: f64,
+) -> Result<(Fit, bool), CalibrationError> {
     for (i, &(lo, hi)) in bounds.iter().enumerate() {
         if !(lo.is_finite() && hi.is_finite() && lo < hi) {
             return Err(CalibrationError(format!(
@@ -179,10 +214,12 @@ pub fn least_squares(
         CalibrationError("the model cannot be evaluated at the starting values".into())
     })?;
     let mut intervals = vec![None; u.len()];
+    let mut stopped_crawling = false;
     for _round in 0..ROUNDS {
-        let (next_u, next_r) = problem.levenberg_marquardt(u, r, settings);
+        let (next_u, next_r, crawled) = problem.levenberg_marquardt(u, r, settings, bar);
         u = next_u;
         r = next_r;
+        stopped_crawling = crawled;
         // Parameters the residuals do not move: scan them.
         let jacobian = problem.jacobian(&u, &r, settings.step);
         let moves = moving_columns(&jacobian, r.len(), u.len());
@@ -250,7 +287,7 @@ pub fn least_squares(
         }
     }
     let to_x = |j: usize, v: f64| bounds[j].0 + v * scale[j];
-    Ok(Fit {
+    let fit = Fit {
         values: problem.values(&u),
         sse: total,
         residuals: r,
@@ -263,7 +300,8 @@ pub fn least_squares(
         at_bound,
         jacobian,
         evaluations: problem.evaluations,
-    })
+    };
+    Ok((fit, stopped_crawling))
 }
 
 /// `JᵀJ` over the columns `columns` of the row-major `n × p` Jacobian.
@@ -373,21 +411,26 @@ impl Problem<'_> {
         jacobian
     }
 
+    /// A descent from `(u, r)`: where it ends, and whether it ended as a crawl that cannot
+    /// reach `bar` ([`least_squares_toward`]).
     fn levenberg_marquardt(
         &mut self,
         mut u: Vec<f64>,
         mut r: Vec<f64>,
         settings: &Settings,
-    ) -> (Vec<f64>, Vec<f64>) {
+        bar: f64,
+    ) -> (Vec<f64>, Vec<f64>, bool) {
         let p = u.len();
         let mut lambda = 1e-3;
         let mut cost = sse(&r);
+        // The sums of squares after each accepted step, the start's first.
+        let mut costs = vec![cost];
         // A column that nothing moved (a threshold between its rows' switching points) is
         // left out of the next differences, which saves an evaluation of every row per
         // iteration; before stopping, every column is differenced again, and the descent goes
         // on if one has come to move.
         let mut wanted = vec![true; p];
-        for _ in 0..settings.max_iterations {
+        for iteration in 0..settings.max_iterations {
             let every_column = wanted.iter().all(|w| *w);
             let jacobian = self.jacobian_columns(&u, &r, settings.step, &wanted);
             let n = r.len();
@@ -447,9 +490,18 @@ impl Problem<'_> {
                         cost = trial_cost;
                         lambda = (lambda / 3.0).max(1e-9);
                         improved = decrease > settings.tolerance && stride > settings.min_stride;
+                        costs.push(cost);
                         break;
                     }
                     _ => lambda *= 4.0,
+                }
+            }
+            if improved && cost > bar && costs.len() > PACE_WINDOW {
+                let pace = cost / costs[costs.len() - 1 - PACE_WINDOW];
+                let windows_left =
+                    (settings.max_iterations - iteration - 1) as f64 / PACE_WINDOW as f64;
+                if 1.0 - pace < CRAWL && cost * pace.powf(windows_left) > bar {
+                    return (u, r, true);
                 }
             }
             if !improved {
@@ -459,7 +511,7 @@ impl Problem<'_> {
                 wanted = vec![true; p];
             }
         }
-        (u, r)
+        (u, r, false)
     }
 
     /// The best value of parameter `j` on a grid over its bounds (others fixed), refined to
@@ -694,6 +746,92 @@ mod tests {
         );
         assert!((result.values[0] - 3.0).abs() < 1e-5, "{:?}", result.values);
         assert!((result.values[1] - 0.7).abs() < 1e-5);
+    }
+
+    /// `r = (x - 1, 10 - 0.04995 (x - 1)²)`: one minimum, at x = 1 with S = 100, where the
+    /// Gauss–Newton curvature (1) is a thousand times the true one (1 - 0.999): each step
+    /// goes a thousandth of the way, a crawl by construction.
+    fn crawl(x: &[f64]) -> Option<Vec<f64>> {
+        let e = x[0] - 1.0;
+        Some(vec![e, 10.0 - 0.04995 * e * e])
+    }
+
+    #[test]
+    fn a_crawl_that_cannot_reach_the_bar_ends_its_descent() {
+        let settings = Settings::default();
+        let (start, bounds) = ([1.5], [(0.0, 3.0)]);
+        // Another start of the search is at 50: this descent, at 100 and above, cannot be
+        // the search's best.
+        let (abandoned, gave_up) =
+            least_squares_toward(&mut crawl, &start, &bounds, &settings, 50.0).unwrap();
+        assert!(gave_up);
+        assert!(abandoned.sse > 100.0, "{}", abandoned.sse);
+        // Its pace is measured over five accepted steps of two evaluations (one difference,
+        // one trial), after the start's.
+        assert!(
+            abandoned.evaluations <= 1 + 2 * (PACE_WINDOW + 1),
+            "{}",
+            abandoned.evaluations
+        );
+        // Left to itself, it crawls through its sixty iterations and stays far from x = 1.
+        let (whole, _) =
+            least_squares_toward(&mut crawl, &start, &bounds, &settings, f64::INFINITY).unwrap();
+        assert!(whole.evaluations >= 100, "{}", whole.evaluations);
+        assert!(whole.values[0] > 1.3, "{:?}", whole.values);
+        // Below the bar, a crawl is the search's best so far and goes on.
+        let (below, kept_on) =
+            least_squares_toward(&mut crawl, &start, &bounds, &settings, 200.0).unwrap();
+        assert!(!kept_on);
+        assert_eq!(below.evaluations, whole.evaluations);
+    }
+
+    #[test]
+    fn a_threshold_is_scanned_after_a_crawl_and_the_descent_goes_on_below_the_bar() {
+        // The crawl in x beside a threshold t that adds 10 to a residual below t = 0.5: from
+        // (1.5, 0.2) the sum of squares is 200, above the bar of 150, and the descent in x
+        // crawls; its round ends, the scan moves t past 0.5 (100 less), and from there, below
+        // the bar, the next round descends to the end of its iterations.
+        let mut thresholded = |x: &[f64]| -> Option<Vec<f64>> {
+            let mut r = crawl(&x[..1])?;
+            r.push(if x[1] < 0.5 { 10.0 } else { 0.0 });
+            Some(r)
+        };
+        let (fit, crawled) = least_squares_toward(
+            &mut thresholded,
+            &[1.5, 0.2],
+            &[(0.0, 3.0), (0.0, 1.0)],
+            &Settings::default(),
+            150.0,
+        )
+        .unwrap();
+        assert!(!crawled);
+        assert!(fit.values[1] >= 0.5, "{:?}", fit.values);
+        assert!(fit.sse > 99.0 && fit.sse < 100.1, "{}", fit.sse);
+    }
+
+    #[test]
+    fn a_steep_descent_from_far_above_the_bar_goes_on() {
+        // y = 3 exp(-0.7 t) from (10, 5), thousands of times its optimum's sum of squares
+        // (0, bar of a start at the optimum): it falls steeply and reaches the optimum.
+        let t: Vec<f64> = (0..20).map(|k| k as f64 * 0.25).collect();
+        let mut decay = |p: &[f64]| -> Option<Vec<f64>> {
+            Some(
+                t.iter()
+                    .map(|&t| p[0] * (-p[1] * t).exp() - 3.0 * (-0.7 * t).exp())
+                    .collect(),
+            )
+        };
+        let (fit, gave_up) = least_squares_toward(
+            &mut decay,
+            &[10.0, 0.05],
+            &[(0.0, 10.0), (0.0, 5.0)],
+            &Settings::default(),
+            0.0,
+        )
+        .unwrap();
+        assert!(!gave_up);
+        assert!((fit.values[0] - 3.0).abs() < 1e-5, "{:?}", fit.values);
+        assert!((fit.values[1] - 0.7).abs() < 1e-5, "{:?}", fit.values);
     }
 
     #[test]

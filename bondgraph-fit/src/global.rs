@@ -212,47 +212,83 @@ pub fn least_squares<'a>(
             faces.push(face);
         }
     }
-    // Each face screened, then its local fits, face by face side by side.
-    let searched: Vec<(Reduced, Vec<Result<Fit, CalibrationError>>)> = faces
+    // Each face screened and its starts evaluated, face by face side by side; then every
+    // local fit side by side, each knowing the best sum of squares of all their starts (a
+    // bar some local fit ends at or below), which lets a crawl that cannot reach it stop
+    // ([`calibrate::least_squares_toward`]). The bar is known before any local fit runs, so
+    // the search is the same however the threads interleave. Each face: its reduced
+    // parameters, its starts (with their sums of squares, `None` where the model cannot be
+    // evaluated), and how many of them are the caller's.
+    type Screened = (Reduced, Vec<(Option<f64>, Vec<f64>)>, usize);
+    let screened: Vec<Screened> = faces
         .par_iter()
         .filter_map(|face| {
             // None: the tied parameters' bounds do not overlap.
             let reduced = Reduced::new(bounds, face)?;
-            let mut face_starts: Vec<Vec<f64>> = starts
+            let mut screening = residuals();
+            let mut face_starts: Vec<(Option<f64>, Vec<f64>)> = starts
                 .iter()
                 .filter(|s| face_of(s, bounds, orderings) == *face)
-                .map(|s| reduced.project(s))
+                .map(|s| {
+                    let start = reduced.project(s);
+                    let sse = screening.sum_of_squares(&reduced.expand(&start), f64::INFINITY);
+                    (sse, start)
+                })
                 .collect();
-            let mut screening = residuals();
-            face_starts.extend(screen(
-                &mut |u: &[f64], limit: f64| screening.sum_of_squares(&reduced.expand(u), limit),
-                &reduced.bounds,
-                search,
-            ));
+            let given = face_starts.len();
+            face_starts.extend(
+                screen(
+                    &mut |u: &[f64], limit: f64| {
+                        screening.sum_of_squares(&reduced.expand(u), limit)
+                    },
+                    &reduced.bounds,
+                    search,
+                )
+                .into_iter()
+                .map(|(sse, x)| (Some(sse), x)),
+            );
+            Some((reduced, face_starts, given))
+        })
+        .collect();
+    let bar = screened
+        .iter()
+        .flat_map(|(_, face_starts, _)| face_starts.iter().filter_map(|(sse, _)| *sse))
+        .fold(f64::INFINITY, f64::min);
+    // Each face's reduced parameters, its local fits, and how many starts were the caller's.
+    type Fitted<'r> = (
+        &'r Reduced,
+        Vec<Result<(Fit, bool), CalibrationError>>,
+        usize,
+    );
+    let searched: Vec<Fitted<'_>> = screened
+        .par_iter()
+        .map(|(reduced, face_starts, given)| {
             let fits = face_starts
                 .par_iter()
-                .map(|start| {
+                .map(|(_, start)| {
                     let mut local = residuals();
-                    calibrate::least_squares(
+                    calibrate::least_squares_toward(
                         &mut |u: &[f64]| local.residuals(&reduced.expand(u)),
                         start,
                         &reduced.bounds,
                         settings,
+                        bar,
                     )
                 })
                 .collect();
-            Some((reduced, fits))
+            (reduced, fits, *given)
         })
         .collect();
     let mut evaluations = 0;
     let mut best: Option<(Fit, Reduced)> = None;
     let mut optima: Vec<(f64, Vec<f64>)> = Vec::new();
     let mut failure = None;
-    for (reduced, fits) in searched {
-        evaluations += search.screened;
+    for (reduced, fits, given) in searched {
+        // The evaluations of the caller's starts, and the screening's.
+        evaluations += given + search.screened;
         for result in fits {
             match result {
-                Ok(fit) => {
+                Ok((fit, _)) => {
                     evaluations += fit.evaluations;
                     optima.push((fit.sse, reduced.expand(&fit.values)));
                     if best.as_ref().is_none_or(|(b, _)| fit.sse < b.sse) {
@@ -362,12 +398,13 @@ fn face_of(x: &[f64], bounds: &[(f64, f64)], orderings: &[Ordering]) -> Vec<Orde
         .collect()
 }
 
-/// The best `search.local_fits` of `search.screened` Halton points in `bounds`.
+/// The best `search.local_fits` of `search.screened` Halton points in `bounds`, best
+/// first, with their sums of squares.
 fn screen(
     sum_of_squares: &mut dyn FnMut(&[f64], f64) -> Option<f64>,
     bounds: &[(f64, f64)],
     search: &Search,
-) -> Vec<Vec<f64>> {
+) -> Vec<(f64, Vec<f64>)> {
     // The best `local_fits` so far, best first. A point is evaluated only as far as it can
     // still join them (partial sums of squares only grow), so the points kept are those a
     // full evaluation of every point would keep.
@@ -393,7 +430,7 @@ fn screen(
             best.truncate(search.local_fits);
         }
     }
-    best.into_iter().map(|(_, x)| x).collect()
+    best
 }
 
 /// Bases of the Halton sequence, one per dimension.
@@ -510,7 +547,8 @@ mod tests {
             .map(|x| ((0..20).map(|r| row(&x, r)).sum(), x))
             .collect();
         reference.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let expected: Vec<Vec<f64>> = reference.into_iter().take(3).map(|(_, x)| x).collect();
+        // The points kept, with their whole sums of squares (the bar of the local fits).
+        let expected: Vec<(f64, Vec<f64>)> = reference.into_iter().take(3).collect();
 
         let mut rows_predicted = 0;
         let mut bounded = |x: &[f64], limit: f64| {

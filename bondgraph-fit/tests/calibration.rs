@@ -355,11 +355,17 @@ fn refits_continued_from_the_whole_fit_change_no_conclusion() {
             Candidate::new(&model, &Extension::load(&source).unwrap()).unwrap()
         })
         .collect();
+    // As many resamples both ways (by default their number follows their cost, which the
+    // continuation lowers).
     let run = |refit_continuation: f64| {
         let settings = Settings {
             budget: Budget {
                 refit_continuation,
                 ..Budget::default()
+            },
+            resampling: bondgraph_fit::discover::Resampling {
+                count: Some(12),
+                ..Default::default()
             },
             ..Settings::default()
         };
