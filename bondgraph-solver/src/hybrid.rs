@@ -158,6 +158,8 @@ pub struct Simulator<'m> {
     scratch: events::Scratch,
     /// The last segment's vectors, for the next.
     segment_buffers: SegmentBuffers,
+    /// The last integrated segment's integrator, its buffers for the next.
+    integrator: Option<crate::ode::Switching>,
 }
 
 impl<'m> Simulator<'m> {
@@ -175,6 +177,7 @@ impl<'m> Simulator<'m> {
             energy_columns: Vec::new(),
             scratch: events::Scratch::default(),
             segment_buffers: SegmentBuffers::default(),
+            integrator: None,
         }
     }
 

@@ -456,3 +456,51 @@ fn the_stick_slip_spring_breaks_away_and_sticks_when_rk4_says() {
         "{energy:?}"
     );
 }
+
+/// A mass braked by a cubic drag, `m dv/dt = -c v³ + F(t)`, with `F` a recorded signal that is
+/// zero at each of its 1000 samples: every sample is a breakpoint, so the run is 1000
+/// integrated segments of one nonlinear mode, each starting where the last left off (with the
+/// step size it had reached). The speed is `v(t) = v₀ / √(1 + 2 (c/m) v₀² t)`; with
+/// m = 2 kg, c = 0.5 N s³/m³ and v₀ = 3 m/s, `v(1 s) = 3/√5.5`.
+#[test]
+fn a_nonlinear_mode_through_a_thousand_breakpoints_keeps_its_accuracy() {
+    let model = model::load_str(
+        "drag.ron",
+        r#"Model(
+    name: "drag",
+    parameters: {
+        "m": (value: 2.0, unit: "kg"),
+        "c": (value: 0.5, unit: "N*s^3/m^3"),
+    },
+    inputs: { "F": (unit: "N") },
+    elements: {
+        "push": Se(effort: "F"),
+        "body": One,
+        "mass": I(inertance: "m"),
+        "drag": R(effort: "c*flow^3"),
+    },
+    bonds: [("push", "body"), ("body", "mass"), ("body", "drag")],
+)"#,
+    )
+    .expect("valid");
+    let recorded = bondgraph_core::scenario::Signal::Table(
+        (0..=1000).map(|k| (k as f64 * 1e-3, 0.0)).collect(),
+    );
+    let trajectory = simulate(
+        &model,
+        &["flow:mass"],
+        &[&recorded],
+        vec![2.0 * 3.0],
+        1.0,
+        0.25,
+    );
+    assert!(trajectory.stats.segments >= 1000, "{:?}", trajectory.stats);
+    for (k, &t) in trajectory.times.iter().enumerate() {
+        let exact = 3.0 / (1.0 + 2.0 * 0.25 * 9.0 * t).sqrt();
+        let v = trajectory.value(k, 0).expect("a sample");
+        assert!(
+            (v - exact).abs() < 1e-9 * exact,
+            "v({t}) = {v} against {exact}"
+        );
+    }
+}

@@ -46,6 +46,9 @@ pub struct Stepper<'s, 'm> {
     pub(super) last_crossing: Option<(ElementId, Why, bool)>,
     /// Steps taken: integration steps and event-location samples.
     pub(super) steps: u64,
+    /// Where the last segment, integrated, left its nonlinear mode's integration: the next
+    /// segment of the same mode goes on from there.
+    pub(super) carry: Option<super::integrate::Carry>,
 }
 
 impl<'s, 'm> Stepper<'s, 'm> {
@@ -127,6 +130,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
             energy: None,
             last_crossing: None,
             steps: 0,
+            carry: None,
         })
     }
 
@@ -244,12 +248,10 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let mut progress = stall::Progress::default();
         while self.t < until {
             let before = self.t;
-            let end = self
-                .breakpoints
-                .iter()
-                .copied()
-                .find(|&b| b > self.t)
-                .map_or(until, |b| b.min(until));
+            // The first breakpoint after now (sorted: a search, as a recorded signal has
+            // one at every sample).
+            let next = self.breakpoints.partition_point(|&b| b <= self.t);
+            let end = self.breakpoints.get(next).map_or(until, |&b| b.min(until));
             self.last_crossing = None;
             let switched = self.segment(end)?;
             self.check_outputs()?;

@@ -93,6 +93,20 @@ impl Dop853 {
         }
     }
 
+    /// Forgets everything of the steps taken (the first stage kept, the last step, the
+    /// peaks, the stiffness count) but the work counts, as a new integrator for another
+    /// system of the same dimension would start, keeping the buffers.
+    pub fn reset(&mut self) {
+        self.fsal = None;
+        self.last_tau = 0.0;
+        self.last_h = 0.0;
+        self.dense_ready = false;
+        self.rejected_last = false;
+        self.peak.fill(0.0);
+        self.stiff_count = 0;
+        self.nonstiff_count = 0;
+    }
+
     /// What an error in component `r` at magnitude `value` is judged against.
     fn scale(&self, r: usize, value: f64) -> f64 {
         self.tolerances.absolute
@@ -103,6 +117,11 @@ impl Dop853 {
         for (peak, v) in self.peak.iter_mut().zip(x) {
             *peak = peak.max(v.abs());
         }
+    }
+
+    /// The number of components.
+    pub fn dimension(&self) -> usize {
+        self.n
     }
 
     /// The largest magnitude of each component so far.

@@ -168,6 +168,23 @@ impl Radau {
         }
     }
 
+    /// Forgets everything of the steps taken (the Jacobian and its factors, the last step,
+    /// Newton's rates, the step-size history, the peaks) but the work counts, as a new
+    /// integrator for another system of the same dimension would start, keeping the
+    /// buffers.
+    pub fn reset(&mut self) {
+        self.last_h = 0.0;
+        self.peak.fill(0.0);
+        self.end_tau = f64::NAN;
+        self.jacobian_kept = false;
+        self.factored_h = f64::NAN;
+        self.theta = 1e-3;
+        self.convergence = 1.0;
+        self.rejected_last = false;
+        self.h_accepted = 0.0;
+        self.error_accepted = 1.0;
+    }
+
     /// What an error in component `r` at magnitude `value` is judged against.
     fn scale(&self, r: usize, value: f64) -> f64 {
         self.tolerances.absolute

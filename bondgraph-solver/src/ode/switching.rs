@@ -32,6 +32,9 @@ pub struct Switching {
     current: Method,
     /// The method that took the last accepted step (its dense output is the one to use).
     last: Method,
+    /// What it was made for: the components that set the step size, the tolerances.
+    controlled: usize,
+    tolerances: Tolerances,
 }
 
 impl Switching {
@@ -43,7 +46,27 @@ impl Switching {
             implicit: Radau::new(dimension, controlled, tolerances),
             current: Method::Explicit,
             last: Method::Explicit,
+            controlled,
+            tolerances,
         }
+    }
+
+    /// Whether it integrates systems of `dimension` components, the first `controlled`
+    /// setting the step size, to `tolerances`: whether [`Switching::reset`] makes it what
+    /// [`Switching::new`] would.
+    pub fn made_for(&self, dimension: usize, controlled: usize, tolerances: Tolerances) -> bool {
+        self.explicit.dimension() == dimension
+            && self.controlled == controlled
+            && self.tolerances == tolerances
+    }
+
+    /// Starts again as [`Switching::new`] does, explicit, keeping the buffers (and the work
+    /// counts).
+    pub fn reset(&mut self) {
+        self.explicit.reset();
+        self.implicit.reset();
+        self.current = Method::Explicit;
+        self.last = Method::Explicit;
     }
 
     /// The method that takes the next step.
