@@ -175,6 +175,54 @@ fn each_file_of_a_time_series_is_its_own_run() {
 }
 
 #[test]
+fn a_bounded_prediction_of_a_time_series_stops_after_the_run_that_settles_it() {
+    // Two runs: the motor's record, and a record whose time goes back, which cannot be
+    // simulated. Asked in an order that starts with the good run's rows, a prediction that
+    // has enough after the first row hands over only that run's rows and never reaches the
+    // bad run; asked to the end, it hands over every row of the good run, each what a whole
+    // prediction gives it, and then fails on the bad run.
+    let model = file("models/examples/geared_motor/geared_motor.ron");
+    let experiment = step_experiment();
+    let good = step_data(&experiment, "step_exact.csv");
+    let bad = data::read(
+        "back.csv",
+        "t_s,V_V,tau_mNm,w_rad_s\n0,0,0,0\n0.02,6,0,0\n0.01,6,0,1\n",
+        &experiment,
+    )
+    .unwrap();
+    let rows = data::Dataset::join(vec![bad, good.clone()]).rows;
+    let loaded = bondgraph_core::model::load_source(&model).unwrap();
+    let predictor = bondgraph_fit::predict::Predictor::new(loaded, &model, &experiment).unwrap();
+    let names: Vec<String> = STEP_TRUTH.iter().map(|(n, _)| n.to_string()).collect();
+    let mut evaluator = predictor.evaluator(&names).unwrap();
+    evaluator.set(&STEP_TRUTH.map(|(_, v)| v));
+    let whole = evaluator.predict_each(&good.rows);
+    // The good run's rows, last first, then the bad run's.
+    let order: Vec<usize> = (3..rows.len()).rev().chain(0..3).collect();
+    let mut handed = Vec::new();
+    assert!(evaluator.predict_until(&rows, &order, |i, _| {
+        handed.push(i);
+        true
+    }));
+    assert_eq!(handed, [rows.len() - 1]);
+    let mut handed = Vec::new();
+    let predicted = evaluator.predict_until(&rows, &order, |i, prediction| {
+        assert_eq!(
+            prediction.observed,
+            whole[i - 3].as_ref().unwrap().observed,
+            "row {i}"
+        );
+        handed.push(i);
+        false
+    });
+    assert!(
+        !predicted,
+        "the run whose time goes back cannot be predicted"
+    );
+    assert_eq!(handed, order[..good.rows.len()]);
+}
+
+#[test]
 fn a_time_series_whose_time_goes_back_names_the_row() {
     let model = file("models/examples/geared_motor/geared_motor.ron");
     let experiment = step_experiment();

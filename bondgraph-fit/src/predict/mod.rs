@@ -556,10 +556,7 @@ impl<'p> Evaluator<'p> {
             Ok(predictions) => (Some(predictions), None),
             Err(failure) => (None, Some(failure)),
         };
-        self.trials
-            .lock()
-            .expect("no thread panicked holding it")
-            .record(&self.names, &self.values, failure);
+        self.record_trial(failure);
         predictions
     }
 
@@ -567,7 +564,8 @@ impl<'p> Evaluator<'p> {
     /// `enough` (with its row's position) in the order `order` gives, and stopping once
     /// `enough` says the rest are not needed; false when a row cannot be predicted. Steady
     /// rows are predicted one at a time in that order, so a stop saves the rest; a time
-    /// series is simulated whole first.
+    /// series run by run, each whole, in the order of their first row in `order`, its rows
+    /// in that order, so a stop saves the runs after it.
     pub fn predict_until(
         &mut self,
         rows: &[Measurement],
@@ -575,15 +573,7 @@ impl<'p> Evaluator<'p> {
         mut enough: impl FnMut(usize, &Prediction) -> bool,
     ) -> bool {
         if self.predictor.drive.is_some() {
-            let Some(predictions) = self.predict_all(rows) else {
-                return false;
-            };
-            for &i in order {
-                if enough(i, &predictions[i]) {
-                    break;
-                }
-            }
-            return true;
+            return self.predict_runs_until(rows, order, enough);
         }
         let mut failure = None;
         for &i in order {
@@ -600,6 +590,12 @@ impl<'p> Evaluator<'p> {
                 }
             }
         }
+        self.record_trial(failure)
+    }
+
+    /// Counts a trial at the current values ([`Evaluator::trials`]), failed with `failure`
+    /// (its reason and the failed row in words) or not; whether it succeeded.
+    fn record_trial(&self, failure: Option<(Failure, String)>) -> bool {
         let failed = failure.is_some();
         self.trials
             .lock()
@@ -690,15 +686,10 @@ impl<'p> Evaluator<'p> {
         })
     }
 
-    /// A time series' rows, run by run: each stretch of consecutive rows from one file with
-    /// the same empty `absent` columns is one simulation through its sample times.
-    fn predict_runs(
-        &mut self,
-        drive: &Drive,
-        rows: &[Measurement],
-    ) -> Vec<Result<Prediction, ExperimentError>> {
-        let experiment = &self.predictor.experiment;
-        let mut predictions = Vec::with_capacity(rows.len());
+    /// A time series' runs: each stretch of consecutive rows from one file with the same
+    /// empty `absent` columns is one simulation through its sample times.
+    fn runs(&self, rows: &[Measurement]) -> Vec<std::ops::Range<usize>> {
+        let mut runs = Vec::new();
         let mut start = 0;
         while start < rows.len() {
             let mask = self.predictor.mask(&rows[start]);
@@ -707,23 +698,88 @@ impl<'p> Evaluator<'p> {
                     rows[k].file != rows[start].file || self.predictor.mask(&rows[k]) != mask
                 })
                 .unwrap_or(rows.len());
-            let session = &mut self.sessions[mask];
-            let variant = session.variant;
-            let setup = RunSetup {
-                model: &variant.model,
-                inputs: &variant.inputs,
-                initial: &variant.initial,
-            };
-            predictions.extend(predict_run(
-                drive,
-                experiment,
-                &mut session.simulator,
-                &setup,
-                &rows[start..end],
-            ));
+            runs.push(start..end);
             start = end;
         }
+        runs
+    }
+
+    /// The predictions of one run of a time series (`rows`, as [`Evaluator::runs`] gives
+    /// them).
+    fn predict_run(
+        &mut self,
+        drive: &Drive,
+        rows: &[Measurement],
+    ) -> Vec<Result<Prediction, ExperimentError>> {
+        let session = &mut self.sessions[self.predictor.mask(&rows[0])];
+        let variant = session.variant;
+        let setup = RunSetup {
+            model: &variant.model,
+            inputs: &variant.inputs,
+            initial: &variant.initial,
+        };
+        predict_run(
+            drive,
+            &self.predictor.experiment,
+            &mut session.simulator,
+            &setup,
+            rows,
+        )
+    }
+
+    /// A time series' rows, run by run.
+    fn predict_runs(
+        &mut self,
+        drive: &Drive,
+        rows: &[Measurement],
+    ) -> Vec<Result<Prediction, ExperimentError>> {
+        let mut predictions = Vec::with_capacity(rows.len());
+        for run in self.runs(rows) {
+            predictions.extend(self.predict_run(drive, &rows[run]));
+        }
         predictions
+    }
+
+    /// [`Evaluator::predict_until`] on a time series.
+    fn predict_runs_until(
+        &mut self,
+        rows: &[Measurement],
+        order: &[usize],
+        mut enough: impl FnMut(usize, &Prediction) -> bool,
+    ) -> bool {
+        let predictor = self.predictor;
+        let drive = predictor.drive.as_ref().expect("a time series");
+        let runs = self.runs(rows);
+        let run_of = |i: usize| runs.partition_point(|run| run.end <= i);
+        // The runs in the order of their first row in `order`, and each run's rows so.
+        let mut run_order: Vec<usize> = Vec::with_capacity(runs.len());
+        let mut rows_of: Vec<Vec<usize>> = vec![Vec::new(); runs.len()];
+        for &i in order {
+            let run = run_of(i);
+            if rows_of[run].is_empty() {
+                run_order.push(run);
+            }
+            rows_of[run].push(i);
+        }
+        let mut failure = None;
+        'runs: for run in run_order {
+            let start = runs[run].start;
+            let predictions = self.predict_run(drive, &rows[runs[run].clone()]);
+            for &i in &rows_of[run] {
+                match &predictions[i - start] {
+                    Ok(prediction) => {
+                        if enough(i, prediction) {
+                            break 'runs;
+                        }
+                    }
+                    Err(error) => {
+                        failure = Some((Failure::Simulation, error.to_string()));
+                        break 'runs;
+                    }
+                }
+            }
+        }
+        self.record_trial(failure)
     }
 }
 
