@@ -252,6 +252,27 @@ impl<'a> Guards<'a> {
     }
 }
 
+/// The buffers of a step's looks at its guards: the guards' tapes, a point of the dense
+/// output, the look at the step's end.
+struct Looks<'a> {
+    guards: Guards<'a>,
+    point: Vec<f64>,
+    end: Look,
+}
+
+/// A step just taken, as its looks at the guards need it.
+struct TakenStep<'a> {
+    /// Its start in the segment's time, and its size.
+    tau: f64,
+    step: f64,
+    /// The state at its end.
+    end: &'a [f64],
+    /// The segment's inputs `u₀ + u₁τ`.
+    inputs: (&'a [f64], &'a [f64]),
+    /// The guards armed at zero at its start ([`step_guards::arm_at_zero`]).
+    from_zero: &'a [bool],
+}
+
 /// Where a step that crosses a guard starts, and which guard.
 struct Landing<'a> {
     /// The step's start, in time.
@@ -399,8 +420,11 @@ impl Stepper<'_, '_> {
         let mut before = vec![0.0; size];
         let mut point = vec![0.0; size];
         let mut crossing: Option<Crossing> = None;
-        let mut look_guards = Guards::new(&nl, &self.fire_above);
-        let mut look_point = vec![0.0; size];
+        let mut looks = Looks {
+            guards: Guards::new(&nl, &self.fire_above),
+            point: vec![0.0; size],
+            end: Look::default(),
+        };
         while tau < length {
             let step = h.min(length - tau);
             // A step held to a few spacings of doubles at `t` makes no progress, unless it is
@@ -457,35 +481,23 @@ impl Stepper<'_, '_> {
             } else {
                 start + tau + step
             };
-            if guard_count > 0 || self.sample_due(step_end, mode_index) {
-                integrator.prepare_dense(&mut system);
-            }
-            // Guards along the step, on its dense output.
-            let found = if guard_count == 0 {
-                None
+            let from_zero = if tau == 0.0 {
+                &from_zero
             } else {
-                let from_zero = if tau == 0.0 {
-                    &from_zero
-                } else {
-                    &not_from_zero
-                };
-                step_guards::first_crossing(
-                    &mut previous,
-                    &[0.25, 0.5, 0.75, 1.0],
-                    &mut self.armed,
-                    &self.arm_below,
-                    from_zero,
-                    |theta, look| {
-                        if theta == 1.0 {
-                            look_point.copy_from_slice(&z);
-                        } else {
-                            integrator.dense(theta, &mut look_point);
-                        }
-                        look_guards.at(tau + theta * step, &look_point, &u0, &u1);
-                        look_guards.look_into(look);
-                    },
-                )
+                &not_from_zero
             };
+            let (found, dense_ready) = self.crossing_in_step(
+                (&mut integrator, &mut system),
+                &mut previous,
+                &mut looks,
+                TakenStep {
+                    tau,
+                    step,
+                    end: &z,
+                    inputs: (&u0, &u1),
+                    from_zero,
+                },
+            );
             if let Some((k, theta)) = found {
                 let mut landing_steps = 0;
                 let hit = land_on_crossing(
@@ -514,11 +526,14 @@ impl Stepper<'_, '_> {
                         &current,
                     ));
                 }
+                if !dense_ready && self.sample_before(start + tau + hit, mode_index) {
+                    integrator.prepare_dense(&mut system);
+                }
                 self.sample_until(
                     &mut system,
                     start + tau,
                     &before,
-                    Some((&integrator, step)),
+                    Some((&integrator, step, &point)),
                     start + tau + hit,
                     mode_index,
                 );
@@ -527,11 +542,14 @@ impl Stepper<'_, '_> {
                 crossing = Some(Crossing { guard: k, tau });
                 break;
             }
+            if !dense_ready && self.sample_before(step_end, mode_index) {
+                integrator.prepare_dense(&mut system);
+            }
             self.sample_until(
                 &mut system,
                 start + tau,
                 &before,
-                Some((&integrator, step)),
+                Some((&integrator, step, &z)),
                 step_end,
                 mode_index,
             );
@@ -554,6 +572,59 @@ impl Stepper<'_, '_> {
         self.x = z[..n].to_vec();
         self.keep_integrator(integrator, crossing.is_none().then_some((end, proposed)));
         Ok(crossing)
+    }
+
+    /// The first crossing of an armed guard in the step just `taken`, `(guard, θ)`, from the
+    /// look at its start (`previous`, replaced by the last look taken): the guards are looked
+    /// at at its end, from its end state, and inside it, unless every guard stays clear of
+    /// zero ([`step_guards::clear_of_zero`]), on its dense output, built when first read.
+    /// Also whether the dense output was built.
+    fn crossing_in_step(
+        &mut self,
+        (integrator, system): (&mut Switching, &mut Segment<'_>),
+        previous: &mut Look,
+        looks: &mut Looks<'_>,
+        taken: TakenStep<'_>,
+    ) -> (Option<(usize, f64)>, bool) {
+        if looks.guards.count() == 0 {
+            return (None, false);
+        }
+        let TakenStep {
+            tau,
+            step,
+            end,
+            inputs: (u0, u1),
+            from_zero,
+        } = taken;
+        looks.guards.at(tau + step, end, u0, u1);
+        looks.guards.look_into(&mut looks.end);
+        let clear = step_guards::clear_of_zero(previous, &looks.end, step);
+        let mut dense_ready = false;
+        let found = step_guards::first_crossing(
+            previous,
+            if clear {
+                &[1.0]
+            } else {
+                &[0.25, 0.5, 0.75, 1.0]
+            },
+            &mut self.armed,
+            &self.arm_below,
+            from_zero,
+            |theta, look| {
+                if theta == 1.0 {
+                    look.clone_from(&looks.end);
+                    return;
+                }
+                if !dense_ready {
+                    integrator.prepare_dense(system);
+                    dense_ready = true;
+                }
+                integrator.dense(theta, &mut looks.point);
+                looks.guards.at(tau + theta * step, &looks.point, u0, u1);
+                looks.guards.look_into(look);
+            },
+        );
+        (found, dense_ready)
     }
 
     /// The integrator of a segment of the current mode from `start` (time), `length` long,
@@ -628,15 +699,25 @@ impl Stepper<'_, '_> {
         }
     }
 
+    /// Whether a sample is due before `time` (not at it).
+    fn sample_before(&self, time: f64, mode_index: Option<usize>) -> bool {
+        match (self.sample, mode_index) {
+            (Some(times), Some(_)) => times.time(self.next_sample) < time,
+            _ => false,
+        }
+    }
+
     /// Records the samples due at or before `through` (a time) in a step that starts at
-    /// `step_start` (time) from `before`, from the dense output of the integrator's last step
-    /// (of size `step`); with no integrator, the samples due at `step_start` itself.
+    /// `step_start` (time) from `before`: at `through` itself from the state there, before
+    /// it from the dense output of the integrator's last step (of size `step`, prepared if
+    /// a sample is due before `through`); with no integrator, the samples due at
+    /// `step_start` itself.
     fn sample_until(
         &mut self,
         system: &mut Segment<'_>,
         step_start: f64,
         before: &[f64],
-        integrator: Option<(&Switching, f64)>,
+        integrator: Option<(&Switching, f64, &[f64])>,
         through: f64,
         mode_index: Option<usize>,
     ) {
@@ -655,9 +736,13 @@ impl Stepper<'_, '_> {
             if time > through {
                 break;
             }
-            if let Some((integrator, step)) = integrator {
-                let theta = ((time - step_start) / step).clamp(0.0, 1.0);
-                integrator.dense(theta, &mut point);
+            match integrator {
+                Some((_, _, there)) if time == through => point.copy_from_slice(there),
+                Some((integrator, step, _)) => {
+                    let theta = ((time - step_start) / step).clamp(0.0, 1.0);
+                    integrator.dense(theta, &mut point);
+                }
+                None => {}
             }
             let tau = time - segment_start;
             system.outputs(tau, &point);
