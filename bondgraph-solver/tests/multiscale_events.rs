@@ -217,3 +217,87 @@ fn a_contact_that_cannot_hold_at_zero_speed_reverses_at_once() {
     // Backwards to zero speed, declined there, forwards.
     assert_eq!(trajectory.stats.segments, 3);
 }
+
+/// A contact whose Coulomb force equals its breakaway force, breaking away under a rising
+/// drive in a nonlinear mode: at the landing the holding force is at the breakaway force,
+/// and sliding there has no net force. The actuator with its brush drop (a `tanh` law, so
+/// every mode is integrated) at values a refit found, `F_C = F_S = 9.9515 N`, on the
+/// recorded run 1 of `data/hidden/brush-voltage-drop/` (the voltage ramps from 0 to 6 V
+/// between the samples at 9 and 10 ms): the guide breaks away during the ramp and slides on.
+/// There sliding either way has no net force to rounding (2e-16 N), neither mode is judged
+/// consistent, and the run stopped ("no mode is consistent"); the contact now slides the
+/// way it broke away, and the rising drive carries it on.
+#[test]
+fn a_contact_with_its_coulomb_force_at_its_breakaway_force_breaks_away_under_a_rising_drive() {
+    use bondgraph_core::model::extension::{Extension, merge};
+    use bondgraph_core::source::SourceFile;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let read = |relative: &str| std::fs::read_to_string(root.join(relative)).expect(relative);
+    let values = [
+        ("K", 0.03000830371361866),
+        ("b", 40.48068160799604),
+        ("F_C", 9.951540259218927),
+        ("F_S", 9.951540259218927),
+        ("J_m", 1.4989115723113726e-5),
+    ];
+    let mut text = read("models/examples/actuator/actuator.ron");
+    for (name, value) in values {
+        let at = text.find(&format!("\"{name}\": (value: ")).expect(name);
+        let start = at + name.len() + 11;
+        let end = start + text[start..].find(',').expect("a value");
+        text.replace_range(start..end, &format!("{value:e}"));
+    }
+    let base = SourceFile::new("actuator.ron", text);
+    let brush = read("models/examples/actuator/extensions/brush-voltage-drop.ron").replace(
+        "\"U_b\": (value: 0.0,",
+        "\"U_b\": (value: 0.248658881438761,",
+    );
+    let extension = Extension::load(&SourceFile::new("brush.ron", brush)).expect("extension");
+    let model = merge(&base, &[extension])
+        .expect("merged")
+        .load()
+        .expect("model");
+    let csv = read("models/examples/actuator/data/hidden/brush-voltage-drop/step_1.csv");
+    let (mut volts, mut load) = (Vec::new(), Vec::new());
+    for line in csv.lines().skip(1) {
+        let cells: Vec<f64> = line
+            .split(',')
+            .map(|c| c.parse().expect("a number"))
+            .collect();
+        volts.push((cells[0], cells[1]));
+        load.push((cells[0], cells[2]));
+    }
+    let (volts, load) = (
+        bondgraph_core::scenario::Signal::Table(volts),
+        bondgraph_core::scenario::Signal::Table(load),
+    );
+    let inputs: [&dyn Signal; 2] = [&volts, &load];
+    let outputs = vec![Output {
+        name: "flow:carriage".into(),
+        spec: OutputSpec::parse(&model, "flow:carriage").expect("output"),
+        integral: false,
+    }];
+    let mut simulator = Simulator::new(&model, outputs);
+    let states = simulator.storage().len();
+    let trajectory = simulator
+        .run(&Run {
+            inputs: &inputs,
+            initial_mode: Mode::parse(&model, "guide=stuck").expect("mode"),
+            initial_state: vec![0.0; states],
+            duration: 0.02,
+            sample: Some(1e-3),
+            audit_energy: false,
+        })
+        .expect("the run goes on past the breakaway");
+    let first = &trajectory.events[0];
+    assert_eq!(
+        (first.from.as_str(), first.to.as_str()),
+        ("guide=stuck", "guide=slip+")
+    );
+    assert!(first.t > 0.009 && first.t < 0.0095, "{first:?}");
+    // Sliding on: the carriage moves forward at 20 ms.
+    let last = trajectory
+        .value(trajectory.times.len() - 1, 0)
+        .expect("a sample");
+    assert!(last > 0.0, "{last}");
+}
