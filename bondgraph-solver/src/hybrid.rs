@@ -400,11 +400,6 @@ impl<'m> Simulator<'m> {
     ) -> Result<Arc<NumericMode>, SimError> {
         let crossed = trigger.as_ref().map(|trigger| trigger.crossed);
         let crossed = crossed.as_ref();
-        // The contact that broke away from stuck, when the event is a breakaway.
-        let broke_away = trigger
-            .as_ref()
-            .filter(|t| t.mode.mode.of(t.element) == Some(ElementMode::Stuck))
-            .map(|t| t.element);
         let mut tried: Vec<Mode> = Vec::new();
         let mut switched_ids: Vec<ElementId> = Vec::new();
         let mut previous: Option<(Arc<NumericMode>, ElementId, Why)> =
@@ -436,24 +431,6 @@ impl<'m> Simulator<'m> {
                         from: last,
                         to: found.clone(),
                         element: Switched::Elements(switched.join(",")),
-                        why: None,
-                    });
-                    return Ok(found);
-                }
-                // A contact breaking away at an exact balance (its Coulomb force at its
-                // breakaway force, the drive at it to rounding): sliding either way has no
-                // net force to rounding and neither is judged consistent. It slides the way
-                // it broke away; the next segment follows the drive (a guard at zero and
-                // falling there is left at once).
-                if let Some(element) = broke_away.filter(|e| switched_ids.iter().all(|s| s == e))
-                    && tried[0].of(element) != Some(ElementMode::Stuck)
-                {
-                    let found = self.mode(&tried[0])?;
-                    recorder.event(Recorded {
-                        t,
-                        from: last,
-                        to: found.clone(),
-                        element: Switched::Element(element),
                         why: None,
                     });
                     return Ok(found);
