@@ -459,8 +459,8 @@ fn the_stick_slip_spring_breaks_away_and_sticks_when_rk4_says() {
 
 /// A mass braked by a cubic drag, `m dv/dt = -c v³ + F(t)`, with `F` a recorded signal that is
 /// zero at each of its 1000 samples: every sample is a breakpoint, so the run is 1000
-/// integrated segments of one nonlinear mode, each starting where the last left off (with the
-/// step size it had reached). The speed is `v(t) = v₀ / √(1 + 2 (c/m) v₀² t)`; with
+/// integrated segments of one nonlinear mode, each starting where the last left off (on the
+/// simulator's one integrator, reset). The speed is `v(t) = v₀ / √(1 + 2 (c/m) v₀² t)`; with
 /// m = 2 kg, c = 0.5 N s³/m³ and v₀ = 3 m/s, `v(1 s) = 3/√5.5`.
 #[test]
 fn a_nonlinear_mode_through_a_thousand_breakpoints_keeps_its_accuracy() {

@@ -30,22 +30,6 @@ use crate::nonlinear::NonlinearNumeric;
 use crate::numeric::NumericMode;
 use crate::ode::{Method, StepOutcome, Switching, System};
 
-/// How an integrated segment that ended without an event left its mode: the next segment,
-/// in the same mode from the same instant (an input's breakpoint between them: a recorded
-/// signal's next sample; or a steady search's next window), starts with the step size DOP853
-/// had reached instead of a first-step estimate (two evaluations of `f`, and a step often
-/// far from the one the motion allows). Across a breakpoint the inputs' rates change, so
-/// nothing else carries over: the first stage, the dense output and the stiffness count are
-/// new. A segment that ended on Radau IIA carries nothing: stiffness is often where the
-/// motion was (a tank near empty, a transient), and the next segment tests it again (in
-/// the two-tank rig's steady search, carrying Radau on took 131 steps where starting
-/// explicit takes 108).
-pub(crate) struct Carry {
-    mode: std::sync::Arc<NumericMode>,
-    at: f64,
-    step: f64,
-}
-
 /// The numeric form of a mode of a nonlinear model.
 pub(super) fn numeric_mode(
     simulator: &mut Simulator<'_>,
@@ -414,9 +398,8 @@ impl Stepper<'_, '_> {
         }
         self.sample_until(&mut system, start, &z, None, start, mode_index);
 
-        let (mut integrator, mut h) = self.integrator_for(&mut system, &z, start, length);
+        let (mut integrator, mut h) = self.integrator_for(&mut system, &z, length);
         let mut tau = 0.0;
-        let mut proposed = h; // the step before the last was cut short to end the segment
         let mut before = vec![0.0; size];
         let mut point = vec![0.0; size];
         let mut crossing: Option<Crossing> = None;
@@ -465,10 +448,7 @@ impl Stepper<'_, '_> {
                     h = h_next;
                     continue;
                 }
-                StepOutcome::Accepted { h_next } => {
-                    proposed = if step < h { h.max(h_next) } else { h_next };
-                    h = h_next;
-                }
+                StepOutcome::Accepted { h_next } => h = h_next,
             }
             if z[..n].iter().any(|v| !v.is_finite()) {
                 return Err(self
@@ -570,7 +550,7 @@ impl Stepper<'_, '_> {
             None => end,
         };
         self.x = z[..n].to_vec();
-        self.keep_integrator(integrator, crossing.is_none().then_some((end, proposed)));
+        self.simulator.integrator = Some(integrator);
         Ok(crossing)
     }
 
@@ -627,22 +607,17 @@ impl Stepper<'_, '_> {
         (found, dense_ready)
     }
 
-    /// The integrator of a segment of the current mode from `start` (time), `length` long,
-    /// at state `z` (the simulator's buffers, reset), and its first step: the one the last
-    /// segment carried over ([`Carry`]), or an estimate.
+    /// The integrator of a segment of the current mode, `length` long, at state `z` (the
+    /// simulator's, reset: its buffers reused from segment to segment, as a recorded input
+    /// makes a segment of every sample), and its first step, estimated.
     fn integrator_for(
         &mut self,
         system: &mut Segment<'_>,
         z: &[f64],
-        start: f64,
         length: f64,
     ) -> (Switching, f64) {
         let (size, n) = (system.dimension(), system.nl.n);
         let tolerances = self.simulator.settings.tolerances;
-        let carried = self
-            .carry
-            .take()
-            .filter(|c| std::sync::Arc::ptr_eq(&c.mode, &self.mode) && c.at == start);
         let mut integrator = match self.simulator.integrator.take() {
             Some(mut kept) if kept.made_for(size, n, tolerances) => {
                 kept.reset();
@@ -650,28 +625,12 @@ impl Stepper<'_, '_> {
             }
             _ => Switching::new(size, n, tolerances),
         };
-        let h = match carried {
-            _ if length <= 0.0 => 0.0,
-            Some(carried) => carried.step.min(length),
-            None => integrator.initial_step(system, 0.0, z, length),
+        let h = if length > 0.0 {
+            integrator.initial_step(system, 0.0, z, length)
+        } else {
+            0.0
         };
         (integrator, h)
-    }
-
-    /// Keeps `integrator`'s buffers for the next segment and, for a segment that ended at
-    /// `(end, proposed step)` without an event on DOP853, what the next one carries over.
-    fn keep_integrator(&mut self, integrator: Switching, ended: Option<(f64, f64)>) {
-        if let Some((end, step)) = ended
-            && step > 0.0
-            && integrator.method() == Method::Explicit
-        {
-            self.carry = Some(Carry {
-                mode: std::sync::Arc::clone(&self.mode),
-                at: end,
-                step,
-            });
-        }
-        self.simulator.integrator = Some(integrator);
     }
 
     /// The error of a run past its limit of steps at `time`, in state `z` of `mode`, its last

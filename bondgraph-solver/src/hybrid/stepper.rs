@@ -46,9 +46,6 @@ pub struct Stepper<'s, 'm> {
     pub(super) last_crossing: Option<(ElementId, Why, bool)>,
     /// Steps taken: integration steps and event-location samples.
     pub(super) steps: u64,
-    /// Where the last segment, integrated, left its nonlinear mode's integration: the next
-    /// segment of the same mode goes on from there.
-    pub(super) carry: Option<super::integrate::Carry>,
 }
 
 impl<'s, 'm> Stepper<'s, 'm> {
@@ -130,7 +127,6 @@ impl<'s, 'm> Stepper<'s, 'm> {
             energy: None,
             last_crossing: None,
             steps: 0,
-            carry: None,
         })
     }
 
