@@ -168,14 +168,13 @@ const PACE_WINDOW: usize = 5;
 /// the search's best by descending on, and its round of descent ends there. The scans of
 /// the parameters the residuals are flat in follow as after any descent: a threshold that
 /// held the descent in a narrow valley (a breakaway force deciding which rows slide) moves
-/// there, and the next round descends from the better point (on the flagship's catheter
-/// sweep, a crawl at 62 ended its round, its scan moved a threshold and the next rounds
-/// reached 1.05, the search's best). Returns the fit and whether its last round ended on a
-/// crawl.
+/// there, and the next round descends from the better point (a crawl at sixty times the
+/// search's best has ended its round so, and its next rounds reached that best; ending the
+/// fit outright lost it). Returns the fit and whether its last round ended on a crawl.
 ///
 /// Only crawls are extrapolated: a descent from far away that still falls steeply (a tenth
 /// of its sum of squares a step) may reach the best optimum of all, from thousands of times
-/// `bar` (a candidate's on the actuator's runs does).
+/// `bar`.
 ///
 /// # Errors
 /// As [`least_squares`].
@@ -811,8 +810,8 @@ mod tests {
 
     #[test]
     fn a_steep_descent_from_far_above_the_bar_goes_on() {
-        // y = 3 exp(-0.7 t) from (10, 5), thousands of times its optimum's sum of squares
-        // (0, bar of a start at the optimum): it falls steeply and reaches the optimum.
+        // y = 3 exp(-0.7 t) from (10, 0.05), far above a bar of 0 (another start at the
+        // exact optimum): it falls steeply, never crawls, and reaches the optimum.
         let t: Vec<f64> = (0..20).map(|k| k as f64 * 0.25).collect();
         let mut decay = |p: &[f64]| -> Option<Vec<f64>> {
             Some(
