@@ -14,6 +14,7 @@ use bondgraph_core::model::{ElementKind, Model, NonlinearLaw};
 use bondgraph_core::modes::NonlinearModeEquations;
 use bondgraph_core::symbolic::RatFunc;
 use bondgraph_core::symbolic::expr::{Atom, Sym, Tape, TapeBuilder};
+use bondgraph_core::symbolic::function::Function;
 
 /// One value of a tape: what a [`Row`](crate::numeric::Row) of a nonlinear mode evaluates.
 #[derive(Clone, Debug)]
@@ -26,12 +27,20 @@ pub struct RowProgram {
     pub magnitude: usize,
     /// The output holding its rate along the motion.
     pub rate: usize,
+    /// The tape and output holding the size of the rate's terms (a guard's, for judging a
+    /// rate `≈ 0` at events; none for an output).
+    pub rate_magnitude: Option<(Arc<Tape>, usize)>,
 }
 
 impl PartialEq for RowProgram {
     fn eq(&self, other: &Self) -> bool {
         Arc::ptr_eq(&self.tape, &other.tape)
             && (self.value, self.magnitude, self.rate) == (other.value, other.magnitude, other.rate)
+            && match (&self.rate_magnitude, &other.rate_magnitude) {
+                (Some((a, i)), Some((b, j))) => Arc::ptr_eq(a, b) && i == j,
+                (None, None) => true,
+                _ => false,
+            }
     }
 }
 
@@ -40,6 +49,14 @@ impl RowProgram {
     pub fn outputs(&self, x: &[f64], u: &[f64], rate: &[f64]) -> Vec<f64> {
         let input: Vec<f64> = x.iter().chain(u).chain(rate).copied().collect();
         self.tape.eval_alloc(&input)
+    }
+
+    /// The size of the terms of the rate at `(x, u, u̇)`: zero when none was compiled.
+    pub fn rate_magnitude(&self, x: &[f64], u: &[f64], rate: &[f64]) -> f64 {
+        self.rate_magnitude.as_ref().map_or(0.0, |(tape, k)| {
+            let input: Vec<f64> = x.iter().chain(u).chain(rate).copied().collect();
+            tape.eval_alloc(&input)[*k]
+        })
     }
 }
 
@@ -59,6 +76,9 @@ pub struct NonlinearNumeric {
     pub f_magnitude: Tape,
     /// Per guard: value, magnitude, rate.
     pub guards: Arc<Tape>,
+    /// Per guard, the size of its rate's terms (read at events only, so kept off the
+    /// guards' tape that event location evaluates at every look).
+    pub guard_rate_magnitudes: Arc<Tape>,
     /// The requested outputs, then their rates along the motion.
     pub outputs: Arc<Tape>,
     /// Per port: effort, flow into the element.
@@ -112,6 +132,30 @@ pub(crate) fn rate_along(g: &Sym, equations: &NonlinearEquations) -> Sym {
     Sym::sum(parts)
 }
 
+/// The size of the terms of `g`'s rate along the motion, before they cancel:
+/// `Σᵢ |∂g/∂xᵢ| Σ|terms of fᵢ| + Σⱼ |∂g/∂uⱼ u̇ⱼ|`, as a linear mode measures
+/// `Σ|gᵢ| (Σ|Aᵢⱼ xⱼ| + ...)`. A contact slipping at the instant its drive meets its Coulomb
+/// force has a rate of rounding size (`1e-17 m/s²` where its forces are 10 N), which must
+/// not decide by its sign.
+pub(crate) fn rate_magnitude_along(g: &Sym, equations: &NonlinearEquations) -> Sym {
+    let abs = |e: Sym| Sym::call(Function::Abs, vec![e]);
+    let mut parts = Vec::new();
+    for (i, f) in equations.derivatives.iter().enumerate() {
+        let d = g.diff(Atom::State(i as u32));
+        if !d.is_zero() {
+            parts.push((Sym::mul(&abs(d), &f.magnitude()), RatFunc::one()));
+        }
+    }
+    for j in 0..equations.inputs.len() {
+        let d = g.diff(Atom::Input(j as u32));
+        if !d.is_zero() {
+            let term = Sym::mul(&d, &Sym::atom(Atom::InputRate(j as u32)));
+            parts.push((abs(term), RatFunc::one()));
+        }
+    }
+    Sym::sum(parts)
+}
+
 impl NonlinearNumeric {
     /// Compiles a derived nonlinear mode with the parameter `values`; `outputs` are the
     /// requested outputs' expressions.
@@ -132,14 +176,17 @@ impl NonlinearNumeric {
         let magnitudes: Vec<Sym> = eq.derivatives.iter().map(Sym::magnitude).collect();
         let f_magnitude = compile(n, m, values, &magnitudes);
         let mut guard_exprs = Vec::new();
+        let mut rate_magnitudes = Vec::new();
         // Only the guards that apply at these values, in order, as the mode lists them.
         for guard in derived.guards.iter().filter(|g| g.applies(model, values)) {
             let g = guard.function();
             guard_exprs.push(g.clone());
             guard_exprs.push(g.magnitude());
             guard_exprs.push(rate_along(&g, eq));
+            rate_magnitudes.push(rate_magnitude_along(&g, eq));
         }
         let guards = Arc::new(compile(n, m, values, &guard_exprs));
+        let guard_rate_magnitudes = Arc::new(compile(n, m, values, &rate_magnitudes));
         // The outputs, then their rates along the motion (for steady drift).
         let mut output_exprs = outputs.to_vec();
         output_exprs.extend(outputs.iter().map(|y| rate_along(y, eq)));
@@ -173,6 +220,7 @@ impl NonlinearNumeric {
             f_and_jacobian,
             f_magnitude,
             guards,
+            guard_rate_magnitudes,
             outputs,
             ports,
             port_sources,

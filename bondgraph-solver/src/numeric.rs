@@ -186,6 +186,11 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
+/// `Σ |aᵢ bᵢ|`.
+fn dot_abs(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x * y).abs()).sum()
+}
+
 /// A guard with numbers in: fires when `row` reaches zero from below.
 #[derive(Clone, Debug)]
 pub struct NumericGuard {
@@ -367,12 +372,17 @@ impl NumericMode {
         let compiled = Arc::new(NonlinearNumeric::new(model, values, derived, outputs));
         let (reconstruct_state, reconstruct_input, reconstruct_constant, projection) =
             reconstruction(storage, eq.storage_energy(), n, m, values);
-        let program = |tape: &Arc<bondgraph_core::symbolic::expr::Tape>, value, magnitude, rate| {
+        let program = |tape: &Arc<bondgraph_core::symbolic::expr::Tape>,
+                       value,
+                       magnitude,
+                       rate,
+                       rate_magnitude| {
             Row::program(RowProgram {
                 tape: tape.clone(),
                 value,
                 magnitude,
                 rate,
+                rate_magnitude,
             })
         };
         let guards = derived
@@ -385,12 +395,18 @@ impl NumericMode {
                 leaves_to: g.leaves_to,
                 requires_hold: g.requires_hold,
                 watched: g.watched,
-                row: program(&compiled.guards, 3 * k, 3 * k + 1, 3 * k + 2),
+                row: program(
+                    &compiled.guards,
+                    3 * k,
+                    3 * k + 1,
+                    3 * k + 2,
+                    Some((compiled.guard_rate_magnitudes.clone(), k)),
+                ),
             })
             .collect();
         let count = outputs.len();
         let outputs = (0..count)
-            .map(|k| program(&compiled.outputs, k, k, count + k))
+            .map(|k| program(&compiled.outputs, k, k, count + k, None))
             .collect();
         let a = DMatrix::zeros(n, n);
         let b = DMatrix::zeros(n, m);
@@ -543,10 +559,16 @@ impl NumericMode {
 
     /// The size of the terms of [`NumericMode::row_rate`] before they cancel, the scale
     /// against which a rate `≈ 0` is judged: `Σ|gᵢ| (Σ|Aᵢⱼ xⱼ| + Σ|Bᵢₖ uₖ| + |cᵢ|) + Σ|hₖ u̇ₖ|`.
-    /// Zero for a nonlinear mode, whose rate is then judged exactly.
+    /// In a nonlinear mode, the same sum with `Σ|terms of fᵢ|` for a row's `Σ|Aᵢⱼ xⱼ| + ...`
+    /// (a guard's compiled with it; zero for a requested output).
     pub fn row_rate_magnitude(&self, row: &Row, x: &[f64], u: &[f64], rate: &[f64]) -> f64 {
-        if row.program.is_some() || self.nonlinear.is_some() {
-            return 0.0;
+        if let Some(program) = &row.program {
+            return program.rate_magnitude(x, u, rate);
+        }
+        if let Some(nl) = &self.nonlinear {
+            let input: Vec<f64> = x.iter().chain(u).chain(rate).copied().collect();
+            let terms = nl.f_magnitude.eval_alloc(&input);
+            return dot_abs(&row.state, &terms) + dot_abs(&row.input, rate);
         }
         let mut sum = 0.0;
         for (i, g) in row.state.iter().enumerate() {
