@@ -223,6 +223,43 @@ fn a_bounded_prediction_of_a_time_series_stops_after_the_run_that_settles_it() {
 }
 
 #[test]
+fn a_time_series_at_a_breakaway_below_the_coulomb_torque_fails_before_simulating() {
+    // The motor's bearings with their breakaway torque T_S below their Coulomb torque T_C:
+    // at rest under a drive between the two they can neither hold nor slide, which a run
+    // would find only at its first breakaway ("no mode is consistent"). The trial fails
+    // as inconsistent, naming the contact and both values, for every way of predicting it.
+    let model = file("models/examples/geared_motor/geared_motor.ron");
+    let experiment = step_experiment();
+    let good = step_data(&experiment, "step_exact.csv");
+    let loaded = bondgraph_core::model::load_source(&model).unwrap();
+    let predictor = bondgraph_fit::predict::Predictor::new(loaded, &model, &experiment).unwrap();
+    let names: Vec<String> = STEP_TRUTH.iter().map(|(n, _)| n.to_string()).collect();
+    let t_s = names.iter().position(|n| n == "T_S").unwrap();
+    let t_c = names.iter().position(|n| n == "T_C").unwrap();
+    let mut values = STEP_TRUTH.map(|(_, v)| v);
+    values[t_s] = 0.5 * values[t_c];
+    let mut evaluator = predictor.evaluator(&names).unwrap();
+    evaluator.set(&values);
+    assert!(evaluator.predict_all(&good.rows).is_none());
+    let order: Vec<usize> = (0..good.rows.len()).collect();
+    assert!(!evaluator.predict_until(&good.rows, &order, |_, _| false));
+    let trials = evaluator.trials();
+    assert_eq!(trials.trials, 2);
+    let failed = &trials.failed[&bondgraph_fit::budget::Failure::Inconsistent];
+    assert_eq!(failed.count, 2);
+    let expected = format!(
+        "friction contact 'bearings': breakaway {} N and Coulomb {} N",
+        values[t_s], values[t_c]
+    );
+    assert!(failed.first.contains(&expected), "{}", failed.first);
+    let each = evaluator.predict_each(&good.rows);
+    assert!(
+        each.iter()
+            .all(|p| p.as_ref().is_err_and(|e| e.to_string().contains(&expected)))
+    );
+}
+
+#[test]
 fn a_time_series_whose_time_goes_back_names_the_row() {
     let model = file("models/examples/geared_motor/geared_motor.ron");
     let experiment = step_experiment();

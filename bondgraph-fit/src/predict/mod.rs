@@ -12,14 +12,13 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::linear::Var;
 use bondgraph_core::model::edit::{self, Edit};
-use bondgraph_core::model::{self, ElementKind, Model};
+use bondgraph_core::model::{self, Model};
 use bondgraph_core::modes::Mode;
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::{Diagnostic, DiagnosticKind, diagnostics::Diagnostics};
 use bondgraph_solver::steady::continuation::{Anchor, continue_steady};
-use bondgraph_solver::steady::{Exhausted, SteadyError, SteadySettings, steady_state};
+use bondgraph_solver::steady::{SteadySettings, steady_state};
 use bondgraph_solver::{Output, Simulator};
 
 use crate::budget::{Budget, Failure, Trials};
@@ -27,9 +26,11 @@ use crate::data::Measurement;
 use crate::experiment::{Experiment, ExperimentError};
 
 mod prediction;
+mod row_failure;
 mod timeseries;
 
 pub use prediction::{Prediction, describe};
+use row_failure::{RowFailure, check_friction_levels};
 use timeseries::{Drive, RunSetup, predict_run};
 
 /// Removals combined into variants, at most: 2^6 models to validate.
@@ -538,10 +539,14 @@ impl<'p> Evaluator<'p> {
     pub fn predict_all(&mut self, rows: &[Measurement]) -> Option<Vec<Prediction>> {
         let outcome: Result<Vec<Prediction>, (Failure, String)> =
             if let Some(drive) = &self.predictor.drive {
-                self.predict_runs(drive, rows)
-                    .into_iter()
-                    .map(|p| p.map_err(|e| (Failure::Simulation, e.to_string())))
-                    .collect()
+                match self.inconsistent_runs(rows) {
+                    Some(error) => Err((Failure::Inconsistent, error.to_string())),
+                    None => self
+                        .predict_runs(drive, rows)
+                        .into_iter()
+                        .map(|p| p.map_err(|e| (Failure::Simulation, e.to_string())))
+                        .collect(),
+                }
             } else {
                 rows.iter()
                     .map(|row| {
@@ -625,7 +630,7 @@ impl<'p> Evaluator<'p> {
                 inputs[input] = condition.factor * cell;
             }
         }
-        check_friction_levels(&variant.model, &session.values, &inputs)?;
+        check_friction_levels(&variant.model, &session.values, Some(&inputs))?;
         let key = (Arc::clone(&row.file), row.row);
         let continued = match session.anchors.get(&key) {
             Some(RowAnchor { at, anchor, seeded }) => {
@@ -735,9 +740,32 @@ impl<'p> Evaluator<'p> {
     ) -> Vec<Result<Prediction, ExperimentError>> {
         let mut predictions = Vec::with_capacity(rows.len());
         for run in self.runs(rows) {
-            predictions.extend(self.predict_run(drive, &rows[run]));
+            match self.inconsistent_run(&rows[run.clone()]) {
+                Some(error) => predictions.extend(run.map(|_| Err(error.clone()))),
+                None => predictions.extend(self.predict_run(drive, &rows[run])),
+            }
         }
         predictions
+    }
+
+    /// Whether the values make a contact inconsistent in some run of a time series
+    /// (its breakaway force below its Coulomb force, or a negative Coulomb force): the
+    /// first such run's failure, located at its first row.
+    fn inconsistent_runs(&self, rows: &[Measurement]) -> Option<ExperimentError> {
+        self.runs(rows)
+            .into_iter()
+            .find_map(|run| self.inconsistent_run(&rows[run]))
+    }
+
+    /// Whether the values make a contact inconsistent in a run of a time series, found
+    /// before simulating it: the simulation would otherwise run to the first breakaway
+    /// and stop there with `no mode is consistent`. Levels that read an input vary along
+    /// the run and are left to the simulation to judge.
+    fn inconsistent_run(&self, run: &[Measurement]) -> Option<ExperimentError> {
+        let session = &self.sessions[self.predictor.mask(run.first()?)];
+        check_friction_levels(&session.variant.model, &session.values, None)
+            .err()
+            .map(|failure| self.located(&run[0], failure))
     }
 
     /// [`Evaluator::predict_until`] on a time series.
@@ -764,6 +792,10 @@ impl<'p> Evaluator<'p> {
         let mut failure = None;
         'runs: for run in run_order {
             let start = runs[run].start;
+            if let Some(error) = self.inconsistent_run(&rows[runs[run].clone()]) {
+                failure = Some((Failure::Inconsistent, error.to_string()));
+                break 'runs;
+            }
             let predictions = self.predict_run(drive, &rows[runs[run].clone()]);
             for &i in &rows_of[run] {
                 match &predictions[i - start] {
@@ -780,86 +812,6 @@ impl<'p> Evaluator<'p> {
             }
         }
         self.record_trial(failure)
-    }
-}
-
-/// A friction contact must break away at or above its Coulomb force, and neither may be
-/// negative: parameter values a calibration tries can violate this where the model file's
-/// values did not, and the contact then has no consistent mode.
-fn check_friction_levels(model: &Model, values: &[f64], inputs: &[f64]) -> Result<(), RowFailure> {
-    let level = |form: &bondgraph_core::linear::LinearForm| -> f64 {
-        form.terms()
-            .iter()
-            .map(|(var, coefficient)| {
-                let c = coefficient.eval(values);
-                match var {
-                    Var::Constant => c,
-                    Var::Input(i) => c * inputs[*i as usize],
-                    _ => 0.0,
-                }
-            })
-            .sum()
-    };
-    for id in model.element_ids() {
-        let element = model.element(id);
-        if let ElementKind::Friction(friction) = &element.kind {
-            let (f_s, f_c) = (
-                level(&friction.breakaway.value),
-                level(&friction.coulomb.value),
-            );
-            if f_c < 0.0 || f_s < f_c {
-                return Err(RowFailure::FrictionLevels {
-                    contact: element.name.clone(),
-                    f_s,
-                    f_c,
-                });
-            }
-        }
-    }
-    Ok(())
-}
-
-/// Why a row has no steady state, put into words only for a caller that reports it.
-#[derive(Debug)]
-enum RowFailure {
-    /// A contact's breakaway force below its Coulomb force, or a negative Coulomb force.
-    FrictionLevels { contact: String, f_s: f64, f_c: f64 },
-    /// The search failed or did not settle.
-    Steady(bondgraph_solver::steady::SteadyError),
-    /// This observed column's prediction is not a finite number.
-    NotFinite(String),
-}
-
-impl RowFailure {
-    /// The kind of failure, for the count of failed trials.
-    fn kind(&self) -> Failure {
-        match self {
-            RowFailure::Steady(SteadyError::NotSteady { exhausted, .. }) => match exhausted {
-                Some(Exhausted::ModeChanges) => Failure::ModeChangeBudget,
-                Some(Exhausted::Segments) => Failure::SegmentBudget,
-                Some(Exhausted::Steps) => Failure::StepBudget,
-                None => Failure::NotSteady,
-            },
-            RowFailure::FrictionLevels { .. } => Failure::Inconsistent,
-            RowFailure::Steady(SteadyError::Simulation(_)) | RowFailure::NotFinite(_) => {
-                Failure::Simulation
-            }
-        }
-    }
-}
-
-impl std::fmt::Display for RowFailure {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            RowFailure::FrictionLevels { contact, f_s, f_c } => write!(
-                f,
-                "friction contact '{contact}': breakaway {f_s} N and Coulomb {f_c} N, but F_S >= F_C >= 0"
-            ),
-            RowFailure::Steady(error) => write!(f, "{error}"),
-            RowFailure::NotFinite(column) => {
-                write!(f, "the predicted `{column}` is not a finite number")
-            }
-        }
     }
 }
 

@@ -1,0 +1,96 @@
+//! Why one row (or one run) has no prediction at a fit's trial values: the contact levels
+//! judged before any simulation, and the failures a steady search reports, with their kind
+//! for the count of failed trials.
+
+use bondgraph_core::linear::Var;
+use bondgraph_core::model::{ElementKind, Model};
+use bondgraph_solver::steady::{Exhausted, SteadyError};
+
+use crate::budget::Failure;
+
+/// A friction contact must break away at or above its Coulomb force, and neither may be
+/// negative: parameter values a calibration tries can violate this where the model file's
+/// values did not, and the contact then has no consistent mode. With `inputs` `None` (a
+/// time series, whose inputs vary), contacts whose levels read an input are not judged.
+pub(super) fn check_friction_levels(
+    model: &Model,
+    values: &[f64],
+    inputs: Option<&[f64]>,
+) -> Result<(), RowFailure> {
+    let level = |form: &bondgraph_core::linear::LinearForm| -> Option<f64> {
+        form.terms()
+            .iter()
+            .map(|(var, coefficient)| {
+                let c = coefficient.eval(values);
+                match var {
+                    Var::Constant => Some(c),
+                    Var::Input(i) => inputs.map(|u| c * u[*i as usize]),
+                    _ => Some(0.0),
+                }
+            })
+            .sum()
+    };
+    for id in model.element_ids() {
+        let element = model.element(id);
+        if let ElementKind::Friction(friction) = &element.kind {
+            let (Some(f_s), Some(f_c)) = (
+                level(&friction.breakaway.value),
+                level(&friction.coulomb.value),
+            ) else {
+                continue;
+            };
+            if f_c < 0.0 || f_s < f_c {
+                return Err(RowFailure::FrictionLevels {
+                    contact: element.name.clone(),
+                    f_s,
+                    f_c,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Why a row has no steady state, put into words only for a caller that reports it.
+#[derive(Debug)]
+pub(super) enum RowFailure {
+    /// A contact's breakaway force below its Coulomb force, or a negative Coulomb force.
+    FrictionLevels { contact: String, f_s: f64, f_c: f64 },
+    /// The search failed or did not settle.
+    Steady(bondgraph_solver::steady::SteadyError),
+    /// This observed column's prediction is not a finite number.
+    NotFinite(String),
+}
+
+impl RowFailure {
+    /// The kind of failure, for the count of failed trials.
+    pub(super) fn kind(&self) -> Failure {
+        match self {
+            RowFailure::Steady(SteadyError::NotSteady { exhausted, .. }) => match exhausted {
+                Some(Exhausted::ModeChanges) => Failure::ModeChangeBudget,
+                Some(Exhausted::Segments) => Failure::SegmentBudget,
+                Some(Exhausted::Steps) => Failure::StepBudget,
+                None => Failure::NotSteady,
+            },
+            RowFailure::FrictionLevels { .. } => Failure::Inconsistent,
+            RowFailure::Steady(SteadyError::Simulation(_)) | RowFailure::NotFinite(_) => {
+                Failure::Simulation
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for RowFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RowFailure::FrictionLevels { contact, f_s, f_c } => write!(
+                f,
+                "friction contact '{contact}': breakaway {f_s} N and Coulomb {f_c} N, but F_S >= F_C >= 0"
+            ),
+            RowFailure::Steady(error) => write!(f, "{error}"),
+            RowFailure::NotFinite(column) => {
+                write!(f, "the predicted `{column}` is not a finite number")
+            }
+        }
+    }
+}
