@@ -248,7 +248,7 @@ fn a_time_series_at_a_breakaway_below_the_coulomb_torque_fails_before_simulating
     let failed = &trials.failed[&bondgraph_fit::budget::Failure::Inconsistent];
     assert_eq!(failed.count, 2);
     let expected = format!(
-        "friction contact 'bearings': breakaway {} N and Coulomb {} N",
+        "friction contact 'bearings': its breakaway level {} is below its Coulomb level {}",
         values[t_s], values[t_c]
     );
     assert!(failed.first.contains(&expected), "{}", failed.first);

@@ -83,9 +83,14 @@ impl RowFailure {
 impl std::fmt::Display for RowFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
+            // The levels are in the contact's own units (a force, a torque): none is named.
+            RowFailure::FrictionLevels { contact, f_c, .. } if *f_c < 0.0 => write!(
+                f,
+                "friction contact '{contact}': its Coulomb level {f_c} is negative (a contact needs 0 <= Coulomb <= breakaway)"
+            ),
             RowFailure::FrictionLevels { contact, f_s, f_c } => write!(
                 f,
-                "friction contact '{contact}': breakaway {f_s} N and Coulomb {f_c} N, but F_S >= F_C >= 0"
+                "friction contact '{contact}': its breakaway level {f_s} is below its Coulomb level {f_c} (a contact needs 0 <= Coulomb <= breakaway)"
             ),
             RowFailure::Steady(error) => write!(f, "{error}"),
             RowFailure::NotFinite(column) => {
