@@ -9,7 +9,9 @@
 //! `z₀ + w₀ τ + w₁ τ²/2`. So `g` is a parabola plus waves of amplitude `|c_j K_j| e^{Re λ τ}`,
 //! and over `[t₀, t₁]` it is at most the parabola's maximum plus every amplitude at its
 //! largest. For a single swing on a trend (a slack string's extension while its cart swings
-//! on a spring) the bound is exact.
+//! on a spring) the bound is exact. A real eigenvalue's wave `Re(c K) e^{λτ}` does not swing:
+//! it is monotonic, so its larger end bounds it (a fast transient that settles onto its line
+//! from below then adds nothing, where its amplitude would add the whole gap).
 //!
 //! A coordinate whose `|λ| t₁` is small is taken as its parabola with the remainder bounded
 //! (`|eˣ - 1| ≤ |x| e^{|x|}`, `|φ₁(x) - 1| ≤ |x| e^{|x|}/2`, `|φ₂(x) - 1/2| ≤ |x| e^{|x|}/6`),
@@ -46,6 +48,10 @@ struct Term {
     /// sizes of the line's terms (`|c| (|L| + |z₀|) + |c K|` and `|c| |M|`); `None` for a
     /// zero eigenvalue, which is always a parabola.
     wave: Option<([f64; 2], f64, [f64; 2])>,
+    /// For a real eigenvalue, `Re(c K)`: the wave is then `Re(c K) e^{λτ}`, monotonic, and
+    /// bounded by its larger end rather than by its amplitude (a fast electrical transient
+    /// that decays towards the line from below would otherwise add its whole amplitude).
+    real_wave: Option<f64>,
 }
 
 /// One eigen-coordinate's pieces, `λ`, `z₀`, `w₀`, `w₁`, and for `λ ≠ 0` its line
@@ -121,12 +127,17 @@ impl Envelope {
                             [cn * (l_size + z0_size) + amplitude, cn * m_size],
                         )
                     });
+                    let real_wave = z
+                        .line
+                        .filter(|_| z.lambda.im == 0.0)
+                        .map(|(_, _, k, _, _)| (c * k).re);
                     Term {
                         rate: z.rate,
                         growth: z.lambda.re,
                         parabola: [(c * z.z0).re, (c * z.w0).re, 0.5 * (c * z.w1).re],
                         parabola_size: [cn * z0_size, cn * w0_size, cn * w1_size],
                         wave,
+                        real_wave,
                     }
                 }),
         );
@@ -147,7 +158,11 @@ impl Envelope {
                     p[1] += line[1];
                     size[0] += line_size[0];
                     size[1] += line_size[1];
-                    waves += amplitude * (term.growth * t0).exp().max((term.growth * t1).exp());
+                    let (start, end) = ((term.growth * t0).exp(), (term.growth * t1).exp());
+                    waves += match term.real_wave {
+                        Some(wave) => (wave * start).max(wave * end),
+                        None => amplitude * start.max(end),
+                    };
                 }
                 _ => {
                     let [z0, w0, w1] = term.parabola_size;
@@ -216,6 +231,25 @@ mod tests {
             (bound - expected).abs() < 1e-9,
             "{bound} against {expected}"
         );
+    }
+
+    #[test]
+    fn a_real_transient_rising_to_its_line_is_bounded_by_its_end() {
+        // z' = -1000 z + 1000 from z = 0: z = 1 - e^{-1000 τ} (a fast electrical mode
+        // settling from below); the guard z - 1.5 is at most -0.5 - e^{-10} over [0, 0.01],
+        // at its end. Bounding the transient by its amplitude (1) would put the bound at
+        // +0.5, so that the stretch could not be passed over.
+        let terms = [[c(-1000.0, 0.0), c(0.0, 0.0), c(1000.0, 0.0), c(0.0, 0.0)]];
+        let envelope = Envelope::new(&[c(1.0, 0.0)], -1.5, 0.0, &terms.map(Coordinate::of));
+        let exact = |t: f64| 1.0 - (-1000.0 * t).exp() - 1.5;
+        let bound = envelope.upper_bound(0.0, 0.01);
+        assert!((bound - exact(0.01)).abs() < 1e-9, "{bound}");
+        // A transient falling to its line from above is bounded by its start.
+        let terms = [[c(-1000.0, 0.0), c(2.0, 0.0), c(1000.0, 0.0), c(0.0, 0.0)]];
+        let envelope = Envelope::new(&[c(1.0, 0.0)], -1.5, 0.0, &terms.map(Coordinate::of));
+        let bound = envelope.upper_bound(0.001, 0.01);
+        let exact = |t: f64| 1.0 + (-1000.0 * t).exp() - 1.5;
+        assert!((bound - exact(0.001)).abs() < 1e-9, "{bound}");
     }
 
     #[test]
