@@ -483,17 +483,17 @@ pub fn first_crossing(
     // The rest of the stretch is passed over once a bound shows that no guard can reach
     // zero in it: looked at first, then at doubling multiples of the slowest decaying time
     // constant (where the transients that kept the bound above zero have died down).
-    let mut next_look = from;
-    let slowest = values
-        .iter()
-        .filter(|v| v.re < 0.0 && v.re.is_finite())
-        .map(|v| -v.re)
-        .fold(f64::INFINITY, f64::min);
-    let mut look_every = if slowest.is_finite() {
-        0.25 / slowest
-    } else {
-        (to - from) / 16.0
-    };
+    let mut look_every = first_look_interval(values, from, to);
+    // The first look, before any sample time is placed: most segments of a run driven by
+    // a measured signal (one per sample of it) end there.
+    if let Some(envelopes) = envelopes
+        && rest_is_clear(envelopes, from, to, armed, arm_below)
+    {
+        arm_the_rest(armed, arm_below);
+        return Located::Clear(to);
+    }
+    let mut next_look = from + look_every;
+    look_every *= 2.0;
     for &(start, end) in stretches.iter() {
         sample_times_into(values, start, end, times);
         for &tau in &times.times {
@@ -501,11 +501,7 @@ pub fn first_crossing(
                 if let Some(envelopes) = envelopes
                     && rest_is_clear(envelopes, previous_tau, to, armed, arm_below)
                 {
-                    for (i, below) in arm_below.iter().enumerate() {
-                        if *below >= 0.0 {
-                            armed[i] = true;
-                        }
-                    }
+                    arm_the_rest(armed, arm_below);
                     return Located::Clear(to);
                 }
                 next_look = from + look_every;
@@ -681,6 +677,33 @@ impl<'m> ModalGuards<'m> {
             }
             sum
         }));
+    }
+}
+
+/// How long after the first look at the bounds of a stretch `[from, to]` the next is taken
+/// (each later one twice as long after): a quarter of the slowest decaying time constant,
+/// where the transients that kept the bound above zero have died down, or a sixteenth of
+/// the stretch when nothing decays.
+fn first_look_interval(values: &[Complex64], from: f64, to: f64) -> f64 {
+    let slowest = values
+        .iter()
+        .filter(|v| v.re < 0.0 && v.re.is_finite())
+        .map(|v| -v.re)
+        .fold(f64::INFINITY, f64::min);
+    if slowest.is_finite() {
+        0.25 / slowest
+    } else {
+        (to - from) / 16.0
+    }
+}
+
+/// Arms every guard whose level is zero, at the end of a stretch [`rest_is_clear`] passed
+/// over (each was below zero there, by its bound).
+fn arm_the_rest(armed: &mut [bool], arm_below: &[f64]) {
+    for (i, below) in arm_below.iter().enumerate() {
+        if *below >= 0.0 {
+            armed[i] = true;
+        }
     }
 }
 
