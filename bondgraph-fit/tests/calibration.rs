@@ -260,6 +260,46 @@ fn a_time_series_at_a_breakaway_below_the_coulomb_torque_fails_before_simulating
 }
 
 #[test]
+fn a_time_series_at_a_load_dependent_breakaway_below_its_coulomb_force_fails_before_simulating() {
+    // The actuator's guide with friction growing with the load force (its extension
+    // `load-dependent-friction`): breakaway F_S + mu_L F_L, Coulomb F_C + mu_L F_L. Each
+    // level reads the measured load, but their difference F_S - F_C does not: with F_S 4 N
+    // below F_C the contact is inconsistent at any load, and a trial there fails before
+    // simulating, naming the contact and the 4 N.
+    use bondgraph_core::model::extension::{Extension, merge};
+    let base = file_at("models/examples/actuator/actuator.ron");
+    let extension = Extension::load(&file_at(
+        "models/examples/actuator/extensions/load-dependent-friction.ron",
+    ))
+    .unwrap();
+    let merged = merge(&base, &[extension]).unwrap();
+    let model = merged.load().unwrap();
+    let experiment =
+        Experiment::from_source(&file_at("models/examples/actuator/experiment_step.ron")).unwrap();
+    let csv = file_at("models/examples/actuator/data/step_1.csv");
+    let dataset = data::read(csv.name(), csv.text(), &experiment).unwrap();
+    let predictor =
+        bondgraph_fit::predict::Predictor::new(model, &merged.file, &experiment).unwrap();
+    let names: Vec<String> = ["F_C", "F_S", "mu_L"].map(String::from).to_vec();
+    let mut evaluator = predictor.evaluator(&names).unwrap();
+    evaluator.set(&[10.0, 6.0, 0.2]);
+    assert!(evaluator.predict_all(&dataset.rows).is_none());
+    let trials = evaluator.trials();
+    let failed = &trials.failed[&bondgraph_fit::budget::Failure::Inconsistent];
+    assert_eq!(failed.count, 1);
+    assert!(
+        failed
+            .first
+            .contains("friction contact 'guide': its breakaway level is below its Coulomb level by 4 at any input"),
+        "{}",
+        failed.first
+    );
+    // With the breakaway level above the Coulomb level the run is simulated.
+    evaluator.set(&[10.0, 15.0, 0.2]);
+    assert!(evaluator.predict_all(&dataset.rows).is_some());
+}
+
+#[test]
 fn a_time_series_whose_time_goes_back_names_the_row() {
     let model = file("models/examples/geared_motor/geared_motor.ron");
     let experiment = step_experiment();

@@ -4,6 +4,7 @@
 
 use bondgraph_core::linear::Var;
 use bondgraph_core::model::{ElementKind, Model};
+use bondgraph_core::symbolic::RatFunc;
 use bondgraph_solver::steady::{Exhausted, SteadyError};
 
 use crate::budget::Failure;
@@ -11,7 +12,8 @@ use crate::budget::Failure;
 /// A friction contact must break away at or above its Coulomb force, and neither may be
 /// negative: parameter values a calibration tries can violate this where the model file's
 /// values did not, and the contact then has no consistent mode. With `inputs` `None` (a
-/// time series, whose inputs vary), contacts whose levels read an input are not judged.
+/// time series, whose inputs vary), a contact whose levels read an input is judged by their
+/// difference where that reads none (both grow with a load alike).
 pub(super) fn check_friction_levels(
     model: &Model,
     values: &[f64],
@@ -37,6 +39,16 @@ pub(super) fn check_friction_levels(
                 level(&friction.breakaway.value),
                 level(&friction.coulomb.value),
             ) else {
+                let mut gap = friction.breakaway.value.clone();
+                gap.add_scaled(&friction.coulomb.value, &RatFunc::integer(-1));
+                if let Some(gap) = level(&gap)
+                    && gap < 0.0
+                {
+                    return Err(RowFailure::FrictionGap {
+                        contact: element.name.clone(),
+                        gap,
+                    });
+                }
                 continue;
             };
             if f_c < 0.0 || f_s < f_c {
@@ -56,6 +68,9 @@ pub(super) fn check_friction_levels(
 pub(super) enum RowFailure {
     /// A contact's breakaway force below its Coulomb force, or a negative Coulomb force.
     FrictionLevels { contact: String, f_s: f64, f_c: f64 },
+    /// A contact's breakaway force below its Coulomb force by `-gap` whatever the inputs
+    /// its levels read.
+    FrictionGap { contact: String, gap: f64 },
     /// The search failed or did not settle.
     Steady(bondgraph_solver::steady::SteadyError),
     /// This observed column's prediction is not a finite number.
@@ -72,7 +87,9 @@ impl RowFailure {
                 Some(Exhausted::Steps) => Failure::StepBudget,
                 None => Failure::NotSteady,
             },
-            RowFailure::FrictionLevels { .. } => Failure::Inconsistent,
+            RowFailure::FrictionLevels { .. } | RowFailure::FrictionGap { .. } => {
+                Failure::Inconsistent
+            }
             RowFailure::Steady(SteadyError::Simulation(_)) | RowFailure::NotFinite(_) => {
                 Failure::Simulation
             }
@@ -91,6 +108,11 @@ impl std::fmt::Display for RowFailure {
             RowFailure::FrictionLevels { contact, f_s, f_c } => write!(
                 f,
                 "friction contact '{contact}': its breakaway level {f_s} is below its Coulomb level {f_c} (a contact needs 0 <= Coulomb <= breakaway)"
+            ),
+            RowFailure::FrictionGap { contact, gap } => write!(
+                f,
+                "friction contact '{contact}': its breakaway level is below its Coulomb level by {} at any input (a contact needs 0 <= Coulomb <= breakaway)",
+                -gap
             ),
             RowFailure::Steady(error) => write!(f, "{error}"),
             RowFailure::NotFinite(column) => {
