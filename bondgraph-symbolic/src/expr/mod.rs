@@ -173,6 +173,10 @@ struct Inner {
     node: Node,
     /// The first variable mentioned, in [`Atom`] order: the sort key of terms.
     lead: Option<Atom>,
+    /// The node's hash, taken once when first asked for: a tape's builder looks every
+    /// subexpression up by it, and hashing the tree below each lookup again made building a
+    /// nonlinear mode's tapes (once per mode and trial of a fit) a twentieth of a fit's time.
+    hash: std::sync::OnceLock<u64>,
 }
 
 /// The shape of a [`Sym`]; see the [module documentation](self) for the invariants.
@@ -205,7 +209,15 @@ impl Eq for Sym {}
 
 impl std::hash::Hash for Sym {
     fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
-        self.0.node.hash(state);
+        // A fixed hasher (`DefaultHasher::new` has fixed keys), so that the value is a
+        // function of the node alone; a child's hash is its own cached one.
+        let hash = *self.0.hash.get_or_init(|| {
+            use std::hash::Hasher;
+            let mut hasher = std::hash::DefaultHasher::new();
+            self.0.node.hash(&mut hasher);
+            hasher.finish()
+        });
+        state.write_u64(hash);
     }
 }
 
@@ -297,7 +309,11 @@ impl Sym {
             Node::Power(b, e) => [b.0.lead, e.0.lead].into_iter().flatten().min(),
             Node::Call(_, args) => args.iter().filter_map(|a| a.0.lead).min(),
         };
-        Sym(Arc::new(Inner { node, lead }))
+        Sym(Arc::new(Inner {
+            node,
+            lead,
+            hash: std::sync::OnceLock::new(),
+        }))
     }
 
     /// The node, to inspect the expression's shape.
