@@ -82,7 +82,10 @@ use crate::modes::Mode;
 use crate::source::{SourceFile, Span};
 
 pub mod energy;
+mod table;
 pub use energy::{Book, EnergyRecord};
+pub use table::TableCursor;
+use table::{segment, table_rate, table_value};
 
 /// A time signal driving one input of the model.
 #[derive(Clone, Debug, PartialEq)]
@@ -144,17 +147,7 @@ impl Signal {
                     _ => value,
                 }
             }
-            Signal::Table(points) => match segment(points, t) {
-                Segment::Before => points.first().map_or(0.0, |p| p.1),
-                Segment::After => points.last().map_or(0.0, |p| p.1),
-                Segment::Between((t0, v0), (t1, v1)) => {
-                    if t == t0 {
-                        v0
-                    } else {
-                        v0 + (v1 - v0) * (t - t0) / (t1 - t0)
-                    }
-                }
-            },
+            Signal::Table(points) => table_value(points, segment(points, t), t),
         }
     }
 
@@ -167,10 +160,7 @@ impl Signal {
                 let held = self.ceiling_time().is_some_and(|tc| t >= tc);
                 if t < *start || held { 0.0 } else { *slope }
             }
-            Signal::Table(points) => match segment(points, t) {
-                Segment::Before | Segment::After => 0.0,
-                Segment::Between((t0, v0), (t1, v1)) => (v1 - v0) / (t1 - t0),
-            },
+            Signal::Table(points) => table_rate(segment(points, t)),
         }
     }
 
@@ -202,24 +192,6 @@ impl Signal {
             } if *slope != 0.0 => Some(start + (c - initial) / slope),
             _ => None,
         }
-    }
-}
-
-/// Where `t` is in a table: before the first point, after the last, or on a segment.
-enum Segment {
-    Before,
-    After,
-    Between((f64, f64), (f64, f64)),
-}
-
-fn segment(points: &[(f64, f64)], t: f64) -> Segment {
-    let after = points.partition_point(|p| p.0 <= t);
-    if after == 0 {
-        Segment::Before
-    } else if after == points.len() {
-        Segment::After
-    } else {
-        Segment::Between(points[after - 1], points[after])
     }
 }
 
@@ -1247,6 +1219,36 @@ fn used_inputs(model: &Model) -> Vec<bool> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_table_cursor_reads_as_the_table_does_in_any_order() {
+        // Values and rates from the right: before the first point, on every point, between
+        // points, after the last; read forwards (a run's order), backwards and jumping.
+        let points = vec![(0.0, 1.0), (0.5, 3.0), (1.0, 3.0), (2.0, -1.0), (2.5, 0.25)];
+        let table = Signal::Table(points.clone());
+        let cursor = TableCursor::new(&points);
+        let mut times: Vec<f64> = (-4..=12).map(|k| k as f64 * 0.25).collect();
+        times.extend([0.1, 0.49999999999999994, 2.5000000000000004, 1e9]);
+        let forwards = times.clone();
+        let mut backwards = times.clone();
+        backwards.reverse();
+        let jumping: Vec<f64> = (0..times.len())
+            .map(|k| times[(k * 7) % times.len()])
+            .collect();
+        for order in [forwards, backwards, jumping] {
+            for &t in &order {
+                assert_eq!(cursor.value(t), table.value(t), "value at {t}");
+                assert_eq!(cursor.rate(t), table.rate(t), "rate at {t}");
+            }
+        }
+        // By hand: at 0.25, halfway from 1 to 3, the value 2 and the slope (3 - 1)/0.5 = 4;
+        // at the knot 2.0, the knot's value -1 and the next segment's slope (0.25 + 1)/0.5.
+        assert_eq!(cursor.value(0.25), 2.0);
+        assert_eq!(cursor.rate(0.25), 4.0);
+        assert_eq!(cursor.value(2.0), -1.0);
+        assert_eq!(cursor.rate(2.0), 2.5);
+        assert_eq!(cursor.breakpoints(), vec![0.0, 0.5, 1.0, 2.0, 2.5]);
+    }
 
     /// A cart pushed by three forces, with a friction contact and a string to a moving
     /// wall.

@@ -21,7 +21,7 @@ use bondgraph_core::DiagnosticKind;
 use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_core::read::read_text;
-use bondgraph_core::scenario::{self, Signal as ScenarioSignal};
+use bondgraph_core::scenario::{self, Signal as ScenarioSignal, TableCursor};
 use bondgraph_core::source::SourceFile;
 use bondgraph_solver::hybrid::Stepper;
 use bondgraph_solver::{Signal, Simulator};
@@ -193,7 +193,8 @@ pub(crate) fn predict_run(
             state[i] = *value;
         }
     }
-    let inputs: Vec<&dyn Signal> = signals.iter().map(|s| s as &dyn Signal).collect();
+    let readers: Vec<Reader<'_>> = signals.iter().map(Reader::of).collect();
+    let inputs: Vec<&dyn Signal> = readers.iter().map(|s| s as &dyn Signal).collect();
     let mut predictions = Vec::with_capacity(run.len());
     let mut stepper = match Stepper::new(simulator, &inputs, initial, state, None) {
         Ok(stepper) => stepper,
@@ -231,4 +232,42 @@ pub(crate) fn predict_run(
         });
     }
     predictions
+}
+
+/// A run's input signal as the simulation reads it: a measured table through a cursor that
+/// starts its search where the last read ended (the run reads every input at every sample,
+/// in order), any other signal as it is.
+enum Reader<'a> {
+    Table(TableCursor<'a>),
+    Other(&'a ScenarioSignal),
+}
+
+impl<'a> Reader<'a> {
+    fn of(signal: &'a ScenarioSignal) -> Self {
+        match signal {
+            ScenarioSignal::Table(points) => Reader::Table(TableCursor::new(points)),
+            other => Reader::Other(other),
+        }
+    }
+}
+
+impl Signal for Reader<'_> {
+    fn value(&self, t: f64) -> f64 {
+        match self {
+            Reader::Table(cursor) => cursor.value(t),
+            Reader::Other(signal) => signal.value(t),
+        }
+    }
+    fn rate(&self, t: f64) -> f64 {
+        match self {
+            Reader::Table(cursor) => cursor.rate(t),
+            Reader::Other(signal) => signal.rate(t),
+        }
+    }
+    fn breakpoints(&self) -> Vec<f64> {
+        match self {
+            Reader::Table(cursor) => cursor.breakpoints(),
+            Reader::Other(signal) => signal.breakpoints(),
+        }
+    }
 }
