@@ -260,6 +260,34 @@ fn a_time_series_at_a_breakaway_below_the_coulomb_torque_fails_before_simulating
 }
 
 #[test]
+fn a_negative_coulomb_torque_is_named_before_simulating() {
+    // The motor's bearings with T_C = -0.1 N m (a fit's bounds may allow it where the model
+    // file does not): a recorded run fails before any simulation, counted as
+    // inconsistent, the message naming the contact and the value.
+    let model = file("models/examples/geared_motor/geared_motor.ron");
+    let experiment = step_experiment();
+    let run = step_data(&experiment, "step_exact.csv");
+    let loaded = bondgraph_core::model::load_source(&model).unwrap();
+    let predictor = bondgraph_fit::predict::Predictor::new(loaded, &model, &experiment).unwrap();
+    let names: Vec<String> = STEP_TRUTH.iter().map(|(n, _)| n.to_string()).collect();
+    let t_c = names.iter().position(|n| n == "T_C").unwrap();
+    let mut values = STEP_TRUTH.map(|(_, v)| v);
+    values[t_c] = -0.1;
+    let mut evaluator = predictor.evaluator(&names).unwrap();
+    evaluator.set(&values);
+    assert!(evaluator.predict_all(&run.rows).is_none());
+    let failed = &evaluator.trials().failed[&bondgraph_fit::budget::Failure::Inconsistent];
+    assert_eq!(failed.count, 1);
+    assert!(
+        failed
+            .first
+            .contains("friction contact 'bearings': its Coulomb level -0.1 is negative"),
+        "{}",
+        failed.first
+    );
+}
+
+#[test]
 fn a_time_series_at_a_load_dependent_breakaway_below_its_coulomb_force_fails_before_simulating() {
     // The actuator's guide with friction growing with the load force (its extension
     // `load-dependent-friction`): breakaway F_S + mu_L F_L, Coulomb F_C + mu_L F_L. Each

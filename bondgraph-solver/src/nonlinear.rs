@@ -47,17 +47,20 @@ impl PartialEq for RowProgram {
 impl RowProgram {
     /// The tape's outputs at `(x, u, u̇)`, allocating (for checks at events).
     pub fn outputs(&self, x: &[f64], u: &[f64], rate: &[f64]) -> Vec<f64> {
-        let input: Vec<f64> = x.iter().chain(u).chain(rate).copied().collect();
-        self.tape.eval_alloc(&input)
+        self.tape.eval_alloc(&tape_input(x, u, rate))
     }
 
     /// The size of the terms of the rate at `(x, u, u̇)`: zero when none was compiled.
     pub fn rate_magnitude(&self, x: &[f64], u: &[f64], rate: &[f64]) -> f64 {
         self.rate_magnitude.as_ref().map_or(0.0, |(tape, k)| {
-            let input: Vec<f64> = x.iter().chain(u).chain(rate).copied().collect();
-            tape.eval_alloc(&input)[*k]
+            tape.eval_alloc(&tape_input(x, u, rate))[*k]
         })
     }
+}
+
+/// The tapes' input `[x, u, u̇]`.
+pub(crate) fn tape_input(x: &[f64], u: &[f64], rate: &[f64]) -> Vec<f64> {
+    x.iter().chain(u).chain(rate).copied().collect()
 }
 
 /// The compiled expressions of a nonlinear mode.

@@ -566,8 +566,9 @@ impl NumericMode {
             return program.rate_magnitude(x, u, rate);
         }
         if let Some(nl) = &self.nonlinear {
-            let input: Vec<f64> = x.iter().chain(u).chain(rate).copied().collect();
-            let terms = nl.f_magnitude.eval_alloc(&input);
+            let terms = nl
+                .f_magnitude
+                .eval_alloc(&crate::nonlinear::tape_input(x, u, rate));
             return dot_abs(&row.state, &terms) + dot_abs(&row.input, rate);
         }
         let mut sum = 0.0;

@@ -34,29 +34,40 @@ pub(super) fn check_friction_levels(
     };
     for id in model.element_ids() {
         let element = model.element(id);
-        if let ElementKind::Friction(friction) = &element.kind {
-            let (Some(f_s), Some(f_c)) = (
-                level(&friction.breakaway.value),
-                level(&friction.coulomb.value),
-            ) else {
+        let ElementKind::Friction(friction) = &element.kind else {
+            continue;
+        };
+        let contact = || element.name.clone();
+        let coulomb = level(&friction.coulomb.value);
+        if let Some(f_c) = coulomb
+            && f_c < 0.0
+        {
+            return Err(RowFailure::NegativeCoulomb {
+                contact: contact(),
+                f_c,
+            });
+        }
+        match (level(&friction.breakaway.value), coulomb) {
+            (Some(f_s), Some(f_c)) if f_s < f_c => {
+                return Err(RowFailure::FrictionLevels {
+                    contact: contact(),
+                    f_s,
+                    f_c,
+                });
+            }
+            (Some(_), Some(_)) => {}
+            // A level reads an input the caller did not give: their difference may not.
+            _ => {
                 let mut gap = friction.breakaway.value.clone();
                 gap.add_scaled(&friction.coulomb.value, &RatFunc::integer(-1));
                 if let Some(gap) = level(&gap)
                     && gap < 0.0
                 {
                     return Err(RowFailure::FrictionGap {
-                        contact: element.name.clone(),
+                        contact: contact(),
                         gap,
                     });
                 }
-                continue;
-            };
-            if f_c < 0.0 || f_s < f_c {
-                return Err(RowFailure::FrictionLevels {
-                    contact: element.name.clone(),
-                    f_s,
-                    f_c,
-                });
             }
         }
     }
@@ -66,7 +77,9 @@ pub(super) fn check_friction_levels(
 /// Why a row has no steady state, put into words only for a caller that reports it.
 #[derive(Debug)]
 pub(super) enum RowFailure {
-    /// A contact's breakaway force below its Coulomb force, or a negative Coulomb force.
+    /// A contact's Coulomb force below zero.
+    NegativeCoulomb { contact: String, f_c: f64 },
+    /// A contact's breakaway force below its Coulomb force.
     FrictionLevels { contact: String, f_s: f64, f_c: f64 },
     /// A contact's breakaway force below its Coulomb force by `-gap` whatever the inputs
     /// its levels read.
@@ -87,9 +100,9 @@ impl RowFailure {
                 Some(Exhausted::Steps) => Failure::StepBudget,
                 None => Failure::NotSteady,
             },
-            RowFailure::FrictionLevels { .. } | RowFailure::FrictionGap { .. } => {
-                Failure::Inconsistent
-            }
+            RowFailure::NegativeCoulomb { .. }
+            | RowFailure::FrictionLevels { .. }
+            | RowFailure::FrictionGap { .. } => Failure::Inconsistent,
             RowFailure::Steady(SteadyError::Simulation(_)) | RowFailure::NotFinite(_) => {
                 Failure::Simulation
             }
@@ -101,7 +114,7 @@ impl std::fmt::Display for RowFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             // The levels are in the contact's own units (a force, a torque): none is named.
-            RowFailure::FrictionLevels { contact, f_c, .. } if *f_c < 0.0 => write!(
+            RowFailure::NegativeCoulomb { contact, f_c } => write!(
                 f,
                 "friction contact '{contact}': its Coulomb level {f_c} is negative (a contact needs 0 <= Coulomb <= breakaway)"
             ),

@@ -156,13 +156,7 @@ fn drift_into_guard(stepper: &Stepper<'_, '_>) -> Option<f64> {
 /// holds its inputs constant).
 fn tape_input(stepper: &Stepper<'_, '_>) -> Vec<f64> {
     let (u, _) = stepper.inputs_at(stepper.time());
-    stepper
-        .state()
-        .iter()
-        .chain(&u)
-        .copied()
-        .chain(std::iter::repeat_n(0.0, u.len()))
-        .collect()
+    crate::nonlinear::tape_input(stepper.state(), &u, &vec![0.0; u.len()])
 }
 
 /// A rate within this fraction of the magnitude of its terms is zero: rounding.
