@@ -37,6 +37,7 @@ mod step_guards;
 mod stepper;
 mod time_scale;
 mod trajectory;
+use crate::nonlinear::NonlinearForms;
 use crate::numeric::{ModeForms, NumericGuard, NumericMode, Storage, dot};
 use crate::ode::Tolerances;
 use crate::propagate::SegmentBuffers;
@@ -149,6 +150,8 @@ pub struct Simulator<'m> {
     symbolic: ModeCache<'m>,
     /// Each linear mode's symbolic pieces, kept when the parameter values change.
     forms: ModeMap<Arc<ModeForms>>,
+    /// Each nonlinear mode's expressions, kept when the parameter values change.
+    nonlinear_forms: ModeMap<Arc<NonlinearForms>>,
     /// Each mode with the current values in.
     numeric: ModeMap<Arc<NumericMode>>,
     settings: Settings,
@@ -172,6 +175,7 @@ impl<'m> Simulator<'m> {
             values: model.values.clone(),
             symbolic: ModeCache::new(model, Options::default()),
             forms: ModeMap::default(),
+            nonlinear_forms: ModeMap::default(),
             numeric: ModeMap::default(),
             settings: Settings::default(),
             energy_columns: Vec::new(),

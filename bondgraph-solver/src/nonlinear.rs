@@ -159,42 +159,46 @@ pub(crate) fn rate_magnitude_along(g: &Sym, equations: &NonlinearEquations) -> S
     Sym::sum(parts)
 }
 
-impl NonlinearNumeric {
-    /// Compiles a derived nonlinear mode with the parameter `values`; `outputs` are the
-    /// requested outputs' expressions.
-    pub fn new(
-        model: &Model,
-        values: &[f64],
-        derived: &NonlinearModeEquations,
-        outputs: &[Sym],
-    ) -> Self {
+/// A nonlinear mode's expressions before any value is put in: its rates and their Jacobian,
+/// its guards with their sizes and rates, its outputs with their rates, its ports. They do
+/// not depend on the parameter values, so a simulator derives them once per mode and keeps
+/// them when a fit changes the values, compiling only the tapes again (differentiating at
+/// every trial was a tenth of a fit's time on a motor with a nonlinear resistor).
+#[derive(Debug)]
+pub struct NonlinearForms {
+    f: Vec<Sym>,
+    f_and_jacobian: Vec<Sym>,
+    magnitudes: Vec<Sym>,
+    /// Per guard of the mode, all of them (which apply depends on the values): its value,
+    /// magnitude and rate, then the size of its rate's terms.
+    guards: Vec<([Sym; 3], Sym)>,
+    /// The requested outputs, then their rates along the motion.
+    outputs: Vec<Sym>,
+    ports: Vec<Sym>,
+    port_sources: Vec<bool>,
+}
+
+impl NonlinearForms {
+    /// The expressions of a derived nonlinear mode; `outputs` are the requested outputs'.
+    pub fn new(model: &Model, derived: &NonlinearModeEquations, outputs: &[Sym]) -> Self {
         let eq = &derived.equations;
-        let (n, m) = (eq.states.len(), eq.inputs.len());
-        let f = compile(n, m, values, &eq.derivatives);
-        let mut with_jacobian = eq.derivatives.clone();
+        let mut f_and_jacobian = eq.derivatives.clone();
         for row in eq.jacobian_states() {
-            with_jacobian.extend(row);
+            f_and_jacobian.extend(row);
         }
-        let f_and_jacobian = compile(n, m, values, &with_jacobian);
-        let magnitudes: Vec<Sym> = eq.derivatives.iter().map(Sym::magnitude).collect();
-        let f_magnitude = compile(n, m, values, &magnitudes);
-        let mut guard_exprs = Vec::new();
-        let mut rate_magnitudes = Vec::new();
-        // Only the guards that apply at these values, in order, as the mode lists them.
-        for guard in derived.guards.iter().filter(|g| g.applies(model, values)) {
-            let g = guard.function();
-            guard_exprs.push(g.clone());
-            guard_exprs.push(g.magnitude());
-            guard_exprs.push(rate_along(&g, eq));
-            rate_magnitudes.push(rate_magnitude_along(&g, eq));
-        }
-        let guards = Arc::new(compile(n, m, values, &guard_exprs));
-        let guard_rate_magnitudes = Arc::new(compile(n, m, values, &rate_magnitudes));
-        // The outputs, then their rates along the motion (for steady drift).
+        let guards = derived
+            .guards
+            .iter()
+            .map(|guard| {
+                let g = guard.function();
+                let (magnitude, rate) = (g.magnitude(), rate_along(&g, eq));
+                let rate_magnitude = rate_magnitude_along(&g, eq);
+                ([g, magnitude, rate], rate_magnitude)
+            })
+            .collect();
         let mut output_exprs = outputs.to_vec();
         output_exprs.extend(outputs.iter().map(|y| rate_along(y, eq)));
-        let outputs = Arc::new(compile(n, m, values, &output_exprs));
-        let mut port_exprs = Vec::new();
+        let mut ports = Vec::new();
         let mut port_sources = Vec::new();
         for id in model.element_ids() {
             let source = match &model.element(id).kind {
@@ -211,22 +215,57 @@ impl NonlinearNumeric {
             };
             let bond = model.element(id).bonds[0];
             let sign = RatFunc::integer(model.bond(bond).sign_into(id));
-            port_exprs.push(eq.bond_effort(bond).clone());
-            port_exprs.push(eq.bond_flow(bond).scaled(&sign));
+            ports.push(eq.bond_effort(bond).clone());
+            ports.push(eq.bond_flow(bond).scaled(&sign));
             port_sources.push(source);
         }
-        let ports = Arc::new(compile(n, m, values, &port_exprs));
+        Self {
+            f: eq.derivatives.clone(),
+            f_and_jacobian,
+            magnitudes: eq.derivatives.iter().map(Sym::magnitude).collect(),
+            guards,
+            outputs: output_exprs,
+            ports,
+            port_sources,
+        }
+    }
+
+    /// The requested outputs' count.
+    pub fn output_count(&self) -> usize {
+        self.outputs.len() / 2
+    }
+}
+
+impl NonlinearNumeric {
+    /// Compiles a derived nonlinear mode's `forms` with the parameter `values`.
+    pub fn new(
+        model: &Model,
+        values: &[f64],
+        derived: &NonlinearModeEquations,
+        forms: &NonlinearForms,
+    ) -> Self {
+        let eq = &derived.equations;
+        let (n, m) = (eq.states.len(), eq.inputs.len());
+        let mut guard_exprs = Vec::new();
+        let mut rate_magnitudes = Vec::new();
+        // Only the guards that apply at these values, in order, as the mode lists them.
+        for (guard, (value_size_rate, rate_magnitude)) in derived.guards.iter().zip(&forms.guards) {
+            if guard.applies(model, values) {
+                guard_exprs.extend(value_size_rate.iter().cloned());
+                rate_magnitudes.push(rate_magnitude.clone());
+            }
+        }
         Self {
             n,
             m,
-            f,
-            f_and_jacobian,
-            f_magnitude,
-            guards,
-            guard_rate_magnitudes,
-            outputs,
-            ports,
-            port_sources,
+            f: compile(n, m, values, &forms.f),
+            f_and_jacobian: compile(n, m, values, &forms.f_and_jacobian),
+            f_magnitude: compile(n, m, values, &forms.magnitudes),
+            guards: Arc::new(compile(n, m, values, &guard_exprs)),
+            guard_rate_magnitudes: Arc::new(compile(n, m, values, &rate_magnitudes)),
+            outputs: Arc::new(compile(n, m, values, &forms.outputs)),
+            ports: Arc::new(compile(n, m, values, &forms.ports)),
+            port_sources: forms.port_sources.clone(),
         }
     }
 }

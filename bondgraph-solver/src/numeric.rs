@@ -21,7 +21,6 @@ use bondgraph_core::guards::Watched;
 use bondgraph_core::linear::{LinearForm, Var};
 use bondgraph_core::model::{ElementId, ElementKind, ElementMode, Model};
 use bondgraph_core::modes::{Mode, ModeEquations, NonlinearModeEquations};
-use bondgraph_core::symbolic::expr::Sym;
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 use std::sync::Arc;
@@ -30,7 +29,7 @@ mod forms;
 
 pub use forms::ModeForms;
 
-use crate::nonlinear::{NonlinearNumeric, RowProgram, StorageLawTape};
+use crate::nonlinear::{NonlinearForms, NonlinearNumeric, RowProgram, StorageLawTape};
 use crate::propagate::Propagator;
 
 /// The storage elements of a model, whose energy variables make up the full state.
@@ -358,18 +357,18 @@ impl NumericMode {
         }
     }
 
-    /// Puts numbers into a derived nonlinear mode; `outputs` are the requested outputs'
-    /// expressions.
+    /// Puts numbers into a derived nonlinear mode, whose expressions (with the requested
+    /// outputs') are `forms`.
     pub fn from_nonlinear(
         model: &Model,
         values: &[f64],
         storage: &Storage,
         derived: &NonlinearModeEquations,
-        outputs: &[Sym],
+        forms: &NonlinearForms,
     ) -> Self {
         let eq = &derived.equations;
         let (n, m) = (eq.states.len(), eq.inputs.len());
-        let compiled = Arc::new(NonlinearNumeric::new(model, values, derived, outputs));
+        let compiled = Arc::new(NonlinearNumeric::new(model, values, derived, forms));
         let (reconstruct_state, reconstruct_input, reconstruct_constant, projection) =
             reconstruction(storage, eq.storage_energy(), n, m, values);
         let program = |tape: &Arc<bondgraph_core::symbolic::expr::Tape>,
@@ -404,7 +403,7 @@ impl NumericMode {
                 ),
             })
             .collect();
-        let count = outputs.len();
+        let count = forms.output_count();
         let outputs = (0..count)
             .map(|k| program(&compiled.outputs, k, k, count + k, None))
             .collect();

@@ -26,7 +26,9 @@ use super::stall;
 use super::step_guards::{self, Look};
 use super::{SimError, Simulator, Stepper, TimeScale};
 use crate::events::Crossing;
-use crate::nonlinear::NonlinearNumeric;
+use std::sync::Arc;
+
+use crate::nonlinear::{NonlinearForms, NonlinearNumeric};
 use crate::numeric::NumericMode;
 use crate::ode::{Method, StepOutcome, Switching, System};
 
@@ -39,17 +41,27 @@ pub(super) fn numeric_mode(
         .symbolic
         .get_nonlinear(mode)
         .map_err(SimError::Derivation)?;
-    let outputs: Vec<Sym> = simulator
-        .outputs
-        .iter()
-        .map(|o| derived.equations.output(&o.spec).value)
-        .collect();
+    let forms = match simulator.nonlinear_forms.get(mode) {
+        Some(forms) => forms.clone(),
+        None => {
+            let outputs: Vec<Sym> = simulator
+                .outputs
+                .iter()
+                .map(|o| derived.equations.output(&o.spec).value)
+                .collect();
+            let forms = Arc::new(NonlinearForms::new(simulator.model, &derived, &outputs));
+            simulator
+                .nonlinear_forms
+                .insert(mode.clone(), forms.clone());
+            forms
+        }
+    };
     Ok(NumericMode::from_nonlinear(
         simulator.model,
         &simulator.values,
         &simulator.storage,
         &derived,
-        &outputs,
+        &forms,
     ))
 }
 

@@ -43,11 +43,13 @@ use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
 mod balance;
+mod closed_form;
 mod eigenspace;
 mod expm;
 
 pub use balance::balance;
 use balance::{Scaled, symmetrize};
+pub use closed_form::closed_form_eigenvalues;
 use eigenspace::eigenspace_pair;
 pub use expm::expm;
 

@@ -91,7 +91,7 @@ pub fn continue_steady(
     if !moved_little {
         return None;
     }
-    let eigenvalues = crate::analysis::eigenvalues(&jacobian).ok()?;
+    let eigenvalues = super::nonlinear::jacobian_eigenvalues(&jacobian).ok()?;
     if !eigenvalues.iter().all(|v| v.re < -settings.zero_eigenvalue) {
         return None;
     }

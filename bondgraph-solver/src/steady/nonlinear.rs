@@ -184,8 +184,20 @@ fn at_rest(stepper: &Stepper<'_, '_>, settings: &SteadySettings) -> bool {
         return false;
     }
     let jacobian = DMatrix::from_row_slice(n, n, &f[n..n + n * n]);
-    crate::analysis::eigenvalues(&jacobian)
+    jacobian_eigenvalues(&jacobian)
         .is_ok_and(|values| values.iter().all(|v| v.re < -settings.zero_eigenvalue))
+}
+
+/// The eigenvalues of a mode's Jacobian, in no particular order: in closed form for one or
+/// two states ([`crate::linalg::closed_form_eigenvalues`]), else refined
+/// ([`crate::analysis::eigenvalues`]). The search asks after every window.
+pub(super) fn jacobian_eigenvalues(
+    jacobian: &DMatrix<f64>,
+) -> Result<Vec<Complex64>, crate::analysis::AnalysisError> {
+    match crate::linalg::closed_form_eigenvalues(jacobian) {
+        Some(values) => Ok(values),
+        None => crate::analysis::eigenvalues(jacobian),
+    }
 }
 
 /// A mode's time scales where the stepper stands: of a linear mode's matrix, or of a
@@ -221,7 +233,7 @@ impl TimeScales {
                 if singular {
                     sketched_eigenvalues(&jacobian).unwrap_or_else(|| rates(&jacobian))
                 } else {
-                    crate::analysis::eigenvalues(&jacobian).unwrap_or_else(|_| rates(&jacobian))
+                    jacobian_eigenvalues(&jacobian).unwrap_or_else(|_| rates(&jacobian))
                 }
             }
             None => mode.propagator.eigenvalues().to_vec(),
@@ -521,7 +533,7 @@ impl Polish {
         if !(follows && norm(&end) < norm(&start)) {
             return None;
         }
-        let eigenvalues = crate::analysis::eigenvalues(&now.jacobian).ok()?;
+        let eigenvalues = jacobian_eigenvalues(&now.jacobian).ok()?;
         let stable = eigenvalues.iter().all(|v| v.re < -settings.zero_eigenvalue);
         (stable && self.guards_clear(stepper, now, &eigenvalues, settings))
             .then(|| now.point.clone())
@@ -597,13 +609,18 @@ impl Polish {
         };
         let deviation = DVector::from_iterator(here.len(), here.iter().zip(at).map(|(x, p)| x - p));
         let mut t = 1.0 / fastest;
+        // The flow over each doubled time is the last one squared; only the last look, cut
+        // at the horizon, takes an exponential of its own.
+        let mut flow = None;
         for _ in 0..GUARD_LOOKS {
-            let Some(flow) = crate::linalg::expm(&(&candidate.jacobian * t)) else {
+            let doubled = flow.as_ref().filter(|_| t < horizon).map(|f| f * f);
+            flow = doubled.or_else(|| crate::linalg::expm(&(&candidate.jacobian * t)));
+            let Some(flow) = &flow else {
                 return false;
             };
             let x: Vec<f64> = at
                 .iter()
-                .zip((&flow * &deviation).iter())
+                .zip((flow * &deviation).iter())
                 .map(|(p, e)| p + e)
                 .collect();
             if !on_side(&x) {
