@@ -43,8 +43,10 @@ pub struct Budget {
     /// ([`bondgraph_solver::steady::continuation`]): where the row settled at a stable
     /// equilibrium of a mode without guards, never having left it. Ten of calibration's
     /// forward-difference steps
-    /// (1e-5), so a Jacobian's differences and a descent's last steps continue; `0` turns it
-    /// off.
+    /// (1e-5), so a Jacobian's differences and a descent's last steps continue. A row that
+    /// settled where its path matters (a mode with guards, or one entered on the way) is
+    /// continued only for a Jacobian's difference from the very values it was simulated at
+    /// ([`crate::predict::Evaluator::predict_differenced`]). `0` turns both off.
     pub continuation: f64,
     /// The same for a refit on part of the rows (a fold, a resample), from the steady states
     /// of the fit on every row at its optimum, where the refit starts: a refit moves about a

@@ -138,6 +138,31 @@ impl std::fmt::Display for CalibrationError {
 
 impl std::error::Error for CalibrationError {}
 
+/// What a least-squares fit minimises: the residuals at a point of the parameters, `None`
+/// where the model cannot be evaluated (a simulation that does not settle). It may keep
+/// caches (the modes derived so far), so it is called mutably. Any
+/// `FnMut(&[f64]) -> Option<Vec<f64>>` is one.
+pub trait ResidualFunction {
+    /// The residuals at `x`; `None` where the model cannot be evaluated there.
+    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>>;
+
+    /// The residuals at `x`, a finite-difference step from `from`, the point whose residuals
+    /// the difference is taken against (asked last, or before the other steps of the same
+    /// Jacobian). A model may answer on the branch it settled on at `from` (a steady state
+    /// continued by Newton's method where a fresh simulation would switch within the step),
+    /// so that the column is the slope a descent follows; by default, the residuals at `x`.
+    fn differenced(&mut self, x: &[f64], from: &[f64]) -> Option<Vec<f64>> {
+        let _ = from;
+        self.residuals(x)
+    }
+}
+
+impl<F: FnMut(&[f64]) -> Option<Vec<f64>>> ResidualFunction for F {
+    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>> {
+        self(x)
+    }
+}
+
 /// Minimises the sum of squared `residuals(values)` over the box `bounds`, from `start`.
 ///
 /// `residuals` returns `None` where the model cannot be evaluated (a simulation that does
@@ -146,7 +171,7 @@ impl std::error::Error for CalibrationError {}
 /// # Errors
 /// When the model cannot be evaluated at the start, or a bound is not a finite interval.
 pub fn least_squares(
-    residuals: &mut dyn FnMut(&[f64]) -> Option<Vec<f64>>,
+    residuals: &mut dyn ResidualFunction,
     start: &[f64],
     bounds: &[(f64, f64)],
     settings: &Settings,
@@ -179,7 +204,7 @@ const PACE_WINDOW: usize = 5;
 /// # Errors
 /// As [`least_squares`].
 pub(crate) fn least_squares_toward(
-    residuals: &mut dyn FnMut(&[f64]) -> Option<Vec<f64>>,
+    residuals: &mut dyn ResidualFunction,
     start: &[f64],
     bounds: &[(f64, f64)],
     settings: &Settings,
@@ -336,7 +361,7 @@ fn sse(r: &[f64]) -> f64 {
 }
 
 struct Problem<'a> {
-    residuals: &'a mut dyn FnMut(&[f64]) -> Option<Vec<f64>>,
+    residuals: &'a mut dyn ResidualFunction,
     bounds: &'a [(f64, f64)],
     /// Each parameter's start in unit coordinates and its value there: a parameter a step
     /// leaves where it started keeps that value exactly, not its round trip through the
@@ -362,7 +387,18 @@ impl Problem<'_> {
     fn eval(&mut self, u: &[f64]) -> Option<Vec<f64>> {
         self.evaluations += 1;
         let x = self.values(u);
-        (self.residuals)(&x).filter(|r| r.iter().all(|v| v.is_finite()))
+        self.residuals
+            .residuals(&x)
+            .filter(|r| r.iter().all(|v| v.is_finite()))
+    }
+
+    /// The residuals at `u`, a difference step from `from` ([`ResidualFunction::differenced`]).
+    fn eval_differenced(&mut self, u: &[f64], from: &[f64]) -> Option<Vec<f64>> {
+        self.evaluations += 1;
+        let (x, from) = (self.values(u), self.values(from));
+        self.residuals
+            .differenced(&x, &from)
+            .filter(|r| r.iter().all(|v| v.is_finite()))
     }
 
     /// Forward differences in unit coordinates (backwards at the upper bound, or where the
@@ -399,7 +435,7 @@ impl Problem<'_> {
                 }
                 let mut moved = u.to_vec();
                 moved[j] += step;
-                if let Some(rj) = self.eval(&moved) {
+                if let Some(rj) = self.eval_differenced(&moved, u) {
                     for i in 0..n {
                         jacobian[i * p + j] = (rj[i] - r[i]) / step;
                     }

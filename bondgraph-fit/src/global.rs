@@ -159,13 +159,9 @@ pub const BASINS_KEPT: usize = 2;
 /// are one basin.
 const SAME_BASIN: f64 = 1e-3;
 
-/// What a search minimises: the residuals at a point of the parameters, `None` where the
-/// model cannot be evaluated. It may keep caches (the modes derived so far), so it is called
-/// mutably. Any `FnMut(&[f64]) -> Option<Vec<f64>>` is one.
-pub trait Objective {
-    /// The residuals at `x`; `None` where the model cannot be evaluated there.
-    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>>;
-
+/// What a search minimises: residuals ([`calibrate::ResidualFunction`]), and their sum of
+/// squares against a limit. Any `FnMut(&[f64]) -> Option<Vec<f64>>` is one.
+pub trait Objective: calibrate::ResidualFunction {
     /// The sum of squared residuals at `x`, or any value above `limit` once it is known to
     /// exceed it: a screening that keeps only the best few points need not predict the rest
     /// of a point's rows once the rows predicted so far already put it out of them.
@@ -175,9 +171,22 @@ pub trait Objective {
     }
 }
 
-impl<F: FnMut(&[f64]) -> Option<Vec<f64>>> Objective for F {
-    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>> {
-        self(x)
+impl<F: FnMut(&[f64]) -> Option<Vec<f64>>> Objective for F {}
+
+/// A search's objective on a face, in the face's reduced parameters.
+struct OnFace<'o, 'r> {
+    objective: &'o mut dyn Objective,
+    reduced: &'r Reduced,
+}
+
+impl calibrate::ResidualFunction for OnFace<'_, '_> {
+    fn residuals(&mut self, u: &[f64]) -> Option<Vec<f64>> {
+        self.objective.residuals(&self.reduced.expand(u))
+    }
+
+    fn differenced(&mut self, u: &[f64], from: &[f64]) -> Option<Vec<f64>> {
+        let (x, from) = (self.reduced.expand(u), self.reduced.expand(from));
+        self.objective.differenced(&x, &from)
     }
 }
 
@@ -268,7 +277,10 @@ pub fn least_squares<'a>(
                 .map(|(_, start)| {
                     let mut local = residuals();
                     calibrate::least_squares_toward(
-                        &mut |u: &[f64]| local.residuals(&reduced.expand(u)),
+                        &mut OnFace {
+                            objective: &mut *local,
+                            reduced,
+                        },
                         start,
                         &reduced.bounds,
                         settings,
@@ -311,12 +323,7 @@ pub fn least_squares<'a>(
     // data allows it, and the errors come from the full Jacobian.
     let start = reduced.expand(&face_fit.values);
     let mut polish = residuals();
-    let mut fit = calibrate::least_squares(
-        &mut |x: &[f64]| polish.residuals(x),
-        &start,
-        bounds,
-        settings,
-    )?;
+    let mut fit = calibrate::least_squares(&mut *polish, &start, bounds, settings)?;
     fit.evaluations += evaluations;
     errors_on_the_face(&mut fit, &face_fit, &reduced);
     optima.push((f64::NEG_INFINITY, fit.values.clone()));

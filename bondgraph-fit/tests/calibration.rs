@@ -555,3 +555,74 @@ fn refits_continued_from_the_whole_fit_change_no_conclusion() {
     assert!(counts(&continued).is_some());
     assert_eq!(counts(&continued), counts(&simulated));
 }
+
+/// Continuing path-dependent steady states for a Jacobian's differences only
+/// ([`bondgraph_fit::predict::Evaluator::predict_differenced`]) changes no conclusion: the
+/// lead-screw actuator's steady sweep with the brushes' voltage drop hidden (scipy,
+/// `data/generate.py`: U_b = 0.25 V), where every mode of the extended model has a guard (the
+/// guide's breakaway, its stop) and so every row's equilibrium is path-dependent. With the
+/// brush drop as the only candidate, `discover` selects it with and without continuation,
+/// each fitted value within a tenth of its standard error of the other (the breakaway force,
+/// which no difference moves, within the interval of values that fit as well), and `U_b`
+/// within three standard errors of the truth.
+#[test]
+fn differences_continued_on_their_branch_change_no_conclusion() {
+    use bondgraph_core::model::extension::Extension;
+    use bondgraph_fit::budget::Budget;
+    use bondgraph_fit::discover::{Candidate, Resampling, discover};
+    let model = file("models/examples/actuator/actuator.ron");
+    let experiment = Experiment::parse(
+        "experiment.ron",
+        file("models/examples/actuator/experiment.ron").text(),
+    )
+    .unwrap();
+    let csv = file("models/examples/actuator/data/hidden/brush-voltage-drop/steady.csv");
+    let dataset = data::read(csv.name(), csv.text(), &experiment).unwrap();
+    let source = file("models/examples/actuator/extensions/brush-voltage-drop.ron");
+    let candidates = vec![Candidate::new(&model, &Extension::load(&source).unwrap()).unwrap()];
+    let run = |continuation: f64| {
+        let settings = Settings {
+            budget: Budget {
+                continuation,
+                ..Budget::default()
+            },
+            resampling: Resampling {
+                count: Some(0),
+                ..Default::default()
+            },
+            ..Settings::default()
+        };
+        discover(&model, &experiment, &dataset, &candidates, &settings).unwrap()
+    };
+    let (continued, simulated) = (run(Budget::default().continuation), run(0.0));
+    let report = continued.summary();
+    assert_eq!(
+        continued.selected.as_deref(),
+        Some("brush-voltage-drop"),
+        "{report}"
+    );
+    assert_eq!(continued.selected, simulated.selected);
+    let (a, b) = (&continued.ranking[0].params, &simulated.ranking[0].params);
+    for (name, estimate) in a {
+        let other = &b[name];
+        match (estimate.std_error, estimate.interval) {
+            (Some(error), _) => assert!(
+                (estimate.value - other.value).abs() < 0.1 * error,
+                "{name}: {} continued, {} simulated, standard error {error}",
+                estimate.value,
+                other.value
+            ),
+            (None, Some((low, high))) => assert!(
+                (low..=high).contains(&other.value),
+                "{name}: {} simulated, outside [{low}, {high}]",
+                other.value
+            ),
+            (None, None) => panic!("{name}: neither an error nor an interval\n{report}"),
+        }
+    }
+    let u_b = &a["U_b"];
+    assert!(
+        (u_b.value - 0.25).abs() < 3.0 * u_b.std_error.unwrap(),
+        "{report}"
+    );
+}

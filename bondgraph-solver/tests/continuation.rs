@@ -5,7 +5,7 @@
 use bondgraph_core::equations::OutputSpec;
 use bondgraph_core::model::{self, Model};
 use bondgraph_core::modes::Mode;
-use bondgraph_solver::steady::continuation::continue_steady;
+use bondgraph_solver::steady::continuation::{continue_branch, continue_steady};
 use bondgraph_solver::steady::{Steady, SteadySettings, steady_state};
 use bondgraph_solver::{Output, Simulator};
 
@@ -142,11 +142,13 @@ fn a_linear_mode_is_no_anchor() {
 /// A block carried by a belt (0.1 m/s) on a hardening spring, damped: it sticks until the
 /// spring pulls F_S = 10 N, breaks away, and comes to rest slipping where the spring holds
 /// the Coulomb force, `k q + k₃ q³ = F_C = 6 N`: a stable equilibrium of a nonlinear mode,
-/// reached after a mode change, so not an anchor. (The stuck mode's rates do not depend on
-/// the state, `q̇ = v_belt`; the search once took that for steady motion and ended at t = 0
-/// with the spring slack, the guard it drifts into unseen.)
+/// reached after a mode change, so a path-dependent anchor: not continued to new trial
+/// values, and continued for a difference to `k q + k₃ q³ = F_C (1 + 1e-5)`, what a fresh
+/// search finds there. (The stuck mode's rates do not depend on the state, `q̇ = v_belt`; the
+/// search once took that for steady motion and ended at t = 0 with the spring slack, the
+/// guard it drifts into unseen.)
 #[test]
-fn a_block_carried_into_its_breakaway_settles_slipping_and_is_no_anchor() {
+fn a_block_carried_into_its_breakaway_settles_slipping_and_is_continued_only_for_a_difference() {
     let belt = model::load_str("belt.ron", BELT).unwrap();
     let mut simulator = self::simulator(&belt, &["effort:spring"]);
     let names = simulator.storage().names.clone();
@@ -164,7 +166,32 @@ fn a_block_carried_into_its_breakaway_settles_slipping_and_is_no_anchor() {
         steady.outputs
     );
     assert!(steady.mode.contains("slip"), "{}", steady.mode);
-    assert!(steady.anchor.is_none());
+    let anchor = steady.anchor.expect("a polished equilibrium");
+    assert!(anchor.path_dependent);
+
+    let f_c = 6.0 * (1.0 + 1e-5);
+    simulator
+        .set_parameter_values(&with_value(&belt, "F_C", f_c))
+        .unwrap();
+    let settings = SteadySettings::default();
+    assert!(continue_steady(&mut simulator, &anchor, &settings).is_none());
+    let branch = continue_branch(&mut simulator, &anchor, &settings).expect("still slipping");
+    assert_eq!(branch.work.steps, 0);
+    assert!(
+        (branch.outputs[0] - f_c).abs() < 1e-12 * f_c,
+        "{:?}",
+        branch.outputs
+    );
+    let fresh = steady_state(
+        &mut simulator,
+        &[0.1],
+        Mode::initial(&belt),
+        vec![0.0; names.len()],
+        &settings,
+    )
+    .unwrap();
+    assert!((fresh.outputs[0] - branch.outputs[0]).abs() < 1e-12 * f_c);
+    assert_eq!(fresh.mode, branch.mode);
 }
 
 const BELT: &str = r#"Model(
@@ -188,11 +215,12 @@ const BELT: &str = r#"Model(
 /// A motor held by static friction, its winding's resistance nonlinear (a brush drop
 /// `U_b tanh(i/i_0)` beside `R i`): the current settles at a stable equilibrium of the stuck
 /// mode, `R i + U_b tanh(i/i_0) = V`, with no mode change, but the mode has a guard (the
-/// breakaway), so it is no anchor. Whether a transient reaches that guard depends on the
-/// parameters along the whole path, not at the equilibrium: continuing such rows once gave a
-/// stuck contact at trial values where a fresh search breaks away.
+/// breakaway), so its anchor is path-dependent. Whether a transient reaches that guard
+/// depends on the parameters along the whole path, not at the equilibrium: continuing such
+/// rows to trial values once gave a stuck contact where a fresh search breaks away. For a
+/// difference it is continued, and refused where its guard has changed sign.
 #[test]
-fn a_mode_with_guards_is_no_anchor() {
+fn a_mode_with_guards_is_continued_only_for_a_difference() {
     let motor = model::load_str(
         "held_motor.ron",
         r#"Model(
@@ -224,5 +252,28 @@ fn a_mode_with_guards_is_no_anchor() {
     // K i = 0.01875 N m < T_S.
     let i = steady.outputs[0];
     assert!((i - 0.625).abs() < 1e-12, "{i}");
-    assert!(steady.anchor.is_none());
+    let anchor = steady.anchor.expect("a polished equilibrium");
+    assert!(anchor.path_dependent);
+
+    // U_b (1 + 1e-5): i = (1 V - U_b)/R to rounding.
+    let u_b = 0.25 * (1.0 + 1e-5);
+    simulator
+        .set_parameter_values(&with_value(&motor, "U_b", u_b))
+        .unwrap();
+    let settings = SteadySettings::default();
+    assert!(continue_steady(&mut simulator, &anchor, &settings).is_none());
+    let branch = continue_branch(&mut simulator, &anchor, &settings).expect("still held");
+    let expected = (1.0 - u_b) / 1.2;
+    assert!(
+        (branch.outputs[0] - expected).abs() < 1e-12,
+        "{} against {expected}",
+        branch.outputs[0]
+    );
+    // A breakaway torque below the holding torque K i = 0.01875 N m: the stuck branch's
+    // guard has changed sign, and the continuation is refused.
+    let mut values = with_value(&motor, "T_S", 0.0187);
+    let t_c = motor.parameters.iter().find(|p| p.name == "T_C").unwrap();
+    values[t_c.symbol.index()] = 0.0187;
+    simulator.set_parameter_values(&values).unwrap();
+    assert!(continue_branch(&mut simulator, &anchor, &settings).is_none());
 }

@@ -553,12 +553,27 @@ impl TrainingFit<'_, '_> {
     }
 }
 
-impl global::Objective for TrainingFit<'_, '_> {
+impl crate::calibrate::ResidualFunction for TrainingFit<'_, '_> {
     fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>> {
+        self.residuals_from(x, None)
+    }
+
+    fn differenced(&mut self, x: &[f64], from: &[f64]) -> Option<Vec<f64>> {
+        self.residuals_from(x, Some(from))
+    }
+}
+
+impl TrainingFit<'_, '_> {
+    /// The residuals at `x`, a difference step from `from` if given
+    /// ([`crate::predict::Evaluator::predict_differenced`]).
+    fn residuals_from(&mut self, x: &[f64], from: Option<&[f64]>) -> Option<Vec<f64>> {
         if !self.start(x) {
             return None;
         }
-        let predictions = self.evaluator.predict_all(self.train)?;
+        let predictions = match from {
+            Some(from) => self.evaluator.predict_differenced(self.train, from)?,
+            None => self.evaluator.predict_all(self.train)?,
+        };
         Some(
             self.kept
                 .iter()
@@ -568,7 +583,9 @@ impl global::Objective for TrainingFit<'_, '_> {
                 .collect(),
         )
     }
+}
 
+impl global::Objective for TrainingFit<'_, '_> {
     fn sum_of_squares(&mut self, x: &[f64], limit: f64) -> Option<f64> {
         if !self.start(x) {
             return None;

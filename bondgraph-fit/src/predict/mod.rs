@@ -17,7 +17,7 @@ use bondgraph_core::model::{self, Model};
 use bondgraph_core::modes::Mode;
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::{Diagnostic, DiagnosticKind, diagnostics::Diagnostics};
-use bondgraph_solver::steady::continuation::{Anchor, continue_steady};
+use bondgraph_solver::steady::continuation::{Anchor, continue_branch, continue_steady};
 use bondgraph_solver::steady::{SteadySettings, steady_state};
 use bondgraph_solver::{Output, Simulator};
 
@@ -201,6 +201,7 @@ impl Predictor {
             names: names.to_vec(),
             values: Vec::new(),
             trials: Arc::new(Mutex::new(Trials::default())),
+            differenced_from: None,
         })
     }
 
@@ -314,6 +315,9 @@ pub struct Evaluator<'p> {
     values: Vec<f64>,
     /// The trial predictions of this evaluator and its forks ([`Evaluator::predict_all`]).
     trials: Arc<Mutex<Trials>>,
+    /// While predicting a finite difference ([`Evaluator::predict_differenced`]): the values
+    /// (of the parameters named) it is taken from.
+    differenced_from: Option<Vec<f64>>,
 }
 
 /// One variant's simulator and where the evaluator's parameters sit in its values.
@@ -385,6 +389,18 @@ impl<'p> Session<'p> {
         }
     }
 
+    /// Whether `at` (all of the model's parameter values) holds `from` (the evaluator's
+    /// parameters) in the slots and the current values elsewhere.
+    fn simulated_at(&self, at: &[f64], from: &[f64]) -> bool {
+        at.len() == self.values.len()
+            && self.values.iter().zip(at).enumerate().all(|(k, (v, a))| {
+                match self.slots.iter().position(|&slot| slot == k) {
+                    Some(j) => from[j] == *a,
+                    None => v == a,
+                }
+            })
+    }
+
     /// Whether `at` (all of the model's parameter values) is within `radius` of each slot's
     /// range of the current values, and equal to them elsewhere (an anchor seeded from
     /// another evaluator may have been simulated with other parameters fitted).
@@ -420,6 +436,7 @@ impl<'p> Evaluator<'p> {
             names: self.names.clone(),
             values: self.values.clone(),
             trials: Arc::clone(&self.trials),
+            differenced_from: None,
         }
     }
 
@@ -565,6 +582,22 @@ impl<'p> Evaluator<'p> {
         predictions
     }
 
+    /// [`Evaluator::predict_all`] at the values set, a finite-difference step from `from`
+    /// (values of the same parameters) where every row was last predicted: a steady row that
+    /// settled at a path-dependent equilibrium there (a mode with guards, or one entered on the
+    /// way) is continued on that branch ([`continue_branch`]) instead of simulated again, so
+    /// that the difference is the slope on the branch, not a switch within the step.
+    pub fn predict_differenced(
+        &mut self,
+        rows: &[Measurement],
+        from: &[f64],
+    ) -> Option<Vec<Prediction>> {
+        self.differenced_from = Some(from.to_vec());
+        let predictions = self.predict_all(rows);
+        self.differenced_from = None;
+        predictions
+    }
+
     /// Predicts `rows` as [`Evaluator::predict_all`] does, handing each prediction to
     /// `enough` (with its row's position) in the order `order` gives, and stopping once
     /// `enough` says the rest are not needed; false when a row cannot be predicted. Steady
@@ -633,6 +666,13 @@ impl<'p> Evaluator<'p> {
         check_friction_levels(&variant.model, &session.values, Some(&inputs))?;
         let key = (Arc::clone(&row.file), row.row);
         let continued = match session.anchors.get(&key) {
+            Some(RowAnchor { at, anchor, .. }) if anchor.path_dependent => {
+                let from = self.differenced_from.as_deref();
+                let here = from.is_some_and(|from| session.simulated_at(at, from));
+                (self.budget.continuation > 0.0 && anchor.inputs == inputs && here)
+                    .then(|| continue_branch(&mut session.simulator, anchor, &self.settings))
+                    .flatten()
+            }
             Some(RowAnchor { at, anchor, seeded }) => {
                 let radius = if *seeded {
                     self.budget.refit_continuation

@@ -15,10 +15,18 @@
 //! the parameters, and the start, inside the basin at `p`, stays inside at `p'` close enough
 //! to `p`. The continuation checks what it can: Newton converges, the point is stable, and
 //! it moved little (a fraction [`MOST_MOVED`] of each state's scale, so a jump to another
-//! branch is refused). A mode with guards is never continued: whether the transient reaches
-//! a guard depends on the parameters along the whole path (a stuck contact whose holding
-//! force peaks just below its breakaway on the way breaks away at values a hair apart), which
-//! the equilibrium alone does not tell.
+//! branch is refused).
+//!
+//! A mode with guards is not continued to new trial values: whether the transient reaches a
+//! guard depends on the parameters along the whole path (a stuck contact whose holding force
+//! peaks just below its breakaway on the way breaks away at values a hair apart), which the
+//! equilibrium alone does not tell. Such an equilibrium (its anchor is
+//! [`Anchor::path_dependent`]) is continued only for a finite difference ([`continue_branch`]):
+//! a Jacobian's column is then the derivative on the branch the row settled on, the slope a
+//! descent follows, where a fresh search across a switch within the step would give the
+//! whole jump over a hundred-thousandth of a range. The residuals a fit is judged by, its
+//! trial values', are always simulated.
+//!
 //! What "close enough" means is the caller's: a fit continues only within a small radius of
 //! the values a search was simulated at, never from one continued point to the next
 //! ([`Anchor`]s come only from simulations).
@@ -27,13 +35,13 @@
 //! gives it ([`super`]), so a continued prediction agrees with a simulated one
 //! to rounding.
 
-use super::nonlinear::{newton, steady_at};
+use super::nonlinear::{GUARD_ROUNDING, newton, steady_at};
 use super::{Steady, SteadySettings};
 use crate::hybrid::Simulator;
 use bondgraph_core::modes::Mode;
 
 /// A steady state that can be continued: an isolated, stable equilibrium of a nonlinear
-/// mode without guards, reached without leaving it ([`Steady::anchor`]).
+/// mode ([`Steady::anchor`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Anchor {
     /// The mode it settled in.
@@ -46,6 +54,12 @@ pub struct Anchor {
     pub scale: Vec<f64>,
     /// When the search judged it reached.
     pub time: f64,
+    /// Whether the trajectory's reaching it depends on the parameters along the way: its
+    /// mode has guards, or the search changed mode before it. Such an anchor is continued
+    /// only for a finite difference ([`continue_branch`]), never by [`continue_steady`].
+    pub path_dependent: bool,
+    /// Which of the mode's guards were below zero there, in the mode's order.
+    pub guards_below: Vec<bool>,
 }
 
 /// Newton iterations a continuation takes at most: from an equilibrium a hair away it
@@ -58,18 +72,64 @@ const ITERATIONS: usize = 12;
 pub const MOST_MOVED: f64 = 1e-2;
 
 /// The steady state at the simulator's current parameter values on the branch of `anchor`,
-/// found at other values; `None` where it cannot be vouched for (the mode has guards, Newton
-/// does not converge, the point is unstable or moved too far), and the caller then runs the
-/// search.
+/// found at other values; `None` where it cannot be vouched for (the anchor is
+/// [`Anchor::path_dependent`], Newton does not converge, the point is unstable or moved too
+/// far), and the caller then runs the search.
 pub fn continue_steady(
     simulator: &mut Simulator<'_>,
     anchor: &Anchor,
     settings: &SteadySettings,
 ) -> Option<Steady> {
-    let mode = simulator.mode(&anchor.mode).ok()?;
-    if !mode.guards.is_empty() {
+    if anchor.path_dependent {
         return None;
     }
+    continue_on_branch(simulator, anchor, settings)
+}
+
+/// For a finite difference only: the equilibrium at the simulator's current parameter values
+/// on the branch of `anchor`, path-dependent or not, whether or not a fresh search from the
+/// row's start would still reach it (see the module's documentation). Besides
+/// [`continue_steady`]'s checks, every guard of the mode must be on the side it was at the
+/// anchor, and clear of its threshold (a continued contact must still hold, or still slide).
+pub fn continue_branch(
+    simulator: &mut Simulator<'_>,
+    anchor: &Anchor,
+    settings: &SteadySettings,
+) -> Option<Steady> {
+    let (steady, x) = continue_on_branch_at(simulator, anchor, settings)?;
+    let mode = simulator.mode(&anchor.mode).ok()?;
+    let rate = vec![0.0; anchor.inputs.len()];
+    let u = &anchor.inputs;
+    let same_side = mode.guards.len() == anchor.guards_below.len()
+        && mode
+            .guards
+            .iter()
+            .zip(&anchor.guards_below)
+            .all(|(guard, &below)| {
+                let value = guard.row.eval(&x, u, &rate);
+                (value < 0.0) == below
+                    && value.abs() > GUARD_ROUNDING * guard.row.magnitude(&x, u, &rate)
+            });
+    same_side.then_some(steady)
+}
+
+/// Newton's method on the anchor's branch, as [`continue_steady`] checks it, whatever the
+/// anchor's path.
+fn continue_on_branch(
+    simulator: &mut Simulator<'_>,
+    anchor: &Anchor,
+    settings: &SteadySettings,
+) -> Option<Steady> {
+    continue_on_branch_at(simulator, anchor, settings).map(|(steady, _)| steady)
+}
+
+/// [`continue_on_branch`], with the equilibrium in the mode's own states.
+fn continue_on_branch_at(
+    simulator: &mut Simulator<'_>,
+    anchor: &Anchor,
+    settings: &SteadySettings,
+) -> Option<(Steady, Vec<f64>)> {
+    let mode = simulator.mode(&anchor.mode).ok()?;
     let nl = mode.nonlinear.as_ref()?;
     if anchor.state.len() != nl.n || anchor.inputs.len() != nl.m {
         return None;
@@ -95,5 +155,6 @@ pub fn continue_steady(
     if !eigenvalues.iter().all(|v| v.re < -settings.zero_eigenvalue) {
         return None;
     }
-    Some(steady_at(&mode, &x, &anchor.inputs, &rate, anchor.time))
+    let steady = steady_at(&mode, &x, &anchor.inputs, &rate, anchor.time);
+    Some((steady, x))
 }

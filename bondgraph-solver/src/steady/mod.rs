@@ -123,8 +123,8 @@ pub struct Steady {
     /// The events on the way (none unless [`SteadySettings::events`]).
     pub events: Vec<Event>,
     /// Where it can be continued to nearby parameter values without simulating again
-    /// ([`continuation`]): an isolated, stable equilibrium of a nonlinear mode without
-    /// guards, reached without leaving it; `None` otherwise.
+    /// ([`continuation`]): an isolated, stable equilibrium of a nonlinear mode, path-dependent
+    /// where the mode has guards or the search left a mode on the way; `None` otherwise.
     pub anchor: Option<continuation::Anchor>,
 }
 

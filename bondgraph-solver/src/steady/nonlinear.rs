@@ -305,11 +305,11 @@ fn settled(stepper: Stepper<'_, '_>, search: &Search<'_>, settings: &SteadySetti
 
 /// The steady state `x` of the stepper's mode, judged reached at the stepper's time: the
 /// outputs and their rates read at `x`. `equilibrium` holds each state's scale where `x` is
-/// a stable equilibrium shown to be reached: it is then an [`Anchor`] if the search never
-/// left the mode and the mode has no guard. (A mode with guards is not continued: whether
-/// a transient reaches a guard depends on the parameters along the whole path, not at the
-/// equilibrium alone; a contact stuck at rest whose holding force peaked just below its
-/// breakaway on the way breaks away at values a hair apart.)
+/// a stable equilibrium shown to be reached: it is then an [`Anchor`], path-dependent where
+/// the search left a mode on the way or the mode has guards (whether a transient reaches a
+/// guard depends on the parameters along the whole path, not at the equilibrium alone; a
+/// contact stuck at rest whose holding force peaked just below its breakaway on the way
+/// breaks away at values a hair apart).
 fn settled_at(
     stepper: Stepper<'_, '_>,
     search: &Search<'_>,
@@ -320,15 +320,19 @@ fn settled_at(
     let mode = stepper.mode().clone();
     let (u, rate) = stepper.inputs_at(stepper.time());
     let anchor = equilibrium
-        .filter(|_| {
-            stepper.event_count() == 0 && mode.guards.is_empty() && rate.iter().all(|r| *r == 0.0)
-        })
+        .filter(|_| rate.iter().all(|r| *r == 0.0))
         .map(|scale| Anchor {
             mode: mode.mode.clone(),
             state: x.to_vec(),
             inputs: u.clone(),
             scale,
             time: stepper.time(),
+            path_dependent: stepper.event_count() > 0 || !mode.guards.is_empty(),
+            guards_below: mode
+                .guards
+                .iter()
+                .map(|g| g.row.eval(x, &u, &rate) < 0.0)
+                .collect(),
         });
     Steady {
         anchor,
@@ -441,7 +445,7 @@ const GUARD_LOOKS: usize = 64;
 
 /// A fraction of the terms of a guard within which it is at its threshold (as the events'
 /// location judges it).
-const GUARD_ROUNDING: f64 = 1e-9;
+pub(super) const GUARD_ROUNDING: f64 = 1e-9;
 
 /// The Newton polish of a nonlinear mode's steady-state search: after each window, Newton's
 /// method on `f(x*, u) = 0` from the state reached, and a rule for when `x*` is the state the
