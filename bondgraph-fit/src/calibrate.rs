@@ -254,7 +254,10 @@ pub(crate) fn least_squares_toward(
                 continue;
             }
             let (best, interval, best_r) = problem.scan(&u, j, &r, settings.scan_points);
-            moved |= (best - u[j]).abs() > 1e-9 && sse(&best_r) < sse(&r);
+            // Another round only for a gain a descent would not stop at: a point of the
+            // same flat interval whose sum of squares differs by rounding is no gain.
+            let gain = sse(&r) - sse(&best_r);
+            moved |= (best - u[j]).abs() > 1e-9 && gain > settings.tolerance * sse(&r);
             u[j] = best;
             r = best_r;
             intervals[j] = Some(interval);
@@ -498,14 +501,29 @@ impl Problem<'_> {
             // thrown across its whole range by a tiny curvature.
             let largest = (0..m).map(|a| jtj[a * m + a]).fold(0.0, f64::max);
             let mut improved = false;
-            for _ in 0..12 {
-                let mut damped = jtj.clone();
-                for a in 0..m {
-                    damped[a * m + a] += lambda * jtj[a * m + a].max(1e-6 * largest);
-                }
-                let Some(delta) = cholesky_solve(&damped, &rhs) else {
-                    lambda *= 10.0;
-                    continue;
+            // What the undamped Gauss–Newton step promises, `gᵀ (JᵀJ)⁻¹ g`: below the
+            // tolerance, no step is an improvement the descent would go on from, so only
+            // that step is tried, as the last (damped steps at an optimum meet only the
+            // rounding of the predictions: a dozen evaluations each time).
+            let last = cholesky_solve(&jtj, &rhs).filter(|step| {
+                let promised: f64 = step.iter().zip(&rhs).map(|(d, g)| d * g).sum();
+                promised <= settings.tolerance * cost
+            });
+            let attempts = if last.is_some() { 1 } else { 12 };
+            for _ in 0..attempts {
+                let delta = match &last {
+                    Some(step) => step.clone(),
+                    None => {
+                        let mut damped = jtj.clone();
+                        for a in 0..m {
+                            damped[a * m + a] += lambda * jtj[a * m + a].max(1e-6 * largest);
+                        }
+                        let Some(delta) = cholesky_solve(&damped, &rhs) else {
+                            lambda *= 10.0;
+                            continue;
+                        };
+                        delta
+                    }
                 };
                 let mut trial = u.clone();
                 for (a, &j) in free.iter().enumerate() {
@@ -653,6 +671,34 @@ impl Problem<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_fit_started_at_its_optimum_tries_no_step() {
+        // The line y = 2 + 3 t through four exact points, started at (2, 3): the residuals
+        // are zero, so the Gauss–Newton step promises nothing. The fit evaluates the start,
+        // differences each of the two columns once and tries that step alone (it tried
+        // twelve damped steps, each meeting only the rounding of the residuals).
+        let t = [0.0, 1.0, 2.0, 3.0];
+        let mut count = 0;
+        let mut residuals = |x: &[f64]| {
+            count += 1;
+            Some(
+                t.iter()
+                    .map(|&t| x[0] + x[1] * t - (2.0 + 3.0 * t))
+                    .collect(),
+            )
+        };
+        let fit = least_squares(
+            &mut residuals,
+            &[2.0, 3.0],
+            &[(-10.0, 10.0), (-10.0, 10.0)],
+            &Settings::default(),
+        )
+        .unwrap();
+        assert_eq!(fit.values, vec![2.0, 3.0]);
+        assert_eq!(fit.evaluations, 4);
+        assert_eq!(count, 4);
+    }
 
     #[test]
     fn a_parameter_no_step_moves_keeps_its_start_exactly() {
