@@ -673,7 +673,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_fit_started_at_its_optimum_tries_no_step() {
+    fn a_fit_started_at_its_optimum_tries_one_step() {
         // The line y = 2 + 3 t through four exact points, started at (2, 3): the residuals
         // are zero, so the Gauss–Newton step promises nothing. The fit evaluates the start,
         // differences each of the two columns once and tries that step alone (it tried

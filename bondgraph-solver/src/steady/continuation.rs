@@ -83,7 +83,7 @@ pub fn continue_steady(
     if anchor.path_dependent {
         return None;
     }
-    continue_on_branch(simulator, anchor, settings)
+    continue_on_branch(simulator, anchor, settings).map(|(steady, _)| steady)
 }
 
 /// For a finite difference only: the equilibrium at the simulator's current parameter values
@@ -96,7 +96,7 @@ pub fn continue_branch(
     anchor: &Anchor,
     settings: &SteadySettings,
 ) -> Option<Steady> {
-    let (steady, x) = continue_on_branch_at(simulator, anchor, settings)?;
+    let (steady, x) = continue_on_branch(simulator, anchor, settings)?;
     let mode = simulator.mode(&anchor.mode).ok()?;
     let rate = vec![0.0; anchor.inputs.len()];
     let u = &anchor.inputs;
@@ -114,17 +114,8 @@ pub fn continue_branch(
 }
 
 /// Newton's method on the anchor's branch, as [`continue_steady`] checks it, whatever the
-/// anchor's path.
+/// anchor's path: the steady state, and the equilibrium in the mode's own states.
 fn continue_on_branch(
-    simulator: &mut Simulator<'_>,
-    anchor: &Anchor,
-    settings: &SteadySettings,
-) -> Option<Steady> {
-    continue_on_branch_at(simulator, anchor, settings).map(|(steady, _)| steady)
-}
-
-/// [`continue_on_branch`], with the equilibrium in the mode's own states.
-fn continue_on_branch_at(
     simulator: &mut Simulator<'_>,
     anchor: &Anchor,
     settings: &SteadySettings,
