@@ -62,6 +62,15 @@ pub(super) fn same_prediction(
     }
 }
 
+/// Whether two fits' predictions of every row are within `same` of each other
+/// ([`same_prediction`]).
+pub(super) fn predicts_as(predictions: &[f64], base_predictions: &[f64], same: f64) -> bool {
+    predictions
+        .iter()
+        .zip(base_predictions)
+        .all(|(a, b)| (a - b).abs() <= same)
+}
+
 pub(super) fn assess_candidate(
     candidate: &Candidate,
     experiment: &Experiment,
@@ -88,12 +97,7 @@ pub(super) fn assess_candidate(
         settings,
     )
     .map_err(named)?;
-    let same_as_base = fitted
-        .assessment
-        .predictions
-        .iter()
-        .zip(base_predictions)
-        .all(|(a, b)| (a - b).abs() <= same);
+    let same_as_base = predicts_as(&fitted.assessment.predictions, base_predictions, same);
     if same_as_base {
         return Ok((fitted.assessment, true));
     }
