@@ -161,8 +161,11 @@ pub struct Simulator<'m> {
     scratch: events::Scratch,
     /// The last segment's vectors, for the next.
     segment_buffers: SegmentBuffers,
-    /// The last integrated segment's integrator, its buffers for the next.
-    integrator: Option<crate::ode::Switching>,
+    /// The last integrated segment's integrator, its buffers for the next (boxed: it is
+    /// about a kilobyte, moved in and out at every segment).
+    integrator: Option<Box<crate::ode::Switching>>,
+    /// The last integrated segment's tape buffers, for the next of its mode.
+    workspace: Option<integrate::Workspace>,
 }
 
 impl<'m> Simulator<'m> {
@@ -182,6 +185,7 @@ impl<'m> Simulator<'m> {
             scratch: events::Scratch::default(),
             segment_buffers: SegmentBuffers::default(),
             integrator: None,
+            workspace: None,
         }
     }
 
@@ -375,6 +379,13 @@ impl<'m> Simulator<'m> {
         u1: &[f64],
         tau: f64,
     ) -> Vec<f64> {
+        // A nonlinear mode's outputs are one tape: evaluated once for all of them.
+        let compiled =
+            (mode.nonlinear.as_ref()).filter(|_| self.outputs.iter().any(|o| !o.integral));
+        let tape_values = compiled.map(|nl| {
+            nl.outputs
+                .eval_alloc(&crate::nonlinear::tape_input(x, u, rate))
+        });
         self.outputs
             .iter()
             .enumerate()
@@ -382,6 +393,8 @@ impl<'m> Simulator<'m> {
                 let row = &mode.outputs[k];
                 if output.integral {
                     integrals[k] + integrated(row, integral_state, u0, u1, tau)
+                } else if let (Some(values), Some(program)) = (&tape_values, &row.program) {
+                    values[program.value]
                 } else {
                     row.eval(x, u, rate)
                 }

@@ -65,14 +65,58 @@ pub(super) fn numeric_mode(
     ))
 }
 
-/// A nonlinear mode over one segment, with its quadratures: the energy supplied and
-/// dissipated (when kept) and the integral outputs.
-struct Segment<'a> {
-    nl: &'a NonlinearNumeric,
-    u0: &'a [f64],
-    u1: &'a [f64],
-    /// `[x, u, u̇]` for the tapes.
-    input: Vec<f64>,
+/// The buffers a segment of one nonlinear mode evaluates its tapes in (their registers,
+/// holding the constants folded in, and their outputs), kept from segment to segment in the
+/// simulator: a recorded input makes a segment of every sample, and building them for each
+/// was about a tenth of a run of the actuator with a nonlinear brush drop. They are made for
+/// one mode's tapes (`tapes`) and reused only with those.
+pub(super) struct Workspace {
+    tapes: Arc<NonlinearNumeric>,
+    segment: SegmentBuffers,
+    /// The guards' buffers: one for the looks at each step's start, one for the looks
+    /// inside and at the end of a step.
+    guards: [GuardBuffers; 2],
+}
+
+impl Workspace {
+    fn for_tapes(kept: Option<Workspace>, tapes: &Arc<NonlinearNumeric>) -> Workspace {
+        match kept {
+            Some(kept) if Arc::ptr_eq(&kept.tapes, tapes) => kept,
+            _ => Workspace {
+                tapes: tapes.clone(),
+                segment: SegmentBuffers::new(tapes),
+                guards: [GuardBuffers::new(tapes), GuardBuffers::new(tapes)],
+            },
+        }
+    }
+}
+
+/// Writes a nonlinear mode's tapes' input `[x, u₀ + u₁τ, u₁]` (its `n` states, its `m`
+/// inputs and their rates over the segment) into the first registers of `registers`, where
+/// [`Tape::eval_in_place`](bondgraph_core::symbolic::expr::Tape::eval_in_place) reads it,
+/// with no copy of its own.
+fn load_input(
+    registers: &mut [f64],
+    (n, m): (usize, usize),
+    (x, u0, u1): (&[f64], &[f64], &[f64]),
+    tau: f64,
+) {
+    // Element by element: a copy of a few values through `copy_from_slice` is a call to
+    // `memcpy`, at every evaluation of `f` (about 4 % of a run of a nonlinear mode).
+    #[allow(clippy::manual_memcpy)]
+    for r in 0..n {
+        registers[r] = x[r];
+    }
+    for k in 0..m {
+        registers[n + k] = u0[k] + u1[k] * tau;
+        registers[n + m + k] = u1[k];
+    }
+}
+
+/// What [`Segment`] evaluates its tapes in.
+struct SegmentBuffers {
+    /// `f`'s registers, its inputs `[x, u, u̇]` first: where every tape of the segment
+    /// reads them from (`f`'s evaluation leaves them as they are).
     f_scratch: Vec<f64>,
     fj_scratch: Vec<f64>,
     fj_out: Vec<f64>,
@@ -80,6 +124,29 @@ struct Segment<'a> {
     port_out: Vec<f64>,
     output_scratch: Vec<f64>,
     output_out: Vec<f64>,
+}
+
+impl SegmentBuffers {
+    fn new(nl: &NonlinearNumeric) -> Self {
+        Self {
+            f_scratch: nl.f.scratch(),
+            fj_scratch: nl.f_and_jacobian.scratch(),
+            fj_out: vec![0.0; nl.n + nl.n * nl.n],
+            port_scratch: nl.ports.scratch(),
+            port_out: vec![0.0; nl.ports.output_count()],
+            output_scratch: nl.outputs.scratch(),
+            output_out: vec![0.0; nl.outputs.output_count()],
+        }
+    }
+}
+
+/// A nonlinear mode over one segment, with its quadratures: the energy supplied and
+/// dissipated (when kept) and the integral outputs.
+struct Segment<'a> {
+    nl: &'a NonlinearNumeric,
+    u0: &'a [f64],
+    u1: &'a [f64],
+    buffers: SegmentBuffers,
     energy: bool,
     /// The outputs integrated, by index.
     integrals: Vec<usize>,
@@ -88,23 +155,16 @@ struct Segment<'a> {
 impl<'a> Segment<'a> {
     fn new(
         nl: &'a NonlinearNumeric,
-        u0: &'a [f64],
-        u1: &'a [f64],
+        (u0, u1): (&'a [f64], &'a [f64]),
+        buffers: SegmentBuffers,
         energy: bool,
         integrals: Vec<usize>,
     ) -> Self {
         Self {
-            input: vec![0.0; nl.n + 2 * nl.m],
-            f_scratch: nl.f.scratch(),
-            fj_scratch: nl.f_and_jacobian.scratch(),
-            fj_out: vec![0.0; nl.n + nl.n * nl.n],
-            port_scratch: nl.ports.scratch(),
-            port_out: vec![0.0; nl.ports.output_count()],
-            output_scratch: nl.outputs.scratch(),
-            output_out: vec![0.0; nl.outputs.output_count()],
             nl,
             u0,
             u1,
+            buffers,
             energy,
             integrals,
         }
@@ -114,21 +174,31 @@ impl<'a> Segment<'a> {
         usize::from(self.energy) * 2 + self.integrals.len()
     }
 
+    /// Writes the tapes' input `[x, u, u̇]` at `(tau, x)` into `f`'s input registers.
     fn load(&mut self, tau: f64, x: &[f64]) {
-        let (n, m) = (self.nl.n, self.nl.m);
-        self.input[..n].copy_from_slice(&x[..n]);
-        for k in 0..m {
-            self.input[n + k] = self.u0[k] + self.u1[k] * tau;
-            self.input[n + m + k] = self.u1[k];
-        }
+        let sizes = (self.nl.n, self.nl.m);
+        load_input(
+            &mut self.buffers.f_scratch,
+            sizes,
+            (x, self.u0, self.u1),
+            tau,
+        );
+    }
+
+    /// The tapes' input, as [`Segment::load`] left it.
+    fn input_len(&self) -> usize {
+        self.nl.n + 2 * self.nl.m
     }
 
     /// The requested outputs at `(tau, x)` (integrals excluded) into `output_out`.
     fn outputs(&mut self, tau: f64, x: &[f64]) {
         self.load(tau, x);
-        self.nl
-            .outputs
-            .eval(&self.input, &mut self.output_scratch, &mut self.output_out);
+        let inputs = self.input_len();
+        self.nl.outputs.eval(
+            &self.buffers.f_scratch[..inputs],
+            &mut self.buffers.output_scratch,
+            &mut self.buffers.output_out,
+        );
     }
 }
 
@@ -146,15 +216,18 @@ impl System for Segment<'_> {
         self.load(tau, x);
         self.nl
             .f
-            .eval(&self.input, &mut self.f_scratch, &mut dx[..n]);
+            .eval_in_place(&mut self.buffers.f_scratch, &mut dx[..n]);
+        let inputs = self.input_len();
         let mut next = n;
         if self.energy {
-            self.nl
-                .ports
-                .eval(&self.input, &mut self.port_scratch, &mut self.port_out);
+            self.nl.ports.eval(
+                &self.buffers.f_scratch[..inputs],
+                &mut self.buffers.port_scratch,
+                &mut self.buffers.port_out,
+            );
             let (mut supplied, mut dissipated) = (0.0, 0.0);
             for (k, source) in self.nl.port_sources.iter().enumerate() {
-                let power = self.port_out[2 * k] * self.port_out[2 * k + 1];
+                let power = self.buffers.port_out[2 * k] * self.buffers.port_out[2 * k + 1];
                 if *source {
                     supplied -= power;
                 } else {
@@ -166,11 +239,13 @@ impl System for Segment<'_> {
             next += 2;
         }
         if !self.integrals.is_empty() {
-            self.nl
-                .outputs
-                .eval(&self.input, &mut self.output_scratch, &mut self.output_out);
+            self.nl.outputs.eval(
+                &self.buffers.f_scratch[..inputs],
+                &mut self.buffers.output_scratch,
+                &mut self.buffers.output_out,
+            );
             for (slot, &k) in self.integrals.iter().enumerate() {
-                dx[next + slot] = self.output_out[k];
+                dx[next + slot] = self.buffers.output_out[k];
             }
         }
     }
@@ -179,13 +254,16 @@ impl System for Segment<'_> {
         let n = self.nl.n;
         let size = self.dimension();
         self.load(tau, x);
-        self.nl
-            .f_and_jacobian
-            .eval(&self.input, &mut self.fj_scratch, &mut self.fj_out);
+        let inputs = self.input_len();
+        self.nl.f_and_jacobian.eval(
+            &self.buffers.f_scratch[..inputs],
+            &mut self.buffers.fj_scratch,
+            &mut self.buffers.fj_out,
+        );
         jacobian.fill(0.0);
         for r in 0..n {
             jacobian[r * size..r * size + n]
-                .copy_from_slice(&self.fj_out[n + r * n..n + (r + 1) * n]);
+                .copy_from_slice(&self.buffers.fj_out[n + r * n..n + (r + 1) * n]);
         }
     }
 }
@@ -194,49 +272,60 @@ impl System for Segment<'_> {
 /// rates at a point, evaluated without allocating.
 struct Guards<'a> {
     nl: &'a NonlinearNumeric,
+    buffers: GuardBuffers,
+}
+
+/// What [`Guards`] evaluates the guards' tape in.
+struct GuardBuffers {
+    /// The guards' tape's registers, its inputs first.
     scratch: Vec<f64>,
     out: Vec<f64>,
-    input: Vec<f64>,
     fire_above: Vec<f64>,
 }
 
-impl<'a> Guards<'a> {
-    fn new(nl: &'a NonlinearNumeric, fire_above: &[f64]) -> Self {
+impl GuardBuffers {
+    fn new(nl: &NonlinearNumeric) -> Self {
         Self {
             scratch: nl.guards.scratch(),
             out: vec![0.0; nl.guards.output_count()],
-            input: vec![0.0; nl.n + 2 * nl.m],
-            fire_above: fire_above.to_vec(),
-            nl,
+            fire_above: Vec::new(),
         }
+    }
+}
+
+impl<'a> Guards<'a> {
+    fn new(nl: &'a NonlinearNumeric, mut buffers: GuardBuffers, fire_above: &[f64]) -> Self {
+        buffers.fire_above.clear();
+        buffers.fire_above.extend_from_slice(fire_above);
+        Self { nl, buffers }
     }
 
     fn count(&self) -> usize {
-        self.out.len() / 3
+        self.buffers.out.len() / 3
     }
 
     fn at(&mut self, tau: f64, x: &[f64], u0: &[f64], u1: &[f64]) {
-        let (n, m) = (self.nl.n, self.nl.m);
-        self.input[..n].copy_from_slice(&x[..n]);
-        for k in 0..m {
-            self.input[n + k] = u0[k] + u1[k] * tau;
-            self.input[n + m + k] = u1[k];
-        }
+        load_input(
+            &mut self.buffers.scratch,
+            (self.nl.n, self.nl.m),
+            (x, u0, u1),
+            tau,
+        );
         self.nl
             .guards
-            .eval(&self.input, &mut self.scratch, &mut self.out);
+            .eval_in_place(&mut self.buffers.scratch, &mut self.buffers.out);
     }
 
     fn value(&self, k: usize) -> f64 {
-        self.out[3 * k] - self.fire_above[k]
+        self.buffers.out[3 * k] - self.buffers.fire_above[k]
     }
 
     fn rate(&self, k: usize) -> f64 {
-        self.out[3 * k + 2]
+        self.buffers.out[3 * k + 2]
     }
 
     fn magnitude(&self, k: usize) -> f64 {
-        self.out[3 * k + 1]
+        self.buffers.out[3 * k + 1]
     }
 
     /// The values and rates of the last point, into `look`.
@@ -375,10 +464,15 @@ impl Stepper<'_, '_> {
             .filter(|(_, o)| o.integral)
             .map(|(k, _)| k)
             .collect();
+        let Workspace {
+            tapes,
+            segment: segment_buffers,
+            guards: [start_buffers, look_buffers],
+        } = Workspace::for_tapes(self.simulator.workspace.take(), &nl);
         let mut system = Segment::new(
             &nl,
-            &u0,
-            &u1,
+            (&u0, &u1),
+            segment_buffers,
             self.energy.is_some(),
             integral_outputs.clone(),
         );
@@ -386,7 +480,7 @@ impl Stepper<'_, '_> {
         let size = system.dimension();
         let mut z = vec![0.0; size];
         z[..n].copy_from_slice(&self.x);
-        let mut guards = Guards::new(&nl, &self.fire_above);
+        let mut guards = Guards::new(&nl, start_buffers, &self.fire_above);
         let guard_count = guards.count();
         let mode_index = self.sample.map(|_| self.recorder.mode_index(&current.spec));
         let start = self.t;
@@ -416,7 +510,7 @@ impl Stepper<'_, '_> {
         let mut point = vec![0.0; size];
         let mut crossing: Option<Crossing> = None;
         let mut looks = Looks {
-            guards: Guards::new(&nl, &self.fire_above),
+            guards: Guards::new(&nl, look_buffers, &self.fire_above),
             point: vec![0.0; size],
             end: Look::default(),
         };
@@ -547,7 +641,24 @@ impl Stepper<'_, '_> {
             );
             tau += step;
         }
-        // Books and integrals over the segment, then the state at its end.
+        self.add_quadratures(&z, n, &integral_outputs);
+        self.t = match crossing {
+            Some(crossing) => super::event_time(start, crossing.tau, end),
+            None => end,
+        };
+        self.x = z[..n].to_vec();
+        self.simulator.integrator = Some(integrator);
+        self.simulator.workspace = Some(Workspace {
+            tapes,
+            segment: system.buffers,
+            guards: [guards.buffers, looks.guards.buffers],
+        });
+        Ok(crossing)
+    }
+
+    /// Adds a segment's quadratures (after its `n` states in `z`: the energy books when
+    /// kept, then the integral outputs `integral_outputs`) to the run's.
+    fn add_quadratures(&mut self, z: &[f64], n: usize, integral_outputs: &[usize]) {
         let mut next = n;
         if let Some(energy) = &mut self.energy {
             energy.supplied += z[n];
@@ -557,13 +668,6 @@ impl Stepper<'_, '_> {
         for (slot, &k) in integral_outputs.iter().enumerate() {
             self.integrals[k] += z[next + slot];
         }
-        self.t = match crossing {
-            Some(crossing) => super::event_time(start, crossing.tau, end),
-            None => end,
-        };
-        self.x = z[..n].to_vec();
-        self.simulator.integrator = Some(integrator);
-        Ok(crossing)
     }
 
     /// The first crossing of an armed guard in the step just `taken`, `(guard, θ)`, from the
@@ -627,7 +731,7 @@ impl Stepper<'_, '_> {
         system: &mut Segment<'_>,
         z: &[f64],
         length: f64,
-    ) -> (Switching, f64) {
+    ) -> (Box<Switching>, f64) {
         let (size, n) = (system.dimension(), system.nl.n);
         let tolerances = self.simulator.settings.tolerances;
         let mut integrator = match self.simulator.integrator.take() {
@@ -635,7 +739,7 @@ impl Stepper<'_, '_> {
                 kept.reset();
                 kept
             }
-            _ => Switching::new(size, n, tolerances),
+            _ => Box::new(Switching::new(size, n, tolerances)),
         };
         let h = if length > 0.0 {
             integrator.initial_step(system, 0.0, z, length)
@@ -729,7 +833,7 @@ impl Stepper<'_, '_> {
                         integral_slot += 1;
                         value
                     } else {
-                        system.output_out[k]
+                        system.buffers.output_out[k]
                     }
                 })
                 .collect();

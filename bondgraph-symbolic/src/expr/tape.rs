@@ -76,6 +76,15 @@ impl Tape {
     /// using `scratch` from [`Tape::scratch`].
     pub fn eval(&self, input: &[f64], scratch: &mut [f64], out: &mut [f64]) {
         scratch[..self.inputs].copy_from_slice(&input[..self.inputs]);
+        self.eval_in_place(scratch, out);
+    }
+
+    /// [`Tape::eval`] with the input already in the first [`Tape::input_count`] registers
+    /// of `scratch` (from [`Tape::scratch`]): for a caller that evaluates one tape many
+    /// times and writes its few inputs there itself, saving a copy per evaluation. Every
+    /// operation writes a register of its own past the inputs, so the input registers are
+    /// left as they were, for the next tape reading the same input.
+    pub fn eval_in_place(&self, scratch: &mut [f64], out: &mut [f64]) {
         let r = scratch;
         for op in &self.ops {
             match *op {
