@@ -136,6 +136,10 @@ pub struct Trials {
     pub tried: BTreeMap<String, (f64, f64)>,
     /// Whether a fit stopped at its budget of evaluations.
     pub evaluation_budget_spent: bool,
+    /// Steady rows predicted by continuing a steady state simulated before (near the values
+    /// it was simulated at, or on its branch for a finite difference from them) instead of
+    /// simulating them again ([`Budget::continuation`]).
+    pub continued_rows: usize,
 }
 
 fn widen(intervals: &mut BTreeMap<String, (f64, f64)>, names: &[String], values: &[f64]) {
@@ -165,6 +169,7 @@ impl Trials {
     /// Adds `other`'s counts to these.
     pub fn merge(&mut self, other: &Trials) {
         self.trials += other.trials;
+        self.continued_rows += other.continued_rows;
         self.evaluation_budget_spent |= other.evaluation_budget_spent;
         for (name, &(low, high)) in &other.tried {
             widen(&mut self.tried, std::slice::from_ref(name), &[low]);

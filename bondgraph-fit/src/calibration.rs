@@ -71,6 +71,9 @@ pub struct Calibration {
     pub evaluations: usize,
     /// Trial predictions of the fit that failed or ran out of their budget, by reason.
     pub failed_trials: Vec<crate::budget::FailedTrials>,
+    /// Steady rows the fit's trials continued from a steady state simulated before instead
+    /// of simulating them again ([`crate::budget::Trials::continued_rows`]).
+    pub continued_rows: usize,
 }
 
 /// Calibrates the model in `source` on `data` (read against `experiment`).
@@ -219,6 +222,7 @@ pub fn calibrate(
         table,
         evaluations: fit.evaluations,
         failed_trials,
+        continued_rows: trials.continued_rows,
     })
 }
 

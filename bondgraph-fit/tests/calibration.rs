@@ -626,3 +626,68 @@ fn differences_continued_on_their_branch_change_no_conclusion() {
         "{report}"
     );
 }
+
+/// The same sweep calibrated with the actuator extended by the brush drop: every row's
+/// equilibrium is path-dependent, so a fit continues rows only for its differences, from
+/// the values each was simulated at. With continuation (the default) the fit's trials
+/// continue rows, with `continuation = 0` none, and both end at the same optimum: every
+/// fitted value within a tenth of its standard error of the other's (the breakaway force,
+/// which no difference moves, within the other's interval), the same RMSE to 1e-6.
+#[test]
+fn a_calibration_continues_path_dependent_rows_for_its_differences_only() {
+    use bondgraph_core::model::extension::{Extension, merge};
+    use bondgraph_fit::budget::Budget;
+    let base = file("models/examples/actuator/actuator.ron");
+    let extension = Extension::load(&file(
+        "models/examples/actuator/extensions/brush-voltage-drop.ron",
+    ))
+    .unwrap();
+    let merged = merge(&base, &[extension]).unwrap();
+    let text = file("models/examples/actuator/experiment.ron")
+        .text()
+        .replace(
+            r#"fitted: ["K", "b", "F_C", "F_S"]"#,
+            r#"fitted: ["K", "b", "F_C", "F_S", "U_b"]"#,
+        );
+    let experiment = Experiment::parse("experiment.ron", &text).unwrap();
+    assert!(experiment.fitted.iter().any(|name| name == "U_b"));
+    let csv = file("models/examples/actuator/data/hidden/brush-voltage-drop/steady.csv");
+    let dataset = data::read(csv.name(), csv.text(), &experiment).unwrap();
+    let run = |continuation: f64| {
+        let settings = Settings {
+            budget: Budget {
+                continuation,
+                ..Budget::default()
+            },
+            ..Settings::default()
+        };
+        calibrate(&merged.file, &experiment, &dataset, &settings).unwrap()
+    };
+    let (continued, simulated) = (run(Budget::default().continuation), run(0.0));
+    assert!(continued.continued_rows > 0, "no row was continued");
+    assert_eq!(simulated.continued_rows, 0);
+    for (name, estimate) in &continued.params {
+        let other = &simulated.params[name];
+        match (estimate.std_error, estimate.interval) {
+            (Some(error), _) => assert!(
+                (estimate.value - other.value).abs() < 0.1 * error,
+                "{name}: {} continued, {} simulated, standard error {error}",
+                estimate.value,
+                other.value
+            ),
+            (None, Some((low, high))) => assert!(
+                (low..=high).contains(&other.value),
+                "{name}: {} simulated, outside [{low}, {high}]",
+                other.value
+            ),
+            (None, None) => panic!("{name}: neither an error nor an interval"),
+        }
+    }
+    for (column, rmse) in &continued.rmse {
+        let other = simulated.rmse[column];
+        assert!(
+            (rmse - other).abs() <= 1e-6 * other,
+            "{column}: {rmse} against {other}"
+        );
+    }
+}

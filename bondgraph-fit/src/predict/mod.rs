@@ -202,6 +202,7 @@ impl Predictor {
             values: Vec::new(),
             trials: Arc::new(Mutex::new(Trials::default())),
             differenced_from: None,
+            continued_rows: 0,
         })
     }
 
@@ -318,6 +319,9 @@ pub struct Evaluator<'p> {
     /// While predicting a finite difference ([`Evaluator::predict_differenced`]): the values
     /// (of the parameters named) it is taken from.
     differenced_from: Option<Vec<f64>>,
+    /// Steady rows of the trial under way continued from a kept steady state
+    /// ([`Trials::continued_rows`]).
+    continued_rows: usize,
 }
 
 /// One variant's simulator and where the evaluator's parameters sit in its values.
@@ -437,6 +441,7 @@ impl<'p> Evaluator<'p> {
             values: self.values.clone(),
             trials: Arc::clone(&self.trials),
             differenced_from: None,
+            continued_rows: 0,
         }
     }
 
@@ -633,12 +638,11 @@ impl<'p> Evaluator<'p> {
 
     /// Counts a trial at the current values ([`Evaluator::trials`]), failed with `failure`
     /// (its reason and the failed row in words) or not; whether it succeeded.
-    fn record_trial(&self, failure: Option<(Failure, String)>) -> bool {
+    fn record_trial(&mut self, failure: Option<(Failure, String)>) -> bool {
         let failed = failure.is_some();
-        self.trials
-            .lock()
-            .expect("no thread panicked holding it")
-            .record(&self.names, &self.values, failure);
+        let mut trials = self.trials.lock().expect("no thread panicked holding it");
+        trials.record(&self.names, &self.values, failure);
+        trials.continued_rows += std::mem::take(&mut self.continued_rows);
         !failed
     }
 
@@ -686,7 +690,10 @@ impl<'p> Evaluator<'p> {
             None => None,
         };
         let steady = match continued {
-            Some(steady) => steady,
+            Some(steady) => {
+                self.continued_rows += 1;
+                steady
+            }
             None => {
                 let storage = session.simulator.storage().len();
                 let steady = steady_state(
