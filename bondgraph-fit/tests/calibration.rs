@@ -556,6 +556,33 @@ fn refits_continued_from_the_whole_fit_change_no_conclusion() {
     assert_eq!(counts(&continued), counts(&simulated));
 }
 
+/// Each of `continued`'s estimates within a tenth of its standard error of `simulated`'s, or,
+/// for a threshold without one, `simulated`'s value within its interval of equally good
+/// values; `report` is shown on failure.
+fn assert_same_estimates(
+    continued: &std::collections::BTreeMap<String, bondgraph_fit::discover::Estimate>,
+    simulated: &std::collections::BTreeMap<String, bondgraph_fit::discover::Estimate>,
+    report: &str,
+) {
+    for (name, estimate) in continued {
+        let other = &simulated[name];
+        match (estimate.std_error, estimate.interval) {
+            (Some(error), _) => assert!(
+                (estimate.value - other.value).abs() < 0.1 * error,
+                "{name}: {} continued, {} simulated, standard error {error}",
+                estimate.value,
+                other.value
+            ),
+            (None, Some((low, high))) => assert!(
+                (low..=high).contains(&other.value),
+                "{name}: {} simulated, outside [{low}, {high}]",
+                other.value
+            ),
+            (None, None) => panic!("{name}: neither an error nor an interval\n{report}"),
+        }
+    }
+}
+
 /// Continuing path-dependent steady states for a Jacobian's differences only
 /// ([`bondgraph_fit::predict::Evaluator::predict_differenced`]) changes no conclusion: the
 /// lead-screw actuator's steady sweep with the brushes' voltage drop hidden (scipy,
@@ -603,23 +630,7 @@ fn differences_continued_on_their_branch_change_no_conclusion() {
     );
     assert_eq!(continued.selected, simulated.selected);
     let (a, b) = (&continued.ranking[0].params, &simulated.ranking[0].params);
-    for (name, estimate) in a {
-        let other = &b[name];
-        match (estimate.std_error, estimate.interval) {
-            (Some(error), _) => assert!(
-                (estimate.value - other.value).abs() < 0.1 * error,
-                "{name}: {} continued, {} simulated, standard error {error}",
-                estimate.value,
-                other.value
-            ),
-            (None, Some((low, high))) => assert!(
-                (low..=high).contains(&other.value),
-                "{name}: {} simulated, outside [{low}, {high}]",
-                other.value
-            ),
-            (None, None) => panic!("{name}: neither an error nor an interval\n{report}"),
-        }
-    }
+    assert_same_estimates(a, b, &report);
     let u_b = &a["U_b"];
     assert!(
         (u_b.value - 0.25).abs() < 3.0 * u_b.std_error.unwrap(),
@@ -666,23 +677,7 @@ fn a_calibration_continues_path_dependent_rows_for_its_differences_only() {
     let (continued, simulated) = (run(Budget::default().continuation), run(0.0));
     assert!(continued.continued_rows > 0, "no row was continued");
     assert_eq!(simulated.continued_rows, 0);
-    for (name, estimate) in &continued.params {
-        let other = &simulated.params[name];
-        match (estimate.std_error, estimate.interval) {
-            (Some(error), _) => assert!(
-                (estimate.value - other.value).abs() < 0.1 * error,
-                "{name}: {} continued, {} simulated, standard error {error}",
-                estimate.value,
-                other.value
-            ),
-            (None, Some((low, high))) => assert!(
-                (low..=high).contains(&other.value),
-                "{name}: {} simulated, outside [{low}, {high}]",
-                other.value
-            ),
-            (None, None) => panic!("{name}: neither an error nor an interval"),
-        }
-    }
+    assert_same_estimates(&continued.params, &simulated.params, "");
     for (column, rmse) in &continued.rmse {
         let other = simulated.rmse[column];
         assert!(
