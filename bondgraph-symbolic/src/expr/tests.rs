@@ -157,6 +157,32 @@ fn derivatives_agree_with_finite_differences() {
 }
 
 #[test]
+fn a_tape_evaluated_in_place_leaves_its_inputs_for_the_next_tape() {
+    // q p + q and sin(q) on one tape, p - q on another, read from the first's registers:
+    // at q = 0.5, p = 2: 1.5, sin(0.5), 1.5, and the input registers still hold 0.5 and 2.
+    let slot = |a: Atom| match a {
+        Atom::State(i) => Some(i as usize),
+        _ => None,
+    };
+    let mut first = TapeBuilder::new(2, &slot, &[]);
+    first.push(&Sym::add(&Sym::mul(&q(), &pm()), &q())).unwrap();
+    first.push(&Sym::call(Function::Sin, vec![q()])).unwrap();
+    let first = first.finish();
+    let mut second = TapeBuilder::new(2, &slot, &[]);
+    second.push(&Sym::sub(&pm(), &q())).unwrap();
+    let second = second.finish();
+    let mut registers = first.scratch();
+    registers[..2].copy_from_slice(&[0.5, 2.0]);
+    let mut out = [0.0; 2];
+    first.eval_in_place(&mut registers, &mut out);
+    assert_eq!(out, [1.5, 0.5f64.sin()]);
+    assert_eq!(registers[..2], [0.5, 2.0]);
+    let mut difference = [0.0];
+    second.eval(&registers[..2], &mut second.scratch(), &mut difference);
+    assert_eq!(difference, [1.5]);
+}
+
+#[test]
 fn the_tape_evaluates_like_the_tree() {
     let exprs = [
         Sym::mul(&Sym::neg(&p("k")), &Sym::call(Function::Sin, vec![q()])),
