@@ -195,7 +195,7 @@ const PACE_WINDOW: usize = 5;
 /// held the descent in a narrow valley (a breakaway force deciding which rows slide) moves
 /// there, and the next round descends from the better point (a crawl at sixty times the
 /// search's best has ended its round so, and its next rounds reached that best; ending the
-/// fit outright lost it). Returns the fit and whether its last round ended on a crawl.
+/// fit outright lost it). Returns the fit and how its last round ended.
 ///
 /// Only crawls are extrapolated: a descent from far away that still falls steeply (a tenth
 /// of its sum of squares a step) may reach the best optimum of all, from thousands of times
@@ -209,7 +209,7 @@ pub(crate) fn least_squares_toward(
     bounds: &[(f64, f64)],
     settings: &Settings,
     bar: f64,
-) -> Result<(Fit, bool), CalibrationError> {
+) -> Result<(Fit, Ending), CalibrationError> {
     for (i, &(lo, hi)) in bounds.iter().enumerate() {
         if !(lo.is_finite() && hi.is_finite() && lo < hi) {
             return Err(CalibrationError(format!(
@@ -238,12 +238,12 @@ pub(crate) fn least_squares_toward(
         CalibrationError("the model cannot be evaluated at the starting values".into())
     })?;
     let mut intervals = vec![None; u.len()];
-    let mut stopped_crawling = false;
-    for _round in 0..ROUNDS {
-        let (next_u, next_r, crawled) = problem.levenberg_marquardt(u, r, settings, bar);
+    let mut ending = Ending::Unfinished;
+    for round in 0..ROUNDS {
+        let (next_u, next_r, descent) = problem.levenberg_marquardt(u, r, settings, bar);
         u = next_u;
         r = next_r;
-        stopped_crawling = crawled;
+        ending = descent;
         // Parameters the residuals do not move: scan them.
         let jacobian = problem.jacobian(&u, &r, settings.step);
         let moves = moving_columns(&jacobian, r.len(), u.len());
@@ -264,6 +264,9 @@ pub(crate) fn least_squares_toward(
         }
         if !moved {
             break;
+        }
+        if round + 1 == ROUNDS {
+            ending = Ending::Unfinished;
         }
     }
     let jacobian_u = problem.jacobian(&u, &r, settings.step);
@@ -328,7 +331,19 @@ pub(crate) fn least_squares_toward(
         jacobian,
         evaluations: problem.evaluations,
     };
-    Ok((fit, stopped_crawling))
+    Ok((fit, ending))
+}
+
+/// How a fit's last round of descent ended ([`least_squares_toward`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Ending {
+    /// No step improved it further and its scans moved nothing: a fit started where it
+    /// ended would only repeat its last differences and scans.
+    Converged,
+    /// A crawl that could not reach the search's bar.
+    Crawled,
+    /// Its iterations or its rounds ran out while it still descended.
+    Unfinished,
 }
 
 /// `JᵀJ` over the columns `columns` of the row-major `n × p` Jacobian.
@@ -449,15 +464,14 @@ impl Problem<'_> {
         jacobian
     }
 
-    /// A descent from `(u, r)`: where it ends, and whether it ended as a crawl that cannot
-    /// reach `bar` ([`least_squares_toward`]).
+    /// A descent from `(u, r)`: where it ends, and how ([`least_squares_toward`]).
     fn levenberg_marquardt(
         &mut self,
         mut u: Vec<f64>,
         mut r: Vec<f64>,
         settings: &Settings,
         bar: f64,
-    ) -> (Vec<f64>, Vec<f64>, bool) {
+    ) -> (Vec<f64>, Vec<f64>, Ending) {
         let p = u.len();
         let mut lambda = 1e-3;
         let mut cost = sse(&r);
@@ -489,7 +503,7 @@ impl Problem<'_> {
             }
             if free.is_empty() {
                 if every_column {
-                    break;
+                    return (u, r, Ending::Converged);
                 }
                 wanted = vec![true; p];
                 continue;
@@ -554,17 +568,17 @@ impl Problem<'_> {
                 let windows_left =
                     (settings.max_iterations - iteration - 1) as f64 / PACE_WINDOW as f64;
                 if 1.0 - pace < CRAWL && cost * pace.powf(windows_left) > bar {
-                    return (u, r, true);
+                    return (u, r, Ending::Crawled);
                 }
             }
             if !improved {
                 if every_column {
-                    break;
+                    return (u, r, Ending::Converged);
                 }
                 wanted = vec![true; p];
             }
         }
-        (u, r, false)
+        (u, r, Ending::Unfinished)
     }
 
     /// The best value of parameter `j` on a grid over its bounds (others fixed), refined to
@@ -845,7 +859,7 @@ mod tests {
         // the search's best.
         let (abandoned, gave_up) =
             least_squares_toward(&mut crawl, &start, &bounds, &settings, 50.0).unwrap();
-        assert!(gave_up);
+        assert_eq!(gave_up, Ending::Crawled);
         assert!(abandoned.sse > 100.0, "{}", abandoned.sse);
         // Its pace is measured over five accepted steps of two evaluations (one difference,
         // one trial), after the start's.
@@ -855,14 +869,15 @@ mod tests {
             abandoned.evaluations
         );
         // Left to itself, it crawls through its sixty iterations and stays far from x = 1.
-        let (whole, _) =
+        let (whole, ending) =
             least_squares_toward(&mut crawl, &start, &bounds, &settings, f64::INFINITY).unwrap();
+        assert_eq!(ending, Ending::Unfinished);
         assert!(whole.evaluations >= 100, "{}", whole.evaluations);
         assert!(whole.values[0] > 1.3, "{:?}", whole.values);
         // Below the bar, a crawl is the search's best so far and goes on.
         let (below, kept_on) =
             least_squares_toward(&mut crawl, &start, &bounds, &settings, 200.0).unwrap();
-        assert!(!kept_on);
+        assert_eq!(kept_on, Ending::Unfinished);
         assert_eq!(below.evaluations, whole.evaluations);
     }
 
@@ -885,7 +900,7 @@ mod tests {
             150.0,
         )
         .unwrap();
-        assert!(!crawled);
+        assert_ne!(crawled, Ending::Crawled);
         assert!(fit.values[1] >= 0.5, "{:?}", fit.values);
         assert!(fit.sse > 99.0 && fit.sse < 100.1, "{}", fit.sse);
     }
@@ -910,7 +925,7 @@ mod tests {
             0.0,
         )
         .unwrap();
-        assert!(!gave_up);
+        assert_eq!(gave_up, Ending::Converged);
         assert!((fit.values[0] - 3.0).abs() < 1e-5, "{:?}", fit.values);
         assert!((fit.values[1] - 0.7).abs() < 1e-5, "{:?}", fit.values);
     }

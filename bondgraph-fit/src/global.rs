@@ -29,7 +29,7 @@ use bondgraph_core::symbolic::RatFunc;
 
 use rayon::prelude::*;
 
-use crate::calibrate::{self, CalibrationError, Fit, Settings};
+use crate::calibrate::{self, CalibrationError, Ending, Fit, Settings};
 
 /// How widely a fit searches.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -266,7 +266,7 @@ pub fn least_squares<'a>(
     // Each face's reduced parameters, its local fits, and how many starts were the caller's.
     type Fitted<'r> = (
         &'r Reduced,
-        Vec<Result<(Fit, bool), CalibrationError>>,
+        Vec<Result<(Fit, Ending), CalibrationError>>,
         usize,
     );
     let searched: Vec<Fitted<'_>> = screened
@@ -292,7 +292,7 @@ pub fn least_squares<'a>(
         })
         .collect();
     let mut evaluations = 0;
-    let mut best: Option<(Fit, Reduced)> = None;
+    let mut best: Option<(Fit, Ending, Reduced)> = None;
     let mut optima: Vec<(f64, Vec<f64>)> = Vec::new();
     let mut failure = None;
     for (reduced, fits, given) in searched {
@@ -300,11 +300,11 @@ pub fn least_squares<'a>(
         evaluations += given + search.screened;
         for result in fits {
             match result {
-                Ok((fit, _)) => {
+                Ok((fit, ending)) => {
                     evaluations += fit.evaluations;
                     optima.push((fit.sse, reduced.expand(&fit.values)));
-                    if best.as_ref().is_none_or(|(b, _)| fit.sse < b.sse) {
-                        best = Some((fit, reduced.clone()));
+                    if best.as_ref().is_none_or(|(b, _, _)| fit.sse < b.sse) {
+                        best = Some((fit, ending, reduced.clone()));
                     }
                 }
                 Err(e) => {
@@ -314,11 +314,20 @@ pub fn least_squares<'a>(
             }
         }
     }
-    let Some((face_fit, reduced)) = best else {
+    let Some((face_fit, ending, reduced)) = best else {
         return Err(failure.unwrap_or_else(|| {
             CalibrationError("no start and no screened point could be evaluated".into())
         }));
     };
+    // A best fit that tied no parameters and converged is the polish's own end: a polish
+    // from it would difference every column again, try the Gauss–Newton step and scan the
+    // flat parameters again, a dozen predictions of every row, to stay where it is.
+    if ending == Ending::Converged && reduced.is_whole() {
+        let mut fit = face_fit;
+        fit.evaluations = evaluations;
+        let basins = distinct_basins(optima, bounds);
+        return Ok(Searched { fit, basins });
+    }
     // Polish on every parameter from the face's optimum: the tied parameters part where the
     // data allows it, and the errors come from the full Jacobian.
     let start = reduced.expand(&face_fit.values);
@@ -469,6 +478,11 @@ struct Reduced {
 }
 
 impl Reduced {
+    /// Whether no parameter is tied: the reduced parameters are the full ones.
+    fn is_whole(&self) -> bool {
+        self.kept.len() == self.source.len()
+    }
+
     /// `None` when a tied pair's bounds do not overlap, or the orderings chain (a parameter
     /// tied on both sides), which the face search does not handle.
     fn new(bounds: &[(f64, f64)], tied: &[Ordering]) -> Option<Self> {
@@ -691,6 +705,56 @@ mod tests {
             (lo - 9.0).abs() < 0.01 && (hi - 10.0).abs() < 0.01,
             "{lo} {hi}"
         );
+    }
+
+    #[test]
+    fn a_local_fit_that_converged_with_nothing_tied_is_not_polished_again() {
+        // y = 3 exp(-0.7 t) at 20 times, fitted as a exp(-k t) from (1, 0.2): the one local
+        // fit converges on the whole parameter space, and the search returns it as it is,
+        // having evaluated its start once and then only what that fit evaluated (a polish
+        // would evaluate the start again, difference both columns and try a step).
+        let t: Vec<f64> = (0..20).map(|k| f64::from(k) * 0.25).collect();
+        let decay = |p: &[f64]| -> Option<Vec<f64>> {
+            Some(
+                t.iter()
+                    .map(|&t| p[0] * (-p[1] * t).exp() - 3.0 * (-0.7 * t).exp())
+                    .collect(),
+            )
+        };
+        let bounds = [(0.0, 10.0), (0.0, 5.0)];
+        let start = [1.0, 0.2];
+        let counted = std::sync::atomic::AtomicUsize::new(0);
+        let counting = |p: &[f64]| {
+            counted.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            decay(p)
+        };
+        let searched = least_squares(
+            &|| Box::new(counting),
+            &[&start],
+            &bounds,
+            &[],
+            &Search::LOCAL,
+            &Settings::default(),
+        )
+        .unwrap();
+        let (local, ending) = calibrate::least_squares_toward(
+            &mut { decay },
+            &start,
+            &bounds,
+            &Settings::default(),
+            f64::INFINITY,
+        )
+        .unwrap();
+        assert_eq!(ending, Ending::Converged);
+        assert_eq!(searched.fit.values, local.values);
+        assert!(
+            (searched.fit.values[1] - 0.7).abs() < 1e-6,
+            "{:?}",
+            local.values
+        );
+        let made = counted.load(std::sync::atomic::Ordering::Relaxed);
+        assert_eq!(made, 1 + local.evaluations);
+        assert_eq!(searched.fit.evaluations, made);
     }
 
     #[test]
