@@ -179,9 +179,11 @@ pub fn least_squares(
     least_squares_toward(residuals, start, bounds, settings, f64::INFINITY).map(|(fit, _)| fit)
 }
 
-/// Descents a thousandth of their sum of squares or less apart over [`PACE_WINDOW`] accepted
-/// steps crawl (Levenberg–Marquardt's damping grown large in a curved valley).
-const CRAWL: f64 = 1e-3;
+/// Descents a hundredth of their sum of squares or less apart over [`PACE_WINDOW`] accepted
+/// steps crawl (Levenberg–Marquardt's damping grown large in a curved valley, or a descent
+/// along a threshold): at that pace a sum of squares falls by at most a tenth over the rest
+/// of a fit's iterations.
+const CRAWL: f64 = 1e-2;
 
 /// Accepted steps over which a descent's pace is measured.
 const PACE_WINDOW: usize = 5;

@@ -14,7 +14,9 @@
 //! 1. *screens* the face's box with a Halton sequence (deterministic, evenly spread: the
 //!    same points every run) and keeps the best few points as starts, besides the caller's
 //!    own starts projected onto the face;
-//! 2. runs [`calibrate::least_squares`] on the face's reduced parameters from each start;
+//! 2. runs [`calibrate::least_squares`] on the face's reduced parameters from each start:
+//!    first from the best start of all, then from the others, each knowing where that
+//!    first fit ended, so that a descent crawling above it stops early;
 //!
 //! and keeps the best face's optimum, which is then *polished* on all parameters (so that a
 //! threshold the data does not pin, the breakaway force above the tied Coulomb force, gets
@@ -221,14 +223,8 @@ pub fn least_squares<'a>(
             faces.push(face);
         }
     }
-    // Each face screened and its starts evaluated, face by face side by side; then every
-    // local fit side by side, each knowing the best sum of squares of all their starts (a
-    // bar some local fit ends at or below), which lets a crawl that cannot reach it stop
-    // ([`calibrate::least_squares_toward`]). The bar is known before any local fit runs, so
-    // the search is the same however the threads interleave. Each face: its reduced
-    // parameters, its starts (with their sums of squares, `None` where the model cannot be
-    // evaluated), and how many of them are the caller's.
-    type Screened = (Reduced, Vec<(Option<f64>, Vec<f64>)>, usize);
+    // Each face screened and its starts evaluated, face by face side by side; then the local
+    // fits ([`local_fits`]).
     let screened: Vec<Screened> = faces
         .par_iter()
         .filter_map(|face| {
@@ -259,38 +255,7 @@ pub fn least_squares<'a>(
             Some((reduced, face_starts, given))
         })
         .collect();
-    let bar = screened
-        .iter()
-        .flat_map(|(_, face_starts, _)| face_starts.iter().filter_map(|(sse, _)| *sse))
-        .fold(f64::INFINITY, f64::min);
-    // Each face's reduced parameters, its local fits, and how many starts were the caller's.
-    type Fitted<'r> = (
-        &'r Reduced,
-        Vec<Result<(Fit, Ending), CalibrationError>>,
-        usize,
-    );
-    let searched: Vec<Fitted<'_>> = screened
-        .par_iter()
-        .map(|(reduced, face_starts, given)| {
-            let fits = face_starts
-                .par_iter()
-                .map(|(_, start)| {
-                    let mut local = residuals();
-                    calibrate::least_squares_toward(
-                        &mut OnFace {
-                            objective: &mut *local,
-                            reduced,
-                        },
-                        start,
-                        &reduced.bounds,
-                        settings,
-                        bar,
-                    )
-                })
-                .collect();
-            (reduced, fits, *given)
-        })
-        .collect();
+    let searched = local_fits(residuals, &screened, settings);
     let mut evaluations = 0;
     let mut best: Option<(Fit, Ending, Reduced)> = None;
     let mut optima: Vec<(f64, Vec<f64>)> = Vec::new();
@@ -338,6 +303,83 @@ pub fn least_squares<'a>(
     optima.push((f64::NEG_INFINITY, fit.values.clone()));
     let basins = distinct_basins(optima, bounds);
     Ok(Searched { fit, basins })
+}
+
+/// A face screened: its reduced parameters, its starts (with their sums of squares, `None`
+/// where the model cannot be evaluated), and how many of them are the caller's.
+type Screened = (Reduced, Vec<(Option<f64>, Vec<f64>)>, usize);
+
+/// A face's reduced parameters, its local fits (one per start, in order), and how many
+/// starts were the caller's.
+type Fitted<'r> = (
+    &'r Reduced,
+    Vec<Result<(Fit, Ending), CalibrationError>>,
+    usize,
+);
+
+/// A local fit from every start of every face, in two waves: first from the best start of
+/// all, then from the others side by side, each knowing the lower of the best start's sum
+/// of squares and where that first fit ended (a bar some local fit ends at or below), so
+/// that a descent crawling above it, too slowly to reach it, ends its round early
+/// ([`calibrate::least_squares_toward`]). The waves and the bars are fixed before any fit
+/// runs, so the search is the same however the threads interleave.
+fn local_fits<'r, 'a>(
+    residuals: &(dyn Fn() -> Residuals<'a> + Sync),
+    screened: &'r [Screened],
+    settings: &Settings,
+) -> Vec<Fitted<'r>> {
+    let local = |reduced: &Reduced, start: &[f64], bar: f64| {
+        let mut local = residuals();
+        calibrate::least_squares_toward(
+            &mut OnFace {
+                objective: &mut *local,
+                reduced,
+            },
+            start,
+            &reduced.bounds,
+            settings,
+            bar,
+        )
+    };
+    let sse_of = |(face, k): (usize, usize)| screened[face].1[k].0.unwrap_or(f64::INFINITY);
+    let every = screened
+        .iter()
+        .enumerate()
+        .flat_map(|(face, (_, face_starts, _))| (0..face_starts.len()).map(move |k| (face, k)));
+    let bar = every.clone().map(sse_of).fold(f64::INFINITY, f64::min);
+    let lead = every.min_by(|&a, &b| sse_of(a).total_cmp(&sse_of(b)));
+    let mut first = lead.map(|(face, k)| local(&screened[face].0, &screened[face].1[k].1, bar));
+    let second_bar = match &first {
+        Some(Ok((fit, _))) => bar.min(fit.sse),
+        _ => bar,
+    };
+    let rest: Vec<Vec<Option<_>>> = screened
+        .par_iter()
+        .enumerate()
+        .map(|(face, (reduced, face_starts, _))| {
+            face_starts
+                .par_iter()
+                .enumerate()
+                .map(|(k, (_, start))| {
+                    (Some((face, k)) != lead).then(|| local(reduced, start, second_bar))
+                })
+                .collect()
+        })
+        .collect();
+    screened
+        .iter()
+        .zip(rest)
+        .map(|((reduced, _, given), fits)| {
+            let fits = fits
+                .into_iter()
+                .map(|fit| {
+                    fit.or_else(|| first.take())
+                        .expect("each start fitted once")
+                })
+                .collect();
+            (reduced, fits, *given)
+        })
+        .collect()
 }
 
 /// The best [`BASINS_KEPT`] of `optima` (`(sse, values)`), one per basin: an optimum within
@@ -755,6 +797,56 @@ mod tests {
         let made = counted.load(std::sync::atomic::Ordering::Relaxed);
         assert_eq!(made, 1 + local.evaluations);
         assert_eq!(searched.fit.evaluations, made);
+    }
+
+    #[test]
+    fn a_crawl_above_where_the_best_start_ended_stops_early() {
+        // Above x1 = 2 a bowl with its minimum of 1 at (1, 2.5); below, a valley where x1
+        // falls to 0.5 in a step and x0 crawls (the Gauss–Newton curvature a thousand times
+        // the true one) at a sum of squares near 100. The bowl's start is the better one
+        // (157.5 against 200) and its fit ends at 1; the valley's fit, crawling far above
+        // that, ends its descent after a few steps, where against the starts' bar of 157.5
+        // alone it crawled through all its iterations.
+        let objective = |x: &[f64]| -> Option<Vec<f64>> {
+            let e = x[0] - 1.0;
+            Some(if x[1] >= 2.0 {
+                vec![e, 1.0, 25.0 * (x[1] - 2.5)]
+            } else {
+                vec![e, 10.0 - 0.04995 * e * e, 20.0 * (x[1] - 0.5)]
+            })
+        };
+        let bounds = [(0.0, 3.0), (0.0, 3.0)];
+        let (bowl, valley) = ([1.5, 3.0], [2.0, 1.0]);
+        let settings = Settings::default();
+        let alone = |start: &[f64], bar: f64| {
+            calibrate::least_squares_toward(&mut { objective }, start, &bounds, &settings, bar)
+                .unwrap()
+        };
+        let (bowl_fit, _) = alone(&bowl, 157.5);
+        assert!((bowl_fit.sse - 1.0).abs() < 1e-9, "{}", bowl_fit.sse);
+        let (crawled, _) = alone(&valley, 157.5);
+        let (stopped, ending) = alone(&valley, bowl_fit.sse);
+        assert_eq!(ending, Ending::Crawled);
+        assert!(crawled.evaluations > 100, "{}", crawled.evaluations);
+        assert!(stopped.evaluations < 40, "{}", stopped.evaluations);
+        let counted = std::sync::atomic::AtomicUsize::new(0);
+        let counting = |x: &[f64]| {
+            counted.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            objective(x)
+        };
+        let searched = least_squares(
+            &|| Box::new(counting),
+            &[&valley, &bowl],
+            &bounds,
+            &[],
+            &Search::LOCAL,
+            &settings,
+        )
+        .unwrap();
+        assert_eq!(searched.fit.values, bowl_fit.values);
+        // The two starts once each, then the two fits, and no polish of a converged fit.
+        let made = counted.load(std::sync::atomic::Ordering::Relaxed);
+        assert_eq!(made, 2 + bowl_fit.evaluations + stopped.evaluations);
     }
 
     #[test]
