@@ -228,6 +228,8 @@ pub struct Scratch {
     probe: Vec<f64>,
     /// The levels below which each guard is armed in this segment.
     levels: Vec<f64>,
+    /// The levels above which each guard fires in this segment.
+    fires: Vec<f64>,
     from_zero: Vec<bool>,
     offsets: Vec<(f64, f64)>,
     envelopes: Vec<Envelope>,
@@ -285,6 +287,7 @@ pub fn first_crossing(
         current_slopes,
         probe,
         levels,
+        fires,
         from_zero,
         offsets,
         envelopes,
@@ -299,6 +302,8 @@ pub fn first_crossing(
         u_rate,
     } = scratch;
     let n = segment.dimension();
+    resting_levels(mode, segment, fire_above, fires);
+    let fire_above = &fires[..];
     // In eigen-coordinates each guard is Re(Σ_j c_j z_j(τ)) + a + b τ with c = G V,
     // a = H u₀ + R u₁ + k and b = H u₁: no change of coordinates per evaluation.
     let modal = segment
@@ -694,6 +699,38 @@ fn first_look_interval(values: &[Complex64], from: f64, to: f64) -> f64 {
         0.25 / slowest
     } else {
         (to - from) / 16.0
+    }
+}
+
+/// The levels above which each guard fires over `segment`, in `fires`: `fire_above`, and
+/// for a guard resting on its threshold (a level above zero), at least the rounding of its
+/// modal terms at the segment's start, which cancel where the guard is zero. A contact
+/// entering its creep at zero relative velocity and zero acceleration read a rounding below
+/// zero an instant later, stuck, and broke away again, 200 times at one instant.
+fn resting_levels(
+    mode: &NumericMode,
+    segment: &mut Segment<'_>,
+    fire_above: &[f64],
+    fires: &mut Vec<f64>,
+) {
+    fires.clear();
+    fires.extend_from_slice(fire_above);
+    let n = segment.dimension();
+    if segment.vectors().is_none() || fire_above.iter().all(|level| *level <= 0.0) {
+        return;
+    }
+    let Some(z) = segment.modal_state(0.0) else {
+        return;
+    };
+    for (i, fire) in fires.iter_mut().enumerate() {
+        if *fire > 0.0 {
+            let terms: f64 = mode.modal_guards[i * n..(i + 1) * n]
+                .iter()
+                .zip(z)
+                .map(|(c, z)| c.norm() * z.norm())
+                .sum();
+            *fire = fire.max(1e-9 * terms);
+        }
     }
 }
 

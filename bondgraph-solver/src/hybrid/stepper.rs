@@ -612,6 +612,26 @@ impl<'s, 'm> Stepper<'s, 'm> {
         self.armed = vec![false; self.mode.guards.len()];
         self.arm_below = vec![0.0; self.mode.guards.len()];
         self.fire_above = vec![0.0; self.mode.guards.len()];
+        // A guard the mode is entered on level (zero to the rounding of its terms, and its
+        // rate too) whose second derivative takes it away from its threshold rests there, and
+        // fires only once clearly past it. A contact breaking away at exactly its breakaway
+        // force enters its creep at zero relative velocity with zero acceleration; read from
+        // the segment's eigen-coordinates an instant later, the velocity was a rounding below
+        // zero, the guard to stick fired, and the contact stuck and broke away again, 200
+        // times at one instant.
+        for (k, guard) in self.mode.guards.iter().enumerate() {
+            let level = 1e-9 * guard.row.magnitude(&self.x, &u, &rate) + f64::MIN_POSITIVE;
+            let first = self.mode.row_rate(&guard.row, &self.x, &u, &rate);
+            let first_rounding =
+                1e-9 * self.mode.row_rate_magnitude(&guard.row, &self.x, &u, &rate);
+            if guard.row.eval(&self.x, &u, &rate).abs() <= level && first.abs() <= first_rounding {
+                let (second, rounding) =
+                    super::second_rate(&self.mode, &guard.row, &self.x, &u, &rate);
+                if second < -rounding {
+                    self.fire_above[k] = level;
+                }
+            }
+        }
         self.recorder.enter(&self.mode.spec, t);
         if self.sample.is_some() {
             let values = self.outputs();
