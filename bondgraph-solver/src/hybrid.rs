@@ -611,7 +611,7 @@ impl<'m> Simulator<'m> {
         crossed: Option<&Crossed>,
     ) -> bool {
         let value = guard.row.eval(x, u, rate);
-        let tolerance = 1e-9 * guard.row.magnitude(x, u, rate) + f64::MIN_POSITIVE;
+        let tolerance = threshold_rounding(&guard.row, x, u, rate);
         let on_crossed_threshold = crossed.is_some_and(|c| c.watches_as(guard, value, tolerance));
         if !on_crossed_threshold {
             if value > tolerance {
@@ -710,6 +710,12 @@ fn event_time(start: f64, tau: f64, end: f64) -> f64 {
 /// along `dx/dt`, exact for a linear mode (where the first derivative is affine) whatever the
 /// step, judged against `1e-9` of the terms of the two rates (as a rate is judged against
 /// its own terms; zero for a nonlinear mode, whose rates are judged exactly).
+/// The rounding of a guard's value at `x`: `1e-9` of its terms, against which
+/// [`Simulator::entered`] judges a value to be at its threshold.
+fn threshold_rounding(row: &crate::numeric::Row, x: &[f64], u: &[f64], rate: &[f64]) -> f64 {
+    1e-9 * row.magnitude(x, u, rate) + f64::MIN_POSITIVE
+}
+
 fn second_rate(
     mode: &NumericMode,
     row: &crate::numeric::Row,

@@ -558,8 +558,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
             // switch. The guard rests until it has been left again by more than rounding,
             // and the contact slips on to its next guard (through zero velocity).
             self.armed[crossing.guard] = false;
-            self.arm_below[crossing.guard] =
-                -(1e-9 * guard.row.magnitude(&self.x, &u, &rate) + f64::MIN_POSITIVE);
+            self.arm_below[crossing.guard] = -threshold_rounding(&guard.row, &self.x, &u, &rate);
             return Ok(false);
         }
         let target = current.mode.with(guard.element, guard.leaves_to);
@@ -620,16 +619,10 @@ impl<'s, 'm> Stepper<'s, 'm> {
         // zero, the guard to stick fired, and the contact stuck and broke away again, 200
         // times at one instant.
         for (k, guard) in self.mode.guards.iter().enumerate() {
-            let level = 1e-9 * guard.row.magnitude(&self.x, &u, &rate) + f64::MIN_POSITIVE;
-            let first = self.mode.row_rate(&guard.row, &self.x, &u, &rate);
-            let first_rounding =
-                1e-9 * self.mode.row_rate_magnitude(&guard.row, &self.x, &u, &rate);
-            if guard.row.eval(&self.x, &u, &rate).abs() <= level && first.abs() <= first_rounding {
-                let (second, rounding) =
-                    super::second_rate(&self.mode, &guard.row, &self.x, &u, &rate);
-                if second < -rounding {
-                    self.fire_above[k] = level;
-                }
+            if level_on_threshold(&self.mode, &guard.row, &self.x, &u, &rate)
+                .is_some_and(|(second, rounding)| second < -rounding)
+            {
+                self.fire_above[k] = threshold_rounding(&guard.row, &self.x, &u, &rate);
             }
         }
         self.recorder.enter(&self.mode.spec, t);
@@ -647,7 +640,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let guard = &self.mode.guards[k];
         self.last_crossing = Some((guard.element, Why::of(guard, true), true));
         self.armed[k] = true;
-        self.fire_above[k] = 1e-9 * guard.row.magnitude(&self.x, u, rate) + f64::MIN_POSITIVE;
+        self.fire_above[k] = threshold_rounding(&guard.row, &self.x, u, rate);
     }
 
     /// Counts `count` more steps; whether the run is now past its limit.
@@ -785,16 +778,28 @@ fn touches(mode: &NumericMode, guard: &NumericGuard, x: &[f64], u: &[f64], rate:
     if !watches_an_effort(guard) {
         return false;
     }
-    let value = guard.row.eval(x, u, rate);
-    if value.abs() > 1e-9 * guard.row.magnitude(x, u, rate) + f64::MIN_POSITIVE {
-        return false;
+    level_on_threshold(mode, &guard.row, x, u, rate)
+        .is_some_and(|(second, rounding)| second <= rounding)
+}
+
+/// For a guard on its threshold and level there (its value and its rate zero to the
+/// rounding of their terms), its second derivative and that derivative's rounding, which
+/// decide whether it turns into the threshold, rests on it, or leaves it.
+fn level_on_threshold(
+    mode: &NumericMode,
+    row: &crate::numeric::Row,
+    x: &[f64],
+    u: &[f64],
+    rate: &[f64],
+) -> Option<(f64, f64)> {
+    if row.eval(x, u, rate).abs() > threshold_rounding(row, x, u, rate) {
+        return None;
     }
-    let first = mode.row_rate(&guard.row, x, u, rate);
-    if first.abs() > 1e-9 * mode.row_rate_magnitude(&guard.row, x, u, rate) {
-        return false;
+    let first = mode.row_rate(row, x, u, rate);
+    if first.abs() > 1e-9 * mode.row_rate_magnitude(row, x, u, rate) {
+        return None;
     }
-    let (second, rounding) = second_rate(mode, &guard.row, x, u, rate);
-    second <= rounding
+    Some(second_rate(mode, row, x, u, rate))
 }
 
 /// Whether a guard watches an effort (a holding force, a tension, a restraining effort).
