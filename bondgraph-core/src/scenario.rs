@@ -85,7 +85,7 @@ pub mod energy;
 mod table;
 pub use energy::{Book, EnergyRecord};
 pub use table::TableCursor;
-use table::{segment, table_rate, table_value};
+use table::{segment, table_breakpoints, table_rate, table_value};
 
 /// A time signal driving one input of the model.
 #[derive(Clone, Debug, PartialEq)]
@@ -165,7 +165,8 @@ impl Signal {
     }
 
     /// The times at which the value or the rate jumps, in increasing order: a step's time,
-    /// a ramp's start and the time it reaches its ceiling, a table's points. An integrator
+    /// a ramp's start and the time it reaches its ceiling, a table's points where its slope
+    /// changes (not the samples a held or ramped stretch passes through). An integrator
     /// should stop at each rather than step across it.
     pub fn breakpoints(&self) -> Vec<f64> {
         match self {
@@ -176,7 +177,7 @@ impl Signal {
                 times.extend(self.ceiling_time().filter(|tc| tc > start));
                 times
             }
-            Signal::Table(points) => points.iter().map(|p| p.0).collect(),
+            Signal::Table(points) => table_breakpoints(points),
         }
     }
 
@@ -1248,6 +1249,36 @@ mod tests {
         assert_eq!(cursor.value(2.0), -1.0);
         assert_eq!(cursor.rate(2.0), 2.5);
         assert_eq!(cursor.breakpoints(), vec![0.0, 0.5, 1.0, 2.0, 2.5]);
+    }
+
+    #[test]
+    fn a_table_breaks_only_where_its_rate_changes() {
+        // A recorded set-point sampled every second: 0, a step to 6 between the samples at
+        // 2 and 3 s, held, a ramp down through 4, 2 and 0 at 5-8 s, then 0. Its rate is 0
+        // until 2 s, 6/s to 3 s, 0 to 5 s, -2/s to 8 s and 0 after: it breaks at 2, 3, 5
+        // and 8 s only (the samples between are on one line).
+        let values = [0.0, 0.0, 0.0, 6.0, 6.0, 6.0, 4.0, 2.0, 0.0, 0.0, 0.0];
+        let points: Vec<(f64, f64)> = values
+            .iter()
+            .enumerate()
+            .map(|(k, &v)| (k as f64, v))
+            .collect();
+        let expected = [2.0, 3.0, 5.0, 8.0];
+        assert_eq!(Signal::Table(points.clone()).breakpoints(), expected);
+        assert_eq!(TableCursor::new(&points).breakpoints(), expected);
+        // The slopes are compared exactly: sampled at 10 ms (times not exact in binary), the
+        // ramp's pieces differ by rounding and its samples stay breakpoints; a held stretch
+        // has a slope of exactly zero on every piece, and none.
+        let sampled: Vec<(f64, f64)> = points.iter().map(|&(t, v)| (t * 0.01, v)).collect();
+        let breaks = Signal::Table(sampled.clone()).breakpoints();
+        assert_eq!(breaks[..3], [sampled[2].0, sampled[3].0, sampled[5].0]);
+        assert_eq!(breaks.last(), Some(&sampled[8].0));
+        // A table's first and last points break where the signal leaves or reaches its
+        // held value with a slope, and a constant table has no breakpoint at all.
+        let ramp = [(1.0, 0.0), (2.0, 1.0), (3.0, 2.0)];
+        assert_eq!(Signal::Table(ramp.to_vec()).breakpoints(), [1.0, 3.0]);
+        let held = [(0.0, 5.0), (1.0, 5.0), (2.0, 5.0)];
+        assert!(Signal::Table(held.to_vec()).breakpoints().is_empty());
     }
 
     /// A cart pushed by three forces, with a friction contact and a string to a moving

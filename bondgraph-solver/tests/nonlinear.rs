@@ -457,9 +457,26 @@ fn the_stick_slip_spring_breaks_away_and_sticks_when_rk4_says() {
     );
 }
 
+/// A recorded signal that is zero at each of its 1000 samples and, as a measured signal's
+/// samples are, a breakpoint at every one. (A table of zeros has none: its rate never
+/// changes.)
+struct ZeroAtEverySample;
+
+impl Signal for ZeroAtEverySample {
+    fn value(&self, _: f64) -> f64 {
+        0.0
+    }
+    fn rate(&self, _: f64) -> f64 {
+        0.0
+    }
+    fn breakpoints(&self) -> Vec<f64> {
+        (0..=1000).map(|k| k as f64 * 1e-3).collect()
+    }
+}
+
 /// A mass braked by a cubic drag, `m dv/dt = -c v³ + F(t)`, with `F` a recorded signal that is
-/// zero at each of its 1000 samples: every sample is a breakpoint, so the run is 1000
-/// integrated segments of one nonlinear mode, each starting where the last left off (on the
+/// zero at each of its 1000 samples, every one a breakpoint, so the run is 1000 integrated
+/// segments of one nonlinear mode, each starting where the last left off (on the
 /// simulator's one integrator, reset). The speed is `v(t) = v₀ / √(1 + 2 (c/m) v₀² t)`; with
 /// m = 2 kg, c = 0.5 N s³/m³ and v₀ = 3 m/s, `v(1 s) = 3/√5.5`.
 #[test]
@@ -483,13 +500,10 @@ fn a_nonlinear_mode_through_a_thousand_breakpoints_keeps_its_accuracy() {
 )"#,
     )
     .expect("valid");
-    let recorded = bondgraph_core::scenario::Signal::Table(
-        (0..=1000).map(|k| (k as f64 * 1e-3, 0.0)).collect(),
-    );
     let trajectory = simulate(
         &model,
         &["flow:mass"],
-        &[&recorded],
+        &[&ZeroAtEverySample],
         vec![2.0 * 3.0],
         1.0,
         0.25,

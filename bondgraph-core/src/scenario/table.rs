@@ -25,6 +25,25 @@ fn segment_at(points: &[(f64, f64)], after: usize) -> Segment {
     }
 }
 
+/// The points of a table where its rate changes: where the slope from the left (zero before
+/// the first point) differs from the slope to the right (zero after the last). A point
+/// between two collinear pieces, such as a sample of a recorded signal held constant, is no
+/// breakpoint: the signal is one line across it, and an integrator may step over it.
+pub(super) fn table_breakpoints(points: &[(f64, f64)]) -> Vec<f64> {
+    let slope = |k: usize| {
+        if k == 0 || k == points.len() {
+            0.0
+        } else {
+            let ((t0, v0), (t1, v1)) = (points[k - 1], points[k]);
+            (v1 - v0) / (t1 - t0)
+        }
+    };
+    (0..points.len())
+        .filter(|&k| slope(k) != slope(k + 1))
+        .map(|k| points[k].0)
+        .collect()
+}
+
 /// A table's value at `t` on its segment.
 pub(super) fn table_value(points: &[(f64, f64)], segment: Segment, t: f64) -> f64 {
     match segment {
@@ -79,9 +98,9 @@ impl<'a> TableCursor<'a> {
         table_rate(self.segment(t))
     }
 
-    /// The table's times.
+    /// The table's points where its rate changes, as [`Signal::breakpoints`](super::Signal::breakpoints) gives them.
     pub fn breakpoints(&self) -> Vec<f64> {
-        self.points.iter().map(|p| p.0).collect()
+        table_breakpoints(self.points)
     }
 
     fn segment(&self, t: f64) -> Segment {
