@@ -155,6 +155,15 @@ pub trait ResidualFunction {
         let _ = from;
         self.residuals(x)
     }
+
+    /// The sum of squared residuals at `x`, or any value above `limit` once it is known to
+    /// exceed it: a search that keeps only the best few points, or a scan that asks only
+    /// whether a point is as good as the best, need not predict the rest of a point's rows
+    /// once the rows predicted so far already put it out. By default, the whole sum.
+    fn sum_of_squares(&mut self, x: &[f64], limit: f64) -> Option<f64> {
+        let _ = limit;
+        self.residuals(x).map(|r| sse(&r))
+    }
 }
 
 impl<F: FnMut(&[f64]) -> Option<Vec<f64>>> ResidualFunction for F {
@@ -412,6 +421,17 @@ impl Problem<'_> {
             .filter(|r| r.iter().all(|v| v.is_finite()))
     }
 
+    /// The sum of squares at `u`, or a value above `limit` once it is known to exceed it
+    /// ([`ResidualFunction::sum_of_squares`]); infinite where the model cannot be evaluated.
+    fn sse_below(&mut self, u: &[f64], limit: f64) -> f64 {
+        self.evaluations += 1;
+        let x = self.values(u);
+        self.residuals
+            .sum_of_squares(&x, limit)
+            .filter(|c| c.is_finite())
+            .unwrap_or(f64::INFINITY)
+    }
+
     /// The residuals at `u`, a difference step from `from` ([`ResidualFunction::differenced`]).
     fn eval_differenced(&mut self, u: &[f64], from: &[f64]) -> Option<Vec<f64>> {
         self.evaluations += 1;
@@ -600,11 +620,13 @@ impl Problem<'_> {
         let grid: Vec<f64> = (0..points)
             .map(|k| k as f64 / (points - 1) as f64)
             .collect();
+        // Only whether a point is as good as the best, or better, matters until the end: a
+        // point is evaluated until its rows put it above that.
+        let current = sse(r);
         let costs: Vec<f64> = grid
             .iter()
-            .map(|&v| self.eval(&at(v)).map_or(f64::INFINITY, |r| sse(&r)))
+            .map(|&v| self.sse_below(&at(v), current))
             .collect();
-        let current = sse(r);
         let best_cost = costs.iter().copied().fold(current, f64::min);
         let same = |c: f64| c <= best_cost * (1.0 + 1e-12) + 1e-300;
         // The best grid interval that holds the current value if it is among the best,
@@ -649,7 +671,7 @@ impl Problem<'_> {
             let (mut good, mut bad) = (good, bad);
             for _ in 0..10 {
                 let mid = 0.5 * (good + bad);
-                let c = this.eval(&at(mid)).map_or(f64::INFINITY, |r| sse(&r));
+                let c = this.sse_below(&at(mid), best_cost);
                 if c < best_cost * (1.0 - 1e-9) && better.is_none_or(|(_, b)| c < b) {
                     better = Some((mid, c));
                 }
@@ -966,6 +988,81 @@ mod tests {
             "{lo} {hi}"
         );
         assert!(result.values[0] >= 5.0 && result.values[0] < 6.0);
+    }
+
+    /// The rows of [`a_threshold_is_located_by_its_interval`], as a model that predicts them
+    /// one at a time: a bounded sum of squares stops once its partial sum is past the limit.
+    struct Thresholded {
+        rows_predicted: usize,
+    }
+
+    impl Thresholded {
+        fn row(&mut self, k: usize, threshold: f64) -> f64 {
+            self.rows_predicted += 1;
+            let x = (k + 1) as f64;
+            f64::from(u8::from((x > threshold) != (x >= 6.0)))
+        }
+    }
+
+    impl ResidualFunction for Thresholded {
+        fn residuals(&mut self, p: &[f64]) -> Option<Vec<f64>> {
+            Some((0..10).map(|k| self.row(k, p[0])).collect())
+        }
+
+        fn sum_of_squares(&mut self, p: &[f64], limit: f64) -> Option<f64> {
+            let mut partial = 0.0;
+            for k in 0..10 {
+                partial += self.row(k, p[0]).powi(2);
+                if partial > limit * (1.0 + 1e-9) {
+                    break;
+                }
+            }
+            Some(partial)
+        }
+    }
+
+    #[test]
+    fn a_scan_predicts_a_worse_point_only_until_it_is_worse() {
+        // The threshold of `a_threshold_is_located_by_its_interval`: from 2 the scan finds
+        // [5, 6) whether its points are summed whole or only until they are worse than the
+        // best (a point is never needed beyond that), with the same evaluations; bounded,
+        // every worse point stops at its first wrong row, so fewer rows are predicted.
+        let whole = {
+            let mut rows_predicted = 0;
+            let fit = least_squares(
+                &mut |p: &[f64]| {
+                    let mut model = Thresholded { rows_predicted: 0 };
+                    let r = model.residuals(p);
+                    rows_predicted += model.rows_predicted;
+                    r
+                },
+                &[2.0],
+                &[(0.0, 12.0)],
+                &Settings::default(),
+            )
+            .expect("fits");
+            (fit, rows_predicted)
+        };
+        let mut model = Thresholded { rows_predicted: 0 };
+        let bounded =
+            least_squares(&mut model, &[2.0], &[(0.0, 12.0)], &Settings::default()).expect("fits");
+        assert_eq!(bounded.sse, 0.0);
+        assert_eq!(bounded.values, whole.0.values);
+        assert_eq!(bounded.intervals, whole.0.intervals);
+        assert_eq!(bounded.evaluations, whole.0.evaluations);
+        let (lo, hi) = bounded.intervals[0].unwrap();
+        assert!(
+            (lo - 5.0).abs() < 0.02 && (hi - 6.0).abs() < 0.02,
+            "{lo} {hi}"
+        );
+        // The grid's points outside [5, 6) and the bisections' bad halves stop at the row
+        // that puts them past the best (542 rows of 720 when written).
+        assert!(
+            model.rows_predicted < whole.1,
+            "{} rows predicted bounded, {} whole",
+            model.rows_predicted,
+            whole.1
+        );
     }
 
     #[test]

@@ -161,23 +161,9 @@ pub const BASINS_KEPT: usize = 2;
 /// are one basin.
 const SAME_BASIN: f64 = 1e-3;
 
-/// What a search minimises: residuals ([`calibrate::ResidualFunction`]), and their sum of
-/// squares against a limit. Any `FnMut(&[f64]) -> Option<Vec<f64>>` is one.
-pub trait Objective: calibrate::ResidualFunction {
-    /// The sum of squared residuals at `x`, or any value above `limit` once it is known to
-    /// exceed it: a screening that keeps only the best few points need not predict the rest
-    /// of a point's rows once the rows predicted so far already put it out of them.
-    fn sum_of_squares(&mut self, x: &[f64], limit: f64) -> Option<f64> {
-        let _ = limit;
-        self.residuals(x).map(|r| r.iter().map(|v| v * v).sum())
-    }
-}
-
-impl<F: FnMut(&[f64]) -> Option<Vec<f64>>> Objective for F {}
-
 /// A search's objective on a face, in the face's reduced parameters.
 struct OnFace<'o, 'r> {
-    objective: &'o mut dyn Objective,
+    objective: &'o mut dyn calibrate::ResidualFunction,
     reduced: &'r Reduced,
 }
 
@@ -190,10 +176,15 @@ impl calibrate::ResidualFunction for OnFace<'_, '_> {
         let (x, from) = (self.reduced.expand(u), self.reduced.expand(from));
         self.objective.differenced(&x, &from)
     }
+
+    fn sum_of_squares(&mut self, u: &[f64], limit: f64) -> Option<f64> {
+        self.objective
+            .sum_of_squares(&self.reduced.expand(u), limit)
+    }
 }
 
-/// A search's own [`Objective`] (each search running side by side makes one).
-pub type Residuals<'a> = Box<dyn Objective + 'a>;
+/// A search's own residuals (each search running side by side makes one).
+pub type Residuals<'a> = Box<dyn calibrate::ResidualFunction + 'a>;
 
 /// Minimises the sum of squared residuals over the box `bounds` subject to `orderings`,
 /// searching as `search` says from `starts` (every start is tried, on the face it lies on).

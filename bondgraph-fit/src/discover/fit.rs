@@ -561,31 +561,7 @@ impl crate::calibrate::ResidualFunction for TrainingFit<'_, '_> {
     fn differenced(&mut self, x: &[f64], from: &[f64]) -> Option<Vec<f64>> {
         self.residuals_from(x, Some(from))
     }
-}
 
-impl TrainingFit<'_, '_> {
-    /// The residuals at `x`, a difference step from `from` if given
-    /// ([`crate::predict::Evaluator::predict_differenced`]).
-    fn residuals_from(&mut self, x: &[f64], from: Option<&[f64]>) -> Option<Vec<f64>> {
-        if !self.start(x) {
-            return None;
-        }
-        let predictions = match from {
-            Some(from) => self.evaluator.predict_differenced(self.train, from)?,
-            None => self.evaluator.predict_all(self.train)?,
-        };
-        Some(
-            self.kept
-                .iter()
-                .flat_map(|&i| predictions[i].observed.iter().copied())
-                .zip(self.measured)
-                .map(|(p, m)| p - m)
-                .collect(),
-        )
-    }
-}
-
-impl global::Objective for TrainingFit<'_, '_> {
     fn sum_of_squares(&mut self, x: &[f64], limit: f64) -> Option<f64> {
         if !self.start(x) {
             return None;
@@ -629,5 +605,27 @@ impl global::Objective for TrainingFit<'_, '_> {
         }
         // Every row predicted: the sum in the rows' own order, as the residuals give it.
         Some(self.squares.iter().sum())
+    }
+}
+
+impl TrainingFit<'_, '_> {
+    /// The residuals at `x`, a difference step from `from` if given
+    /// ([`crate::predict::Evaluator::predict_differenced`]).
+    fn residuals_from(&mut self, x: &[f64], from: Option<&[f64]>) -> Option<Vec<f64>> {
+        if !self.start(x) {
+            return None;
+        }
+        let predictions = match from {
+            Some(from) => self.evaluator.predict_differenced(self.train, from)?,
+            None => self.evaluator.predict_all(self.train)?,
+        };
+        Some(
+            self.kept
+                .iter()
+                .flat_map(|&i| predictions[i].observed.iter().copied())
+                .zip(self.measured)
+                .map(|(p, m)| p - m)
+                .collect(),
+        )
     }
 }
