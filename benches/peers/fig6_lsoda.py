@@ -31,16 +31,13 @@ of the bench (`target/criterion/fig6_robot_0.2s`, if it has run).
 
 import json
 import os
-import warnings
 import statistics
 import subprocess
-import sys
 import tempfile
 import time
+import warnings
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.dirname(HERE))
-VENV = os.path.join(HERE, ".venv")
+from peers import ROOT, criterion_median, ensure_venv
 
 # models/eversion/robot.ron's parameters.
 M_GE, K_GE, AREA = 5e-15, 5e5, 1e-4
@@ -50,16 +47,6 @@ V_AC, V_CT_DES = 5.8e-3, 6.3e-3
 MERGED = 4 * M_CT + M_GE
 DURATION, SAMPLE = 0.2, 1e-3
 HAND = [0.0070, 0.019931, 0.130002, 0.166097]
-
-
-def ensure_venv():
-    python = os.path.join(VENV, "bin", "python")
-    if sys.executable != python:
-        if not os.path.exists(python):
-            subprocess.check_call([sys.executable, "-m", "venv", VENV])
-            subprocess.check_call([python, "-m", "pip", "install", "--quiet", "scipy"])
-        os.execv(python, [python] + sys.argv)
-
 
 def shifted(event, start):
     """An event function of a mode's own time, as solve_ivp calls it."""
@@ -238,16 +225,6 @@ def bondgraph_events():
     os.unlink(f.name)
     document, _ = json.JSONDecoder().raw_decode(out)
     return [e["t"] for e in document["events"]]
-
-
-def criterion_median(name):
-    path = os.path.join(ROOT, "target", "criterion", name, "new", "estimates.json")
-    try:
-        with open(path) as f:
-            return json.load(f)["median"]["point_estimate"] / 1e9
-    except OSError:
-        return None
-
 
 def main():
     ensure_venv()

@@ -11,27 +11,11 @@ criterion medians given on the command line (or read from target/criterion).
     python3 benches/peers/scipy_compare.py
 """
 
-import json
 import math
-import os
 import statistics
-import subprocess
-import sys
 import time
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.dirname(HERE))
-VENV = os.path.join(HERE, ".venv")
-
-
-def ensure_venv():
-    python = os.path.join(VENV, "bin", "python")
-    if sys.executable != python:
-        if not os.path.exists(python):
-            subprocess.check_call([sys.executable, "-m", "venv", VENV])
-            subprocess.check_call([python, "-m", "pip", "install", "--quiet", "scipy"])
-        os.execv(python, [python] + sys.argv)
-
+from peers import criterion_median, ensure_venv
 
 def models():
     m, l, g = 1.0, 1.0, 9.81
@@ -55,16 +39,6 @@ def models():
         ("nonlinear_pendulum_10s", pendulum, pendulum_jac, [0.0, 2.0]),
         ("nonlinear_duffing_10s", duffing, duffing_jac, [0.0, 1.5]),
     ]
-
-
-def criterion_median(name):
-    path = os.path.join(ROOT, "target", "criterion", name, "new", "estimates.json")
-    try:
-        with open(path) as f:
-            return json.load(f)["median"]["point_estimate"] / 1e9
-    except OSError:
-        return None
-
 
 def main():
     ensure_venv()
