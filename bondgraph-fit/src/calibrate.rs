@@ -199,18 +199,20 @@ const PACE_WINDOW: usize = 5;
 
 /// As [`least_squares`], for one of several local fits of a search whose best start has
 /// the sum of squares `bar`, so that some local fit ends at `bar` or below: a descent still
-/// above `bar` that crawls ([`CRAWL`]), and that at its pace over the last [`PACE_WINDOW`]
-/// steps would still be above `bar` after the rest of its iterations, cannot make this fit
-/// the search's best by descending on, and its round of descent ends there. The scans of
+/// above `bar` that crawls ([`CRAWL`]) or slows (its last [`PACE_WINDOW`] steps fell by a
+/// smaller fraction than the five before), and that at its pace over the last
+/// [`PACE_WINDOW`] steps would still be above `bar` after the rest of its iterations,
+/// cannot make this fit the search's best by descending on, and its round of descent ends
+/// there. The scans of
 /// the parameters the residuals are flat in follow as after any descent: a threshold that
 /// held the descent in a narrow valley (a breakaway force deciding which rows slide) moves
 /// there, and the next round descends from the better point (a crawl at sixty times the
 /// search's best has ended its round so, and its next rounds reached that best; ending the
 /// fit outright lost it). Returns the fit and how its last round ended.
 ///
-/// Only crawls are extrapolated: a descent from far away that still falls steeply (a tenth
-/// of its sum of squares a step) may reach the best optimum of all, from thousands of times
-/// `bar`.
+/// Only crawls and slowing descents are extrapolated: a descent from far away that still
+/// falls steeply (a tenth of its sum of squares a step), and no slower than before, may
+/// reach the best optimum of all, from thousands of times `bar`.
 ///
 /// # Errors
 /// As [`least_squares`].
@@ -589,7 +591,10 @@ impl Problem<'_> {
                 let pace = cost / costs[costs.len() - 1 - PACE_WINDOW];
                 let windows_left =
                     (settings.max_iterations - iteration - 1) as f64 / PACE_WINDOW as f64;
-                if 1.0 - pace < CRAWL && cost * pace.powf(windows_left) > bar {
+                let n = costs.len();
+                let slowing = n > 2 * PACE_WINDOW
+                    && pace >= costs[n - 1 - PACE_WINDOW] / costs[n - 1 - 2 * PACE_WINDOW];
+                if (1.0 - pace < CRAWL || slowing) && cost * pace.powf(windows_left) > bar {
                     return (u, r, Ending::Crawled);
                 }
             }
@@ -903,6 +908,34 @@ mod tests {
             least_squares_toward(&mut crawl, &start, &bounds, &settings, 200.0).unwrap();
         assert_eq!(kept_on, Ending::Unfinished);
         assert_eq!(below.evaluations, whole.evaluations);
+    }
+
+    /// `r = (x - 1, 1 - 0.45 (x - 1)²)`: one minimum, at x = 1 with S = 1. A Gauss–Newton
+    /// step goes `(1 - 2ac + 2a²e²)/(1 + 4a²e²)` of the distance `e` to it (a = 0.45,
+    /// c = 1): about half of it far away, a tenth near it, so that a descent from afar
+    /// slows window after window before it crawls.
+    fn slowing(x: &[f64]) -> Option<Vec<f64>> {
+        let e = x[0] - 1.0;
+        Some(vec![e, 1.0 - 0.45 * e * e])
+    }
+
+    #[test]
+    fn a_slowing_descent_that_cannot_reach_the_bar_ends_before_it_crawls() {
+        // From x = 30 (S about 143,000) with the search's best at 0: the descent's second window
+        // of five accepted steps is slower than its first, and at that pace it stays above
+        // 0, so it ends there: the start, ten steps of two evaluations (a difference, a
+        // trial) and the difference at its end. (Ended only as a crawl, a hundredth a
+        // window, it took 34.)
+        let settings = Settings::default();
+        let (start, bounds) = ([30.0], [(0.0, 31.0)]);
+        let (abandoned, gave_up) =
+            least_squares_toward(&mut slowing, &start, &bounds, &settings, 0.0).unwrap();
+        assert_eq!(gave_up, Ending::Crawled);
+        assert_eq!(abandoned.evaluations, 1 + 2 * 2 * PACE_WINDOW + 1);
+        // Left to itself it reaches the minimum.
+        let whole = least_squares(&mut slowing, &start, &bounds, &settings).unwrap();
+        assert!((whole.sse - 1.0).abs() < 1e-3, "{}", whole.sse);
+        assert!(abandoned.sse > whole.sse, "{} {}", abandoned.sse, whole.sse);
     }
 
     #[test]
