@@ -155,6 +155,32 @@ impl Propagator {
         Some((x_limit, rate_limit))
     }
 
+    /// Whether the row `c·x` reads nothing of what an asymptote carries over from the state
+    /// it starts from: its integrators (eigenvalues below `zero` in magnitude), whose
+    /// components [`Propagator::asymptote`] keeps as it finds them. Then `c·x∞` is the same
+    /// from every start, and does not drift: `c·v` is rounding (below 1e-9 of `Σ|cᵢ vᵢ|`)
+    /// for each integrator's eigenvector `v`. False for a defective `A`.
+    pub fn blind_to_integrators(&self, row: &[f64], zero: f64) -> bool {
+        let Propagator::Modal(m) = self else {
+            return false;
+        };
+        let vectors = &m.eigen.vectors;
+        m.eigen
+            .values
+            .iter()
+            .enumerate()
+            .filter(|(_, lambda)| lambda.norm() <= zero)
+            .all(|(j, _)| {
+                let mut sum = Complex64::new(0.0, 0.0);
+                let mut size = 0.0;
+                for (i, &c) in row.iter().enumerate() {
+                    sum += vectors[(i, j)] * c;
+                    size += vectors[(i, j)].norm() * c.abs();
+                }
+                sum.norm() <= 1e-9 * size
+            })
+    }
+
     /// Starts a segment from state `x0` with inputs `u₀ + u₁ τ`.
     pub fn start(&self, x0: &[f64], u0: &[f64], u1: &[f64]) -> Segment<'_> {
         self.start_in(x0, u0, u1, SegmentBuffers::default())

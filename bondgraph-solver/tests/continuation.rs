@@ -118,9 +118,12 @@ fn a_well_is_followed_a_hair_and_refused_a_leap() {
     assert!(continue_steady(&mut simulator, &anchor, &SteadySettings::default()).is_none());
 }
 
-/// A linear mode's steady state is exact from its modal form and is not an anchor.
+/// A mass pulled through a damper (`F = 3 N`, `b = 2 N s/m`) settles at `v = F/b` in a
+/// linear mode with no guards, reached without an event: an anchor that is not
+/// path-dependent, continued to `b (1 + 1e-5)` exactly (the asymptote of the mode at the new
+/// value, no iteration), where a fresh search finds the same.
 #[test]
-fn a_linear_mode_is_no_anchor() {
+fn a_linear_mode_is_continued_to_its_asymptote_at_nearby_values() {
     let linear = model::load_str(
         "drag.ron",
         r#"Model(
@@ -136,7 +139,65 @@ fn a_linear_mode_is_no_anchor() {
     let mut simulator = self::simulator(&linear, &["flow:mass"]);
     let steady = settle(&mut simulator, &[3.0], &[]);
     assert!((steady.outputs[0] - 1.5).abs() < 1e-12);
-    assert!(steady.anchor.is_none());
+    let anchor = steady
+        .anchor
+        .expect("the asymptote of a stable linear mode");
+    assert!(!anchor.path_dependent);
+
+    let b = 2.0 * (1.0 + 1e-5);
+    simulator
+        .set_parameter_values(&with_value(&linear, "b", b))
+        .unwrap();
+    let continued = continue_steady(&mut simulator, &anchor, &SteadySettings::default())
+        .expect("the same mode, stable");
+    assert_eq!(continued.work.steps, 0);
+    assert!(
+        (continued.outputs[0] - 3.0 / b).abs() <= 1e-15 * 1.5,
+        "{:?}",
+        continued.outputs
+    );
+    let fresh = settle(&mut simulator, &[3.0], &[]);
+    assert!((fresh.outputs[0] - continued.outputs[0]).abs() <= 1e-15 * 1.5);
+}
+
+/// A damper pushed at a constant speed through a spring in series (`Sf`, a one-junction):
+/// the spring's compression is an integrator (`q̇ = v`, eigenvalue zero) whose value at the
+/// steady motion depends on how long the push has lasted. The damper's force, `b v`, reads
+/// none of it: an anchor, continued to `b (1 + 1e-5)`. The spring's force reads it: no
+/// anchor where it is an output, for what it reads is where the path left it.
+#[test]
+fn a_linear_anchor_needs_outputs_that_read_no_integrator() {
+    let pushed = model::load_str(
+        "pushed.ron",
+        r#"Model(
+            name: "pushed",
+            parameters: { "k": (value: 50.0, unit: "N/m"), "b": (value: 4.0, unit: "N*s/m") },
+            inputs: { "v": (unit: "m/s") },
+            elements: { "push": Sf(flow: "v"), "joint": One, "spring": C(compliance: "1/k"),
+                        "damper": R(resistance: "b") },
+            bonds: [("push", "joint"), ("joint", "spring"), ("joint", "damper")],
+        )"#,
+    )
+    .unwrap();
+    let mut damper_only = self::simulator(&pushed, &["effort:damper"]);
+    let steady = settle(&mut damper_only, &[0.2], &[("q_spring", 0.01)]);
+    assert!(
+        (steady.outputs[0] - 0.8).abs() < 1e-12,
+        "{:?}",
+        steady.outputs
+    );
+    let anchor = steady.anchor.expect("the damper reads no integrator");
+    let b = 4.0 * (1.0 + 1e-5);
+    damper_only
+        .set_parameter_values(&with_value(&pushed, "b", b))
+        .unwrap();
+    let continued = continue_steady(&mut damper_only, &anchor, &SteadySettings::default())
+        .expect("the same mode");
+    assert!((continued.outputs[0] - b * 0.2).abs() <= 1e-15 * 0.8);
+
+    let mut with_spring = self::simulator(&pushed, &["effort:damper", "effort:spring"]);
+    let steady = settle(&mut with_spring, &[0.2], &[("q_spring", 0.01)]);
+    assert!(steady.anchor.is_none(), "{:?}", steady.anchor);
 }
 
 /// A block carried by a belt (0.1 m/s) on a hardening spring, damped: it sticks until the
@@ -211,6 +272,66 @@ const BELT: &str = r#"Model(
             bonds: [("belt", "contact"), ("contact", "friction"), ("contact", "v_block"),
                     ("v_block", "block"), ("v_block", "spring"), ("v_block", "damper")],
         )"#;
+
+/// [`BELT`] with a linear spring (`k₃` written out of the law), overdamped: the block breaks away
+/// and settles slipping where `k q = F_C = 6 N`, the asymptote of a linear mode reached
+/// after a mode change, its modes guarded: a path-dependent anchor, not continued to new
+/// trial values, continued for a difference to `F_C (1 + 1e-5)` exactly, what a fresh
+/// search finds there.
+#[test]
+fn a_linear_mode_reached_through_a_breakaway_is_continued_only_for_a_difference() {
+    // b = 20 N s/m would damp the linear spring critically (b² = 4 m k), a defective matrix
+    // whose asymptote the modal form does not give; 25 N s/m is overdamped.
+    let linear = BELT
+        .replace("k*q_spring + k_3*q_spring^3", "k*q_spring")
+        .replace("\"b\": (value: 20.0", "\"b\": (value: 25.0");
+    let belt = model::load_str("linear_belt.ron", &linear).unwrap();
+    let mut simulator = self::simulator(&belt, &["effort:spring"]);
+    let names = simulator.storage().names.clone();
+    let settings = SteadySettings::default();
+    let start = || vec![0.0; names.len()];
+    let steady = steady_state(
+        &mut simulator,
+        &[0.1],
+        Mode::initial(&belt),
+        start(),
+        &settings,
+    )
+    .unwrap();
+    assert!(
+        (steady.outputs[0] - 6.0).abs() < 1e-12,
+        "{:?}",
+        steady.outputs
+    );
+    assert!(steady.mode.contains("slip"), "{}", steady.mode);
+    let anchor = steady
+        .anchor
+        .expect("the asymptote of a stable linear mode");
+    assert!(anchor.path_dependent);
+
+    let f_c = 6.0 * (1.0 + 1e-5);
+    simulator
+        .set_parameter_values(&with_value(&belt, "F_C", f_c))
+        .unwrap();
+    assert!(continue_steady(&mut simulator, &anchor, &settings).is_none());
+    let branch = continue_branch(&mut simulator, &anchor, &settings).expect("still slipping");
+    assert_eq!(branch.work.steps, 0);
+    assert!(
+        (branch.outputs[0] - f_c).abs() < 1e-14 * f_c,
+        "{:?}",
+        branch.outputs
+    );
+    let fresh = steady_state(
+        &mut simulator,
+        &[0.1],
+        Mode::initial(&belt),
+        start(),
+        &settings,
+    )
+    .unwrap();
+    assert!((fresh.outputs[0] - branch.outputs[0]).abs() < 1e-14 * f_c);
+    assert_eq!(fresh.mode, branch.mode);
+}
 
 /// A motor held by static friction, its winding's resistance nonlinear (a brush drop
 /// `U_b tanh(i/i_0)` beside `R i`): the current settles at a stable equilibrium of the stuck

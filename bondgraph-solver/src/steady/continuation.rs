@@ -34,19 +34,33 @@
 //! The state found is the equilibrium to double precision, as the search's own Newton polish
 //! gives it ([`super`]), so a continued prediction agrees with a simulated one
 //! to rounding.
+//!
+//! A linear mode's steady state is its asymptote, exact from the modal form: the decaying
+//! components at their equilibria, the integrators (zero eigenvalues: a position, a slack
+//! string's stretch) where the transient left them, drifting at a constant rate. Where the
+//! outputs read none of the integrators, what they read depends on the mode and the values
+//! only, not on the path, and the asymptote at nearby values is the continuation: no
+//! iteration, no basin to leave. It is an [`Anchor`] on the same terms as a nonlinear
+//! mode's (path-dependent where the mode has guards or the search changed mode on the way),
+//! refused where the mode at the new values is no longer stable, its outputs come to read
+//! an integrator, or a guard below zero rises along the asymptote. An output that reads an
+//! integrator (a displacement in steady motion) makes no anchor.
 
 use super::nonlinear::{GUARD_ROUNDING, newton, steady_at};
-use super::{Steady, SteadySettings};
+use super::{ROUNDING, Steady, SteadySettings, Work};
 use crate::hybrid::Simulator;
+use crate::numeric::{NumericMode, dot};
 use bondgraph_core::modes::Mode;
 
-/// A steady state that can be continued: an isolated, stable equilibrium of a nonlinear
-/// mode ([`Steady::anchor`]).
+/// A steady state that can be continued ([`Steady::anchor`]): an isolated, stable
+/// equilibrium of a nonlinear mode, or the asymptote of a linear mode whose outputs read
+/// none of its integrators.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Anchor {
     /// The mode it settled in.
     pub mode: Mode,
-    /// The equilibrium, in the mode's own states.
+    /// The equilibrium (of a linear mode, the asymptote's point when it was reached), in
+    /// the mode's own states.
     pub state: Vec<f64>,
     /// The constant inputs it settled at.
     pub inputs: Vec<f64>,
@@ -121,7 +135,9 @@ fn continue_on_branch(
     settings: &SteadySettings,
 ) -> Option<(Steady, Vec<f64>)> {
     let mode = simulator.mode(&anchor.mode).ok()?;
-    let nl = mode.nonlinear.as_ref()?;
+    let Some(nl) = mode.nonlinear.as_ref() else {
+        return continue_linear(&mode, anchor, settings);
+    };
     if anchor.state.len() != nl.n || anchor.inputs.len() != nl.m {
         return None;
     }
@@ -147,5 +163,89 @@ fn continue_on_branch(
         return None;
     }
     let steady = steady_at(&mode, &x, &anchor.inputs, &rate, anchor.time);
+    Some((steady, x))
+}
+
+/// The anchor of a linear mode's steady state: its asymptote `x` reached at `time` under
+/// constant inputs `u`, where every output reads none of the mode's integrators
+/// ([`Propagator::blind_to_integrators`](crate::propagate::Propagator::blind_to_integrators)),
+/// so that what they read at the asymptote does not depend on where the transient left the
+/// integrators (a slack string's stretch, a position), only on the mode and the values.
+/// Path-dependent where the search left a mode on the way (`left_a_mode`) or the mode has
+/// guards, as for a nonlinear mode.
+pub(super) fn linear_anchor(
+    mode: &NumericMode,
+    x: &[f64],
+    u: &[f64],
+    rate: &[f64],
+    time: f64,
+    left_a_mode: bool,
+    settings: &SteadySettings,
+) -> Option<Anchor> {
+    let constant = rate.iter().all(|r| *r == 0.0);
+    (constant && outputs_blind(mode, settings)).then(|| Anchor {
+        mode: mode.mode.clone(),
+        state: x.to_vec(),
+        inputs: u.to_vec(),
+        scale: x.iter().map(|v| v.abs()).collect(),
+        time,
+        path_dependent: left_a_mode || !mode.guards.is_empty(),
+        guards_below: mode
+            .guards
+            .iter()
+            .map(|g| g.row.eval(x, u, rate) < 0.0)
+            .collect(),
+    })
+}
+
+/// Whether every output of a linear mode reads none of its integrators.
+fn outputs_blind(mode: &NumericMode, settings: &SteadySettings) -> bool {
+    mode.outputs.iter().all(|row| {
+        row.program.is_none()
+            && mode
+                .propagator
+                .blind_to_integrators(&row.state, settings.zero_eigenvalue)
+    })
+}
+
+/// A linear mode's steady state at the simulator's current values, on the branch of
+/// `anchor`: the asymptote from the anchor's point, exact (no iteration), where the mode is
+/// still stable, its outputs still read none of its integrators, and no guard below zero
+/// rises along the asymptote (the search would follow it to the crossing).
+fn continue_linear(
+    mode: &NumericMode,
+    anchor: &Anchor,
+    settings: &SteadySettings,
+) -> Option<(Steady, Vec<f64>)> {
+    let u = &anchor.inputs;
+    if anchor.state.len() != mode.a.nrows() || u.len() != mode.b.ncols() {
+        return None;
+    }
+    let (x, drift) = mode
+        .propagator
+        .asymptote(&anchor.state, u, settings.zero_eigenvalue)?;
+    if !outputs_blind(mode, settings) {
+        return None;
+    }
+    let rate = vec![0.0; u.len()];
+    let reaches_a_guard = mode.guards.iter().any(|guard| {
+        let value = guard.row.eval(&x, u, &rate);
+        let slope = dot(&guard.row.state, &drift);
+        let size = mode.row_rate_magnitude(&guard.row, &x, u, &rate);
+        value < 0.0 && slope > ROUNDING * size
+    });
+    if reaches_a_guard {
+        return None;
+    }
+    let steady = Steady {
+        outputs: mode.outputs.iter().map(|r| r.eval(&x, u, &rate)).collect(),
+        drift: mode.outputs.iter().map(|r| dot(&r.state, &drift)).collect(),
+        mode: mode.spec.clone(),
+        time: anchor.time,
+        state: mode.reconstruct(&x, u),
+        work: Work::default(),
+        events: Vec::new(),
+        anchor: None,
+    };
     Some((steady, x))
 }

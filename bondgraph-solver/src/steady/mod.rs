@@ -123,7 +123,8 @@ pub struct Steady {
     /// The events on the way (none unless [`SteadySettings::events`]).
     pub events: Vec<Event>,
     /// Where it can be continued to nearby parameter values without simulating again
-    /// ([`continuation`]): an isolated, stable equilibrium of a nonlinear mode, path-dependent
+    /// ([`continuation`]): an isolated, stable equilibrium of a nonlinear mode, or the
+    /// asymptote of a linear mode whose outputs read none of its integrators; path-dependent
     /// where the mode has guards or the search left a mode on the way; `None` otherwise.
     pub anchor: Option<continuation::Anchor>,
 }
@@ -364,6 +365,15 @@ fn search_from(
             .iter()
             .map(|row| dot(&row.state, &drift))
             .collect();
+        let anchor = continuation::linear_anchor(
+            &mode,
+            &x,
+            &u,
+            &rate,
+            stepper.time(),
+            stepper.event_count() > 0,
+            settings,
+        );
         return Ok(Steady {
             outputs,
             drift: drift_outputs,
@@ -376,7 +386,7 @@ fn search_from(
             } else {
                 Vec::new()
             },
-            anchor: None,
+            anchor,
         });
     }
 }
@@ -384,7 +394,7 @@ fn search_from(
 /// A slope of a guard along the drift below this fraction of the size of the terms of the
 /// rates it is made of is rounding (the fraction [`crate::hybrid`] takes for a value at its
 /// threshold).
-const ROUNDING: f64 = 1e-9;
+pub(super) const ROUNDING: f64 = 1e-9;
 
 /// The work a search has done against its budget.
 pub(crate) struct Search<'a> {
