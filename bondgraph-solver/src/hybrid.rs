@@ -154,6 +154,9 @@ pub struct Simulator<'m> {
     nonlinear_forms: ModeMap<Arc<NonlinearForms>>,
     /// Each mode with the current values in.
     numeric: ModeMap<Arc<NumericMode>>,
+    /// Each mode with the values before the last change, whose eigendecompositions the
+    /// new values may leave as they were ([`NumericMode::from_forms_beside`]).
+    previous: ModeMap<Arc<NumericMode>>,
     settings: Settings,
     /// Energies recorded after the outputs, by name.
     energy_columns: Vec<(String, EnergyColumn)>,
@@ -180,6 +183,7 @@ impl<'m> Simulator<'m> {
             forms: ModeMap::default(),
             nonlinear_forms: ModeMap::default(),
             numeric: ModeMap::default(),
+            previous: ModeMap::default(),
             settings: Settings::default(),
             energy_columns: Vec::new(),
             scratch: events::Scratch::default(),
@@ -258,7 +262,11 @@ impl<'m> Simulator<'m> {
         if values != self.values.as_slice() {
             self.values = values.to_vec();
             self.storage = Storage::with_values(self.model, values);
-            self.numeric.clear();
+            // The modes at the values before, where the new ones have any: a mode a fit's
+            // trial no longer visits keeps its older form to be reused.
+            for (mode, numeric) in self.numeric.drain() {
+                self.previous.insert(mode, numeric);
+            }
         }
         Ok(())
     }
@@ -313,7 +321,12 @@ impl<'m> Simulator<'m> {
                 forms
             }
         };
-        let numeric = Arc::new(NumericMode::from_forms(&forms, &self.values, &self.storage));
+        let numeric = Arc::new(NumericMode::from_forms_beside(
+            &forms,
+            &self.values,
+            &self.storage,
+            self.previous.get(mode).map(|previous| &**previous),
+        ));
         self.numeric.insert(mode.clone(), numeric.clone());
         Ok(numeric)
     }

@@ -278,6 +278,17 @@ impl NumericMode {
     /// Puts the parameter `values` (indexed like [`Model::values`]) into a mode's forms,
     /// gathered once ([`ModeForms`]): what a calibration does at every trial.
     pub fn from_forms(forms: &ModeForms, values: &[f64], storage: &Storage) -> Self {
+        Self::from_forms_beside(forms, values, storage, None)
+    }
+
+    /// [`NumericMode::from_forms`], reusing the eigendecomposition of `previous` (the same
+    /// mode at other values) where `A` came out the same ([`Propagator::new_beside`]).
+    pub fn from_forms_beside(
+        forms: &ModeForms,
+        values: &[f64],
+        storage: &Storage,
+        previous: Option<&NumericMode>,
+    ) -> Self {
         let (n, m) = (forms.state_names.len(), forms.inputs);
         let evaluate = |entries: &[forms::Entry], columns: usize| {
             let mut matrix = DMatrix::zeros(n, columns);
@@ -334,7 +345,10 @@ impl NumericMode {
                 flow: row(&p.flow),
             })
             .collect();
-        let propagator = Propagator::new(&a, &b, &c);
+        let propagator = match previous {
+            Some(previous) => Propagator::new_beside(&a, &b, &c, &previous.a, &previous.propagator),
+            None => Propagator::new(&a, &b, &c),
+        };
         let modal_guards = modal_guard_rows(&propagator, &guards);
         NumericMode {
             spec: forms.spec.clone(),

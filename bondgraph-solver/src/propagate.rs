@@ -16,6 +16,8 @@
 //! loses precision. A defective matrix is propagated instead through the exponential of an
 //! augmented matrix (see [`crate::linalg::expm`]).
 
+use std::sync::Arc;
+
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
@@ -33,7 +35,9 @@ pub enum Propagator {
 /// The data of modal propagation.
 #[derive(Clone, Debug)]
 pub struct Modal {
-    eigen: Eigen,
+    /// Shared by the propagators of one mode at parameter values that leave `A` as it is
+    /// ([`Propagator::new_beside`]).
+    eigen: Arc<Eigen>,
     /// `1/λ` (zero for a zero eigenvalue), for components that have decayed.
     inverse_values: Vec<Complex64>,
     /// `V⁻¹ B`.
@@ -71,40 +75,72 @@ impl Propagator {
     /// The propagator of `dx/dt = A x + B u + c`: modal when `A` is diagonalisable.
     pub fn new(a: &DMatrix<f64>, b: &DMatrix<f64>, c: &DVector<f64>) -> Self {
         match linalg::eigen(a) {
-            Ok(eigen) => {
-                let to_complex = |m: &DMatrix<f64>| m.map(|x| Complex64::new(x, 0.0));
-                let input = &eigen.inverse * to_complex(b);
-                let affine = &eigen.inverse * c.map(|x| Complex64::new(x, 0.0));
-                let inverse_values = eigen
-                    .values
-                    .iter()
-                    .map(|v| {
-                        if v.norm() == 0.0 {
-                            Complex64::new(0.0, 0.0)
-                        } else {
-                            1.0 / v
-                        }
-                    })
-                    .collect();
-                Propagator::Modal(Modal {
-                    eigen,
-                    inverse_values,
-                    input,
-                    affine,
-                })
-            }
-            Err(_) => {
-                let values = nalgebra::Schur::try_new(a.clone(), f64::EPSILON, 10_000)
-                    .map(|s| s.complex_eigenvalues().iter().copied().collect())
-                    .unwrap_or_default();
-                Propagator::Exponential(Exponential {
-                    a: a.clone(),
-                    b: b.clone(),
-                    c: c.clone(),
-                    values,
-                })
-            }
+            Ok(eigen) => Self::modal(Arc::new(eigen), b, c),
+            Err(_) => Self::exponential(a, b, c),
         }
+    }
+
+    /// [`Propagator::new`], reusing the eigendecomposition of `previous`, the propagator of
+    /// `previous_a`, where `A` is that matrix exactly: a fit's trial values often change
+    /// only `B u + c` (a Coulomb force, a breakaway force scanned, an input's gain), and
+    /// the decomposition was a tenth of a steady sweep's `discover`. The same matrix gives
+    /// the same decomposition, so the propagator is the one [`Propagator::new`] builds.
+    pub fn new_beside(
+        a: &DMatrix<f64>,
+        b: &DMatrix<f64>,
+        c: &DVector<f64>,
+        previous_a: &DMatrix<f64>,
+        previous: &Propagator,
+    ) -> Self {
+        if a != previous_a {
+            return Self::new(a, b, c);
+        }
+        match previous {
+            Propagator::Modal(m) => Self::modal(Arc::clone(&m.eigen), b, c),
+            Propagator::Exponential(e) => Propagator::Exponential(Exponential {
+                a: a.clone(),
+                b: b.clone(),
+                c: c.clone(),
+                values: e.values.clone(),
+            }),
+        }
+    }
+
+    /// The modal propagator of `A = V Λ V⁻¹` (`eigen`) with forcing `B u + c`.
+    fn modal(eigen: Arc<Eigen>, b: &DMatrix<f64>, c: &DVector<f64>) -> Self {
+        let to_complex = |m: &DMatrix<f64>| m.map(|x| Complex64::new(x, 0.0));
+        let input = &eigen.inverse * to_complex(b);
+        let affine = &eigen.inverse * c.map(|x| Complex64::new(x, 0.0));
+        let inverse_values = eigen
+            .values
+            .iter()
+            .map(|v| {
+                if v.norm() == 0.0 {
+                    Complex64::new(0.0, 0.0)
+                } else {
+                    1.0 / v
+                }
+            })
+            .collect();
+        Propagator::Modal(Modal {
+            eigen,
+            inverse_values,
+            input,
+            affine,
+        })
+    }
+
+    /// The propagator of a defective `A`, by the exponential of an augmented matrix.
+    fn exponential(a: &DMatrix<f64>, b: &DMatrix<f64>, c: &DVector<f64>) -> Self {
+        let values = nalgebra::Schur::try_new(a.clone(), f64::EPSILON, 10_000)
+            .map(|s| s.complex_eigenvalues().iter().copied().collect())
+            .unwrap_or_default();
+        Propagator::Exponential(Exponential {
+            a: a.clone(),
+            b: b.clone(),
+            c: c.clone(),
+            values,
+        })
     }
 
     /// The eigenvalues of `A`.
@@ -752,6 +788,46 @@ mod tests {
         let z = coordinate(lambda, inverse, 1e-3, z0, w0, w1);
         let both = coordinate_and_rate(lambda, inverse, 1e-3, z0, w0, w1);
         assert_eq!(both, (z, rate));
+    }
+
+    /// A propagator at new `B` and `c` beside one of the same `A` shares its
+    /// eigendecomposition and propagates exactly as one built afresh; at another `A` it is
+    /// built afresh.
+    #[test]
+    fn a_propagator_beside_one_of_the_same_matrix_shares_its_decomposition() {
+        let a = DMatrix::from_row_slice(2, 2, &[-1.0, 2.0, 0.0, -3.0]);
+        let previous = Propagator::new(
+            &a,
+            &DMatrix::from_row_slice(2, 1, &[1.0, 0.5]),
+            &DVector::from_column_slice(&[0.1, 0.0]),
+        );
+        let (b, c) = (
+            DMatrix::from_row_slice(2, 1, &[2.0, 1.0]),
+            DVector::from_column_slice(&[0.0, 0.3]),
+        );
+        let beside = Propagator::new_beside(&a, &b, &c, &a, &previous);
+        let fresh = Propagator::new(&a, &b, &c);
+        let eigen = |p: &Propagator| match p {
+            Propagator::Modal(m) => Arc::clone(&m.eigen),
+            Propagator::Exponential(_) => panic!("a diagonalisable matrix"),
+        };
+        assert!(Arc::ptr_eq(&eigen(&beside), &eigen(&previous)));
+        let (x0, u0, u1) = ([0.4, -0.2], [1.5], [0.25]);
+        assert_eq!(
+            beside.start(&x0, &u0, &u1).state(0.7),
+            fresh.start(&x0, &u0, &u1).state(0.7)
+        );
+        // x₂ from 0 under 0.3 + u: the second row alone, ẋ₂ = -3 x₂ + u + 0.3.
+        let x2 = fresh.start(&[0.0, 0.0], &[0.0], &[0.0]).state(0.7)[1];
+        assert!(close(x2, 0.1 * (1.0 - (-2.1f64).exp()), 1e-14), "{x2}");
+
+        let other = DMatrix::from_row_slice(2, 2, &[-1.0, 2.0, 0.0, -4.0]);
+        let rebuilt = Propagator::new_beside(&other, &b, &c, &a, &previous);
+        assert!(!Arc::ptr_eq(&eigen(&rebuilt), &eigen(&previous)));
+        assert_eq!(
+            rebuilt.eigenvalues(),
+            Propagator::new(&other, &b, &c).eigenvalues()
+        );
     }
 
     #[test]
