@@ -64,7 +64,8 @@ pub struct Anchor {
     pub state: Vec<f64>,
     /// The constant inputs it settled at.
     pub inputs: Vec<f64>,
-    /// Each state's scale: the largest magnitude it had on the way.
+    /// Each state's scale: the largest magnitude it had on the way (a nonlinear mode's;
+    /// empty for a linear mode's asymptote, continued exactly).
     pub scale: Vec<f64>,
     /// When the search judged it reached.
     pub time: f64,
@@ -187,7 +188,8 @@ pub(super) fn linear_anchor(
         mode: mode.mode.clone(),
         state: x.to_vec(),
         inputs: u.to_vec(),
-        scale: x.iter().map(|v| v.abs()).collect(),
+        // A linear continuation is exact: no Newton steps to scale, no move to bound.
+        scale: Vec::new(),
         time,
         path_dependent: left_a_mode || !mode.guards.is_empty(),
         guards_below: mode
