@@ -32,6 +32,7 @@ mod error;
 mod integrate;
 mod recorder;
 mod sample_times;
+mod shared_forms;
 mod stall;
 mod step_guards;
 mod stepper;
@@ -140,6 +141,8 @@ pub struct Run<'a> {
 /// the model's own modes, never an adversary's.
 type ModeMap<V> = HashMap<Mode, V, foldhash::fast::FixedState>;
 
+pub use shared_forms::SharedForms;
+
 /// Simulates one model: caches its modes across runs.
 pub struct Simulator<'m> {
     model: &'m Model,
@@ -152,6 +155,8 @@ pub struct Simulator<'m> {
     forms: ModeMap<Arc<ModeForms>>,
     /// Each nonlinear mode's expressions, kept when the parameter values change.
     nonlinear_forms: ModeMap<Arc<NonlinearForms>>,
+    /// The forms shared with other simulators of the model, if any.
+    shared_forms: Option<Arc<SharedForms>>,
     /// Each mode with the current values in.
     numeric: ModeMap<Arc<NumericMode>>,
     /// Each mode with the values before the last change, whose eigendecompositions the
@@ -182,6 +187,7 @@ impl<'m> Simulator<'m> {
             symbolic: ModeCache::new(model, Options::default()),
             forms: ModeMap::default(),
             nonlinear_forms: ModeMap::default(),
+            shared_forms: None,
             numeric: ModeMap::default(),
             previous: ModeMap::default(),
             settings: Settings::default(),
@@ -231,6 +237,13 @@ impl<'m> Simulator<'m> {
     /// Replaces the limits on numerical trouble.
     pub fn with_settings(mut self, settings: Settings) -> Self {
         self.settings = settings;
+        self
+    }
+
+    /// Takes linear modes' forms from `shared`, and puts those it derives there: `shared`
+    /// must only ever serve simulators of this model with these outputs, in this order.
+    pub fn with_shared_forms(mut self, shared: Arc<SharedForms>) -> Self {
+        self.shared_forms = Some(shared);
         self
     }
 
@@ -310,13 +323,23 @@ impl<'m> Simulator<'m> {
         let forms = match self.forms.get(mode) {
             Some(forms) => forms.clone(),
             None => {
-                let derived = self.symbolic.get(mode).map_err(SimError::Derivation)?;
-                let outputs: Vec<_> = self
-                    .outputs
-                    .iter()
-                    .map(|o| derived.equations.output(&o.spec).row)
-                    .collect();
-                let forms = Arc::new(ModeForms::new(self.model, &derived, &outputs));
+                let shared = self.shared_forms.as_ref().and_then(|s| s.get(mode));
+                let forms = match shared {
+                    Some(forms) => forms,
+                    None => {
+                        let derived = self.symbolic.get(mode).map_err(SimError::Derivation)?;
+                        let outputs: Vec<_> = self
+                            .outputs
+                            .iter()
+                            .map(|o| derived.equations.output(&o.spec).row)
+                            .collect();
+                        let forms = Arc::new(ModeForms::new(self.model, &derived, &outputs));
+                        if let Some(shared) = &self.shared_forms {
+                            shared.insert(mode, &forms);
+                        }
+                        forms
+                    }
+                };
                 self.forms.insert(mode.clone(), forms.clone());
                 forms
             }

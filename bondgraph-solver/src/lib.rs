@@ -72,6 +72,6 @@ pub mod scenario;
 pub mod steady;
 
 pub use hybrid::{
-    Event, Output, Run, Settings, Signal, SimError, Simulator, Stall, Stats, Stepper, TimeScale,
-    Trajectory,
+    Event, Output, Run, Settings, SharedForms, Signal, SimError, Simulator, Stall, Stats, Stepper,
+    TimeScale, Trajectory,
 };

@@ -19,7 +19,7 @@ use bondgraph_core::source::SourceFile;
 use bondgraph_core::{Diagnostic, DiagnosticKind, diagnostics::Diagnostics};
 use bondgraph_solver::steady::continuation::{Anchor, continue_branch, continue_steady};
 use bondgraph_solver::steady::{SteadySettings, steady_state};
-use bondgraph_solver::{Output, Simulator};
+use bondgraph_solver::{Output, SharedForms, Simulator};
 
 use crate::budget::{Budget, Failure, Trials};
 use crate::data::Measurement;
@@ -45,6 +45,8 @@ struct Variant {
     /// (`integral:flow:outlet`, a volume drained since the run started).
     outputs: Vec<(OutputSpec, bool)>,
     initial: Mode,
+    /// The modes' forms its evaluators' simulators derive, shared among them.
+    forms: Arc<SharedForms>,
 }
 
 /// A model prepared to predict an experiment's rows, one variant per combination of empty
@@ -385,7 +387,9 @@ impl<'p> Session<'p> {
             .collect();
         Self {
             variant,
-            simulator: Simulator::new(model, outputs).with_settings(settings),
+            simulator: Simulator::new(model, outputs)
+                .with_settings(settings)
+                .with_shared_forms(Arc::clone(&variant.forms)),
             slots,
             ranges,
             values: model.values.clone(),
@@ -983,6 +987,7 @@ impl Variant {
             inputs,
             outputs,
             initial: initial.expect("no problems"),
+            forms: Arc::default(),
         })
     }
 }
