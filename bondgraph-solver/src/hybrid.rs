@@ -240,10 +240,13 @@ impl<'m> Simulator<'m> {
         self
     }
 
-    /// Takes linear modes' forms from `shared`, and puts those it derives there: `shared`
-    /// must only ever serve simulators of this model with these outputs, in this order.
+    /// Takes linear modes' forms from `shared`, and puts those it derives there, where
+    /// `shared` serves this model (this very value) with these outputs: the first simulator
+    /// handed it binds it so ([`SharedForms`]); any other derives its own.
     pub fn with_shared_forms(mut self, shared: Arc<SharedForms>) -> Self {
-        self.shared_forms = Some(shared);
+        if shared.serves(self.model, &self.outputs) {
+            self.shared_forms = Some(shared);
+        }
         self
     }
 

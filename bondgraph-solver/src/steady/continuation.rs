@@ -47,9 +47,9 @@
 //! integrator (a displacement in steady motion) makes no anchor.
 
 use super::nonlinear::{GUARD_ROUNDING, newton, steady_at};
-use super::{ROUNDING, Steady, SteadySettings, Work};
+use super::{Steady, SteadySettings, next_crossing, on_asymptote};
 use crate::hybrid::Simulator;
-use crate::numeric::{NumericMode, dot};
+use crate::numeric::NumericMode;
 use bondgraph_core::modes::Mode;
 
 /// A steady state that can be continued ([`Steady::anchor`]): an isolated, stable
@@ -230,24 +230,9 @@ fn continue_linear(
         return None;
     }
     let rate = vec![0.0; u.len()];
-    let reaches_a_guard = mode.guards.iter().any(|guard| {
-        let value = guard.row.eval(&x, u, &rate);
-        let slope = dot(&guard.row.state, &drift);
-        let size = mode.row_rate_magnitude(&guard.row, &x, u, &rate);
-        value < 0.0 && slope > ROUNDING * size
-    });
-    if reaches_a_guard {
+    if next_crossing(mode, &x, u, &rate, &drift).is_finite() {
         return None;
     }
-    let steady = Steady {
-        outputs: mode.outputs.iter().map(|r| r.eval(&x, u, &rate)).collect(),
-        drift: mode.outputs.iter().map(|r| dot(&r.state, &drift)).collect(),
-        mode: mode.spec.clone(),
-        time: anchor.time,
-        state: mode.reconstruct(&x, u),
-        work: Work::default(),
-        events: Vec::new(),
-        anchor: None,
-    };
+    let steady = on_asymptote(mode, &x, u, &rate, &drift, anchor.time);
     Some((steady, x))
 }

@@ -19,7 +19,7 @@ use bondgraph_core::modes::Mode;
 use num_complex::Complex64;
 
 use crate::hybrid::{Event, Signal, SimError, Simulator, Stepper};
-use crate::numeric::dot;
+use crate::numeric::{NumericMode, dot};
 use crate::ode::Tolerances;
 
 /// How long a mode's decaying motion is waited for, in its slowest time constants:
@@ -331,23 +331,7 @@ fn search_from(
                 "its matrix is defective, so its asymptote is not known".into(),
             ));
         };
-        // No guard may be reached along the asymptote: the steady motion still moves towards
-        // one it will cross, so the search follows it there, however far (within its budget
-        // of segments). Along a straight line only a guard below zero and rising can ever
-        // fire. A drift of rounding size does not move: a body at rest whose rate is
-        // `1e-13` where its terms are `1e3` would reach a guard after `1e40` s, and then
-        // cycle. So a slope counts only above [`ROUNDING`] of the size of the terms it is
-        // made of ([`NumericMode::row_rate_magnitude`](crate::numeric::NumericMode), as event
-        // location judges a rate `≈ 0`).
-        let mut next_crossing = f64::INFINITY;
-        for guard in &mode.guards {
-            let value = guard.row.eval(&x, &u, &rate);
-            let slope = dot(&guard.row.state, &drift);
-            let size = mode.row_rate_magnitude(&guard.row, &x, &u, &rate);
-            if slope > ROUNDING * size && value < 0.0 {
-                next_crossing = next_crossing.min(-value / slope);
-            }
-        }
+        let next_crossing = next_crossing(&mode, &x, &u, &rate, &drift);
         if next_crossing.is_finite() {
             // Go past the predicted crossing; the event stops the advance where it happens.
             let step = (2.0 * next_crossing).max(horizon);
@@ -355,46 +339,106 @@ fn search_from(
             search.advance(&mut stepper, target)?;
             continue;
         }
-        let outputs = mode
-            .outputs
-            .iter()
-            .map(|row| row.eval(&x, &u, &rate))
-            .collect();
-        let drift_outputs = mode
-            .outputs
-            .iter()
-            .map(|row| dot(&row.state, &drift))
-            .collect();
-        let anchor = continuation::linear_anchor(
-            &mode,
-            &x,
-            &u,
-            &rate,
-            stepper.time(),
-            stepper.event_count() > 0,
-            settings,
-        );
+        let time = stepper.time();
         return Ok(Steady {
-            outputs,
-            drift: drift_outputs,
-            mode: mode.spec.clone(),
-            time: stepper.time(),
-            state: mode.reconstruct(&x, &u),
             work: search.work(&stepper),
+            anchor: continuation::linear_anchor(
+                &mode,
+                &x,
+                &u,
+                &rate,
+                time,
+                stepper.event_count() > 0,
+                settings,
+            ),
             events: if settings.events {
                 stepper.into_events()
             } else {
                 Vec::new()
             },
-            anchor,
+            ..on_asymptote(&mode, &x, &u, &rate, &drift, time)
         });
+    }
+}
+
+/// How long the steady motion `x + drift τ` of a linear mode takes to reach a guard
+/// (infinite if it never does). No guard may be reached along the asymptote: a steady
+/// motion still moving towards one will cross it, and the search follows it there, however
+/// far (within its budget of segments). Along a straight line only a guard below zero and
+/// rising can ever fire. A drift of rounding size does not move: a body at rest whose rate
+/// is `1e-13` where its terms are `1e3` would reach a guard after `1e40` s, and then cycle.
+/// So a slope counts only above [`ROUNDING`] of the size of the terms it is made of
+/// ([`NumericMode::row_rate_magnitude`], as event location
+/// judges a rate `≈ 0`).
+pub(super) fn next_crossing(
+    mode: &NumericMode,
+    x: &[f64],
+    u: &[f64],
+    rate: &[f64],
+    drift: &[f64],
+) -> f64 {
+    let mut next = f64::INFINITY;
+    for guard in &mode.guards {
+        let value = guard.row.eval(x, u, rate);
+        let slope = dot(&guard.row.state, drift);
+        let size = mode.row_rate_magnitude(&guard.row, x, u, rate);
+        if slope > ROUNDING * size && value < 0.0 {
+            next = next.min(-value / slope);
+        }
+    }
+    next
+}
+
+/// The steady state of a linear mode on its asymptote `x + drift τ`, judged reached at
+/// `time`: the outputs read off the asymptote (not the last state, so a stiff mode's
+/// rounding noise does not reach them) with their drift ([`read_at`]).
+pub(super) fn on_asymptote(
+    mode: &NumericMode,
+    x: &[f64],
+    u: &[f64],
+    rate: &[f64],
+    drift: &[f64],
+    time: f64,
+) -> Steady {
+    let drift = mode
+        .outputs
+        .iter()
+        .map(|row| dot(&row.state, drift))
+        .collect();
+    read_at(mode, x, u, rate, drift, time)
+}
+
+/// The steady state `x` of `mode` at inputs `u` (rates `rate`), judged reached at `time`:
+/// the outputs read at `x` with their rates `drift`, the full state rebuilt; no work,
+/// events or anchor (the caller adds its own).
+pub(super) fn read_at(
+    mode: &NumericMode,
+    x: &[f64],
+    u: &[f64],
+    rate: &[f64],
+    drift: Vec<f64>,
+    time: f64,
+) -> Steady {
+    Steady {
+        outputs: mode
+            .outputs
+            .iter()
+            .map(|row| row.eval(x, u, rate))
+            .collect(),
+        drift,
+        mode: mode.spec.clone(),
+        time,
+        state: mode.reconstruct(x, u),
+        work: Work::default(),
+        events: Vec::new(),
+        anchor: None,
     }
 }
 
 /// A slope of a guard along the drift below this fraction of the size of the terms of the
 /// rates it is made of is rounding (the fraction [`crate::hybrid`] takes for a value at its
 /// threshold).
-pub(super) const ROUNDING: f64 = 1e-9;
+const ROUNDING: f64 = 1e-9;
 
 /// The work a search has done against its budget.
 pub(crate) struct Search<'a> {

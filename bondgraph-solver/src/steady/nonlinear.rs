@@ -15,7 +15,7 @@ use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
 use super::continuation::Anchor;
-use super::{Search, Steady, SteadyError, SteadySettings, Work};
+use super::{Search, Steady, SteadyError, SteadySettings};
 use crate::hybrid::Stepper;
 use crate::nonlinear::NonlinearNumeric;
 use crate::numeric::NumericMode;
@@ -406,20 +406,12 @@ pub(super) fn steady_at(
     rate: &[f64],
     time: f64,
 ) -> Steady {
-    Steady {
-        outputs: mode.outputs.iter().map(|r| r.eval(x, u, rate)).collect(),
-        drift: mode
-            .outputs
-            .iter()
-            .map(|r| mode.row_rate(r, x, u, rate))
-            .collect(),
-        mode: mode.spec.clone(),
-        time,
-        state: mode.reconstruct(x, u),
-        work: Work::default(),
-        events: Vec::new(),
-        anchor: None,
-    }
+    let drift = mode
+        .outputs
+        .iter()
+        .map(|r| mode.row_rate(r, x, u, rate))
+        .collect();
+    super::read_at(mode, x, u, rate, drift, time)
 }
 
 /// Newton iterations a polish takes at most: from a state the integration brought near an
