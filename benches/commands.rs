@@ -7,7 +7,7 @@
 use std::hint::black_box;
 use std::path::Path;
 
-use bondgraph::{derive, read_source, simulate};
+use bondgraph_view::{derive, read_source, simulate};
 use criterion::{Criterion, criterion_group, criterion_main};
 
 fn file(relative: &str) -> std::path::PathBuf {
@@ -42,7 +42,7 @@ fn commands(c: &mut Criterion) {
     let msd = file("models/teaching/mass_spring_damper.ron");
     group.bench_function("equations_msd_json", |b| {
         b.iter(|| {
-            let (model, source) = bondgraph::load(&msd).expect("model");
+            let (model, source) = bondgraph_view::load(&msd).expect("model");
             let derived =
                 derive::derive(&model, &source, &derive::Request::default()).expect("derives");
             black_box(derived.json().expect("json"))
@@ -50,8 +50,8 @@ fn commands(c: &mut Criterion) {
     });
     group.bench_function("check_msd", |b| {
         b.iter(|| {
-            let (model, source) = bondgraph::load(&msd).expect("model");
-            black_box(bondgraph::check::summary(&model, &source).expect("summary"))
+            let (model, source) = bondgraph_view::load(&msd).expect("model");
+            black_box(bondgraph_view::check::summary(&model, &source).expect("summary"))
         })
     });
     group.finish();

@@ -7,11 +7,11 @@ use std::path::Path;
 use bondgraph_core::DiagnosticKind;
 use bondgraph_eversion::main_job::{self, Reproduced};
 
-use crate::{Failure, json, plot, print, trajectory, write_file};
+use bondgraph_view::{Failure, discover, json, plot, print, trajectory, write_file};
 
 /// Runs the main job on the bundled files, writing nothing, with a progress bar on a terminal.
-pub fn reproduce_all() -> Result<Reproduced, Failure> {
-    let progress = crate::discover::progress_bar(main_job::DISCREPANCY_MODELS as u64);
+pub(crate) fn reproduce_all() -> Result<Reproduced, Failure> {
+    let progress = crate::run::progress_bar(main_job::DISCREPANCY_MODELS as u64);
     let reproduced = main_job::reproduce_all(&|| progress.inc(1))
         .map_err(|e| Failure::message(DiagnosticKind::Simulation, e.to_string()));
     progress.finish_and_clear();
@@ -19,13 +19,13 @@ pub fn reproduce_all() -> Result<Reproduced, Failure> {
 }
 
 /// Runs the main job and writes its results under `out`.
-pub fn run(out: &Path, as_json: bool) -> Result<(), Failure> {
+pub(crate) fn run(out: &Path, as_json: bool) -> Result<(), Failure> {
     let started = std::time::Instant::now();
     let reproduced = reproduce_all()?;
     let elapsed = started.elapsed();
     let text = json(&reproduced.document)?;
     let discovery = &reproduced.discovery;
-    crate::discover::write_outputs(&out.join("discrepancy"), discovery, &json(discovery)?)?;
+    discover::write_outputs(&out.join("discrepancy"), discovery, &json(discovery)?)?;
     write_file(&out.join("report.md"), &reproduced.report())?;
     write_file(&out.join("reproduce.json"), &text)?;
     let mut written = vec!["report.md".to_string()];

@@ -400,11 +400,11 @@ fn explain_names_what_storage_integrates_in_its_domain() {
     let source = bondgraph_core::source::SourceFile::new("rc.ron".to_string(), text.to_string());
     let model = bondgraph_core::model::load_source(&source).expect("a model");
     let mode = modes::Mode::initial(&model);
-    let plain = bondgraph::explain_bg::document(
+    let plain = bondgraph_view::explain_bg::document(
         &model,
         &mode,
         &source,
-        bondgraph::explain_bg::ExplainFormat::Text,
+        bondgraph_view::explain_bg::ExplainFormat::Text,
     )
     .unwrap_or_else(|_| panic!("explained"))
     .text;

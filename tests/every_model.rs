@@ -8,9 +8,9 @@
 
 use std::sync::Arc;
 
-use bondgraph::analyze::{self, Request};
-use bondgraph::explain_bg::{self, ExplainFormat};
-use bondgraph::{Failure, bg_svg, compare, explain_lg, lg_svg, load};
+use bondgraph_view::analyze::{self, Request};
+use bondgraph_view::explain_bg::{self, ExplainFormat};
+use bondgraph_view::{Failure, bg_svg, compare, explain_lg, lg_svg, load};
 use bondgraph_core::equations::{Options, Variables};
 use bondgraph_core::model::Model;
 use bondgraph_core::modes::{self, Mode};

@@ -921,7 +921,7 @@ fn check_lg_drawing(model: &Model, mode: &Mode, what: &str) {
     let graph = model.linear_graph.as_ref().expect("a linear graph");
     let laws = laws::for_mode(model, mode);
     let tree = normal_tree::of_mode(model, &laws).expect("a normal tree");
-    let svg = bondgraph::lg_svg::draw(model, graph, &tree, &mode.spec(model));
+    let svg = bondgraph_view::lg_svg::draw(model, graph, &tree, &mode.spec(model));
     let tags = tags(&svg);
     let mut drawn: std::collections::HashMap<String, Vec<bool>> = Default::default();
     let mut lines: Vec<(String, Vec<(f64, f64)>)> = Vec::new();

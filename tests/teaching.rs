@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use bondgraph::analyze::{self, Request};
+use bondgraph_view::analyze::{self, Request};
 use bondgraph_core::scenario;
 use bondgraph_core::source::SourceFile;
 use bondgraph_solver::Trajectory;
@@ -135,7 +135,7 @@ fn the_quarter_car_ends_a_bump_higher() {
 /// `bondgraph analyze models/teaching/MODEL.ron --input INPUT --output OUTPUT`, as JSON.
 fn analysis(model: &str, input: &str, output: &str) -> Value {
     let path = root().join(format!("models/teaching/{model}.ron"));
-    let (model, source) = bondgraph::load(&path).unwrap_or_else(|e| panic!("{e:?}"));
+    let (model, source) = bondgraph_view::load(&path).unwrap_or_else(|e| panic!("{e:?}"));
     let request = Request {
         input: Some(input.to_string()),
         output: Some(output.to_string()),

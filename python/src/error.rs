@@ -73,7 +73,7 @@ impl From<&Diagnostic> for PyDiagnostic {
     }
 }
 
-pub use bondgraph::Failure;
+pub use bondgraph_view::Failure;
 
 /// A [`Failure`] raised in Python.
 pub trait IntoPyErr {
@@ -93,7 +93,7 @@ impl IntoPyErr for Failure {
                         .find(|s| s.name() == location.file)
                         .map(|s| s.as_ref())
                 });
-                bondgraph::diagnostics::render(diagnostic, source)
+                bondgraph_view::diagnostics::render(diagnostic, source)
             })
             .collect::<Vec<_>>()
             .join("\n");

@@ -1,13 +1,13 @@
 //! Models against measured data and the main job: `calibrate`, `discover`, `reproduce`.
 //!
 //! The same library calls as the command line (`calibrate::calibrate`,
-//! `discover::inputs(..).discover(..)`, `reproduce::reproduce_all`): the experiment beside
+//! `discover::inputs(..).discover(..)`, the study's `main_job::reproduce_all`): the experiment beside
 //! the model (or the one given), the data files joined, every extension of the library
 //! checked against the base model; the result is the command's JSON document.
 
 use std::path::{Path, PathBuf};
 
-use bondgraph::{discover as command, json};
+use bondgraph_view::{discover as command, json};
 use pyo3::prelude::*;
 
 use crate::error::guard;
@@ -26,7 +26,7 @@ pub fn calibrate(
     experiment: Option<String>,
 ) -> PyResult<String> {
     guard(py, || {
-        let result = bondgraph::calibrate::calibrate(
+        let result = bondgraph_view::calibrate::calibrate(
             Path::new(&model),
             experiment.as_deref().map(Path::new),
             &paths(&data),
@@ -68,6 +68,12 @@ pub fn discover(
 #[pyfunction]
 pub fn reproduce(py: Python<'_>) -> PyResult<String> {
     guard(py, || {
-        json(&bondgraph::reproduce::reproduce_all()?.document)
+        let reproduced = bondgraph_eversion::main_job::reproduce_all(&|| {}).map_err(|e| {
+            bondgraph_view::Failure::message(
+                bondgraph_core::DiagnosticKind::Simulation,
+                e.to_string(),
+            )
+        })?;
+        json(&reproduced.document)
     })
 }

@@ -8,7 +8,7 @@
 
 use std::sync::Arc;
 
-use bondgraph::{check, compare, derive, explain_bg, graph, parse_mode};
+use bondgraph_view::{check, compare, derive, explain_bg, graph, parse_mode};
 use bondgraph_core::equations::{Layout, Variables};
 use bondgraph_core::model::{self, Model};
 use bondgraph_core::source::SourceFile;
@@ -28,7 +28,7 @@ pub struct PyModel {
 
 /// Reads `path` as text (with the command line's size limit and UTF-8 check).
 pub fn read_source(path: &str) -> Result<Arc<SourceFile>, Failure> {
-    bondgraph::read_source(std::path::Path::new(path))
+    bondgraph_view::read_source(std::path::Path::new(path))
 }
 
 /// `energy` or `coenergy` as `--states` takes them; `None`: the model's own.
@@ -176,7 +176,7 @@ impl PyModel {
         at: Option<String>,
         equilibrium: bool,
     ) -> PyResult<PyAnalysis> {
-        let request = bondgraph::analyze::Request {
+        let request = bondgraph_view::analyze::Request {
             mode,
             input,
             output,
@@ -184,10 +184,10 @@ impl PyModel {
             equilibrium,
         };
         guard(py, || {
-            let analyzed = bondgraph::analyze::analyze(&self.model, &self.source, &request)?;
+            let analyzed = bondgraph_view::analyze::analyze(&self.model, &self.source, &request)?;
             let has_channel = analyzed.has_transfer_function();
             Ok(PyAnalysis {
-                json: bondgraph::json(&analyzed.json())?,
+                json: bondgraph_view::json(&analyzed.json())?,
                 text: analyzed.text(),
                 bode_svg: has_channel.then(|| analyzed.bode_svg()).transpose()?,
                 step_svg: has_channel.then(|| analyzed.step_svg()).transpose()?,
@@ -259,7 +259,7 @@ impl PyModel {
     /// `bondgraph simulate` with the scenario file at `path`.
     fn simulate_file(&self, py: Python<'_>, path: String) -> PyResult<PyTrajectory> {
         guard(py, || {
-            PyTrajectory::new(bondgraph::simulate::simulate(
+            PyTrajectory::new(bondgraph_view::simulate::simulate(
                 &self.source,
                 &read_source(&path)?,
             )?)
@@ -270,7 +270,7 @@ impl PyModel {
     /// diagnostics give.
     fn simulate_text(&self, py: Python<'_>, text: String, name: String) -> PyResult<PyTrajectory> {
         guard(py, || {
-            PyTrajectory::new(bondgraph::simulate::simulate(
+            PyTrajectory::new(bondgraph_view::simulate::simulate(
                 &self.source,
                 &SourceFile::new(name, text),
             )?)

@@ -2,7 +2,7 @@
 //! text, or the text it prints) and the renderings a notebook shows; the Python layer
 //! (`bondgraph/__init__.py`) turns them into objects with numpy arrays.
 
-use bondgraph::simulate::Simulated;
+use bondgraph_view::simulate::Simulated;
 use bondgraph_core::DiagnosticKind;
 use pyo3::prelude::*;
 
@@ -72,7 +72,7 @@ impl PyTrajectory {
             object.remove("samples");
         }
         Ok(Self {
-            document: bondgraph::json(&document)?,
+            document: bondgraph_view::json(&document)?,
             run,
         })
     }
@@ -117,8 +117,8 @@ impl PyTrajectory {
 }
 
 /// `text` or `markdown`, as `bondgraph explain --format` takes it.
-pub fn explain_format(format: &str) -> Result<bondgraph::explain_bg::ExplainFormat, Failure> {
-    use bondgraph::explain_bg::ExplainFormat;
+pub fn explain_format(format: &str) -> Result<bondgraph_view::explain_bg::ExplainFormat, Failure> {
+    use bondgraph_view::explain_bg::ExplainFormat;
     match format {
         "text" => Ok(ExplainFormat::Text),
         "markdown" => Ok(ExplainFormat::Markdown),
@@ -127,8 +127,8 @@ pub fn explain_format(format: &str) -> Result<bondgraph::explain_bg::ExplainForm
 }
 
 /// `text`, `dot` or `svg`, as `bondgraph graph --format` takes it.
-pub fn graph_format(format: &str) -> Result<bondgraph::graph::GraphFormat, Failure> {
-    use bondgraph::graph::GraphFormat;
+pub fn graph_format(format: &str) -> Result<bondgraph_view::graph::GraphFormat, Failure> {
+    use bondgraph_view::graph::GraphFormat;
     match format {
         "text" => Ok(GraphFormat::Text),
         "dot" => Ok(GraphFormat::Dot),

@@ -1,11 +1,12 @@
-//! The `bondgraph` library: what the command line prints, for other front ends.
+//! What `bondgraph` shows: each command's document, for every front end.
 //!
-//! The `bondgraph` binary renders the libraries' results as text, JSON, CSV and SVG; the
-//! modules here are the renderers and the commands' documents that another front end (the
-//! Python bindings in `python/`) needs too, so that both print the same documents from the
-//! same code: `check`, `modes`, `graph`, `equations` (`derive`), `simulate`, `analyze`,
-//! `calibrate`, `compare`, `discover`, `explain` and `reproduce` each build their result
-//! here, and the binary only parses arguments and prints.
+//! The `bondgraph` binary and the Python bindings (`python/`) print the same documents from
+//! the same code: `check`, `modes`, `graph`, `equations` ([`derive`](mod@derive)), `simulate`,
+//! [`analyze`], [`calibrate`], [`compare`], [`discover`] and `explain` each build their
+//! result here as text, JSON, CSV or SVG, with the drawings ([`bg_svg`], [`lg_svg`]), plots
+//! ([`plot`], [`residual_plot`]) and diagnostics rendered with a snippet of the file they
+//! point into ([`diagnostics`]). Nothing here parses a command line or draws a progress bar:
+//! the formats are plain enums ([`formats`]) that each front end maps its own options onto.
 //!
 //! ```
 //! use bondgraph_core::model;
@@ -13,12 +14,12 @@
 //! use bondgraph_core::normal_tree;
 //! use bondgraph_core::laws;
 //!
-//! let text = std::fs::read_to_string("models/examples/rlc.lg.ron").unwrap();
+//! let text = std::fs::read_to_string("../models/examples/rlc.lg.ron").unwrap();
 //! let model = model::load_str("rlc.lg.ron", &text).unwrap();
 //! let graph = model.linear_graph.as_ref().unwrap();
 //! let mode = Mode::initial(&model);
 //! let tree = normal_tree::of_mode(&model, &laws::for_mode(&model, &mode)).unwrap();
-//! let svg = bondgraph::lg_svg::draw(&model, graph, &tree, &mode.spec(&model));
+//! let svg = bondgraph_view::lg_svg::draw(&model, graph, &tree, &mode.spec(&model));
 //! assert!(svg.starts_with("<svg"));
 //! ```
 
@@ -43,7 +44,6 @@ pub mod lg_svg;
 pub mod measured;
 pub mod output;
 pub mod plot;
-pub mod reproduce;
 pub mod residual_plot;
 pub mod simulate;
 pub mod trajectory;

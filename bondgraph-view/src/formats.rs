@@ -1,10 +1,8 @@
 //! The output formats of the views, as plain enums that the command line (`clap`) and the
 //! Python bindings both map onto, so that a view does not depend on another for its format.
 
-use clap::ValueEnum;
-
 /// How `bondgraph graph` writes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GraphFormat {
     /// The elements, bonds and causality (a linear graph: nodes, branches, normal tree).
     Text,
@@ -15,7 +13,7 @@ pub enum GraphFormat {
 }
 
 /// How `bondgraph explain` writes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ExplainFormat {
     /// Plain text.
     Text,

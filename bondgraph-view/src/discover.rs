@@ -151,23 +151,18 @@ impl Inputs {
     }
 }
 
-/// Runs `discover`.
-pub fn run(args: &Args) -> Result<(), Failure> {
-    let inputs = inputs(
-        &args.model,
-        &args.data,
-        args.experiment.as_deref(),
-        args.extensions.as_deref(),
-    )?;
-    let candidates = inputs.candidates.len();
-    let started = std::time::Instant::now();
-    let progress = progress_bar(candidates as u64 + 1);
-    let discovery = inputs.discover_within(&args.budget, args.resamples, &|| progress.inc(1))?;
-    progress.finish_and_clear();
-    let elapsed = started.elapsed();
-    let text = json(&discovery)?;
+/// Prints `discover`'s report (and writes it under `args.out`): the document of
+/// `discovery`, made of `candidates` candidates in `elapsed`. The front end runs the search
+/// ([`inputs`], [`Inputs::discover_within`]) with its own progress display.
+pub fn report(
+    args: &Args,
+    discovery: &Discovery,
+    candidates: usize,
+    elapsed: std::time::Duration,
+) -> Result<(), Failure> {
+    let text = json(discovery)?;
     if let Some(out) = &args.out {
-        write_outputs(out, &discovery, &text)?;
+        write_outputs(out, discovery, &text)?;
     }
     if args.json {
         print(&text);
@@ -183,24 +178,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
     }
     Ok(())
-}
-
-/// A progress bar on standard error when it is a terminal (hidden otherwise, so that logs
-/// and pipes stay clean): the models fitted and cross-validated so far.
-pub fn progress_bar(models: u64) -> indicatif::ProgressBar {
-    use std::io::IsTerminal;
-    if !std::io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let bar = indicatif::ProgressBar::new(models);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{spinner} fitting and cross-validating: {pos}/{len} models [{elapsed}]",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    bar.enable_steady_tick(std::time::Duration::from_millis(120));
-    bar
 }
 
 /// Writes the report, the JSON, the extended model and the residual plots.
