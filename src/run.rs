@@ -56,7 +56,11 @@ pub(crate) fn simulate(
 }
 
 /// Merges extensions into a model, checks the result and prints or writes it.
-pub(crate) fn extend(model: &Path, extensions: &[PathBuf], out: Option<&Path>) -> Result<(), Failure> {
+pub(crate) fn extend(
+    model: &Path,
+    extensions: &[PathBuf],
+    out: Option<&Path>,
+) -> Result<(), Failure> {
     use bondgraph_core::model::extension::{self, Extension};
     let base = read_source(model)?;
     let mut sources = vec![base.clone()];

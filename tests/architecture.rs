@@ -56,7 +56,6 @@ const FUNCTION_BUDGET: usize = 150;
 /// Files over [`FILE_BUDGET`] today, with their size now (each may only shrink).
 const OVERSIZED_FILES: &[(&str, usize)] = &[
     ("bondgraph-core/src/model/validate.rs", 1489),
-    ("bondgraph-core/src/scenario.rs", 1246),
     ("bondgraph-core/src/model/source_map.rs", 1092),
 ];
 

@@ -8,14 +8,14 @@
 
 use std::sync::Arc;
 
-use bondgraph_view::analyze::{self, Request};
-use bondgraph_view::explain_bg::{self, ExplainFormat};
-use bondgraph_view::{Failure, bg_svg, compare, explain_lg, lg_svg, load};
 use bondgraph_core::equations::{Options, Variables};
 use bondgraph_core::model::Model;
 use bondgraph_core::modes::{self, Mode};
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::{causality, laws, normal_tree};
+use bondgraph_view::analyze::{self, Request};
+use bondgraph_view::explain_bg::{self, ExplainFormat};
+use bondgraph_view::{Failure, bg_svg, compare, explain_lg, lg_svg, load};
 use serde_json::Value;
 
 use crate::bond_graph_views;

@@ -6,10 +6,10 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use bondgraph_view::analyze::{self, Request};
 use bondgraph_core::scenario;
 use bondgraph_core::source::SourceFile;
 use bondgraph_solver::Trajectory;
+use bondgraph_view::analyze::{self, Request};
 use serde_json::Value;
 
 use crate::support::root;

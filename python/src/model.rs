@@ -8,10 +8,10 @@
 
 use std::sync::Arc;
 
-use bondgraph_view::{check, compare, derive, explain_bg, graph, parse_mode};
 use bondgraph_core::equations::{Layout, Variables};
 use bondgraph_core::model::{self, Model};
 use bondgraph_core::source::SourceFile;
+use bondgraph_view::{check, compare, derive, explain_bg, graph, parse_mode};
 use pyo3::prelude::*;
 
 use crate::error::{Failure, IntoPyErr, guard};

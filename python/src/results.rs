@@ -2,8 +2,8 @@
 //! text, or the text it prints) and the renderings a notebook shows; the Python layer
 //! (`bondgraph/__init__.py`) turns them into objects with numpy arrays.
 
-use bondgraph_view::simulate::Simulated;
 use bondgraph_core::DiagnosticKind;
+use bondgraph_view::simulate::Simulated;
 use pyo3::prelude::*;
 
 use crate::error::{Failure, guard};
