@@ -36,14 +36,13 @@ const MODULE_CYCLES: &[(&str, &[&str])] = &[(
     &[
         "causality",
         "equations",
-        "expr",
         "graph",
         "guards",
         "laws",
+        "mode",
         "model",
         "modes",
         "normal_tree",
-        "scenario",
         "units",
     ],
 )];

@@ -42,8 +42,8 @@
 //! ```
 
 use crate::causality::{Causality, Stroke};
+use crate::mode::Mode;
 use crate::model::{BondId, ElementId, ElementKind, Model, NonlinearLaw};
-use crate::modes::Mode;
 
 /// Font size of labels, in pixels.
 pub const FONT: f64 = 14.0;

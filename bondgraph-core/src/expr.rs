@@ -226,8 +226,8 @@ fn unknown_function(name: &str) -> String {
         .iter()
         .find(|(alias, _)| alias.eq_ignore_ascii_case(name))
         .map(|(_, meant)| *meant);
-    let meant = alias
-        .or_else(|| crate::model::validate::suggest(name, Function::ALL.iter().map(|f| f.name())));
+    let meant =
+        alias.or_else(|| crate::diagnostics::suggest(name, Function::ALL.iter().map(|f| f.name())));
     let known: Vec<&str> = Function::ALL.iter().map(|f| f.name()).collect();
     match meant {
         Some(meant) => format!("unknown function '{name}'; did you mean '{meant}'?"),

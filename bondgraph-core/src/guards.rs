@@ -45,8 +45,8 @@
 use crate::equations::nonlinear::NonlinearEquations;
 use crate::equations::{StateEquations, StateVariable};
 use crate::linear::{LinearForm, Var};
+use crate::mode::Mode;
 use crate::model::{BondId, ElementId, ElementKind, ElementMode, Friction, Model};
-use crate::modes::Mode;
 use crate::symbolic::RatFunc;
 use crate::symbolic::expr::{Atom, Sym};
 

@@ -6,8 +6,8 @@
 //! of a switching model be derived by the same code as a plain model.
 
 use crate::linear::LinearForm;
+use crate::mode::Mode;
 use crate::model::{ElementKind, ElementMode, Model, NonlinearLaw};
-use crate::modes::Mode;
 use crate::symbolic::RatFunc;
 
 /// What an element does to its bonds in one mode.

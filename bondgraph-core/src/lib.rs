@@ -60,6 +60,7 @@ pub mod guards;
 pub mod laws;
 pub mod limits;
 pub mod linear;
+pub mod mode;
 pub mod model;
 pub mod modes;
 pub mod normal_tree;

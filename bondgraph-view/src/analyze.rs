@@ -444,7 +444,7 @@ impl ChannelUnits {
         };
         let quantity = record
             .as_ref()
-            .and_then(|r| bondgraph_core::units::label::quantity(model, r));
+            .and_then(|r| crate::unit_label::quantity(model, r));
         let output_label = match &quantity {
             Some((word, unit)) if word.is_empty() => format!("{output} ({unit})"),
             Some((word, unit)) => format!("{output}: {word} ({unit})"),

@@ -47,6 +47,7 @@ pub mod plot;
 pub mod residual_plot;
 pub mod simulate;
 pub mod trajectory;
+pub mod unit_label;
 
 pub use failure::{Failure, with_source};
 pub use files::{count, json, load, parse_mode, read_source, write_file};

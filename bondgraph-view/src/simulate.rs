@@ -77,7 +77,7 @@ impl Simulated {
         let mut labelled = self.trajectory.clone();
         for name in &mut labelled.output_names {
             if let Some(record) = self.scenario.record.iter().find(|r| r.name() == *name) {
-                *name = bondgraph_core::units::label::axis_label(&self.scenario.model, record);
+                *name = crate::unit_label::axis_label(&self.scenario.model, record);
             }
         }
         plot::plot_svg(&labelled, &self.title(), &panels)

@@ -147,10 +147,9 @@ impl OutputSpec {
                 "output '{text}': the linear graph has no branch '{name}'"
             ))
             .element(name);
-            if let Some(close) = crate::model::validate::suggest(
-                name,
-                graph.branches.iter().map(|b| b.name.as_str()),
-            ) {
+            if let Some(close) =
+                crate::diagnostics::suggest(name, graph.branches.iter().map(|b| b.name.as_str()))
+            {
                 d = d.note(format!("did you mean '{close}'?"));
             }
             return Err(d.into());

@@ -51,7 +51,7 @@ use crate::source::{Location, SourceFile, Span};
 use super::parse::parse_model;
 use super::raw::RawModel;
 use super::source_map::{TokenKind, lex};
-use super::validate::suggest;
+use crate::diagnostics::suggest;
 
 /// Changes to make to a model: elements to take out and parameter values to set.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -85,8 +85,8 @@ use super::linear_graph::format::{RawBranch, RawLinearGraph};
 use super::parse::{FileKind, parse_file, parse_model};
 use super::raw::{RawBond, RawElement, RawInput, RawParameter, entries};
 use super::source_map::{EntrySpans, SourceMap, TokenKind, lex};
-use super::validate::suggest;
 use super::{Format, Model};
+use crate::diagnostics::suggest;
 
 /// An extension file, exactly as serde reads it.
 #[derive(Clone, Debug, PartialEq, Deserialize)]

@@ -69,8 +69,8 @@ use std::sync::Arc;
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Result};
 use crate::equations::OutputSpec;
+use crate::mode::Mode;
 use crate::model::{ElementId, Model};
-use crate::modes::Mode;
 use crate::source::SourceFile;
 
 pub mod energy;

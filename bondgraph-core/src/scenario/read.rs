@@ -6,15 +6,15 @@ use std::sync::Arc;
 
 use serde::Deserialize;
 
+use crate::diagnostics::suggest;
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::equations::OutputSpec;
+use crate::mode::Mode;
 use crate::model::edit::{self, Edit, EditItem};
 use crate::model::parse::{FileKind, parse_file};
 use crate::model::raw::entries;
 use crate::model::source_map::{EntrySpans, SourceMap, Token, TokenKind, lex, list_items};
-use crate::model::validate::suggest;
 use crate::model::{self, ElementId, ElementKind, Model};
-use crate::modes::Mode;
 use crate::source::{SourceFile, Span};
 
 use super::{EnergyRecord, Record, Scenario, Signal, num};

@@ -15,7 +15,6 @@
 //! - [`format`](mod@format): dimensions back to readable units;
 //! - [`infer`]: the dimension of an expression, and sums of different quantities;
 //! - [`domain`]: which effort and flow make a bond mechanical, electrical, ...;
-//! - [`label`]: what a recorded output is, in its domain's words and units;
 //! - [`solve`]: the dimensions of every bond's effort and flow, by propagation;
 //! - `check`: the laws of every element against its bond, run by the model validator on
 //!   every model (bond graph, linear graph, extended), so `bondgraph check` reports it.
@@ -26,7 +25,6 @@ pub mod dimension;
 pub mod domain;
 pub mod format;
 pub mod infer;
-pub mod label;
 pub mod names;
 pub mod parse;
 pub mod scale;

@@ -372,40 +372,6 @@ fn every_shipped_model_and_extension_passes() {
     assert!(checked >= 47, "only {checked} files checked");
 }
 
-#[test]
-fn recorded_outputs_are_named_in_their_domain_with_units() {
-    use crate::scenario::Record;
-    use crate::units::label::axis_label;
-    let label =
-        |model: &model::Model, text: &str| axis_label(model, &Record::parse(model, text).unwrap());
-    let msd = model::load_str("msd.ron", &msd("F", "k")).unwrap();
-    assert_eq!(label(&msd, "flow:mass"), "flow:mass: velocity (m/s)");
-    assert_eq!(label(&msd, "effort:spring"), "effort:spring: force (N)");
-    assert_eq!(
-        label(&msd, "integral:flow:mass"),
-        "integral:flow:mass: displacement (m)"
-    );
-    assert_eq!(label(&msd, "energy:spring"), "energy:spring: energy (J)");
-    // The motor's armature is electrical: the integral of its current is a charge (A*s = C),
-    // the rotor's effort a torque.
-    let motor = model::load_str("motor.ron", &motor("kg*m^2", "N*m*s/rad")).unwrap();
-    assert_eq!(
-        label(&motor, "integral:flow:inductance"),
-        "integral:flow:inductance: charge (C)"
-    );
-    assert_eq!(
-        label(&motor, "effort:inertia"),
-        "effort:inertia: torque (N*m)"
-    );
-    assert_eq!(
-        label(&motor, "flow:inertia"),
-        "flow:inertia: angular velocity (rad/s)"
-    );
-    // No units, no label beyond the name.
-    let plain = msd_plain();
-    assert_eq!(label(&plain, "flow:mass"), "flow:mass");
-}
-
 fn msd_plain() -> model::Model {
     let text = msd("1", "k")
         .replace(r#", unit: "kg""#, "")

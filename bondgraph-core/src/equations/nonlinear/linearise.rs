@@ -7,10 +7,10 @@
 //! (`cos(0) = 1`: the pendulum at rest has `A = [0, -g*l*m; 1/(l^2*m), 0]`); other entries
 //! are their value with the model's parameters, as an exact decimal.
 
+use crate::diagnostics::suggest;
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::equations::{Note, StateEquations};
 use crate::linear::{LinearForm, Var};
-use crate::model::validate::suggest;
 use crate::symbolic::RatFunc;
 use crate::symbolic::expr::{Atom, Sym};
 

@@ -21,9 +21,9 @@ use std::collections::HashMap;
 
 use petgraph::unionfind::UnionFind;
 
+use crate::diagnostics::suggest;
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::model::source_map::{EntrySpans, SourceMap, TokenKind, lex};
-use crate::model::validate::suggest;
 use crate::source::{SourceFile, Span};
 
 use super::format::{RawBranch, RawLinearGraph};

@@ -20,7 +20,8 @@ use crate::source::Span;
 use crate::symbolic::RatFunc;
 use crate::symbolic::expr::{Atom, Node, Sym};
 
-use super::{Scope, Validator, suggest, to_affine};
+use super::{Scope, Validator, to_affine};
+use crate::diagnostics::suggest;
 
 /// Which storage states a law may name.
 #[derive(Clone, Copy, PartialEq, Eq)]

@@ -6,6 +6,9 @@
 //! from. The command-line program renders them with a source snippet and picks the exit code.
 //! Loading collects every independent problem it finds, so a user fixes a file in one pass.
 
+mod suggest;
+pub(crate) use suggest::suggest;
+
 use std::fmt;
 
 use crate::source::{Location, SourceFile, Span};

@@ -2,14 +2,12 @@
 //! m/s, `integral:flow:cap` a charge in C, `energy:spring` an energy in J. Plots label their
 //! axes with it.
 
-use crate::equations::OutputQuantity;
-use crate::model::Model;
-use crate::scenario::Record;
-use crate::scenario::energy::EnergyRecord;
-
-use super::dimension::Dim;
-use super::domain::Domain;
-use super::format::readable_with;
+use bondgraph_core::equations::OutputQuantity;
+use bondgraph_core::model::Model;
+use bondgraph_core::scenario::Record;
+use bondgraph_core::scenario::energy::EnergyRecord;
+use bondgraph_core::units::format::readable_with;
+use bondgraph_core::units::{Dim, Domain};
 
 /// The quantity `record` measures and its unit (`("velocity", "m/s")`), where the model's
 /// units tell them.
@@ -85,5 +83,74 @@ pub fn axis_label(model: &Model, record: &Record) -> String {
         Some((word, unit)) if word.is_empty() => format!("{name} ({unit})"),
         Some((word, unit)) => format!("{name}: {word} ({unit})"),
         None => name,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use bondgraph_core::model::{self, Model};
+    use bondgraph_core::scenario::Record;
+
+    fn label(model: &Model, text: &str) -> String {
+        super::axis_label(model, &Record::parse(model, text).unwrap())
+    }
+
+    const MASS_SPRING_DAMPER: &str = r#"Model(name: "msd",
+        parameters: {"m": (value: 2.0, unit: "kg"), "k": (value: 200.0, unit: "N/m"),
+                     "b": (value: 4.0, unit: "N*s/m")},
+        inputs: {"F": (unit: "N")},
+        elements: {"push": Se(effort: "F"), "v": One, "mass": I(inertance: "m"),
+                   "spring": C(stiffness: "k"), "damper": R(resistance: "b")},
+        bonds: [("push", "v"), ("v", "mass"), ("v", "spring"), ("v", "damper")])"#;
+
+    #[test]
+    fn recorded_outputs_are_named_in_their_domain_with_units() {
+        let msd = model::load_str("msd.ron", MASS_SPRING_DAMPER).unwrap();
+        assert_eq!(label(&msd, "flow:mass"), "flow:mass: velocity (m/s)");
+        assert_eq!(label(&msd, "effort:spring"), "effort:spring: force (N)");
+        assert_eq!(
+            label(&msd, "integral:flow:mass"),
+            "integral:flow:mass: displacement (m)"
+        );
+        assert_eq!(label(&msd, "energy:spring"), "energy:spring: energy (J)");
+        // The motor's armature is electrical: the integral of its current is a charge
+        // (A*s = C), the rotor's effort a torque.
+        let motor = model::load_str(
+            "motor.ron",
+            r#"Model(name: "motor",
+            parameters: {"R_a": (value: 1.0, unit: "ohm"), "L_a": (value: 0.01, unit: "H"),
+                         "K_m": (value: 0.05, unit: "N*m/A"), "J": (value: 0.01, unit: "kg*m^2"),
+                         "b": (value: 0.001, unit: "N*m*s/rad")},
+            inputs: {"u": (unit: "V")},
+            elements: {
+                "supply": Se(effort: "u"), "armature": One, "resistance": R(resistance: "R_a"),
+                "inductance": I(inertance: "L_a"), "motor": GY(ratio: "K_m"), "rotor": One,
+                "inertia": I(inertance: "J"), "bearing": R(resistance: "b"),
+            },
+            bonds: [("supply", "armature"), ("armature", "resistance"),
+                    ("armature", "inductance"), ("armature", "motor"), ("motor", "rotor"),
+                    ("rotor", "inertia"), ("rotor", "bearing")])"#,
+        )
+        .unwrap();
+        assert_eq!(
+            label(&motor, "integral:flow:inductance"),
+            "integral:flow:inductance: charge (C)"
+        );
+        assert_eq!(
+            label(&motor, "effort:inertia"),
+            "effort:inertia: torque (N*m)"
+        );
+        assert_eq!(
+            label(&motor, "flow:inertia"),
+            "flow:inertia: angular velocity (rad/s)"
+        );
+        // No units, no label beyond the name.
+        let plain = MASS_SPRING_DAMPER
+            .replace(r#", unit: "kg""#, "")
+            .replace(r#", unit: "N/m""#, "")
+            .replace(r#", unit: "N*s/m""#, "")
+            .replace(r#"(unit: "N")"#, "()");
+        let plain = model::load_str("msd.ron", &plain).unwrap();
+        assert_eq!(label(&plain, "flow:mass"), "flow:mass");
     }
 }
