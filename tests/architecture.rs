@@ -31,21 +31,7 @@ const LAYERS: &[(&str, u32)] = &[
 const CROSSING_DEPENDENCIES: &[(&str, &str, &str)] = &[];
 
 /// The cycles among each crate's top-level modules today (each may only shrink).
-const MODULE_CYCLES: &[(&str, &[&str])] = &[(
-    "bondgraph-core",
-    &[
-        "causality",
-        "equations",
-        "graph",
-        "guards",
-        "laws",
-        "mode",
-        "model",
-        "modes",
-        "normal_tree",
-        "units",
-    ],
-)];
+const MODULE_CYCLES: &[(&str, &[&str])] = &[];
 
 /// Lines a source file may hold (tests apart) before it must be split.
 const FILE_BUDGET: usize = 1000;
@@ -80,7 +66,12 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
         "integrated_segment",
         208,
     ),
-    ("bondgraph-core/src/model/extension.rs", "merge", 201),
+    ("bondgraph-core/src/extension.rs", "merge", 201),
+    (
+        "bondgraph-core/src/model/validate/units.rs",
+        "constraints",
+        167,
+    ),
     (
         "bondgraph-solver/src/hybrid/stepper.rs",
         "closed_form_segment",
@@ -386,9 +377,34 @@ fn no_new_cycle_among_a_crates_top_level_modules() {
 
 /// The lines of a file before its `#[cfg(test)]` module.
 fn non_test_lines(text: &str) -> Vec<&str> {
-    text.lines()
-        .take_while(|line| !line.starts_with("#[cfg(test)]"))
-        .collect()
+    let lines: Vec<&str> = text.lines().collect();
+    // The test module written inline ends the code; a test-only item or the declaration
+    // of a test module in a file of its own (`#[cfg(test)] mod tests;`) does not.
+    let end = (0..lines.len())
+        .find(|&k| {
+            lines[k].starts_with("#[cfg(test)]")
+                && lines
+                    .get(k + 1)
+                    .is_some_and(|next| next.starts_with("mod ") && next.trim_end().ends_with('{'))
+        })
+        .unwrap_or(lines.len());
+    lines[..end].to_vec()
+}
+
+#[test]
+fn only_an_inline_test_module_ends_the_code_measured() {
+    let text = "fn a() {}\n#[cfg(test)]\nmod units_tests;\n#[cfg(test)]\nfn hook() {}\nfn b() {}\n#[cfg(test)]\nmod tests {\n    fn t() {}\n}\n";
+    assert_eq!(
+        non_test_lines(text),
+        [
+            "fn a() {}",
+            "#[cfg(test)]",
+            "mod units_tests;",
+            "#[cfg(test)]",
+            "fn hook() {}",
+            "fn b() {}"
+        ]
+    );
 }
 
 /// Functions of a file as rustfmt lays them out: `(name, lines)`, from the `fn` line to the

@@ -1,35 +1,15 @@
 //! The bond graph as a graph: petgraph for algorithms, text and Graphviz DOT for people.
 //!
 //! A [`Model`] keeps its elements and bonds in vectors (indexed by [`ElementId`] and
-//! [`BondId`]); [`bond_graph`] views them as a petgraph [`DiGraph`] whose node and edge indices
-//! are those ids, with edges pointing the way power flows. The printers show the two stages a
+//! [`BondId`]); [`Model::bond_graph`] views them as a petgraph `DiGraph` whose node and edge
+//! indices are those ids, with edges pointing the way power flows. The printers show the two stages a
 //! teacher draws on the board: the graph as modelled, and the graph with its causal strokes.
 
 use std::fmt::Write;
 
-use petgraph::graph::{DiGraph, NodeIndex};
-
 use crate::causality::{Causality, Stroke};
 use crate::laws::Law;
 use crate::model::{BondId, ElementId, ElementKind, Model};
-
-/// The model as a directed graph: node `i` is element `i`, edge `j` is bond `j`, pointing the
-/// way power flows.
-pub fn bond_graph(model: &Model) -> DiGraph<ElementId, BondId> {
-    let mut graph = DiGraph::with_capacity(model.elements.len(), model.bonds.len());
-    for element in model.element_ids() {
-        graph.add_node(element);
-    }
-    for bond in model.bond_ids() {
-        let b = model.bond(bond);
-        graph.add_edge(
-            NodeIndex::new(b.from.index()),
-            NodeIndex::new(b.to.index()),
-            bond,
-        );
-    }
-    graph
-}
 
 /// What an element is, with its coefficient: `I(m)`, `C(1/k)`, `Se(A*P_s)`, `0`.
 ///

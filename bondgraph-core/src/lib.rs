@@ -55,6 +55,7 @@ pub mod diagnostics;
 pub mod diagram;
 pub mod equations;
 pub mod expr;
+pub mod extension;
 pub mod graph;
 pub mod guards;
 pub mod laws;

@@ -9,4 +9,6 @@ mod limits;
 mod merging;
 mod nonlinear;
 mod random_graph;
+mod reduction;
 mod regressions;
+mod units;

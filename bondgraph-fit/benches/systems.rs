@@ -9,7 +9,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use bondgraph_core::model::extension::Extension;
+use bondgraph_core::extension::Extension;
 use bondgraph_core::source::SourceFile;
 use bondgraph_fit::calibration::calibrate;
 use bondgraph_fit::data::{self, Dataset};

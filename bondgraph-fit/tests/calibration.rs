@@ -294,7 +294,7 @@ fn a_time_series_at_a_load_dependent_breakaway_below_its_coulomb_force_fails_bef
     // level reads the measured load, but their difference F_S - F_C does not: with F_S 4 N
     // below F_C the contact is inconsistent at any load, and a trial there fails before
     // simulating, naming the contact and the 4 N.
-    use bondgraph_core::model::extension::{Extension, merge};
+    use bondgraph_core::extension::{Extension, merge};
     let base = file_at("models/examples/actuator/actuator.ron");
     let extension = Extension::load(&file_at(
         "models/examples/actuator/extensions/load-dependent-friction.ron",
@@ -490,7 +490,7 @@ fn continued_steady_states_change_no_conclusion() {
 /// gain from the leak of a fifth.
 #[test]
 fn refits_continued_from_the_whole_fit_change_no_conclusion() {
-    use bondgraph_core::model::extension::Extension;
+    use bondgraph_core::extension::Extension;
     use bondgraph_fit::budget::Budget;
     use bondgraph_fit::discover::{Candidate, discover};
     let model = file("models/examples/two_tank/two_tank.ron");
@@ -594,7 +594,7 @@ fn assert_same_estimates(
 /// within three standard errors of the truth.
 #[test]
 fn differences_continued_on_their_branch_change_no_conclusion() {
-    use bondgraph_core::model::extension::Extension;
+    use bondgraph_core::extension::Extension;
     use bondgraph_fit::budget::Budget;
     use bondgraph_fit::discover::{Candidate, Resampling, discover};
     let model = file("models/examples/actuator/actuator.ron");
@@ -646,7 +646,7 @@ fn differences_continued_on_their_branch_change_no_conclusion() {
 /// which no difference moves, within the other's interval), the same RMSE to 1e-6.
 #[test]
 fn a_calibration_continues_path_dependent_rows_for_its_differences_only() {
-    use bondgraph_core::model::extension::{Extension, merge};
+    use bondgraph_core::extension::{Extension, merge};
     let base = file("models/examples/actuator/actuator.ron");
     let extension = Extension::load(&file(
         "models/examples/actuator/extensions/brush-voltage-drop.ron",

@@ -13,7 +13,7 @@
 use std::sync::Arc;
 
 use crate::motor::{self, file, library, motor};
-use bondgraph_core::model::extension::Extension;
+use bondgraph_core::extension::Extension;
 use bondgraph_core::model::{self, Model};
 use bondgraph_core::source::SourceFile;
 use bondgraph_fit::data::{self, Dataset};

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use bondgraph_core::model::extension::Extension;
+use bondgraph_core::extension::Extension;
 use bondgraph_core::source::SourceFile;
 use bondgraph_fit::discover::Candidate;
 use bondgraph_fit::experiment::Experiment;

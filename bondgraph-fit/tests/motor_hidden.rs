@@ -20,8 +20,8 @@
 use std::path::PathBuf;
 
 use crate::motor::{self, library, motor};
+use bondgraph_core::extension::Extension;
 use bondgraph_core::model;
-use bondgraph_core::model::extension::Extension;
 use bondgraph_core::source::SourceFile;
 use bondgraph_fit::data::{self, Dataset};
 use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};

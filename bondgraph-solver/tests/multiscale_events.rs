@@ -271,7 +271,7 @@ fn brush_actuator_run(
     f_c: f64,
     f_s: f64,
 ) -> Result<bondgraph_solver::hybrid::Trajectory, bondgraph_solver::hybrid::SimError> {
-    use bondgraph_core::model::extension::{Extension, merge};
+    use bondgraph_core::extension::{Extension, merge};
     use bondgraph_core::source::SourceFile;
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let read = |relative: &str| std::fs::read_to_string(root.join(relative)).expect(relative);

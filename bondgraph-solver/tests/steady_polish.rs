@@ -196,7 +196,7 @@ fn a_pendulum_released_near_the_top_settles_hanging_not_at_the_top() {
 /// window at all.
 #[test]
 fn blocks_at_rest_where_they_start_are_steady_at_once() {
-    use bondgraph_core::model::extension::{self, Extension};
+    use bondgraph_core::extension::{self, Extension};
     use bondgraph_core::source::SourceFile;
     let read = |relative: &str| {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -306,7 +306,7 @@ fn a_zero_stribeck_velocity_in_a_nonlinear_model_is_the_karnopp_contact() {
 /// The actuator example and the same with its guide replaced by the library's Stribeck
 /// extension (`stribeck: "v_s"`, v_s = 0 as shipped).
 fn actuator_and_stribeck_extension() -> (Model, Model) {
-    use bondgraph_core::model::extension::{Extension, merge};
+    use bondgraph_core::extension::{Extension, merge};
     use bondgraph_core::source::SourceFile;
     let folder =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/examples/actuator");

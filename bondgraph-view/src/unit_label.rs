@@ -115,23 +115,11 @@ mod tests {
         assert_eq!(label(&msd, "energy:spring"), "energy:spring: energy (J)");
         // The motor's armature is electrical: the integral of its current is a charge
         // (A*s = C), the rotor's effort a torque.
-        let motor = model::load_str(
-            "motor.ron",
-            r#"Model(name: "motor",
-            parameters: {"R_a": (value: 1.0, unit: "ohm"), "L_a": (value: 0.01, unit: "H"),
-                         "K_m": (value: 0.05, unit: "N*m/A"), "J": (value: 0.01, unit: "kg*m^2"),
-                         "b": (value: 0.001, unit: "N*m*s/rad")},
-            inputs: {"u": (unit: "V")},
-            elements: {
-                "supply": Se(effort: "u"), "armature": One, "resistance": R(resistance: "R_a"),
-                "inductance": I(inertance: "L_a"), "motor": GY(ratio: "K_m"), "rotor": One,
-                "inertia": I(inertance: "J"), "bearing": R(resistance: "b"),
-            },
-            bonds: [("supply", "armature"), ("armature", "resistance"),
-                    ("armature", "inductance"), ("armature", "motor"), ("motor", "rotor"),
-                    ("rotor", "inertia"), ("rotor", "bearing")])"#,
-        )
-        .unwrap();
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../tests/fixtures/units/motor.ron"
+        );
+        let motor = model::load_str(path, &std::fs::read_to_string(path).unwrap()).unwrap();
         assert_eq!(
             label(&motor, "integral:flow:inductance"),
             "integral:flow:inductance: charge (C)"

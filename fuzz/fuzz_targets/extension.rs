@@ -5,7 +5,7 @@
 
 use std::sync::{Arc, OnceLock};
 
-use bondgraph_core::model::extension::{Extension, merge};
+use bondgraph_core::extension::{Extension, merge};
 use bondgraph_core::source::SourceFile;
 use libfuzzer_sys::fuzz_target;
 

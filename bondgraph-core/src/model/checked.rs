@@ -584,6 +584,25 @@ impl Bond {
 }
 
 impl Model {
+    /// The model as a directed graph: node `i` is element `i`, edge `j` is bond `j`, pointing
+    /// the way power flows.
+    pub fn bond_graph(&self) -> petgraph::graph::DiGraph<ElementId, BondId> {
+        use petgraph::graph::{DiGraph, NodeIndex};
+        let mut graph = DiGraph::with_capacity(self.elements.len(), self.bonds.len());
+        for element in self.element_ids() {
+            graph.add_node(element);
+        }
+        for bond in self.bond_ids() {
+            let b = self.bond(bond);
+            graph.add_edge(
+                NodeIndex::new(b.from.index()),
+                NodeIndex::new(b.to.index()),
+                bond,
+            );
+        }
+        graph
+    }
+
     /// The element with id `id`.
     pub fn element(&self, id: ElementId) -> &Element {
         &self.elements[id.index()]

@@ -20,7 +20,6 @@
 //! ```
 mod checked;
 pub mod edit;
-pub mod extension;
 pub mod linear_graph;
 pub mod parse;
 pub mod raw;

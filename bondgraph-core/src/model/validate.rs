@@ -23,10 +23,13 @@ use crate::model::source_map::{EntrySpans, SourceMap};
 use crate::source::{SourceFile, Span};
 use crate::symbolic::{RatFunc, SymbolTable};
 use crate::units::Unit;
-use crate::units::check::Convention;
+use units::Convention;
 
 mod friction;
 mod laws;
+pub(crate) mod units;
+#[cfg(test)]
+mod units_tests;
 
 /// Checks `raw` (parsed from `file`, with positions in `map`) and builds the [`Model`].
 ///
@@ -292,7 +295,7 @@ pub(crate) fn validate_as(
         v.check_connected(&model);
     }
     if v.problems.is_empty() {
-        let (problems, dimensions) = crate::units::check::check(&model, &raw, map, convention);
+        let (problems, dimensions) = units::check(&model, &raw, map, convention);
         v.problems = problems;
         model.bond_dimensions = dimensions;
     }
@@ -1252,7 +1255,7 @@ impl Validator<'_> {
     }
 
     fn check_connected(&mut self, model: &Model) {
-        let graph = crate::graph::bond_graph(model);
+        let graph = model.bond_graph();
         let mut components = UnionFind::<usize>::new(graph.node_count());
         for edge in graph.raw_edges() {
             components.union(edge.source().index(), edge.target().index());

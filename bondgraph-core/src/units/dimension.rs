@@ -200,6 +200,15 @@ impl fmt::Display for Dim {
     }
 }
 
+/// What the check found of one bond: the dimensions of its effort and flow, where known.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BondDimensions {
+    /// The effort's dimension.
+    pub effort: Option<Dim>,
+    /// The flow's dimension.
+    pub flow: Option<Dim>,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

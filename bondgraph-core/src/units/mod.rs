@@ -16,10 +16,11 @@
 //! - [`infer`]: the dimension of an expression, and sums of different quantities;
 //! - [`domain`]: which effort and flow make a bond mechanical, electrical, ...;
 //! - [`solve`]: the dimensions of every bond's effort and flow, by propagation;
-//! - `check`: the laws of every element against its bond, run by the model validator on
-//!   every model (bond graph, linear graph, extended), so `bondgraph check` reports it.
+//!
+//! The check of a model file's units (the laws of every element against its bond, on every
+//! bond graph, linear graph and extended model, so `bondgraph check` reports it) is the
+//! model validator's ([`crate::model::validate`]), built on these.
 
-pub mod check;
 pub mod convert;
 pub mod dimension;
 pub mod domain;
@@ -30,10 +31,6 @@ pub mod parse;
 pub mod scale;
 pub mod solve;
 
-pub use check::BondDimensions;
-pub use dimension::Dim;
+pub use dimension::{BondDimensions, Dim};
 pub use domain::Domain;
 pub use parse::{Unit, UnitError, parse_scaled, parse_unit};
-
-#[cfg(test)]
-mod tests;

@@ -2,8 +2,8 @@
 
 use std::sync::Arc;
 
+use bondgraph_core::extension::{self, Extension};
 use bondgraph_core::model::Model;
-use bondgraph_core::model::extension::{self, Extension};
 use bondgraph_core::source::SourceFile;
 
 use super::DiscoverError;

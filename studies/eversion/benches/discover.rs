@@ -8,7 +8,8 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use bondgraph_core::model::{self, extension::Extension};
+use bondgraph_core::extension::Extension;
+use bondgraph_core::model;
 use bondgraph_core::source::SourceFile;
 use bondgraph_eversion::designs::grid_design;
 use bondgraph_fit::data::{self, Dataset};

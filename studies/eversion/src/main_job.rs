@@ -6,7 +6,7 @@
 //! fact of the robot and its paper (which files, which extensions, the events the paper
 //! reports) is here.
 
-use bondgraph_core::model::extension::Extension;
+use bondgraph_core::extension::Extension;
 use bondgraph_core::source::SourceFile;
 use bondgraph_fit::data;
 use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};

@@ -16,7 +16,7 @@
 
 use std::sync::Arc;
 
-use bondgraph_core::model::extension::Extension;
+use bondgraph_core::extension::Extension;
 use bondgraph_core::source::SourceFile;
 use bondgraph_eversion::designs;
 use bondgraph_fit::data::{self, Dataset, Measurement};

@@ -3,8 +3,8 @@
 //! velocity that once chattered.
 
 use crate::support::*;
+use bondgraph_core::extension::{self, Extension};
 use bondgraph_core::model::Model;
-use bondgraph_core::model::extension::{self, Extension};
 use bondgraph_core::source::SourceFile;
 use bondgraph_eversion::columns::{self, catheter, channel};
 

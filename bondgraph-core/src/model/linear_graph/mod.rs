@@ -102,7 +102,7 @@ pub fn load(source: &Arc<SourceFile>) -> Result<Model> {
         source,
         translated.raw,
         &translated.map,
-        crate::units::check::Convention::LinearGraph,
+        crate::model::validate::units::Convention::LinearGraph,
     )
     .map_err(|d| words.apply(d))?;
     model.linear_graph = Some(Arc::new(translated.graph));

@@ -45,12 +45,13 @@ use crate::model::source_map::SourceMap;
 use crate::model::{ElementId, ElementKind, Model};
 use crate::source::Span;
 
-use super::dimension::Dim;
-use super::domain::{self, Domain};
-use super::format::{readable, readable_with};
-use super::infer::{Mismatch, Symbols, infer};
-use super::parse::parse_unit;
-use super::solve::{Conflict, Solver, Var, effort, flow};
+use crate::units::BondDimensions;
+use crate::units::dimension::Dim;
+use crate::units::domain::{self, Domain};
+use crate::units::format::{readable, readable_with};
+use crate::units::infer::{Mismatch, Symbols, infer};
+use crate::units::parse::parse_unit;
+use crate::units::solve::{Conflict, Solver, Var, effort, flow};
 
 /// How a file's variables map onto efforts and flows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -91,15 +92,6 @@ struct Constraint {
     early: bool,
     /// The element's own bond, for `effort`, `flow` in resistor laws.
     port: usize,
-}
-
-/// What the check found of one bond: the dimensions of its effort and flow, where known.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct BondDimensions {
-    /// The effort's dimension.
-    pub effort: Option<Dim>,
-    /// The flow's dimension.
-    pub flow: Option<Dim>,
 }
 
 /// Every unit problem of `model` (built from `raw`, positions in `map`): mismatches inside
@@ -187,7 +179,7 @@ pub(crate) fn check(
 thread_local! {
     /// Tests set this to check every model in [`Schedule::Ordered`] alone, the reference
     /// the closure must agree with.
-    pub(super) static ORDERED_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    pub(in crate::model) static ORDERED_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
 #[cfg(test)]

@@ -43,14 +43,14 @@
 //! [`merge`] writes the fragments into the base model's *text*: entries are appended to the
 //! model's sections and replaced elements are rewritten in place, comments and layout kept,
 //! and the model is renamed `base+id`. The result is an ordinary model file that
-//! [`load_source`](super::load_source) checks like any other, that `bondgraph equations`
+//! [`load_source`](crate::model::load_source) checks like any other, that `bondgraph equations`
 //! and `simulate` accept, and that a person can read. A problem the merged model has (a bond
 //! to an element neither file defines) is reported at the line of the file it came from:
 //! [`Extended::load`] points diagnostics about copied text back into the extension file.
 //!
 //! # Example
 //! ```
-//! use bondgraph_core::model::extension::{self, Extension};
+//! use bondgraph_core::extension::{self, Extension};
 //! use bondgraph_core::source::SourceFile;
 //!
 //! let base = SourceFile::new("msd.ron", r#"Model(name: "msd",
@@ -81,12 +81,12 @@ use serde::Deserialize;
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::source::{SourceFile, Span};
 
-use super::linear_graph::format::{RawBranch, RawLinearGraph};
-use super::parse::{FileKind, parse_file, parse_model};
-use super::raw::{RawBond, RawElement, RawInput, RawParameter, entries};
-use super::source_map::{EntrySpans, SourceMap, TokenKind, lex};
-use super::{Format, Model};
 use crate::diagnostics::suggest;
+use crate::model::linear_graph::format::{RawBranch, RawLinearGraph};
+use crate::model::parse::{FileKind, parse_file, parse_model};
+use crate::model::raw::{RawBond, RawElement, RawInput, RawParameter, entries};
+use crate::model::source_map::{EntrySpans, SourceMap, TokenKind, lex};
+use crate::model::{Format, Model};
 
 /// An extension file, exactly as serde reads it.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -358,9 +358,9 @@ impl Extended {
     /// text came from (the base model or an extension).
     ///
     /// # Errors
-    /// Every problem of the merged model, as [`load_source`](super::load_source) reports it.
+    /// Every problem of the merged model, as [`load_source`](crate::model::load_source) reports it.
     pub fn load(&self) -> Result<Model> {
-        super::load_source(&self.file)
+        crate::model::load_source(&self.file)
             .map_err(|d| Diagnostics(d.0.into_iter().map(|d| self.relocate(d)).collect()))
     }
 
