@@ -18,6 +18,41 @@
 //! lexicographic on those ids (see [`Monomial`]), so canonical order is alphabetical order.
 //! Monomials are sparse, because models have thousands of symbols but a term few.
 //!
+//! # A tour
+//!
+//! The damping entry of a mass driven through a proportional controller, derived two ways:
+//! as a sum over the common denominator and as the quotient of its factors. Canonical form
+//! makes them one value, printed as a textbook prints it, and exact arithmetic keeps `0.5`
+//! a half.
+//!
+//! ```
+//! use bondgraph_symbolic::{RatFunc, SymbolTable};
+//!
+//! let symbols = SymbolTable::new(["M", "b", "K_p"]);
+//! let var = |name: &str| RatFunc::symbol(symbols.get(name).unwrap());
+//! let (m, b, k_p) = (var("M"), var("b"), var("K_p"));
+//!
+//! // -(b + K_p)/M, and -b/M - K_p/M, and (b + K_p)(b - K_p) / (M (K_p - b)).
+//! let direct = -(b.clone() + k_p.clone()).checked_div(&m).unwrap();
+//! let summed = -b.checked_div(&m).unwrap() - k_p.checked_div(&m).unwrap();
+//! let cancelled = ((b.clone() + k_p.clone()) * (b.clone() - k_p.clone()))
+//!     .checked_div(&(m.clone() * (k_p.clone() - b.clone())))
+//!     .unwrap();
+//! assert_eq!(direct, summed);
+//! assert_eq!(direct, cancelled);
+//! assert_eq!(direct.text(&symbols), "-(b + K_p)/M");
+//! assert_eq!(direct.latex(&symbols), r"-\frac{b + K_{p}}{M}");
+//!
+//! // Exact literals: half of 2 b is b, with no rounding on the way.
+//! let half = RatFunc::from_decimal("0.5").unwrap();
+//! assert_eq!(half * RatFunc::integer(2) * b.clone(), b);
+//!
+//! // Numbers only at the end, at values indexed by symbol (print order: b, K_p, M).
+//! let order: Vec<&str> = symbols.iter().map(|(_, name)| name).collect();
+//! assert_eq!(order, ["b", "K_p", "M"]);
+//! assert_eq!(direct.eval(&[3.0, 5.0, 2.0]), -4.0);
+//! ```
+//!
 //! Submodules, one job each:
 //!
 //! - `symbol`: names and their ids ([`Symbol`], [`SymbolTable`]);
