@@ -39,17 +39,13 @@ const FILE_BUDGET: usize = 1000;
 const FUNCTION_BUDGET: usize = 150;
 
 /// Files over [`FILE_BUDGET`] today, with their size now (each may only shrink).
-const OVERSIZED_FILES: &[(&str, usize)] = &[
-    ("bondgraph-core/src/model/validate.rs", 1489),
-    ("bondgraph-core/src/model/source_map.rs", 1092),
-];
+const OVERSIZED_FILES: &[(&str, usize)] = &[("bondgraph-core/src/model/source_map.rs", 1092)];
 
 /// Functions over [`FUNCTION_BUDGET`] today: (file, function, lines now).
 const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("bondgraph-solver/src/events.rs", "first_crossing", 347),
     ("bondgraph-core/src/equations/merging.rs", "merge", 280),
     ("bondgraph-core/src/model/validate.rs", "validate_as", 260),
-    ("bondgraph-core/src/model/validate.rs", "element_kind", 213),
     ("bondgraph-view/src/lg_svg.rs", "draw", 250),
     ("bondgraph-view/src/explain_lg.rs", "explain", 232),
     ("bondgraph-core/src/equations/elimination.rs", "define", 230),
