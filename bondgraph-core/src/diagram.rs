@@ -3,7 +3,7 @@
 //! out (the program writes it as SVG, without Graphviz).
 //!
 //! # Conventions
-//! - Each element is drawn as its label, `type:name` (`I:mass`, `1:v`, `Friction:fr_ge`),
+//! - Each element is drawn as its label, `type:name` (`I:mass`, `1:v`, `Friction:fr`),
 //!   with a switching element's mode in small print below it.
 //! - A bond is a line between two labels with a half-arrow at its head (`to`): power flows
 //!   the way it points.

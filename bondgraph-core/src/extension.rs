@@ -8,12 +8,12 @@
 //!
 //! ```ron
 //! Extension(
-//!     id: "supply-flow-resistance",
-//!     cause: "growth draws liquid through the supply line, so tip pressure sags in proportion to v_ge",
-//!     evidence: "measure the tank pressure while the tip grows",
+//!     id: "supply-line-resistance",
+//!     cause: "the pump pushes through a long supply line, so the pressure at the cylinder sags in proportion to its speed",
+//!     evidence: "measure the pressure at the cylinder while it moves",
 //!     parameters: { "R_s": (value: 0.0, unit: "Pa*s/m^3", bounds: (0.0, 1e10)) },
 //!     elements: { "supply_line": R(resistance: "A^2*R_s") },
-//!     bonds: [("tip", "supply_line")],
+//!     bonds: [("piston", "supply_line")],
 //! )
 //! ```
 //!

@@ -2,7 +2,7 @@
 //!
 //! A friction contact is `stuck`, `slip+` or `slip-`; a tension-only element is `taut` or
 //! `slack`. A mode of the whole model picks one for each; it is written as a specification,
-//! `fr_ge=slip+,fr_ct=stuck,string=taut`, whose elements not named keep their initial mode.
+//! `fr_1=slip+,fr_2=stuck,string=taut`, whose elements not named keep their initial mode.
 //! What each mode derives, and its guards, are [`crate::modes`]'.
 //!
 //! # Example
@@ -140,7 +140,7 @@ impl Mode {
         self.0.is_empty()
     }
 
-    /// The full specification, `fr_ge=stuck,fr_ct=slip+` (empty without switching elements).
+    /// The full specification, `fr_1=stuck,fr_2=slip+` (empty without switching elements).
     pub fn spec(&self, model: &Model) -> String {
         self.0
             .iter()

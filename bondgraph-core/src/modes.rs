@@ -6,7 +6,7 @@
 //! switching: causality, merging (a stuck contact makes storage dependent), equations. The
 //! guards of a mode ([`crate::guards`]) say when it is left and for which mode.
 //!
-//! A mode itself, written as a specification (`fr_ge=slip+,fr_ct=stuck,string=taut`), is a
+//! A mode itself, written as a specification (`fr_1=slip+,fr_2=stuck,string=taut`), is a
 //! [`Mode`] ([`crate::mode`]).
 
 use std::collections::{HashMap, VecDeque};

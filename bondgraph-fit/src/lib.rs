@@ -7,8 +7,8 @@
 //! model's parameters on them, computes residuals by regime and by condition, tries candidate
 //! extensions (small bond-graph fragments with a physical cause) that could explain what the
 //! model gets wrong, and selects among them on held-out data, saying when the data cannot
-//! tell candidates apart. It knows nothing of any particular system: the flagship study
-//! in `studies/` uses it like any other user.
+//! tell candidates apart. It knows nothing of any particular system: a study uses it as any
+//! other program does.
 //!
 //! - [`experiment`]: the experiment file (which columns set which inputs, what is observed,
 //!   what an empty cell removes, what is refitted);

@@ -223,7 +223,7 @@ pub struct Port {
 pub struct NumericMode {
     /// The mode.
     pub mode: Mode,
-    /// Its specification (`fr_ge=stuck,...`).
+    /// Its specification (`fr_1=stuck,...`).
     pub spec: String,
     /// Its states' names. With an `E du/dt` term the numbers carried are `x - E u`
     /// ([`NumericMode::states`] gives `x`).

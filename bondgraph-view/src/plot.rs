@@ -554,14 +554,15 @@ mod tests {
     use super::*;
     use bondgraph_solver::{Event, Stats};
 
-    /// A run shaped like the paper's Fig. 6: the tip held, then slipping while the catheter
-    /// slips past it, then the catheter stuck to it, then the inner structure taut.
-    fn fig6_like() -> Trajectory {
+    /// A run through four modes of two friction contacts and a string: the first contact
+    /// held, then slipping while the second slips past it, then the second stuck to it,
+    /// then the string taut.
+    fn four_mode_run() -> Trajectory {
         let modes: Vec<String> = [
-            "fr_ge=stuck,k=slack,fr_ct=slip-",
-            "fr_ge=slip+,k=slack,fr_ct=slip-",
-            "fr_ge=slip+,k=slack,fr_ct=stuck",
-            "fr_ge=slip+,k=taut,fr_ct=stuck",
+            "fr_a=stuck,k=slack,fr_b=slip-",
+            "fr_a=slip+,k=slack,fr_b=slip-",
+            "fr_a=slip+,k=slack,fr_b=stuck",
+            "fr_a=slip+,k=taut,fr_b=stuck",
         ]
         .map(String::from)
         .to_vec();
@@ -571,24 +572,24 @@ mod tests {
         let values = times
             .iter()
             .flat_map(|&t| {
-                let v_ge = match mode_at(t) {
+                let v_a = match mode_at(t) {
                     0 => 0.0,
                     1 => 3.0945e-3 * (t - 0.007) / 0.013,
                     2 => 3.0945e-3,
                     _ => 2.9e-3 + 0.19e-3 * (-(t - 0.05) / 0.01).exp(),
                 };
-                let x_ge = if t < 0.007 { 0.0 } else { 2.9e-3 * (t - 0.007) };
+                let x_a = if t < 0.007 { 0.0 } else { 2.9e-3 * (t - 0.007) };
                 let f_k = if t < 0.05 {
                     0.0
                 } else {
                     8.0 * (1.0 - (-(t - 0.05) / 0.01).exp())
                 };
-                let f_fr_ct = if (0.02..0.05).contains(&t) {
+                let f_fr_b = if (0.02..0.05).contains(&t) {
                     -5.5 + 0.4 * (t - 0.02) / 0.03
                 } else {
                     -5.5
                 };
-                [f_k, v_ge, x_ge, f_fr_ct]
+                [f_k, v_a, x_a, f_fr_b]
             })
             .collect();
         let sample_modes = times.iter().map(|&t| mode_at(t)).collect();
@@ -599,14 +600,12 @@ mod tests {
                 t,
                 from: modes[i].clone(),
                 to: modes[i + 1].clone(),
-                element: ["fr_ge", "fr_ct", "k"][i].into(),
+                element: ["fr_a", "fr_b", "k"][i].into(),
                 reason: "test".into(),
             })
             .collect();
         Trajectory {
-            output_names: ["f_k", "v_ge", "x_ge", "f_fr_ct"]
-                .map(String::from)
-                .to_vec(),
+            output_names: ["f_k", "v_a", "x_a", "f_fr_b"].map(String::from).to_vec(),
             times,
             values,
             sample_modes,
@@ -620,7 +619,7 @@ mod tests {
             events,
             final_time: 0.2,
             final_state: Vec::new(),
-            final_mode: "fr_ge=slip+,k=taut,fr_ct=stuck".into(),
+            final_mode: "fr_a=slip+,k=taut,fr_b=stuck".into(),
             stats: Stats {
                 segments: 4,
                 events: 3,
@@ -651,9 +650,9 @@ mod tests {
     }
 
     #[test]
-    fn fig6_like_run_has_its_title_names_bands_and_event_lines() {
-        let trajectory = fig6_like();
-        let title = "Fig. 6: v_ac = 5.8 mm/s, P_s ramped, v_ct = 6.3 mm/s";
+    fn a_four_mode_run_has_its_title_names_bands_and_event_lines() {
+        let trajectory = four_mode_run();
+        let title = "Two contacts: v_a = 5.8 mm/s, F ramped, v_b = 6.3 mm/s";
         let svg = plot_svg(&trajectory, title, &[]).unwrap();
         if let Some(path) = std::env::var_os("BONDGRAPH_PLOT_EXAMPLE") {
             std::fs::write(path, &svg).unwrap();
@@ -679,7 +678,7 @@ mod tests {
 
     #[test]
     fn a_mode_visited_twice_gets_a_band_per_visit_and_panels_can_group_outputs() {
-        let mut trajectory = fig6_like();
+        let mut trajectory = four_mode_run();
         trajectory.intervals = vec![(0.0, 0.05, 0), (0.05, 0.1, 1), (0.1, 0.2, 0)];
         trajectory.modes.truncate(2);
         trajectory.sample_modes = trajectory
@@ -692,10 +691,10 @@ mod tests {
         assert_eq!(filled_with(&svg, band_colour(0)), 2 * 2 + 1);
         assert_eq!(filled_with(&svg, band_colour(1)), 2 + 1);
         assert_eq!(stroked_with(&svg, EVENT_COLOUR), 2 * 2);
-        assert!(has_text(&svg, "v_ge, x_ge"));
-        assert!(has_text(&svg, "f_k, f_fr_ct"));
+        assert!(has_text(&svg, "v_a, x_a"));
+        assert!(has_text(&svg, "f_k, f_fr_b"));
         // A key names each curve of a shared panel.
-        assert!(has_text(&svg, "x_ge"));
+        assert!(has_text(&svg, "x_a"));
     }
 
     #[test]
@@ -720,12 +719,12 @@ mod tests {
         assert_eq!(axis, "voltage (V), current (A)");
         assert_eq!(key[1], "flow:c: current (A)");
         // No units: the names, joined.
-        assert_eq!(label(&["v_ge", "x_ge"]).0, "v_ge, x_ge");
+        assert_eq!(label(&["v_a", "x_a"]).0, "v_a, x_a");
     }
 
     #[test]
     fn a_run_in_one_mode_has_no_shading_and_no_legend() {
-        let mut trajectory = fig6_like();
+        let mut trajectory = four_mode_run();
         trajectory.modes = vec![String::new()];
         trajectory.events.clear();
         trajectory.intervals = vec![(0.0, trajectory.final_time, 0)];
@@ -744,15 +743,15 @@ mod tests {
             vec![vec![0, 2], vec![1]]
         );
         assert_eq!(
-            panels(&trajectory, &["v_ge,nothing".to_string()]).unwrap_err(),
-            "--panel 1: 'nothing' is not recorded by the scenario (it records 'f_k', 'v_ge', \
-             'x_ge', 'f_fr_ct')"
+            panels(&trajectory, &["v_a,nothing".to_string()]).unwrap_err(),
+            "--panel 1: 'nothing' is not recorded by the scenario (it records 'f_k', 'v_a', \
+             'x_a', 'f_fr_b')"
         );
     }
 
     #[test]
     fn a_constant_signal_plots_around_its_value() {
-        let mut trajectory = fig6_like();
+        let mut trajectory = four_mode_run();
         for row in trajectory.values.chunks_mut(4) {
             row[0] = 5.0;
             row[1] = 0.0;
@@ -766,7 +765,7 @@ mod tests {
 
     #[test]
     fn unplottable_samples_leave_gaps() {
-        let mut trajectory = fig6_like();
+        let mut trajectory = four_mode_run();
         trajectory.values[50 * 4 + 1] = f64::NAN;
         trajectory.values[100 * 4 + 1] = f64::INFINITY;
         trajectory.values[101 * 4 + 1] = -f64::INFINITY;
@@ -784,28 +783,28 @@ mod tests {
 
     #[test]
     fn degenerate_trajectories_are_errors_or_plots_but_never_panics() {
-        let mut empty = fig6_like();
+        let mut empty = four_mode_run();
         empty.times.clear();
         empty.values.clear();
         empty.sample_modes.clear();
         let error = plot_svg(&empty, "empty", &[]).unwrap_err();
         assert!(error.contains("no samples"), "{error}");
 
-        let mut no_outputs = fig6_like();
+        let mut no_outputs = four_mode_run();
         no_outputs.output_names.clear();
         let error = plot_svg(&no_outputs, "none", &[]).unwrap_err();
         assert!(error.contains("no outputs"), "{error}");
 
-        let error = plot_svg(&fig6_like(), "bad", &[vec![0], vec![4]]).unwrap_err();
+        let error = plot_svg(&four_mode_run(), "bad", &[vec![0], vec![4]]).unwrap_err();
         assert_eq!(
             error,
             "panel 2 asks for output 4, but the trajectory has 4 outputs (numbered from 0)"
         );
-        let error = plot_svg(&fig6_like(), "bad", &[vec![]]).unwrap_err();
+        let error = plot_svg(&four_mode_run(), "bad", &[vec![]]).unwrap_err();
         assert_eq!(error, "panel 1 lists no output");
 
         // One sample, huge values, inconsistent intervals and events, unknown modes.
-        let mut odd = fig6_like();
+        let mut odd = four_mode_run();
         odd.times.truncate(1);
         odd.values = vec![1e308, -1e299, 1e-300, 7.0];
         odd.intervals = vec![(f64::NAN, 1.0, 0), (0.5, 0.1, 1), (-5.0, 5.0, 99)];
@@ -817,11 +816,11 @@ mod tests {
 
     #[test]
     fn long_specifications_wrap_after_commas() {
-        let spec = "fr_ge=slip+,k=taut,fr_ct=slip-";
+        let spec = "fr_a=slip+,k=taut,fr_b=slip-";
         assert_eq!(wrap_at_commas(spec, 1000.0), vec![spec]);
         assert_eq!(
-            wrap_at_commas(spec, text_width("fr_ge=slip+,k=taut,")),
-            vec!["fr_ge=slip+,k=taut,", "fr_ct=slip-"]
+            wrap_at_commas(spec, text_width("fr_a=slip+,k=taut,")),
+            vec!["fr_a=slip+,k=taut,", "fr_b=slip-"]
         );
         assert_eq!(
             wrap_at_commas("a_long_name=stuck", 10.0),

@@ -16,7 +16,7 @@ use serde_json::{Map, Value, json};
 /// The trajectory as CSV: a header `t,mode,<output names...>`, then one row per sample.
 ///
 /// `t` is in seconds; `mode` is the mode's specification (e.g.
-/// `fr_ge=slip+,k=taut,fr_ct=stuck`), quoted as RFC 4180 asks because it contains commas.
+/// `fr_1=slip+,k=taut,fr_2=stuck`), quoted as RFC 4180 asks because it contains commas.
 /// Output names are quoted the same way if they need it. Lines end with `\n`.
 ///
 /// A sample whose mode or values are missing (a trajectory built inconsistently) gets empty
@@ -168,25 +168,25 @@ mod tests {
     /// Two outputs, three samples, two modes, one event.
     fn trajectory() -> Trajectory {
         Trajectory {
-            output_names: vec!["v_ge".into(), "f_k".into()],
+            output_names: vec!["v_a".into(), "f_k".into()],
             times: vec![0.0, 0.05, 0.1],
             values: vec![0.0, 0.0, 1.5e-7, 12.25, 0.0029, -3.0e20],
             sample_modes: vec![0, 0, 1],
             modes: vec![
-                "fr_ge=stuck,k=slack,fr_ct=slip-".into(),
-                "fr_ge=slip+,k=slack,fr_ct=slip-".into(),
+                "fr_a=stuck,k=slack,fr_b=slip-".into(),
+                "fr_a=slip+,k=slack,fr_b=slip-".into(),
             ],
             intervals: vec![(0.0, 0.062, 0), (0.062, 0.1, 1)],
             events: vec![Event {
                 t: 0.062,
-                from: "fr_ge=stuck,k=slack,fr_ct=slip-".into(),
-                to: "fr_ge=slip+,k=slack,fr_ct=slip-".into(),
-                element: "fr_ge".into(),
+                from: "fr_a=stuck,k=slack,fr_b=slip-".into(),
+                to: "fr_a=slip+,k=slack,fr_b=slip-".into(),
+                element: "fr_a".into(),
                 reason: "holding force reached the breakaway force".into(),
             }],
             final_time: 0.1,
             final_state: vec![("p_ge".into(), 1.25e-6), ("q_k".into(), 0.0)],
-            final_mode: "fr_ge=slip+,k=slack,fr_ct=slip-".into(),
+            final_mode: "fr_a=slip+,k=slack,fr_b=slip-".into(),
             stats: Stats {
                 segments: 3,
                 events: 1,
@@ -200,10 +200,10 @@ mod tests {
     fn csv_has_a_header_and_one_quoted_row_per_sample() {
         assert_eq!(
             to_csv(&trajectory()),
-            "t,mode,v_ge,f_k\n\
-             0,\"fr_ge=stuck,k=slack,fr_ct=slip-\",0,0\n\
-             0.05,\"fr_ge=stuck,k=slack,fr_ct=slip-\",1.5e-7,12.25\n\
-             0.1,\"fr_ge=slip+,k=slack,fr_ct=slip-\",0.0029,-3e20\n"
+            "t,mode,v_a,f_k\n\
+             0,\"fr_a=stuck,k=slack,fr_b=slip-\",0,0\n\
+             0.05,\"fr_a=stuck,k=slack,fr_b=slip-\",1.5e-7,12.25\n\
+             0.1,\"fr_a=slip+,k=slack,fr_b=slip-\",0.0029,-3e20\n"
         );
     }
 
@@ -211,7 +211,7 @@ mod tests {
     fn csv_of_a_trajectory_without_samples_is_its_header() {
         let mut empty = trajectory();
         empty.times.clear();
-        assert_eq!(to_csv(&empty), "t,mode,v_ge,f_k\n");
+        assert_eq!(to_csv(&empty), "t,mode,v_a,f_k\n");
     }
 
     #[test]
@@ -262,15 +262,15 @@ mod tests {
 
     #[test]
     fn json_holds_samples_modes_intervals_events_final_state_and_stats() {
-        let json = to_json(&trajectory(), "robot", "fig6");
-        assert_eq!(json["model"], "robot");
-        assert_eq!(json["scenario"], "fig6");
-        assert_eq!(json["outputs"], json!(["v_ge", "f_k"]));
+        let json = to_json(&trajectory(), "belt", "push");
+        assert_eq!(json["model"], "belt");
+        assert_eq!(json["scenario"], "push");
+        assert_eq!(json["outputs"], json!(["v_a", "f_k"]));
         assert_eq!(
             json["modes"],
             json!([
-                "fr_ge=stuck,k=slack,fr_ct=slip-",
-                "fr_ge=slip+,k=slack,fr_ct=slip-"
+                "fr_a=stuck,k=slack,fr_b=slip-",
+                "fr_a=slip+,k=slack,fr_b=slip-"
             ])
         );
         let samples = json["samples"].as_array().unwrap();
@@ -279,26 +279,26 @@ mod tests {
             samples[1],
             json!({
                 "t": 0.05,
-                "mode": "fr_ge=stuck,k=slack,fr_ct=slip-",
-                "values": {"v_ge": 1.5e-7, "f_k": 12.25},
+                "mode": "fr_a=stuck,k=slack,fr_b=slip-",
+                "values": {"v_a": 1.5e-7, "f_k": 12.25},
             })
         );
-        assert_eq!(samples[2]["mode"], "fr_ge=slip+,k=slack,fr_ct=slip-");
+        assert_eq!(samples[2]["mode"], "fr_a=slip+,k=slack,fr_b=slip-");
         assert_eq!(samples[2]["values"]["f_k"], -3.0e20);
         assert_eq!(
             json["intervals"],
             json!([
-                {"start": 0.0, "end": 0.062, "mode": "fr_ge=stuck,k=slack,fr_ct=slip-"},
-                {"start": 0.062, "end": 0.1, "mode": "fr_ge=slip+,k=slack,fr_ct=slip-"},
+                {"start": 0.0, "end": 0.062, "mode": "fr_a=stuck,k=slack,fr_b=slip-"},
+                {"start": 0.062, "end": 0.1, "mode": "fr_a=slip+,k=slack,fr_b=slip-"},
             ])
         );
         assert_eq!(
             json["events"],
             json!([{
                 "t": 0.062,
-                "from": "fr_ge=stuck,k=slack,fr_ct=slip-",
-                "to": "fr_ge=slip+,k=slack,fr_ct=slip-",
-                "element": "fr_ge",
+                "from": "fr_a=stuck,k=slack,fr_b=slip-",
+                "to": "fr_a=slip+,k=slack,fr_b=slip-",
+                "element": "fr_a",
                 "reason": "holding force reached the breakaway force",
             }])
         );
@@ -306,7 +306,7 @@ mod tests {
             json["final"],
             json!({
                 "t": 0.1,
-                "mode": "fr_ge=slip+,k=slack,fr_ct=slip-",
+                "mode": "fr_a=slip+,k=slack,fr_b=slip-",
                 "states": {"p_ge": 1.25e-6, "q_k": 0.0},
             })
         );
@@ -355,7 +355,7 @@ mod tests {
         assert_eq!(json["samples"][0]["values"]["f_k"], Value::Null);
         assert_eq!(
             json["samples"][1]["values"],
-            json!({"v_ge": null, "f_k": null})
+            json!({"v_a": null, "f_k": null})
         );
         assert_eq!(json["samples"][2]["mode"], Value::Null);
         assert_eq!(json["intervals"][2]["mode"], Value::Null);

@@ -1367,18 +1367,18 @@ Model (
     /// A scenario file: the same scanner records its map sections, its lists of strings
     /// and every top-level field's value.
     const SCENARIO: &str = r#"Scenario(
-    name: "fig6",
-    remove: ["rubbing", r"fr_ct",],
+    name: "push",
+    remove: ["rubber", r"fr_b",],
     parameters: { "dv": 1e-6 },
     inputs: {
-        "P_s": Ramp(slope: 1.0e6, ceiling: 2.0e5),
-        "v_ac": Constant(5.8e-3),
+        "F": Ramp(slope: 1.0e6, ceiling: 2.0e5),
+        "v_w": Constant(5.8e-3),
         "x": Table([(0.0, 0.0), (1.0, /* two */ 2.0) , (2.0, 2.0)]),
     },
-    initial_mode: Some("fr_ge=stuck"),
+    initial_mode: Some("fr_a=stuck"),
     initial_state: { "k": -1.0e-4 },
     duration: 0.2,
-    record: ["flow:ge", "integral:flow:ge"],
+    record: ["flow:cart", "integral:flow:cart"],
 )"#;
 
     #[test]
@@ -1390,14 +1390,14 @@ Model (
             .iter()
             .map(|f| (f.name.as_str(), at(f.value_span)))
             .collect();
-        assert_eq!(fields[0], ("name", "\"fig6\""));
-        assert_eq!(fields[1], ("remove", "[\"rubbing\", r\"fr_ct\",]"));
+        assert_eq!(fields[0], ("name", "\"push\""));
+        assert_eq!(fields[1], ("remove", "[\"rubber\", r\"fr_b\",]"));
         assert_eq!(fields[5], ("initial_state", "{ \"k\": -1.0e-4 }"));
         assert_eq!(fields[6], ("duration", "0.2"));
         assert_eq!(map.field("name").unwrap().text_span(), Span::new(21, 25));
         let mode = map.field("initial_mode").unwrap();
-        assert_eq!(at(mode.value_span), "Some(\"fr_ge=stuck\")");
-        assert_eq!(at(mode.text_span()), "fr_ge=stuck");
+        assert_eq!(at(mode.value_span), "Some(\"fr_a=stuck\")");
+        assert_eq!(at(mode.text_span()), "fr_a=stuck");
 
         let strings = |list: List| -> Vec<(String, &str)> {
             map.items(list)
@@ -1407,14 +1407,14 @@ Model (
         };
         assert_eq!(
             strings(List::Remove),
-            [("rubbing".into(), "rubbing"), ("fr_ct".into(), "fr_ct")]
+            [("rubber".into(), "rubber"), ("fr_b".into(), "fr_b")]
         );
-        assert_eq!(at(map.remove[1].span), "r\"fr_ct\"");
+        assert_eq!(at(map.remove[1].span), "r\"fr_b\"");
         assert_eq!(
             strings(List::Record),
             [
-                ("flow:ge".into(), "flow:ge"),
-                ("integral:flow:ge".into(), "integral:flow:ge")
+                ("flow:cart".into(), "flow:cart"),
+                ("integral:flow:cart".into(), "integral:flow:cart")
             ]
         );
 
@@ -1424,7 +1424,7 @@ Model (
             .iter()
             .map(|e| (e.key.as_str(), e.kind.as_deref(), at(e.value_span)))
             .collect();
-        assert_eq!(inputs[1], ("v_ac", Some("Constant"), "Constant(5.8e-3)"));
+        assert_eq!(inputs[1], ("v_w", Some("Constant"), "Constant(5.8e-3)"));
         let ramp = &map.inputs[0];
         assert_eq!(at(ramp.field("ceiling").unwrap().value_span), "2.0e5");
         assert_eq!(map.initial_state[0].key, "k");

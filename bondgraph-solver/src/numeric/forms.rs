@@ -132,7 +132,7 @@ impl ModeForms {
         }
     }
 
-    /// The mode's specification (`fr_ge=stuck,...`).
+    /// The mode's specification (`fr_1=stuck,...`).
     pub fn spec(&self) -> &str {
         &self.spec
     }

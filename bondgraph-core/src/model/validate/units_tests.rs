@@ -753,7 +753,7 @@ fn an_edit_writes_an_si_value_in_the_parameters_own_unit() {
     }
 }
 
-/// Every model file of the repository (examples, teaching models, the flagship, the test
+/// Every model file of the repository (examples, teaching models, the studies' models, the test
 /// fixtures) checked both ways: the closure that `check` runs first must find exactly the
 /// dimensions, or the diagnostics, of the ordered schedule that was the whole check before.
 #[test]
