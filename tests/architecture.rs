@@ -39,7 +39,7 @@ const FILE_BUDGET: usize = 1000;
 const FUNCTION_BUDGET: usize = 150;
 
 /// Files over [`FILE_BUDGET`] today, with their size now (each may only shrink).
-const OVERSIZED_FILES: &[(&str, usize)] = &[("bondgraph-core/src/model/source_map.rs", 1092)];
+const OVERSIZED_FILES: &[(&str, usize)] = &[];
 
 /// Functions over [`FUNCTION_BUDGET`] today: (file, function, lines now).
 const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
