@@ -12,7 +12,7 @@
 //! A linear-graph file is edited the same way: a branch removed is its entry in `branches`
 //! (a linear graph has no bonds to cut).
 //!
-//! The [`SourceMap`](super::source_map::SourceMap) gives the span of every element entry, bond and parameter value, so an
+//! The source map of the file gives the span of every element entry, bond and parameter value, so an
 //! [`Edit`] is a list of text replacements: an element's entry and every bond that touches
 //! it are cut out (whole lines when they stand on their own lines), and a parameter's
 //! `value` is replaced by the shortest text that reads back as exactly the same `f64`.

@@ -1,10 +1,11 @@
 //! Reading model files: RON text to a checked [`Model`].
 //!
-//! Parsing is split so that each part answers one question: [`raw`] is the file format as
-//! serde reads it, [`source_map`] records where each entry and bond is (serde keeps no
-//! positions), [`parse`] runs both and turns ron's errors into diagnostics that name the
-//! element and point at the offending token, and [`validate`] checks names, expressions,
-//! values and the graph and builds the [`Model`] that every later stage works on.
+//! Parsing is split so that each part answers one question (the parts are the crate's
+//! own): `raw` is the file format as serde reads it, `source_map` records where each entry
+//! and bond is (serde keeps no positions), `parse` runs both and turns ron's errors into
+//! diagnostics that name the element and point at the offending token, and `validate`
+//! checks names, expressions, values and the graph and builds the [`Model`] that every
+//! later stage works on.
 //! [`edit`] makes variants of a model file (elements removed, parameter values set) by
 //! editing its text, so that a variant is loaded and checked like any model file.
 //!
@@ -21,11 +22,11 @@
 mod checked;
 pub mod edit;
 pub mod linear_graph;
-pub mod parse;
-pub mod raw;
+pub(crate) mod parse;
+pub(crate) mod raw;
 pub mod reduction;
-pub mod source_map;
-pub mod validate;
+pub(crate) mod source_map;
+pub(crate) mod validate;
 
 use std::sync::Arc;
 

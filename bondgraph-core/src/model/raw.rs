@@ -235,6 +235,7 @@ impl RawModel {
     /// Reads a model from RON `text` with the options model files use (optional fields
     /// without `Some(...)`); errors are ron's, turned into diagnostics by
     /// [`parse_model`](super::parse::parse_model).
+    #[cfg(test)]
     pub fn from_ron(text: &str) -> Result<Self, ron::error::SpannedError> {
         ron_options().from_str(text)
     }

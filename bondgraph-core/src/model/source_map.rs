@@ -278,11 +278,13 @@ impl SourceMap {
     }
 
     /// The element whose entry (key to end of value) contains byte `offset`.
+    #[cfg(test)]
     pub fn element_at(&self, offset: usize) -> Option<&EntrySpans> {
         self.elements.iter().find(|e| e.span().contains(offset))
     }
 
     /// The entry of any map section that contains byte `offset`, and its section.
+    #[cfg(test)]
     pub fn entry_containing(&self, offset: usize) -> Option<(Section, &EntrySpans)> {
         Section::ALL.into_iter().find_map(|section| {
             self.entries(section)
@@ -293,6 +295,7 @@ impl SourceMap {
     }
 
     /// The bond that contains byte `offset`, with its index in the `bonds` list.
+    #[cfg(test)]
     pub fn bond_at(&self, offset: usize) -> Option<(usize, &ItemSpans)> {
         self.bonds
             .iter()

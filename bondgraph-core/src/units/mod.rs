@@ -19,7 +19,7 @@
 //!
 //! The check of a model file's units (the laws of every element against its bond, on every
 //! bond graph, linear graph and extended model, so `bondgraph check` reports it) is the
-//! model validator's ([`crate::model::validate`]), built on these.
+//! model validator's (`model::validate`), built on these.
 
 pub mod convert;
 pub mod dimension;

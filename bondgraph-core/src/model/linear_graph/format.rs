@@ -1,6 +1,6 @@
 //! The linear-graph file format, exactly as serde reads it from RON.
 //!
-//! As for bond-graph files ([`raw`](crate::model::raw)), these types mirror what the user
+//! As for bond-graph files (the crate's `model::raw`), these types mirror what the user
 //! writes and nothing more: node names are plain strings, expressions unparsed text, maps
 //! read as lists of entries in file order (duplicates kept for diagnosis), unknown fields
 //! denied. A linear-graph file looks like this:
