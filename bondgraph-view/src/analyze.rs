@@ -94,20 +94,22 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Analyses one mode of `model` (read from `source`, which its diagnostics point into).
-pub fn analyze(
+/// The mode's equations as analysed: a linear mode's own, or a nonlinear mode's
+/// linearisation at the operating point given (or at the equilibrium found from it, or from
+/// zero), with notes on how the point was reached.
+fn prepare(
     model: &Model,
     source: &Arc<SourceFile>,
     args: &Request,
-) -> Result<Analyzed, Failure> {
-    let mode = parse_mode(model, args.mode.as_deref(), source)?;
+    mode: &bondgraph_core::mode::Mode,
+) -> Result<Prepared, Failure> {
     let options = equations::Options {
         variables: equations::Variables::preferred(model),
     };
     let mut notes = Vec::new();
-    let prepared = if model.is_nonlinear() {
+    Ok(if model.is_nonlinear() {
         let derived =
-            modes::derive_nonlinear(model, &mode, &options).map_err(|d| with_source(d, source))?;
+            modes::derive_nonlinear(model, mode, &options).map_err(|d| with_source(d, source))?;
         let eq = &derived.equations;
         let names: Vec<String> = eq.states.iter().map(|s| s.name.clone()).collect();
         let given = match &args.at {
@@ -157,7 +159,7 @@ pub fn analyze(
                 "--equilibrium is for nonlinear models; a linear mode's matrices do not depend on the operating point",
             ));
         }
-        let derived = modes::derive(model, &mode, &options).map_err(|d| with_source(d, source))?;
+        let derived = modes::derive(model, mode, &options).map_err(|d| with_source(d, source))?;
         if let Some(at) = &args.at {
             let names: Vec<String> = derived
                 .equations
@@ -175,7 +177,17 @@ pub fn analyze(
             linearised_at: None,
             notes,
         }
-    };
+    })
+}
+
+/// Analyses one mode of `model` (read from `source`, which its diagnostics point into).
+pub fn analyze(
+    model: &Model,
+    source: &Arc<SourceFile>,
+    args: &Request,
+) -> Result<Analyzed, Failure> {
+    let mode = parse_mode(model, args.mode.as_deref(), source)?;
+    let prepared = prepare(model, source, args, &mode)?;
     let eq = &prepared.equations;
 
     // The channel: which input, which output.

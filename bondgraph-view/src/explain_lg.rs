@@ -142,7 +142,6 @@ fn explain(
     laws: &[Law],
     spec: &str,
 ) -> String {
-    let edge = |b: usize, p: usize| writer.name(&graph.edge_name(b, p));
     let mut out = String::new();
     writer.title(
         &mut out,
@@ -163,122 +162,9 @@ fn explain(
          T-types among the links are the independent storage: their across and through \
          variables are the states.\n",
     );
-    if !tree.alternatives.is_empty() {
-        let placements = "puts one of its ports in the tree, a gyrator both or neither. Every \
-             placement was tried; the tree kept has the most A-types in it, then the fewest \
-             T-types:";
-        if writer.markdown {
-            writer.heading(&mut out, "Two-ports");
-            out.push_str(&format!("A transformer {placements}\n\n"));
-        } else {
-            out.push_str(&format!("\nTwo-ports: a transformer {placements}\n"));
-        }
-        let items: Vec<String> = tree
-            .alternatives
-            .iter()
-            .enumerate()
-            .map(|(i, alternative)| {
-                let placed: Vec<String> = alternative
-                    .placement
-                    .iter()
-                    .map(|(b, ports)| {
-                        let names: Vec<String> = ports.iter().map(|&p| edge(*b, p)).collect();
-                        if names.is_empty() {
-                            format!("neither port of {}", writer.name(&graph.branches[*b].name))
-                        } else {
-                            names.join(" and ")
-                        }
-                    })
-                    .collect();
-                let result = if alternative.feasible {
-                    format!(
-                        "{} A-type{} and {} T-type{} in the tree",
-                        alternative.a_in_tree,
-                        plural(alternative.a_in_tree),
-                        alternative.t_in_tree,
-                        plural(alternative.t_in_tree)
-                    )
-                } else {
-                    "no tree (a port would close a loop, or the tree would not reach every node)"
-                        .to_string()
-                };
-                let chosen = match (i == tree.chosen, writer.markdown) {
-                    (false, _) => "",
-                    (true, false) => "  <- chosen",
-                    (true, true) => " (**chosen**)",
-                };
-                format!("{} in the tree: {result}{chosen}", placed.join(", "))
-            })
-            .collect();
-        writer.items(&mut out, &items);
-    }
+    two_ports(writer, graph, tree, &mut out);
     writer.heading(&mut out, "Construction");
-    let steps: Vec<String> = tree
-        .steps
-        .iter()
-        .map(|step| {
-            let e = &graph.branches[step.branch].edges[step.port];
-            let what = format!(
-                "{} ({}, {} -> {})",
-                edge(step.branch, step.port),
-                role_text(graph, step.branch, step.role),
-                graph.node(e.from).name,
-                graph.node(e.to).name
-            );
-            let why = match &step.reason {
-                Reason::Reaches => {
-                    let mut s =
-                        "joins the tree: it reaches a node the tree did not reach".to_string();
-                    if step.role == Role::A {
-                        s.push_str(&format!(
-                            "; its across variable {} is a state",
-                            writer.code(&format!("v_{}", graph.branches[step.branch].name))
-                        ));
-                    }
-                    if step.role == Role::T {
-                        s.push_str(
-                            "; a T-type in the tree is dependent storage: its through variable is set by the links of its cut-set",
-                        );
-                    }
-                    s
-                }
-                Reason::ClosesLoop(path) => {
-                    let names: Vec<String> = path.iter().map(|&(b, p)| edge(b, p)).collect();
-                    let mut s = format!(
-                        "becomes a link: it would close a loop with {}",
-                        names.join(", ")
-                    );
-                    match step.role {
-                        Role::A => s.push_str(
-                            "; an A-type link is dependent storage: its across variable is set by the loop",
-                        ),
-                        Role::T => s.push_str(&format!(
-                            "; its through variable {} is a state",
-                            writer.code(&format!("f_{}", graph.branches[step.branch].name))
-                        )),
-                        Role::AcrossSource => s.push_str(
-                            "; across sources in a loop contradict each other, so this mode cannot be entered",
-                        ),
-                        _ => {}
-                    }
-                    s
-                }
-                Reason::TwoPortInTree => {
-                    "joins the tree, as the chosen two-port placement puts it there".to_string()
-                }
-                Reason::TwoPortLink => {
-                    "is a link, as the chosen two-port placement leaves it out".to_string()
-                }
-                Reason::Source if step.in_tree => {
-                    "joins the tree: nothing else reaches its node, so its cut-set holds only sources"
-                        .to_string()
-                }
-                Reason::Source => "is a link: through sources are links".to_string(),
-            };
-            format!("{what} {why}.")
-        })
-        .collect();
-    writer.items(&mut out, &steps);
+    construction(writer, graph, tree, &mut out);
 
     let codes =
         |items: Vec<String>| -> Vec<String> { items.iter().map(|v| writer.code(v)).collect() };
@@ -365,6 +251,132 @@ fn explain(
         .collect();
     writer.block(&mut out, &lines);
     out
+}
+
+/// Where the two-ports' placements were tried: each placement and the tree it gives, the
+/// chosen one marked (nothing without two-ports).
+fn two_ports(writer: &Writer, graph: &LinearGraph, tree: &NormalTree, out: &mut String) {
+    let edge = |b: usize, p: usize| writer.name(&graph.edge_name(b, p));
+    if !tree.alternatives.is_empty() {
+        let placements = "puts one of its ports in the tree, a gyrator both or neither. Every \
+             placement was tried; the tree kept has the most A-types in it, then the fewest \
+             T-types:";
+        if writer.markdown {
+            writer.heading(out, "Two-ports");
+            out.push_str(&format!("A transformer {placements}\n\n"));
+        } else {
+            out.push_str(&format!("\nTwo-ports: a transformer {placements}\n"));
+        }
+        let items: Vec<String> = tree
+            .alternatives
+            .iter()
+            .enumerate()
+            .map(|(i, alternative)| {
+                let placed: Vec<String> = alternative
+                    .placement
+                    .iter()
+                    .map(|(b, ports)| {
+                        let names: Vec<String> = ports.iter().map(|&p| edge(*b, p)).collect();
+                        if names.is_empty() {
+                            format!("neither port of {}", writer.name(&graph.branches[*b].name))
+                        } else {
+                            names.join(" and ")
+                        }
+                    })
+                    .collect();
+                let result = if alternative.feasible {
+                    format!(
+                        "{} A-type{} and {} T-type{} in the tree",
+                        alternative.a_in_tree,
+                        plural(alternative.a_in_tree),
+                        alternative.t_in_tree,
+                        plural(alternative.t_in_tree)
+                    )
+                } else {
+                    "no tree (a port would close a loop, or the tree would not reach every node)"
+                        .to_string()
+                };
+                let chosen = match (i == tree.chosen, writer.markdown) {
+                    (false, _) => "",
+                    (true, false) => "  <- chosen",
+                    (true, true) => " (**chosen**)",
+                };
+                format!("{} in the tree: {result}{chosen}", placed.join(", "))
+            })
+            .collect();
+        writer.items(out, &items);
+    }
+}
+
+/// The normal tree's construction, branch by branch: joined or a link, and why.
+fn construction(writer: &Writer, graph: &LinearGraph, tree: &NormalTree, out: &mut String) {
+    let edge = |b: usize, p: usize| writer.name(&graph.edge_name(b, p));
+    let steps: Vec<String> = tree
+        .steps
+        .iter()
+        .map(|step| {
+            let e = &graph.branches[step.branch].edges[step.port];
+            let what = format!(
+                "{} ({}, {} -> {})",
+                edge(step.branch, step.port),
+                role_text(graph, step.branch, step.role),
+                graph.node(e.from).name,
+                graph.node(e.to).name
+            );
+            let why = match &step.reason {
+                Reason::Reaches => {
+                    let mut s =
+                        "joins the tree: it reaches a node the tree did not reach".to_string();
+                    if step.role == Role::A {
+                        s.push_str(&format!(
+                            "; its across variable {} is a state",
+                            writer.code(&format!("v_{}", graph.branches[step.branch].name))
+                        ));
+                    }
+                    if step.role == Role::T {
+                        s.push_str(
+                            "; a T-type in the tree is dependent storage: its through variable is set by the links of its cut-set",
+                        );
+                    }
+                    s
+                }
+                Reason::ClosesLoop(path) => {
+                    let names: Vec<String> = path.iter().map(|&(b, p)| edge(b, p)).collect();
+                    let mut s = format!(
+                        "becomes a link: it would close a loop with {}",
+                        names.join(", ")
+                    );
+                    match step.role {
+                        Role::A => s.push_str(
+                            "; an A-type link is dependent storage: its across variable is set by the loop",
+                        ),
+                        Role::T => s.push_str(&format!(
+                            "; its through variable {} is a state",
+                            writer.code(&format!("f_{}", graph.branches[step.branch].name))
+                        )),
+                        Role::AcrossSource => s.push_str(
+                            "; across sources in a loop contradict each other, so this mode cannot be entered",
+                        ),
+                        _ => {}
+                    }
+                    s
+                }
+                Reason::TwoPortInTree => {
+                    "joins the tree, as the chosen two-port placement puts it there".to_string()
+                }
+                Reason::TwoPortLink => {
+                    "is a link, as the chosen two-port placement leaves it out".to_string()
+                }
+                Reason::Source if step.in_tree => {
+                    "joins the tree: nothing else reaches its node, so its cut-set holds only sources"
+                        .to_string()
+                }
+                Reason::Source => "is a link: through sources are links".to_string(),
+            };
+            format!("{what} {why}.")
+        })
+        .collect();
+    writer.items(out, &steps);
 }
 
 /// The variable suffix of an edge: the branch's name, with `_1`, `_2` for a two-port's ports.

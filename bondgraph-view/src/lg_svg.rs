@@ -98,8 +98,23 @@ impl Path {
     }
 }
 
-/// The SVG document of `graph` with its normal `tree`.
-pub fn draw(model: &Model, graph: &LinearGraph, tree: &NormalTree, spec: &str) -> String {
+/// Where everything goes: the nodes in a row above the ground, each edge to the ground in a
+/// lane of its own, the other edges as arches over the row.
+struct Layout {
+    /// Each node's position along the row (the ground's unused).
+    x: Vec<f64>,
+    /// The non-ground nodes, left to right.
+    row: Vec<usize>,
+    ground_y: f64,
+    width: f64,
+    height: f64,
+    /// How far everything moves down to make room for the highest arch.
+    shift: f64,
+    /// Every edge's path, arrow and label places, in file order.
+    drawn: Vec<Drawn>,
+}
+
+fn layout(graph: &LinearGraph, tree: &NormalTree) -> Layout {
     let ground = graph.ground.index();
     let label_width = |b: usize, p: usize| {
         text_width(&graph.edge_name(b, p), FONT)
@@ -216,6 +231,28 @@ pub fn draw(model: &Model, graph: &LinearGraph, tree: &NormalTree, spec: &str) -
     drawn.sort_by_key(|d| (d.branch, d.port));
     let shift = (60.0 - top).max(0.0);
     let height = ground_y + 70.0 + shift;
+    Layout {
+        x,
+        row,
+        ground_y,
+        width,
+        height,
+        shift,
+        drawn,
+    }
+}
+
+/// The SVG document of `graph` with its normal `tree`.
+pub fn draw(model: &Model, graph: &LinearGraph, tree: &NormalTree, spec: &str) -> String {
+    let Layout {
+        x,
+        row,
+        ground_y,
+        width,
+        height,
+        shift,
+        drawn,
+    } = layout(graph, tree);
 
     let mut svg = String::new();
     let _ = writeln!(
