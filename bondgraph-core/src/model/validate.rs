@@ -79,31 +79,7 @@ pub(crate) fn validate_as(
         {
             continue;
         }
-        if !raw_parameter.value.is_finite() {
-            let value_span = v
-                .field_value_span(&map.parameters, index, "value")
-                .unwrap_or(span);
-            let written = file.text().get(value_span.start..value_span.end);
-            // `1e400` reads as infinity; say why in the terms the user wrote.
-            let message = match written {
-                Some(written)
-                    if written.bytes().any(|b| b.is_ascii_digit()) && !written.contains("inf") =>
-                {
-                    format!(
-                        "parameter '{name}' has value {written}, which is too large for a 64-bit floating-point number"
-                    )
-                }
-                _ => format!(
-                    "parameter '{name}' has value {}, which is not a finite number",
-                    raw_parameter.value
-                ),
-            };
-            v.problems.push(
-                Diagnostic::new(DiagnosticKind::InvalidValue, message)
-                    .at(file, value_span)
-                    .element(name.clone()),
-            );
-        }
+        v.check_finite(name, raw_parameter.value, index, span);
         if let Some(bounds) = raw_parameter.bounds {
             v.check_bounds(name, raw_parameter.value, bounds, index);
         }
@@ -160,20 +136,7 @@ pub(crate) fn validate_as(
         .enumerate()
         .map(|(i, input)| (input.name.as_str(), i as u32))
         .collect();
-    // Storage elements' energy variables, by their printed names, for nonlinear laws.
-    let states: HashMap<String, u32> = raw
-        .elements
-        .iter()
-        .enumerate()
-        .filter_map(|(index, (name, element))| {
-            let letter = match element {
-                RawElement::I { .. } => "p",
-                RawElement::C { .. } | RawElement::TensionOnly { .. } => "q",
-                _ => return None,
-            };
-            Some((format!("{letter}_{name}"), index as u32))
-        })
-        .collect();
+    let states = energy_variables(&raw);
     let scope = Scope {
         symbols: &symbols,
         inputs: &input_ids,
@@ -181,96 +144,9 @@ pub(crate) fn validate_as(
         states: &states,
     };
 
-    // Elements.
-    let mut element_names: HashMap<String, (Span, &'static str)> = HashMap::new();
-    let mut elements: Vec<Element> = Vec::new();
-    let mut element_index: HashMap<String, ElementId> = HashMap::new();
-    for (index, (name, raw_element)) in raw.elements.iter().enumerate() {
-        let span = v.entry_span(&map.elements, index);
-        let named_ok = v.check_name(name, "element", span)
-            && v.check_unique(&mut element_names, name, "element", span);
-        let kind = v.element_kind(name, raw_element, index, &scope);
-        if let (true, Some(kind)) = (named_ok, kind) {
-            element_index.insert(name.clone(), ElementId(elements.len() as u32));
-            elements.push(Element {
-                name: name.clone(),
-                kind,
-                span,
-                bonds: Vec::new(),
-            });
-        } else if named_ok {
-            // Keep the name known so bonds to it are not reported as undefined.
-            element_index.insert(name.clone(), ElementId(u32::MAX));
-        }
-    }
+    let (mut elements, element_index) = v.elements(&raw, &scope);
 
-    // Bonds. A bond dropped because one of its ends was already reported (a rejected or
-    // undefined element, a self bond) is counted at its other end, so that end is not
-    // blamed next for the bond count the file does give it.
-    let mut bonds = Vec::new();
-    let mut dropped = vec![0usize; elements.len()];
-    for (index, raw_bond) in raw.bonds.iter().enumerate() {
-        let bond_spans = map.bonds.get(index);
-        let span = bond_spans.map_or(map.root, |b| b.span);
-        let mut ends = [ElementId(u32::MAX); 2];
-        let mut ok = true;
-        for (side, name) in [&raw_bond.0, &raw_bond.1].into_iter().enumerate() {
-            let end_span = bond_spans
-                .and_then(|b| b.strings.get(side))
-                .map_or(span, |(_, s)| *s);
-            match element_index.get(name) {
-                Some(id) if id.0 != u32::MAX => ends[side] = *id,
-                Some(_) => ok = false, // the element itself was already reported
-                None => {
-                    ok = false;
-                    let mut diagnostic = Diagnostic::new(
-                        DiagnosticKind::UndefinedElement,
-                        format!(
-                            "bond {} -> {} names '{name}', which is not an element of the model",
-                            raw_bond.0, raw_bond.1
-                        ),
-                    )
-                    .at(file, end_span)
-                    .element(name.clone());
-                    if let Some(suggestion) =
-                        suggest(name, element_index.keys().map(String::as_str))
-                    {
-                        diagnostic = diagnostic.note(format!("did you mean '{suggestion}'?"));
-                    }
-                    v.problems.push(diagnostic);
-                }
-            }
-        }
-        if !ok {
-            for end in ends.iter().filter(|id| id.0 != u32::MAX) {
-                dropped[end.index()] += 1;
-            }
-            continue;
-        }
-        if ends[0] == ends[1] {
-            dropped[ends[0].index()] += 1;
-            v.problems.push(
-                Diagnostic::new(
-                    DiagnosticKind::SelfBond,
-                    format!(
-                        "bond {0} -> {0} connects element '{0}' to itself",
-                        raw_bond.0
-                    ),
-                )
-                .at(file, span)
-                .element(raw_bond.0.clone()),
-            );
-            continue;
-        }
-        let id = BondId(bonds.len() as u32);
-        elements[ends[0].index()].bonds.push(id);
-        elements[ends[1].index()].bonds.push(id);
-        bonds.push(Bond {
-            from: ends[0],
-            to: ends[1],
-            span,
-        });
-    }
+    let (bonds, dropped) = v.bonds(&raw, &element_index, &mut elements);
 
     let mut model = Model {
         name: raw.name.clone(),
@@ -303,6 +179,23 @@ pub(crate) fn validate_as(
     } else {
         Err(Diagnostics(v.problems))
     }
+}
+
+/// Storage elements' energy variables, by their printed names (`p_mass`, `q_spring`), for
+/// nonlinear laws.
+fn energy_variables(raw: &RawModel) -> HashMap<String, u32> {
+    raw.elements
+        .iter()
+        .enumerate()
+        .filter_map(|(index, (name, element))| {
+            let letter = match element {
+                RawElement::I { .. } => "p",
+                RawElement::C { .. } | RawElement::TensionOnly { .. } => "q",
+                _ => return None,
+            };
+            Some((format!("{letter}_{name}"), index as u32))
+        })
+        .collect()
 }
 
 /// A parameter's numbers in SI units.
@@ -348,6 +241,148 @@ enum Sign {
 }
 
 impl Validator<'_> {
+    /// A parameter's value that is not a finite number, worded as the user wrote it (`1e400`
+    /// reads as infinity).
+    fn check_finite(&mut self, name: &str, value: f64, index: usize, span: Span) {
+        if value.is_finite() {
+            return;
+        }
+        let value_span = self
+            .field_value_span(&self.map.parameters, index, "value")
+            .unwrap_or(span);
+        let written = self.file.text().get(value_span.start..value_span.end);
+        // `1e400` reads as infinity; say why in the terms the user wrote.
+        let message = match written {
+            Some(written)
+                if written.bytes().any(|b| b.is_ascii_digit()) && !written.contains("inf") =>
+            {
+                format!(
+                    "parameter '{name}' has value {written}, which is too large for a 64-bit floating-point number"
+                )
+            }
+            _ => format!(
+                "parameter '{name}' has value {}, which is not a finite number",
+                value
+            ),
+        };
+        self.problems.push(
+            Diagnostic::new(DiagnosticKind::InvalidValue, message)
+                .at(&self.file, value_span)
+                .element(name),
+        );
+    }
+
+    /// The elements that check, and every element name that does (an element rejected for
+    /// its fields keeps its name, at an id of `u32::MAX`, so bonds to it are not reported
+    /// as undefined).
+    fn elements(
+        &mut self,
+        raw: &RawModel,
+        scope: &Scope<'_>,
+    ) -> (Vec<Element>, HashMap<String, ElementId>) {
+        let mut element_names: HashMap<String, (Span, &'static str)> = HashMap::new();
+        let mut elements: Vec<Element> = Vec::new();
+        let mut element_index: HashMap<String, ElementId> = HashMap::new();
+        for (index, (name, raw_element)) in raw.elements.iter().enumerate() {
+            let span = self.entry_span(&self.map.elements, index);
+            let named_ok = self.check_name(name, "element", span)
+                && self.check_unique(&mut element_names, name, "element", span);
+            let kind = self.element_kind(name, raw_element, index, scope);
+            if let (true, Some(kind)) = (named_ok, kind) {
+                element_index.insert(name.clone(), ElementId(elements.len() as u32));
+                elements.push(Element {
+                    name: name.clone(),
+                    kind,
+                    span,
+                    bonds: Vec::new(),
+                });
+            } else if named_ok {
+                // Keep the name known so bonds to it are not reported as undefined.
+                element_index.insert(name.clone(), ElementId(u32::MAX));
+            }
+        }
+        (elements, element_index)
+    }
+
+    /// The bonds between elements that check, each added to its ends' lists; and for each
+    /// element, the bonds dropped at it (their other end was reported, or they join it to
+    /// itself), so that its bond count is not blamed next.
+    fn bonds(
+        &mut self,
+        raw: &RawModel,
+        element_index: &HashMap<String, ElementId>,
+        elements: &mut [Element],
+    ) -> (Vec<Bond>, Vec<usize>) {
+        // Bonds. A bond dropped because one of its ends was already reported (a rejected or
+        // undefined element, a self bond) is counted at its other end, so that end is not
+        // blamed next for the bond count the file does give it.
+        let mut bonds = Vec::new();
+        let mut dropped = vec![0usize; elements.len()];
+        for (index, raw_bond) in raw.bonds.iter().enumerate() {
+            let bond_spans = self.map.bonds.get(index);
+            let span = bond_spans.map_or(self.map.root, |b| b.span);
+            let mut ends = [ElementId(u32::MAX); 2];
+            let mut ok = true;
+            for (side, name) in [&raw_bond.0, &raw_bond.1].into_iter().enumerate() {
+                let end_span = bond_spans
+                    .and_then(|b| b.strings.get(side))
+                    .map_or(span, |(_, s)| *s);
+                match element_index.get(name) {
+                    Some(id) if id.0 != u32::MAX => ends[side] = *id,
+                    Some(_) => ok = false, // the element itself was already reported
+                    None => {
+                        ok = false;
+                        let mut diagnostic = Diagnostic::new(
+                            DiagnosticKind::UndefinedElement,
+                            format!(
+                                "bond {} -> {} names '{name}', which is not an element of the model",
+                                raw_bond.0, raw_bond.1
+                            ),
+                        )
+                        .at(&self.file, end_span)
+                        .element(name.clone());
+                        if let Some(suggestion) =
+                            suggest(name, element_index.keys().map(String::as_str))
+                        {
+                            diagnostic = diagnostic.note(format!("did you mean '{suggestion}'?"));
+                        }
+                        self.problems.push(diagnostic);
+                    }
+                }
+            }
+            if !ok {
+                for end in ends.iter().filter(|id| id.0 != u32::MAX) {
+                    dropped[end.index()] += 1;
+                }
+                continue;
+            }
+            if ends[0] == ends[1] {
+                dropped[ends[0].index()] += 1;
+                self.problems.push(
+                    Diagnostic::new(
+                        DiagnosticKind::SelfBond,
+                        format!(
+                            "bond {0} -> {0} connects element '{0}' to itself",
+                            raw_bond.0
+                        ),
+                    )
+                    .at(&self.file, span)
+                    .element(raw_bond.0.clone()),
+                );
+                continue;
+            }
+            let id = BondId(bonds.len() as u32);
+            elements[ends[0].index()].bonds.push(id);
+            elements[ends[1].index()].bonds.push(id);
+            bonds.push(Bond {
+                from: ends[0],
+                to: ends[1],
+                span,
+            });
+        }
+        (bonds, dropped)
+    }
+
     fn entry_span(&self, entries: &[EntrySpans], index: usize) -> Span {
         entries.get(index).map_or(self.map.root, |e| e.key_span)
     }
