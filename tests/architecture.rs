@@ -58,7 +58,6 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
         "integrated_segment",
         208,
     ),
-    ("bondgraph-core/src/extension.rs", "merge", 201),
     (
         "bondgraph-core/src/model/validate/units.rs",
         "constraints",

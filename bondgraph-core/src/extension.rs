@@ -463,6 +463,93 @@ impl Extended {
     }
 }
 
+/// The names extension `e` adds or replaces, checked against the base model's: a clash, a
+/// replacement of what the model does not have or of what another extension replaced is a
+/// problem; a replacement that checks is a splice of its new value.
+fn check_names<'a>(
+    base: &Base,
+    (e, extension): (usize, &'a Extension),
+    replaced: &mut HashSet<&'a str>,
+    splices: &mut Vec<Splice>,
+    problems: &mut Vec<Diagnostic>,
+) {
+    let part = base.part().0;
+    let ext = &extension.raw;
+    let ext_map = &extension.map;
+    let here = |span: Span| extension.source.locate(span);
+    if let Some(problem) = other_formalism(base, extension) {
+        problems.push(problem);
+        return;
+    }
+    // Clashes of new names with the base model's.
+    let clash = |kind: &str, name: &str, span: Span, note: &str| {
+        let mut d = Diagnostic::new(
+            DiagnosticKind::DuplicateName,
+            format!(
+                "extension '{}' adds {kind} '{name}', which model '{}' already has",
+                ext.id, base.name
+            ),
+        )
+        .at_location(here(span))
+        .element(name);
+        if !note.is_empty() {
+            d = d.note(note);
+        }
+        d
+    };
+    let symbol_taken = |name: &String| base.parameters.contains(name) || base.inputs.contains(name);
+    for ((name, _), spans) in ext.parameters.iter().zip(&ext_map.parameters) {
+        if symbol_taken(name) {
+            problems.push(clash("parameter", name, spans.key_span, ""));
+        }
+    }
+    for ((name, _), spans) in ext.inputs.iter().zip(&ext_map.inputs) {
+        if symbol_taken(name) {
+            problems.push(clash("input", name, spans.key_span, ""));
+        }
+    }
+    for (name, spans) in extension.parts() {
+        let replaces = ext.replace.iter().any(|r| r == name);
+        let index = base.parts.iter().position(|n| n == name);
+        match (replaces, index) {
+            (true, None) => {
+                let mut d = Diagnostic::new(
+                    DiagnosticKind::UnknownName,
+                    format!(
+                        "extension '{}' replaces {part} '{name}', which model '{}' does not have",
+                        ext.id, base.name
+                    ),
+                )
+                .at_location(here(spans.key_span))
+                .element(name);
+                if let Some(suggestion) = suggest(name, base.parts.iter().map(String::as_str)) {
+                    d = d.note(format!("did you mean '{suggestion}'?"));
+                }
+                problems.push(d);
+            }
+            (false, Some(_)) => problems.push(clash(
+                part,
+                name,
+                spans.key_span,
+                &format!("to change the model's '{name}', list it under replace"),
+            )),
+            (true, Some(_)) if !replaced.insert(name) => problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::DuplicateName,
+                    format!("{part} '{name}' is replaced by two extensions"),
+                )
+                .at_location(here(spans.key_span))
+                .element(name),
+            ),
+            (true, Some(index)) => splices.push(Splice {
+                at: base.part_spans()[index].value_span,
+                parts: vec![Part::Copy(e, spans.value_span)],
+            }),
+            (false, None) => {}
+        }
+    }
+}
+
 /// Merges `extensions` into the model file `base`, in order: bond-graph fragments into a
 /// bond graph, linear-graph fragments (branches) into a linear graph.
 ///
@@ -477,88 +564,19 @@ pub fn merge(base: &Arc<SourceFile>, extensions: &[Extension]) -> Result<Extende
     let model = Base::parse(base)?;
     let map = &model.map;
     let text = base.text();
-    let (part, section) = model.part();
+    let section = model.part().1;
     let mut problems = Vec::new();
     let mut splices: Vec<Splice> = Vec::new();
     let mut replaced: HashSet<&str> = HashSet::new();
 
     for (e, extension) in extensions.iter().enumerate() {
-        let ext = &extension.raw;
-        let ext_map = &extension.map;
-        let here = |span: Span| extension.source.locate(span);
-        if let Some(problem) = other_formalism(&model, extension) {
-            problems.push(problem);
-            continue;
-        }
-        // Clashes of new names with the base model's.
-        let clash = |kind: &str, name: &str, span: Span, note: &str| {
-            let mut d = Diagnostic::new(
-                DiagnosticKind::DuplicateName,
-                format!(
-                    "extension '{}' adds {kind} '{name}', which model '{}' already has",
-                    ext.id, model.name
-                ),
-            )
-            .at_location(here(span))
-            .element(name);
-            if !note.is_empty() {
-                d = d.note(note);
-            }
-            d
-        };
-        let symbol_taken =
-            |name: &String| model.parameters.contains(name) || model.inputs.contains(name);
-        for ((name, _), spans) in ext.parameters.iter().zip(&ext_map.parameters) {
-            if symbol_taken(name) {
-                problems.push(clash("parameter", name, spans.key_span, ""));
-            }
-        }
-        for ((name, _), spans) in ext.inputs.iter().zip(&ext_map.inputs) {
-            if symbol_taken(name) {
-                problems.push(clash("input", name, spans.key_span, ""));
-            }
-        }
-        for (name, spans) in extension.parts() {
-            let replaces = ext.replace.iter().any(|r| r == name);
-            let index = model.parts.iter().position(|n| n == name);
-            match (replaces, index) {
-                (true, None) => {
-                    let mut d = Diagnostic::new(
-                        DiagnosticKind::UnknownName,
-                        format!(
-                            "extension '{}' replaces {part} '{name}', which model '{}' does not have",
-                            ext.id, model.name
-                        ),
-                    )
-                    .at_location(here(spans.key_span))
-                    .element(name);
-                    if let Some(suggestion) = suggest(name, model.parts.iter().map(String::as_str))
-                    {
-                        d = d.note(format!("did you mean '{suggestion}'?"));
-                    }
-                    problems.push(d);
-                }
-                (false, Some(_)) => problems.push(clash(
-                    part,
-                    name,
-                    spans.key_span,
-                    &format!("to change the model's '{name}', list it under replace"),
-                )),
-                (true, Some(_)) if !replaced.insert(name) => problems.push(
-                    Diagnostic::new(
-                        DiagnosticKind::DuplicateName,
-                        format!("{part} '{name}' is replaced by two extensions"),
-                    )
-                    .at_location(here(spans.key_span))
-                    .element(name),
-                ),
-                (true, Some(index)) => splices.push(Splice {
-                    at: model.part_spans()[index].value_span,
-                    parts: vec![Part::Copy(e, spans.value_span)],
-                }),
-                (false, None) => {}
-            }
-        }
+        check_names(
+            &model,
+            (e, extension),
+            &mut replaced,
+            &mut splices,
+            &mut problems,
+        );
     }
     if !problems.is_empty() {
         return Err(Diagnostics(problems));
