@@ -68,7 +68,6 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
         "closed_form_segment",
         200,
     ),
-    ("bondgraph-fit/src/discover/procedure.rs", "discover", 193),
     ("bondgraph-core/src/diagram.rs", "layout", 181),
     ("bondgraph-solver/src/energy/modal.rs", "over", 177),
     ("studies/eversion/src/report.rs", "table3_findings", 169),

@@ -397,28 +397,7 @@ impl Models<'_> {
             None => vec![noise_level(experiment, rows, best, &self.name(selected))],
             Some(w) => w.levels.clone(),
         };
-        let lack_of_fit = match &weighed {
-            None => noise::lack_of_fit(
-                &levels[0],
-                baseline.fit.sse,
-                rows.len(),
-                baseline.names.len(),
-            ),
-            Some(w) if w.levels.iter().all(|l| l.origin != noise::Origin::Residual) => {
-                noise::lack_of_fit(
-                    &NoiseLevel {
-                        sd: Some(1.0),
-                        origin: noise::Origin::Declared,
-                        source: String::new(),
-                        pure_error: None,
-                    },
-                    baseline.fit.sse,
-                    rows.len() * m,
-                    baseline.names.len(),
-                )
-            }
-            Some(_) => None,
-        };
+        let lack_of_fit = self.lack_of_fit(weighed.as_ref(), &levels[0], &baseline);
         // What the verdicts are judged against, in the fits' units.
         let noise = match &weighed {
             None => levels[0].sd,
@@ -447,32 +426,7 @@ impl Models<'_> {
             a.modes.iter().map(|m| experiment.regime(m)).collect()
         };
         let base_regimes = regimes(&baseline);
-        // Every column's residuals pooled (one column: its own).
-        let pooled = |a: &Assessment, regimes: &[String]| {
-            if m == 1 {
-                return residuals(experiment, 0, rows, &a.predictions, regimes, noise);
-            }
-            let mut pooled_rows = Vec::with_capacity(rows.len() * m);
-            let mut pooled_predictions = Vec::with_capacity(rows.len() * m);
-            let mut pooled_regimes = Vec::with_capacity(rows.len() * m);
-            for k in 0..m {
-                for (i, row) in rows.iter().enumerate() {
-                    let mut row = row.clone();
-                    row.observed = vec![row.observed[k]];
-                    pooled_rows.push(row);
-                    pooled_predictions.push(a.predictions[i * m + k]);
-                    pooled_regimes.push(regimes[i].clone());
-                }
-            }
-            residuals(
-                experiment,
-                0,
-                &pooled_rows,
-                &pooled_predictions,
-                &pooled_regimes,
-                noise,
-            )
-        };
+        let pooled = |a: &Assessment, regimes: &[String]| self.pooled_residuals(a, regimes, noise);
         let residuals_before = pooled(&baseline, &base_regimes);
         let residuals_after = selected.map(|s| pooled(&assessed[s], &regimes(&assessed[s])));
         let unscaled = |a: &Assessment, k: usize| -> Vec<f64> {
@@ -506,30 +460,12 @@ impl Models<'_> {
                 })
                 .collect(),
         };
-        let table = data
-            .rows
-            .iter()
-            .enumerate()
-            .map(|(i, r)| RowResult {
-                time: r.time,
-                conditions: data
-                    .conditions
-                    .iter()
-                    .cloned()
-                    .zip(r.conditions.iter().copied())
-                    .collect(),
-                measured: r.observed.clone(),
-                baseline: (0..m)
-                    .map(|k| baseline.predictions[i * m + k] * self.scales[k])
-                    .collect(),
-                selected: selected.map(|s| {
-                    (0..m)
-                        .map(|k| assessed[s].predictions[i * m + k] * self.scales[k])
-                        .collect()
-                }),
-                regime: base_regimes[i].clone(),
-            })
-            .collect();
+        let table = self.table(
+            data,
+            &baseline,
+            selected.map(|s| &assessed[s]),
+            &base_regimes,
+        );
         let extended_model = selected
             .map(|s| extended_model(&candidates[s], &assessed[s]))
             .transpose()?;
@@ -572,6 +508,113 @@ impl Models<'_> {
             failed_trials: failed_trials(candidates, &baseline, &assessed, &self.settings.budget),
             extended_model,
         })
+    }
+
+    /// The base model's lack of fit against the noise, where the noise is known apart from
+    /// it (one column: its level; several: each column's, declared or pure error).
+    fn lack_of_fit(
+        &self,
+        weighed: Option<&Weighed<'_>>,
+        level: &NoiseLevel,
+        baseline: &Assessment,
+    ) -> Option<noise::LackOfFit> {
+        match weighed {
+            None => noise::lack_of_fit(
+                level,
+                baseline.fit.sse,
+                self.rows.len(),
+                baseline.names.len(),
+            ),
+            Some(w) if w.levels.iter().all(|l| l.origin != noise::Origin::Residual) => {
+                noise::lack_of_fit(
+                    &NoiseLevel {
+                        sd: Some(1.0),
+                        origin: noise::Origin::Declared,
+                        source: String::new(),
+                        pure_error: None,
+                    },
+                    baseline.fit.sse,
+                    self.rows.len() * self.columns.len(),
+                    baseline.names.len(),
+                )
+            }
+            Some(_) => None,
+        }
+    }
+
+    /// Every column's residuals pooled (one column: its own).
+    fn pooled_residuals(
+        &self,
+        a: &Assessment,
+        regimes: &[String],
+        noise: Option<f64>,
+    ) -> Residuals {
+        let m = self.columns.len();
+        if m == 1 {
+            return residuals(
+                self.experiment,
+                0,
+                self.rows,
+                &a.predictions,
+                regimes,
+                noise,
+            );
+        }
+        let mut pooled_rows = Vec::with_capacity(self.rows.len() * m);
+        let mut pooled_predictions = Vec::with_capacity(self.rows.len() * m);
+        let mut pooled_regimes = Vec::with_capacity(self.rows.len() * m);
+        for k in 0..m {
+            for (i, row) in self.rows.iter().enumerate() {
+                let mut row = row.clone();
+                row.observed = vec![row.observed[k]];
+                pooled_rows.push(row);
+                pooled_predictions.push(a.predictions[i * m + k]);
+                pooled_regimes.push(regimes[i].clone());
+            }
+        }
+        residuals(
+            self.experiment,
+            0,
+            &pooled_rows,
+            &pooled_predictions,
+            &pooled_regimes,
+            noise,
+        )
+    }
+
+    /// Each row: its conditions, what was measured, and what the base model and the selected
+    /// candidate predict, in the columns' units.
+    fn table(
+        &self,
+        data: &Dataset,
+        baseline: &Assessment,
+        selected: Option<&Assessment>,
+        base_regimes: &[String],
+    ) -> Vec<RowResult> {
+        let m = self.columns.len();
+        data.rows
+            .iter()
+            .enumerate()
+            .map(|(i, r)| RowResult {
+                time: r.time,
+                conditions: data
+                    .conditions
+                    .iter()
+                    .cloned()
+                    .zip(r.conditions.iter().copied())
+                    .collect(),
+                measured: r.observed.clone(),
+                baseline: (0..m)
+                    .map(|k| baseline.predictions[i * m + k] * self.scales[k])
+                    .collect(),
+                selected: selected.map(|s| {
+                    (0..m)
+                        .map(|k| s.predictions[i * m + k] * self.scales[k])
+                        .collect()
+                }),
+                regime: base_regimes[i].clone(),
+            })
+            .collect()
     }
 
     /// With several observed columns, each one's RMSEs in its units; none with one.
