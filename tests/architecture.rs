@@ -70,7 +70,6 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
     ),
     ("bondgraph-core/src/diagram.rs", "layout", 181),
     ("bondgraph-solver/src/energy/modal.rs", "over", 177),
-    ("studies/eversion/src/report.rs", "table3_findings", 169),
     (
         "bondgraph-core/src/model/linear_graph/check.rs",
         "check",
