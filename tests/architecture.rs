@@ -68,7 +68,6 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
         "closed_form_segment",
         200,
     ),
-    ("bondgraph-core/src/diagram.rs", "layout", 181),
     ("bondgraph-solver/src/energy/modal.rs", "over", 177),
     (
         "bondgraph-core/src/model/linear_graph/check.rs",

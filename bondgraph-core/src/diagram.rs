@@ -215,6 +215,64 @@ pub fn label(model: &Model, element: ElementId) -> String {
     format!("{kind}:{}", e.name)
 }
 
+/// A breadth-first spanning forest of the bond graph, sources first as roots: each
+/// element's depth, its children, and the roots in order.
+fn spanning_forest(model: &Model) -> (Vec<usize>, Vec<Vec<usize>>, Vec<usize>) {
+    let count = model.elements.len();
+    let mut depth = vec![usize::MAX; count];
+    let mut children: Vec<Vec<usize>> = vec![Vec::new(); count];
+    let mut roots = Vec::new();
+    let candidates: Vec<usize> = (0..count)
+        .filter(|&i| is_source(&model.elements[i].kind))
+        .chain(0..count)
+        .collect();
+    for root in candidates {
+        if depth[root] != usize::MAX {
+            continue;
+        }
+        roots.push(root);
+        depth[root] = 0;
+        let mut queue = std::collections::VecDeque::from([root]);
+        while let Some(current) = queue.pop_front() {
+            for &bond in &model.elements[current].bonds {
+                let other = model.bond(bond).other(ElementId(current as u32)).index();
+                if depth[other] == usize::MAX {
+                    depth[other] = depth[current] + 1;
+                    children[current].push(other);
+                    queue.push_back(other);
+                }
+            }
+        }
+    }
+    (depth, children, roots)
+}
+
+/// Each element's row: leaves in depth-first order, parents midway between their first and
+/// last child.
+fn rows(roots: &[usize], children: &[Vec<usize>]) -> Vec<f64> {
+    let mut row = vec![0.0; children.len()];
+    let mut next_row = 0.0;
+    for &root in roots {
+        let mut stack = vec![(root, false)];
+        while let Some((node, expanded)) = stack.pop() {
+            if children[node].is_empty() {
+                row[node] = next_row;
+                next_row += 1.0;
+            } else if expanded {
+                let first = row[children[node][0]];
+                let last = row[*children[node].last().expect("not empty")];
+                row[node] = (first + last) / 2.0;
+            } else {
+                stack.push((node, true));
+                for &child in children[node].iter().rev() {
+                    stack.push((child, false));
+                }
+            }
+        }
+    }
+    row
+}
+
 /// Lays out `model` with the strokes of `causality` (derived in `mode`) under `title`.
 ///
 /// # Complexity
@@ -247,54 +305,8 @@ pub fn layout(model: &Model, mode: &Mode, causality: &Causality, title: &str) ->
         })
         .collect();
 
-    // A breadth-first spanning forest, sources first as roots.
-    let mut depth = vec![usize::MAX; count];
-    let mut children: Vec<Vec<usize>> = vec![Vec::new(); count];
-    let mut roots = Vec::new();
-    let candidates: Vec<usize> = (0..count)
-        .filter(|&i| is_source(&model.elements[i].kind))
-        .chain(0..count)
-        .collect();
-    for root in candidates {
-        if depth[root] != usize::MAX {
-            continue;
-        }
-        roots.push(root);
-        depth[root] = 0;
-        let mut queue = std::collections::VecDeque::from([root]);
-        while let Some(current) = queue.pop_front() {
-            for &bond in &model.elements[current].bonds {
-                let other = model.bond(bond).other(ElementId(current as u32)).index();
-                if depth[other] == usize::MAX {
-                    depth[other] = depth[current] + 1;
-                    children[current].push(other);
-                    queue.push_back(other);
-                }
-            }
-        }
-    }
-
-    // Rows: leaves in depth-first order, parents midway between their first and last child.
-    let mut row = vec![0.0; count];
-    let mut next_row = 0.0;
-    for &root in &roots {
-        let mut stack = vec![(root, false)];
-        while let Some((node, expanded)) = stack.pop() {
-            if children[node].is_empty() {
-                row[node] = next_row;
-                next_row += 1.0;
-            } else if expanded {
-                let first = row[children[node][0]];
-                let last = row[*children[node].last().expect("not empty")];
-                row[node] = (first + last) / 2.0;
-            } else {
-                stack.push((node, true));
-                for &child in children[node].iter().rev() {
-                    stack.push((child, false));
-                }
-            }
-        }
-    }
+    let (depth, children, roots) = spanning_forest(model);
+    let row = rows(&roots, &children);
 
     // Columns as wide as their widest label.
     let columns = depth.iter().copied().max().map_or(0, |d| d + 1);
