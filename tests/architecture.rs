@@ -69,11 +69,6 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
         200,
     ),
     ("bondgraph-solver/src/energy/modal.rs", "over", 177),
-    (
-        "bondgraph-core/src/model/linear_graph/check.rs",
-        "check",
-        163,
-    ),
     ("bondgraph-core/src/model/edit.rs", "apply_located", 163),
 ];
 

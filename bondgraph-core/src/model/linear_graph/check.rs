@@ -134,7 +134,46 @@ pub(crate) fn check(file: &SourceFile, raw: &RawLinearGraph, map: &SourceMap) ->
     }
     touches.resize(nodes.len(), Vec::new());
 
-    // Nodes touched once: a typo, or a dangling branch.
+    check_touches(
+        file,
+        raw,
+        &nodes,
+        (ground, ground_span),
+        &touches,
+        &mut problems,
+    );
+    if !problems.is_empty() {
+        return Err(Diagnostics(problems));
+    }
+
+    let topology = Topology {
+        nodes,
+        ground,
+        ports,
+    };
+    // Source loops and cut-sets first: a node reached only through through sources is a
+    // cut-set of sources before it is a separate part.
+    check_sources(file, raw, map, &topology, &mut problems);
+    if problems.is_empty() {
+        check_connected(file, raw, map, &topology, &mut problems);
+    }
+    if problems.is_empty() {
+        Ok(topology)
+    } else {
+        Err(Diagnostics(problems))
+    }
+}
+
+/// Nodes touched once: a typo (another node's name is close), or a dangling branch; and a
+/// ground that no branch touches.
+fn check_touches(
+    file: &SourceFile,
+    raw: &RawLinearGraph,
+    nodes: &[Node],
+    (ground, ground_span): (NodeId, Span),
+    touches: &[Vec<(usize, Span)>],
+    problems: &mut Vec<Diagnostic>,
+) {
     if touches[ground.index()].is_empty() {
         let mut d = Diagnostic::new(
             DiagnosticKind::UndefinedNode,
@@ -192,26 +231,6 @@ pub(crate) fn check(file: &SourceFile, raw: &RawLinearGraph, map: &SourceMap) ->
             )),
         };
         problems.push(diagnostic.at(file, span).element(branch_name.clone()));
-    }
-    if !problems.is_empty() {
-        return Err(Diagnostics(problems));
-    }
-
-    let topology = Topology {
-        nodes,
-        ground,
-        ports,
-    };
-    // Source loops and cut-sets first: a node reached only through through sources is a
-    // cut-set of sources before it is a separate part.
-    check_sources(file, raw, map, &topology, &mut problems);
-    if problems.is_empty() {
-        check_connected(file, raw, map, &topology, &mut problems);
-    }
-    if problems.is_empty() {
-        Ok(topology)
-    } else {
-        Err(Diagnostics(problems))
     }
 }
 
