@@ -69,7 +69,6 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
         200,
     ),
     ("bondgraph-solver/src/energy/modal.rs", "over", 177),
-    ("bondgraph-core/src/model/edit.rs", "apply_located", 163),
 ];
 
 fn root() -> PathBuf {

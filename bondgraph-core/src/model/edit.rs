@@ -50,7 +50,7 @@ use crate::source::{Location, SourceFile, Span};
 
 use super::parse::parse_model;
 use super::raw::RawModel;
-use super::source_map::{TokenKind, lex};
+use super::source_map::{SourceMap, TokenKind, lex};
 use crate::diagnostics::suggest;
 
 /// Changes to make to a model: elements to take out and parameter values to set.
@@ -146,6 +146,66 @@ impl Edited {
     }
 }
 
+/// The replacements that set parameter values: the text of each value in the file's unit,
+/// at every entry of the parameter (a parameter set twice, unknown or to a value that is not
+/// finite is a problem instead).
+fn parameter_values<'m>(
+    edit: &Edit,
+    (raw, map): (&'m RawModel, &SourceMap),
+    source: &SourceFile,
+    locate: &dyn Fn(EditItem) -> Option<Location>,
+    place: &dyn Fn(EditItem, &str) -> Location,
+    problems: &mut Vec<Diagnostic>,
+) -> Vec<(Span, String)> {
+    let mut replacements: Vec<(Span, String)> = Vec::new();
+    let mut set: HashSet<&str> = HashSet::new();
+    for (index, (name, value)) in edit.parameters.iter().enumerate() {
+        let item = EditItem::Parameter(index);
+        let entries: Vec<usize> = (0..raw.parameters.len())
+            .filter(|&i| raw.parameters[i].0 == *name)
+            .collect();
+        if !set.insert(name) {
+            problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::DuplicateName,
+                    format!("parameter '{name}' is set twice"),
+                )
+                .at_location(place(item, "parameters"))
+                .element(name.clone()),
+            );
+            continue;
+        }
+        if entries.is_empty() {
+            problems.push(unknown_parameter(raw, name, place(item, "parameters")));
+            continue;
+        }
+        if !value.is_finite() {
+            let location =
+                locate(item).unwrap_or_else(|| source.locate(map.parameters[entries[0]].key_span));
+            problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::InvalidValue,
+                    format!("cannot set parameter '{name}' to {value}: the value must be a finite number"),
+                )
+                .at_location(location)
+                .element(name.clone()),
+            );
+            continue;
+        }
+        for i in entries {
+            let entry = &map.parameters[i];
+            let span = entry
+                .field("value")
+                .map_or(entry.value_span, |f| f.value_span);
+            replacements.push((
+                span,
+                in_file_unit(*value, raw.parameters[i].1.unit.as_deref()),
+            ));
+        }
+    }
+    replacements
+}
+
 /// [`apply`], with problems located by `locate` where it knows the place of the edit's
 /// item, and in the model file otherwise.
 pub(crate) fn apply_located(
@@ -231,52 +291,8 @@ pub(crate) fn apply_located(
     }
 
     // Parameter values.
-    let mut replacements: Vec<(Span, String)> = Vec::new();
-    let mut set: HashSet<&str> = HashSet::new();
-    for (index, (name, value)) in edit.parameters.iter().enumerate() {
-        let item = EditItem::Parameter(index);
-        let entries: Vec<usize> = (0..raw.parameters.len())
-            .filter(|&i| raw.parameters[i].0 == *name)
-            .collect();
-        if !set.insert(name) {
-            problems.push(
-                Diagnostic::new(
-                    DiagnosticKind::DuplicateName,
-                    format!("parameter '{name}' is set twice"),
-                )
-                .at_location(place(item, "parameters"))
-                .element(name.clone()),
-            );
-            continue;
-        }
-        if entries.is_empty() {
-            problems.push(unknown_parameter(&raw, name, place(item, "parameters")));
-            continue;
-        }
-        if !value.is_finite() {
-            let location =
-                locate(item).unwrap_or_else(|| source.locate(map.parameters[entries[0]].key_span));
-            problems.push(
-                Diagnostic::new(
-                    DiagnosticKind::InvalidValue,
-                    format!("cannot set parameter '{name}' to {value}: the value must be a finite number"),
-                )
-                .at_location(location)
-                .element(name.clone()),
-            );
-            continue;
-        }
-        for i in entries {
-            let entry = &map.parameters[i];
-            let span = entry
-                .field("value")
-                .map_or(entry.value_span, |f| f.value_span);
-            replacements.push((
-                span,
-                in_file_unit(*value, raw.parameters[i].1.unit.as_deref()),
-            ));
-        }
-    }
+    let mut replacements =
+        parameter_values(edit, (&raw, &map), source, locate, &place, &mut problems);
     if !problems.is_empty() {
         return Err(Diagnostics(problems));
     }
