@@ -46,7 +46,6 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("bondgraph-solver/src/events.rs", "first_crossing", 347),
     ("bondgraph-core/src/equations/merging.rs", "merge", 280),
     ("bondgraph-core/src/equations/elimination.rs", "define", 230),
-    ("bondgraph-core/src/analysis/compare.rs", "compare", 230),
     ("bondgraph-solver/src/linalg/mod.rs", "eigen", 228),
     (
         "bondgraph-core/src/model/linear_graph/translate.rs",

@@ -158,6 +158,145 @@ struct Matched {
     coenergy: bool,
 }
 
+/// The comparison where the answer's states fix the change of variables: named as the
+/// model's (in energy or co-energy variables), or written as combinations of them.
+fn given_states(
+    mut out: Comparison,
+    fixed: Result<(&StateEquations, Matrix, bool), ()>,
+    answer: &Answer,
+    (preferred_eq, preferred): (&StateEquations, Variables),
+    (poly_difference, polynomials_note): (Option<String>, String),
+) -> Comparison {
+    let symbols = &preferred_eq.symbols;
+    let n = answer.a.len();
+    let Ok((base, t, plain)) = fixed else {
+        out.notes.push(
+            "the co-energy variables of this mode are not each one energy variable over its storage; write all states in energy or all in co-energy variables"
+                .to_string(),
+        );
+        return out.different(
+            "the states mix energy and co-energy variables of coupled storage".to_string(),
+        );
+    };
+    let states = answer.states.as_deref().unwrap_or_default();
+    let transformation = Transformation {
+        t: t.clone(),
+        from: base.states.iter().map(|s| s.name.clone()).collect(),
+        to: states.to_vec(),
+        given: true,
+        unique: true,
+        symbolic: true,
+    };
+    let Some(t_inverse) = inverse(&t) else {
+        out.transformation = Some(transformation);
+        return out.different(format!(
+            "the answer's states ({}) are not independent: T is singular",
+            states.join(", ")
+        ));
+    };
+    if let Some((first, in_a)) = first_difference(base, &t, &t_inverse, answer, symbols) {
+        match poly_difference {
+            Some(poly) => {
+                out.notes.push(poly);
+                out.notes.push(polynomials_note);
+            }
+            None => out.explain_difference(preferred_eq, answer, in_a),
+        }
+        return out.different(first);
+    }
+    let identity = t == super::characteristic::identity(n);
+    let base_variables = if base.variables == Variables::CoEnergy {
+        Variables::CoEnergy
+    } else {
+        Variables::Energy
+    };
+    if identity && base_variables == preferred {
+        return out;
+    }
+    let changes = if plain {
+        plain_changes(
+            &t,
+            base,
+            preferred_eq,
+            states,
+            base_variables,
+            preferred,
+            symbols,
+        )
+    } else {
+        // The states as the model's, where that says more than the answer's own text
+        // (`v_wheel = p_wheel/m_w`), and T.
+        let mut changes: Vec<String> = transformation
+            .rows_text(symbols)
+            .into_iter()
+            .zip(states)
+            .filter(|(row, state)| *row != format!("{} = {}", state, state.trim()))
+            .map(|(row, _)| row)
+            .collect();
+        changes.push(format!(
+            "T = {} (z = T x, z = ({}), x = ({}))",
+            transformation.matrix_text(symbols),
+            states.join(", "),
+            transformation.from.join(", ")
+        ));
+        changes
+    };
+    out.transformation = Some(transformation);
+    out.notes.push(
+        "every entry of A and B agrees after the change of variables, so do the transfer functions from every input to every state"
+            .to_string(),
+    );
+    out.verdict = Verdict::Similar {
+        changes,
+        entries_checked: true,
+    };
+    out
+}
+
+/// An answer similar to the model by the change of variables `transformation` found for it.
+fn similar(
+    mut out: Comparison,
+    transformation: Transformation,
+    symbols: &SymbolTable,
+) -> Comparison {
+    let (n, symbolic, unique) = (
+        transformation.from.len(),
+        transformation.symbolic,
+        transformation.unique,
+    );
+    let mut changes = transformation.rows_text(symbols);
+    if n <= SYMBOLIC_STATES {
+        changes.push(format!(
+            "T = {} (z = T x, x = ({}))",
+            transformation.matrix_text(symbols),
+            transformation.from.join(", ")
+        ));
+    }
+    out.notes.push(format!(
+            "T A = A' T and T B = B' hold {}, with T invertible{}",
+            if symbolic {
+                "exactly, for every value of the parameters"
+            } else {
+                "exactly at the parameter values and at a second parameter point (each value scaled by its own factor between 1.1 and 1.9); T is shown at the parameter values"
+            },
+            if unique {
+                " and the only solution"
+            } else {
+                "; T is not unique (the inputs do not reach every state), this is one"
+            }
+        ));
+    out.notes.push(
+            "T is what the answer's states must be for it to be right: name them as the model does, or write them as combinations of its states (\"-q_spring\"), to have that checked"
+                .to_string(),
+        );
+    out.transformation = Some(transformation);
+    out.verdict = Verdict::Similar {
+        changes,
+        entries_checked: true,
+    };
+    out
+}
+
 /// Compares `answer` with one mode's equations, derived in energy (`energy`) and co-energy
 /// (`coenergy`) variables; `preferred` is the model's own choice (what "equal" means).
 ///
@@ -239,88 +378,13 @@ pub fn compare(
         None => None,
     };
     if let Some(fixed) = fixed {
-        let Ok((base, t, plain)) = fixed else {
-            out.notes.push(
-                "the co-energy variables of this mode are not each one energy variable over its storage; write all states in energy or all in co-energy variables"
-                    .to_string(),
-            );
-            return out.different(
-                "the states mix energy and co-energy variables of coupled storage".to_string(),
-            );
-        };
-        let states = answer.states.as_deref().unwrap_or_default();
-        let transformation = Transformation {
-            t: t.clone(),
-            from: base.states.iter().map(|s| s.name.clone()).collect(),
-            to: states.to_vec(),
-            given: true,
-            unique: true,
-            symbolic: true,
-        };
-        let Some(t_inverse) = inverse(&t) else {
-            out.transformation = Some(transformation);
-            return out.different(format!(
-                "the answer's states ({}) are not independent: T is singular",
-                states.join(", ")
-            ));
-        };
-        if let Some((first, in_a)) = first_difference(base, &t, &t_inverse, answer, symbols) {
-            match poly_difference {
-                Some(poly) => {
-                    out.notes.push(poly);
-                    out.notes.push(polynomials_note);
-                }
-                None => out.explain_difference(preferred_eq, answer, in_a),
-            }
-            return out.different(first);
-        }
-        let identity = t == super::characteristic::identity(n);
-        let base_variables = if base.variables == Variables::CoEnergy {
-            Variables::CoEnergy
-        } else {
-            Variables::Energy
-        };
-        if identity && base_variables == preferred {
-            return out;
-        }
-        let changes = if plain {
-            plain_changes(
-                &t,
-                base,
-                preferred_eq,
-                states,
-                base_variables,
-                preferred,
-                symbols,
-            )
-        } else {
-            // The states as the model's, where that says more than the answer's own text
-            // (`v_wheel = p_wheel/m_w`), and T.
-            let mut changes: Vec<String> = transformation
-                .rows_text(symbols)
-                .into_iter()
-                .zip(states)
-                .filter(|(row, state)| *row != format!("{} = {}", state, state.trim()))
-                .map(|(row, _)| row)
-                .collect();
-            changes.push(format!(
-                "T = {} (z = T x, z = ({}), x = ({}))",
-                transformation.matrix_text(symbols),
-                states.join(", "),
-                transformation.from.join(", ")
-            ));
-            changes
-        };
-        out.transformation = Some(transformation);
-        out.notes.push(
-            "every entry of A and B agrees after the change of variables, so do the transfer functions from every input to every state"
-                .to_string(),
+        return given_states(
+            out,
+            fixed,
+            answer,
+            (preferred_eq, preferred),
+            (poly_difference, polynomials_note),
         );
-        out.verdict = Verdict::Similar {
-            changes,
-            entries_checked: true,
-        };
-        return out;
     }
 
     if answer.states.is_some() {
@@ -356,37 +420,7 @@ pub fn compare(
                 unique,
                 symbolic,
             };
-            let mut changes = transformation.rows_text(symbols);
-            if n <= SYMBOLIC_STATES {
-                changes.push(format!(
-                    "T = {} (z = T x, x = ({}))",
-                    transformation.matrix_text(symbols),
-                    transformation.from.join(", ")
-                ));
-            }
-            out.notes.push(format!(
-                "T A = A' T and T B = B' hold {}, with T invertible{}",
-                if symbolic {
-                    "exactly, for every value of the parameters"
-                } else {
-                    "exactly at the parameter values and at a second parameter point (each value scaled by its own factor between 1.1 and 1.9); T is shown at the parameter values"
-                },
-                if unique {
-                    " and the only solution"
-                } else {
-                    "; T is not unique (the inputs do not reach every state), this is one"
-                }
-            ));
-            out.notes.push(
-                "T is what the answer's states must be for it to be right: name them as the model does, or write them as combinations of its states (\"-q_spring\"), to have that checked"
-                    .to_string(),
-            );
-            out.transformation = Some(transformation);
-            out.verdict = Verdict::Similar {
-                changes,
-                entries_checked: true,
-            };
-            out
+            similar(out, transformation, symbols)
         }
         Similarity::NoSolution | Similarity::Singular { .. } => {
             let why = no_t_reason(preferred_eq, answer, &found, points);
