@@ -241,6 +241,38 @@ enum Sign {
 }
 
 impl Validator<'_> {
+    /// The expression in `field` of element `element` (entry `index`), parsed, and the span
+    /// of its string in the file (symbols' spans are relative to it); a text that does not
+    /// parse is a problem at its place in the string.
+    fn parse_field(
+        &mut self,
+        element: &str,
+        index: usize,
+        field: &str,
+        text: &str,
+    ) -> Option<(crate::expr::Expr, Span)> {
+        let base = self
+            .string_span(index, field)
+            .unwrap_or_else(|| self.entry_span(&self.map.elements, index));
+        match crate::expr::parse(text) {
+            Ok(expr) => Some((expr, base)),
+            Err(error) => {
+                self.problems.push(
+                    Diagnostic::new(
+                        DiagnosticKind::BadExpression,
+                        format!(
+                            "element '{element}': cannot parse {field} \"{text}\": {}",
+                            error.message
+                        ),
+                    )
+                    .at(&self.file, error.span.shifted(base.start))
+                    .element(element),
+                );
+                None
+            }
+        }
+    }
+
     /// A parameter's value that is not a finite number, worded as the user wrote it (`1e400`
     /// reads as infinity).
     fn check_finite(&mut self, name: &str, value: f64, index: usize, span: Span) {

@@ -3,7 +3,7 @@
 //! part of the expression at fault (an unknown symbol, a sign, a size past the limits).
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind, suggest};
-use crate::expr::{self, Expr, ExprKind};
+use crate::expr::{Expr, ExprKind};
 use crate::linear::{LinearForm, Var};
 use crate::model::checked::{Coefficient, SourceValue};
 use crate::source::Span;
@@ -76,26 +76,7 @@ impl Validator<'_> {
         inputs: bool,
         states: bool,
     ) -> Option<(LinearForm, Span)> {
-        let base = self
-            .string_span(index, field)
-            .unwrap_or_else(|| self.entry_span(&self.map.elements, index));
-        let expr = match expr::parse(text) {
-            Ok(expr) => expr,
-            Err(error) => {
-                self.problems.push(
-                    Diagnostic::new(
-                        DiagnosticKind::BadExpression,
-                        format!(
-                            "element '{element}': cannot parse {field} \"{text}\": {}",
-                            error.message
-                        ),
-                    )
-                    .at(&self.file, error.span.shifted(base.start))
-                    .element(element),
-                );
-                return None;
-            }
-        };
+        let (expr, base) = self.parse_field(element, index, field, text)?;
         let mut unknown = false;
         for (symbol, span) in expr.symbols() {
             if scope.symbols.get(symbol).is_none()

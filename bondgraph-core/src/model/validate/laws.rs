@@ -377,26 +377,7 @@ impl Validator<'_> {
         scope: &Scope<'_>,
         allowed: Allowed,
     ) -> Option<(Sym, Span)> {
-        let base = self
-            .string_span(index, field)
-            .unwrap_or_else(|| self.entry_span(&self.map.elements, index));
-        let expr = match expr::parse(text) {
-            Ok(expr) => expr,
-            Err(error) => {
-                self.problems.push(
-                    Diagnostic::new(
-                        DiagnosticKind::BadExpression,
-                        format!(
-                            "element '{element}': cannot parse {field} \"{text}\": {}",
-                            error.message
-                        ),
-                    )
-                    .at(&self.file, error.span.shifted(base.start))
-                    .element(element),
-                );
-                return None;
-            }
-        };
+        let (expr, base) = self.parse_field(element, index, field, text)?;
         let mut ok = true;
         for (name, span) in expr.symbols() {
             let problem = self.check_name_in_law(element, field, text, name, scope, allowed);
