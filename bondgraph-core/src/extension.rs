@@ -84,8 +84,8 @@ use crate::source::{SourceFile, Span};
 use crate::diagnostics::suggest;
 use crate::model::linear_graph::format::{RawBranch, RawLinearGraph};
 use crate::model::parse::{FileKind, parse_file, parse_model};
-use crate::model::raw::{RawBond, RawElement, RawInput, RawParameter, entries};
 use crate::model::source_map::{EntrySpans, SourceMap, TokenKind, lex};
+use crate::model::spec::{BondSpec, ElementSpec, InputSpec, ParameterSpec, entries};
 use crate::model::{Format, Model};
 
 /// An extension file, exactly as serde reads it.
@@ -100,13 +100,13 @@ pub struct RawExtension {
     pub evidence: Option<String>,
     /// New parameters.
     #[serde(default, deserialize_with = "entries")]
-    pub parameters: Vec<(String, RawParameter)>,
+    pub parameters: Vec<(String, ParameterSpec)>,
     /// New inputs.
     #[serde(default, deserialize_with = "entries")]
-    pub inputs: Vec<(String, RawInput)>,
+    pub inputs: Vec<(String, InputSpec)>,
     /// New elements, and the new version of each element named in `replace`.
     #[serde(default, deserialize_with = "entries")]
-    pub elements: Vec<(String, RawElement)>,
+    pub elements: Vec<(String, ElementSpec)>,
     /// New branches of a linear graph (new nodes allowed), and the new version of each
     /// branch named in `replace`.
     #[serde(default, deserialize_with = "entries")]
@@ -116,7 +116,7 @@ pub struct RawExtension {
     pub replace: Vec<String>,
     /// New bonds.
     #[serde(default)]
-    pub bonds: Vec<RawBond>,
+    pub bonds: Vec<BondSpec>,
 }
 
 /// A parsed extension file, with the spans of its parts.

@@ -15,26 +15,27 @@
 //!
 //! # Example
 //!
-//! ```
-//! use bondgraph_core::{equations, laws, model};
+//! A mass on a spring and a damper, pushed by a force: built in code (a [`model::Builder`]
+//! runs the checks a model file goes through, [`model::load_str`] reads the same model
+//! from RON text), then derived.
 //!
-//! let model = model::load_str("msd.ron", r#"Model(
-//!     name: "mass_spring_damper",
-//!     parameters: {
-//!         "m": (value: 2.0, unit: "kg"),
-//!         "k": (value: 200.0, unit: "N/m"),
-//!         "b": (value: 4.0, unit: "N*s/m"),
-//!     },
-//!     inputs: { "F": (unit: "N") },
-//!     elements: {
-//!         "force": Se(effort: "F"),
-//!         "v": One,
-//!         "mass": I(inertance: "m"),
-//!         "spring": C(stiffness: "k"),
-//!         "damper": R(resistance: "b"),
-//!     },
-//!     bonds: [("force", "v"), ("v", "mass"), ("v", "spring"), ("v", "damper")],
-//! )"#).unwrap();
+//! ```
+//! use bondgraph_core::model::{Builder, ElementSpec};
+//! use bondgraph_core::{equations, laws};
+//!
+//! let model = Builder::new("mass_spring_damper")
+//!     .parameter("m", 2.0, "kg")
+//!     .parameter("k", 200.0, "N/m")
+//!     .parameter("b", 4.0, "N*s/m")
+//!     .input("F", "N")
+//!     .element("force", ElementSpec::effort_source("F"))
+//!     .element("v", ElementSpec::One)
+//!     .element("mass", ElementSpec::inertance("m"))
+//!     .element("spring", ElementSpec::stiffness("k"))
+//!     .element("damper", ElementSpec::resistance("b"))
+//!     .bonds([("force", "v"), ("v", "mass"), ("v", "spring"), ("v", "damper")])
+//!     .build()
+//!     .unwrap();
 //!
 //! let options = equations::Options { variables: equations::Variables::CoEnergy };
 //! let eq = equations::derive(&model, &laws::plain_laws(&model), &options).unwrap();

@@ -51,6 +51,7 @@ pub struct SourceFile {
     name: String,
     text: String,
     line_starts: Vec<usize>,
+    in_code: bool,
 }
 
 impl SourceFile {
@@ -64,7 +65,25 @@ impl SourceFile {
             name: name.into(),
             text,
             line_starts,
+            in_code: false,
         })
+    }
+
+    /// A source with no text, for a model built in code ([`crate::model::Builder`]):
+    /// nothing in it has a line, so diagnostics about it name their element and no place
+    /// ([`Location::is_in_code`]).
+    pub fn in_code(name: impl Into<String>) -> Arc<Self> {
+        Arc::new(Self {
+            name: name.into(),
+            text: String::new(),
+            line_starts: vec![0],
+            in_code: true,
+        })
+    }
+
+    /// Whether this source was built in code rather than read from a file.
+    pub fn is_in_code(&self) -> bool {
+        self.in_code
     }
 
     /// The file name as given by the user.
@@ -119,7 +138,11 @@ impl SourceFile {
 
     /// The location of `span` in this file.
     pub fn locate(&self, span: Span) -> Location {
-        let (line, column) = self.line_col(span.start);
+        let (line, column) = if self.in_code {
+            (0, 0)
+        } else {
+            self.line_col(span.start)
+        };
         Location {
             file: self.name.clone(),
             line,
@@ -129,7 +152,8 @@ impl SourceFile {
     }
 }
 
-/// Where a diagnostic points: file, 1-based line and column, and the byte span.
+/// Where a diagnostic points: file, 1-based line and column, and the byte span. In a
+/// source built in code ([`SourceFile::in_code`]) the line and column are 0.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Location {
     /// The file name as given by the user.
@@ -140,6 +164,13 @@ pub struct Location {
     pub column: usize,
     /// Byte range in the file.
     pub span: Span,
+}
+
+impl Location {
+    /// Whether this is a place in a source built in code, which has no lines to point at.
+    pub fn is_in_code(&self) -> bool {
+        self.line == 0
+    }
 }
 
 impl fmt::Display for Location {

@@ -2,6 +2,7 @@
 //!
 //! One test binary with modules (rather than one binary per file) keeps link times down.
 
+mod builder;
 mod causality_trace;
 mod feedback;
 mod jacobian;

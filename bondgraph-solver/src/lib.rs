@@ -24,28 +24,39 @@
 //! `F (1 - e^{-ζω_n t} (cos ω_d t + ζ ω_n/ω_d sin ω_d t))`:
 //!
 //! ```
-//! use bondgraph_core::{scenario, source::SourceFile};
+//! use bondgraph_core::model::{Builder, ElementSpec};
+//! use bondgraph_core::equations::OutputSpec;
+//! use bondgraph_core::mode::Mode;
+//! use bondgraph_core::scenario::Signal;
+//! use bondgraph_solver::{Output, Run, Simulator};
 //!
-//! let model = SourceFile::new("msd.ron", r#"Model(
-//!     name: "mass_spring_damper",
-//!     parameters: {
-//!         "m": (value: 2.0, unit: "kg"),
-//!         "k": (value: 200.0, unit: "N/m"),
-//!         "b": (value: 4.0, unit: "N*s/m"),
-//!     },
-//!     inputs: { "F": (unit: "N") },
-//!     elements: {
-//!         "force": Se(effort: "F"), "v": One, "mass": I(inertance: "m"),
-//!         "spring": C(stiffness: "k"), "damper": R(resistance: "b"),
-//!     },
-//!     bonds: [("force", "v"), ("v", "mass"), ("v", "spring"), ("v", "damper")],
-//! )"#);
-//! let file = SourceFile::new("step.ron", r#"Scenario(
-//!     name: "step", inputs: { "F": Constant(1.0) },
-//!     duration: 0.5, sample: 0.25, record: ["effort:spring"],
-//! )"#);
-//! let scenario = scenario::load(&file, &model).unwrap();
-//! let trajectory = bondgraph_solver::scenario::run(&scenario, false).unwrap();
+//! let model = Builder::new("mass_spring_damper")
+//!     .parameter("m", 2.0, "kg")
+//!     .parameter("k", 200.0, "N/m")
+//!     .parameter("b", 4.0, "N*s/m")
+//!     .input("F", "N")
+//!     .element("force", ElementSpec::effort_source("F"))
+//!     .element("v", ElementSpec::One)
+//!     .element("mass", ElementSpec::inertance("m"))
+//!     .element("spring", ElementSpec::stiffness("k"))
+//!     .element("damper", ElementSpec::resistance("b"))
+//!     .bonds([("force", "v"), ("v", "mass"), ("v", "spring"), ("v", "damper")])
+//!     .build()
+//!     .unwrap();
+//! let spring = Output {
+//!     name: "effort:spring".into(),
+//!     spec: OutputSpec::parse(&model, "effort:spring").unwrap(),
+//!     integral: false,
+//! };
+//! let mut simulator = Simulator::new(&model, vec![spring]);
+//! let trajectory = simulator.run(&Run {
+//!     inputs: &[&Signal::Constant(1.0)],
+//!     initial_mode: Mode::initial(&model),
+//!     initial_state: vec![0.0, 0.0],
+//!     duration: 0.5,
+//!     sample: Some(0.25),
+//!     audit_energy: false,
+//! }).unwrap();
 //!
 //! let (zeta, wn) = (0.1_f64, 10.0_f64);
 //! let wd = wn * (1.0 - zeta * zeta).sqrt();
@@ -55,6 +66,9 @@
 //! let spring = trajectory.value(2, 0).unwrap();
 //! assert!((spring - exact).abs() < 1e-14, "{spring} against {exact}");
 //! ```
+//!
+//! A scenario file says the same (inputs, initial state, duration, what to record) for
+//! [`scenario::run`].
 
 pub mod analysis;
 pub mod energy;

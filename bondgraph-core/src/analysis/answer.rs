@@ -56,7 +56,7 @@ struct RawAnswer {
 /// a name that is not a parameter, [`DiagnosticKind::InvalidValue`] for rows of unequal length
 /// or a non-square `A`; each at its line.
 pub fn load(file: &SourceFile, symbols: &SymbolTable) -> Result<Answer> {
-    let raw: RawAnswer = crate::model::raw::ron_options()
+    let raw: RawAnswer = crate::model::spec::ron_options()
         .from_str(file.text())
         .map_err(|error| {
             let offset = file.offset(error.span.start.line, error.span.start.col);

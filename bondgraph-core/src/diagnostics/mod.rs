@@ -132,15 +132,16 @@ impl Diagnostic {
         }
     }
 
-    /// Points the diagnostic at `span` in `file`.
-    pub fn at(mut self, file: &SourceFile, span: Span) -> Self {
-        self.location = Some(file.locate(span));
-        self
+    /// Points the diagnostic at `span` in `file` (nowhere if the file was built in code,
+    /// whose diagnostics name their element instead).
+    pub fn at(self, file: &SourceFile, span: Span) -> Self {
+        self.at_location(file.locate(span))
     }
 
-    /// Points the diagnostic at an already computed location.
+    /// Points the diagnostic at an already computed location (nowhere if it is in a
+    /// source built in code).
     pub fn at_location(mut self, location: Location) -> Self {
-        self.location = Some(location);
+        self.location = (!location.is_in_code()).then_some(location);
         self
     }
 

@@ -49,8 +49,8 @@ use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::source::{Location, SourceFile, Span};
 
 use super::parse::parse_model;
-use super::raw::RawModel;
 use super::source_map::{SourceMap, TokenKind, lex};
+use super::spec::ModelSpec;
 use crate::diagnostics::suggest;
 
 /// Changes to make to a model: elements to take out and parameter values to set.
@@ -151,7 +151,7 @@ impl Edited {
 /// finite is a problem instead).
 fn parameter_values<'m>(
     edit: &Edit,
-    (raw, map): (&'m RawModel, &SourceMap),
+    (raw, map): (&'m ModelSpec, &SourceMap),
     source: &SourceFile,
     locate: &dyn Fn(EditItem) -> Option<Location>,
     place: &dyn Fn(EditItem, &str) -> Location,
@@ -329,7 +329,7 @@ pub(crate) fn apply_located(
 }
 
 /// A parameter the model does not have, with a suggestion, or a note if it is an input.
-fn unknown_parameter(raw: &RawModel, name: &str, location: Location) -> Diagnostic {
+fn unknown_parameter(raw: &ModelSpec, name: &str, location: Location) -> Diagnostic {
     let mut diagnostic = Diagnostic::new(
         DiagnosticKind::UnknownName,
         format!(

@@ -1,4 +1,4 @@
-//! Reading model files: RON text to a checked [`Model`].
+//! The checked [`Model`], read from RON text or built in code ([`Builder`]).
 //!
 //! Parsing is split so that each part answers one question (the parts are the crate's
 //! own): `raw` is the file format as serde reads it, `source_map` records where each entry
@@ -19,22 +19,26 @@
 //! assert_eq!(error.first().location.as_ref().unwrap().line, 3);
 //! assert_eq!(error.first().element.as_deref(), Some("mass"));
 //! ```
+mod builder;
 mod checked;
 pub mod edit;
 pub mod linear_graph;
 pub(crate) mod parse;
-pub(crate) mod raw;
 pub mod reduction;
 pub(crate) mod source_map;
+pub mod spec;
 pub(crate) mod validate;
 
 use std::sync::Arc;
 
+pub use builder::Builder;
 pub use checked::{
     Bond, BondId, Coefficient, Element, ElementId, ElementKind, ElementMode, FlowLimit, Friction,
     Input, InputId, Model, NonlinearElement, NonlinearLaw, Parameter, ResistorLaw, SourceValue,
     TensionOnly,
 };
+
+pub use spec::{BondSpec, ElementSpec, InputSpec, ModelSpec, ParameterSpec};
 
 use crate::diagnostics::Result;
 use crate::source::SourceFile;

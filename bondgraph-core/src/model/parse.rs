@@ -1,4 +1,4 @@
-//! Model (and scenario) file text to a [`RawModel`] and its [`SourceMap`], or one diagnostic.
+//! Model (and scenario) file text to a [`ModelSpec`] and its [`SourceMap`], or one diagnostic.
 //!
 //! ron reports an error as a code and a position phrased for programmers; users need the
 //! element named and the token underlined, so each error becomes one [`Diagnostic`] worded
@@ -16,8 +16,8 @@ use serde::de::DeserializeOwned;
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics};
 use crate::source::{SourceFile, Span};
 
-use super::raw::RawModel;
 use super::source_map::{SourceMap, skip_trivia};
+use super::spec::ModelSpec;
 
 mod diagnose;
 use diagnose::diagnose;
@@ -66,11 +66,11 @@ impl FileKind {
 ///
 /// The source map normally covers every entry and bond of the raw model, one for one; if
 /// the scanner cannot read a text that ron accepted, it covers what it could read.
-pub fn parse_model(file: &SourceFile) -> Result<(RawModel, SourceMap), Diagnostics> {
+pub fn parse_model(file: &SourceFile) -> Result<(ModelSpec, SourceMap), Diagnostics> {
     parse_file(file, FileKind::Model)
 }
 
-/// Parses a file of `kind` into `T` (read with [`ron_options`](super::raw::ron_options))
+/// Parses a file of `kind` into `T` (read with [`ron_options`](super::spec::ron_options))
 /// and the spans of its parts, as [`parse_model`] does for models: an empty file, or text
 /// that is not a `T`, gives one located diagnostic.
 pub fn parse_file<T: DeserializeOwned>(
@@ -90,7 +90,7 @@ pub fn parse_file<T: DeserializeOwned>(
         .at(file, Span::new(0, 0))
         .into());
     }
-    match super::raw::ron_options().from_str::<T>(text) {
+    match super::spec::ron_options().from_str::<T>(text) {
         Ok(value) => {
             let map = SourceMap::scan(text).unwrap_or_else(|| SourceMap::scan_partial(text));
             Ok((value, map))

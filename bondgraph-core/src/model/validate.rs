@@ -13,8 +13,8 @@ use petgraph::unionfind::UnionFind;
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result, suggest};
 use crate::model::checked::{Bond, BondId, Element, ElementId, Input, Model, Parameter};
-use crate::model::raw::{RawElement, RawModel};
 use crate::model::source_map::{EntrySpans, SourceMap};
+use crate::model::spec::{ElementSpec, ModelSpec};
 use crate::source::{SourceFile, Span};
 use crate::symbolic::SymbolTable;
 use crate::units::Unit;
@@ -34,7 +34,7 @@ mod units_tests;
 ///
 /// # Errors
 /// Every problem found, each naming its element and line.
-pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Result<Model> {
+pub fn validate(file: &Arc<SourceFile>, raw: ModelSpec, map: &SourceMap) -> Result<Model> {
     validate_as(file, raw, map, Convention::BondGraph)
 }
 
@@ -46,7 +46,7 @@ pub fn validate(file: &Arc<SourceFile>, raw: RawModel, map: &SourceMap) -> Resul
 /// As [`validate`].
 pub(crate) fn validate_as(
     file: &Arc<SourceFile>,
-    raw: RawModel,
+    raw: ModelSpec,
     map: &SourceMap,
     convention: Convention,
 ) -> Result<Model> {
@@ -183,14 +183,14 @@ pub(crate) fn validate_as(
 
 /// Storage elements' energy variables, by their printed names (`p_mass`, `q_spring`), for
 /// nonlinear laws.
-fn energy_variables(raw: &RawModel) -> HashMap<String, u32> {
+fn energy_variables(raw: &ModelSpec) -> HashMap<String, u32> {
     raw.elements
         .iter()
         .enumerate()
         .filter_map(|(index, (name, element))| {
             let letter = match element {
-                RawElement::I { .. } => "p",
-                RawElement::C { .. } | RawElement::TensionOnly { .. } => "q",
+                ElementSpec::I { .. } => "p",
+                ElementSpec::C { .. } | ElementSpec::TensionOnly { .. } => "q",
                 _ => return None,
             };
             Some((format!("{letter}_{name}"), index as u32))
@@ -309,7 +309,7 @@ impl Validator<'_> {
     /// as undefined).
     fn elements(
         &mut self,
-        raw: &RawModel,
+        raw: &ModelSpec,
         scope: &Scope<'_>,
     ) -> (Vec<Element>, HashMap<String, ElementId>) {
         let mut element_names: HashMap<String, (Span, &'static str)> = HashMap::new();
@@ -341,7 +341,7 @@ impl Validator<'_> {
     /// itself), so that its bond count is not blamed next.
     fn bonds(
         &mut self,
-        raw: &RawModel,
+        raw: &ModelSpec,
         element_index: &HashMap<String, ElementId>,
         elements: &mut [Element],
     ) -> (Vec<Bond>, Vec<usize>) {
@@ -509,7 +509,7 @@ impl Validator<'_> {
     fn in_si(
         &mut self,
         name: &str,
-        raw: &crate::model::raw::RawParameter,
+        raw: &crate::model::spec::ParameterSpec,
         unit: Option<&Unit>,
         index: usize,
     ) -> InSi {

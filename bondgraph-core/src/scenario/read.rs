@@ -12,8 +12,8 @@ use crate::equations::OutputSpec;
 use crate::mode::Mode;
 use crate::model::edit::{self, Edit, EditItem};
 use crate::model::parse::{FileKind, parse_file};
-use crate::model::raw::entries;
 use crate::model::source_map::{EntrySpans, SourceMap, Token, TokenKind, lex, list_items};
+use crate::model::spec::entries;
 use crate::model::{self, ElementId, ElementKind, Model};
 use crate::source::{SourceFile, Span};
 

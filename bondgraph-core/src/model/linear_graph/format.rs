@@ -1,6 +1,6 @@
 //! The linear-graph file format, exactly as serde reads it from RON.
 //!
-//! As for bond-graph files (the crate's `model::raw`), these types mirror what the user
+//! As for bond-graph files (the crate's `model::spec`), these types mirror what the user
 //! writes and nothing more: node names are plain strings, expressions unparsed text, maps
 //! read as lists of entries in file order (duplicates kept for diagnosis), unknown fields
 //! denied. A linear-graph file looks like this:
@@ -26,7 +26,7 @@
 
 use serde::Deserialize;
 
-use crate::model::raw::{RawInput, RawParameter, entries};
+use crate::model::spec::{InputSpec, ParameterSpec, entries};
 
 /// A whole linear-graph file.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -38,10 +38,10 @@ pub struct RawLinearGraph {
     pub description: Option<String>,
     /// Named parameters, in file order, duplicates kept.
     #[serde(default, deserialize_with = "entries")]
-    pub parameters: Vec<(String, RawParameter)>,
+    pub parameters: Vec<(String, ParameterSpec)>,
     /// Named external inputs, in file order, duplicates kept.
     #[serde(default, deserialize_with = "entries")]
-    pub inputs: Vec<(String, RawInput)>,
+    pub inputs: Vec<(String, InputSpec)>,
     /// The reference node, whose across variable is zero.
     pub ground: String,
     /// Named branches, in file order, duplicates kept.
@@ -209,7 +209,7 @@ impl RawBranch {
 impl RawLinearGraph {
     /// Reads a linear graph from RON `text` with the options model files use.
     pub fn from_ron(text: &str) -> Result<Self, ron::error::SpannedError> {
-        crate::model::raw::ron_options().from_str(text)
+        crate::model::spec::ron_options().from_str(text)
     }
 }
 

@@ -118,11 +118,11 @@ pub fn load(source: &Arc<SourceFile>) -> Result<Model> {
 pub(crate) fn editable(
     source: &SourceFile,
 ) -> Result<(
-    crate::model::raw::RawModel,
+    crate::model::spec::ModelSpec,
     crate::model::source_map::SourceMap,
 )> {
     let (raw, map) = parse_file::<RawLinearGraph>(source, FileKind::LinearGraph)?;
-    let model = crate::model::raw::RawModel {
+    let model = crate::model::spec::ModelSpec {
         name: raw.name,
         description: raw.description,
         parameters: raw.parameters,
@@ -130,7 +130,7 @@ pub(crate) fn editable(
         elements: raw
             .branches
             .into_iter()
-            .map(|(name, _)| (name, crate::model::raw::RawElement::One))
+            .map(|(name, _)| (name, crate::model::spec::ElementSpec::One))
             .collect(),
         bonds: Vec::new(),
     };

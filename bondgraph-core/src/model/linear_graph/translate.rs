@@ -41,8 +41,8 @@
 
 use std::collections::HashSet;
 
-use crate::model::raw::{RawBond, RawElement, RawModel};
 use crate::model::source_map::{EntrySpans, FieldSpan, ItemSpans, SourceMap};
+use crate::model::spec::{BondSpec, ElementSpec, ModelSpec};
 use crate::model::{BondId, ElementId};
 use crate::source::Span;
 
@@ -54,7 +54,7 @@ use super::graph::{Branch, BranchKind, Edge, JunctionOf, LinearGraph, NodeId};
 /// linear-graph file), the linear graph as it sits in the bond graph, and the words to
 /// translate the validator's diagnostics back.
 pub(crate) struct Translated {
-    pub raw: RawModel,
+    pub raw: ModelSpec,
     pub map: SourceMap,
     pub graph: LinearGraph,
     /// `(bond-graph field, linear-graph field)` per branch, for diagnostics.
@@ -76,7 +76,7 @@ enum Draft {
 struct DraftElement {
     what: Draft,
     name: String,
-    raw: RawElement,
+    raw: ElementSpec,
     alive: bool,
 }
 
@@ -120,7 +120,7 @@ pub(crate) fn translate(raw: &RawLinearGraph, map: &SourceMap, topology: &Topolo
         elements.push(DraftElement {
             what: Draft::Node(NodeId(n as u32)),
             name: fresh(identifier(&node.name, "node")),
-            raw: RawElement::One,
+            raw: ElementSpec::One,
             alive: true,
         });
     }
@@ -140,7 +140,7 @@ pub(crate) fn translate(raw: &RawLinearGraph, map: &SourceMap, topology: &Topolo
             elements.push(DraftElement {
                 what: Draft::Junction(b, p),
                 name: fresh(identifier(&format!("{name}_{suffix}"), "branch")),
-                raw: RawElement::Zero,
+                raw: ElementSpec::Zero,
                 alive: true,
             });
         }
@@ -211,7 +211,7 @@ pub(crate) fn translate(raw: &RawLinearGraph, map: &SourceMap, topology: &Topolo
             continue;
         }
         bond_index[i] = raw_bonds.len();
-        raw_bonds.push(RawBond(
+        raw_bonds.push(BondSpec(
             elements[bond.from].name.clone(),
             elements[bond.to].name.clone(),
         ));
@@ -293,7 +293,7 @@ pub(crate) fn translate(raw: &RawLinearGraph, map: &SourceMap, topology: &Topolo
         }
     }
     Translated {
-        raw: RawModel {
+        raw: ModelSpec {
             name: raw.name.clone(),
             description: raw.description.clone(),
             parameters: raw.parameters.clone(),
@@ -335,7 +335,7 @@ fn simplify(elements: &mut [DraftElement], bonds: &mut [DraftBond]) {
         matches!(e.what, Draft::Element(_))
             && !matches!(
                 e.raw,
-                RawElement::TF { .. } | RawElement::GY { .. } | RawElement::ReciprocalGY { .. }
+                ElementSpec::TF { .. } | ElementSpec::GY { .. } | ElementSpec::ReciprocalGY { .. }
             )
     };
     loop {
@@ -419,10 +419,10 @@ fn identifier(name: &str, prefix: &str) -> String {
 }
 
 /// The bond-graph element of a branch, and which of its fields are which branch fields.
-fn element_of(branch: &RawBranch) -> (RawElement, Vec<(&'static str, &'static str)>) {
+fn element_of(branch: &RawBranch) -> (ElementSpec, Vec<(&'static str, &'static str)>) {
     match branch.clone() {
         RawBranch::A { capacitance, .. } => (
-            RawElement::I {
+            ElementSpec::I {
                 inertance: Some(capacitance),
                 flow: None,
             },
@@ -433,7 +433,7 @@ fn element_of(branch: &RawBranch) -> (RawElement, Vec<(&'static str, &'static st
             stiffness,
             ..
         } => (
-            RawElement::C {
+            ElementSpec::C {
                 compliance: inductance,
                 stiffness,
                 effort: None,
@@ -449,7 +449,7 @@ fn element_of(branch: &RawBranch) -> (RawElement, Vec<(&'static str, &'static st
         } => match (resistance, conductance) {
             // A law: across is the bond graph's flow and through its effort.
             (None, None) if through.is_some() || across.is_some() => (
-                RawElement::R {
+                ElementSpec::R {
                     resistance: None,
                     effort: through.map(|law| port_names_of_bond_graph(&law)),
                     flow: across.map(|law| port_names_of_bond_graph(&law)),
@@ -457,13 +457,13 @@ fn element_of(branch: &RawBranch) -> (RawElement, Vec<(&'static str, &'static st
                 vec![("effort", "through"), ("flow", "across")],
             ),
             (Some(resistance), _) => (
-                RawElement::Conductance {
+                ElementSpec::Conductance {
                     conductance: resistance,
                 },
                 vec![("conductance", "resistance")],
             ),
             (None, conductance) => (
-                RawElement::R {
+                ElementSpec::R {
                     resistance: Some(conductance.unwrap_or_default()),
                     effort: None,
                     flow: None,
@@ -472,17 +472,18 @@ fn element_of(branch: &RawBranch) -> (RawElement, Vec<(&'static str, &'static st
             ),
         },
         RawBranch::AcrossSource { value, .. } => {
-            (RawElement::Sf { flow: value }, vec![("flow", "value")])
+            (ElementSpec::Sf { flow: value }, vec![("flow", "value")])
         }
         RawBranch::ThroughSource { value, .. } => {
-            (RawElement::Se { effort: value }, vec![("effort", "value")])
+            (ElementSpec::Se { effort: value }, vec![("effort", "value")])
         }
         RawBranch::Transformer { ratio, .. } => {
-            (RawElement::TF { ratio }, vec![("ratio", "ratio")])
+            (ElementSpec::TF { ratio }, vec![("ratio", "ratio")])
         }
-        RawBranch::Gyrator { ratio, .. } => {
-            (RawElement::ReciprocalGY { ratio }, vec![("ratio", "ratio")])
-        }
+        RawBranch::Gyrator { ratio, .. } => (
+            ElementSpec::ReciprocalGY { ratio },
+            vec![("ratio", "ratio")],
+        ),
         RawBranch::Friction {
             breakaway,
             coulomb,
@@ -492,7 +493,7 @@ fn element_of(branch: &RawBranch) -> (RawElement, Vec<(&'static str, &'static st
             initial,
             ..
         } => (
-            RawElement::Friction {
+            ElementSpec::Friction {
                 breakaway,
                 coulomb,
                 viscous,
@@ -518,7 +519,7 @@ fn element_of(branch: &RawBranch) -> (RawElement, Vec<(&'static str, &'static st
             initial,
             ..
         } => (
-            RawElement::TensionOnly {
+            ElementSpec::TensionOnly {
                 compliance: inductance,
                 stiffness,
                 initial,
@@ -660,20 +661,20 @@ fn empty_entry(element: &DraftElement, span: Span, kind: Option<String>) -> Entr
     }
 }
 
-fn raw_keyword(raw: &RawElement) -> &'static str {
+fn raw_keyword(raw: &ElementSpec) -> &'static str {
     match raw {
-        RawElement::Se { .. } => "Se",
-        RawElement::Sf { .. } => "Sf",
-        RawElement::I { .. } => "I",
-        RawElement::C { .. } => "C",
-        RawElement::R { .. } | RawElement::Conductance { .. } => "R",
-        RawElement::TF { .. } => "TF",
-        RawElement::GY { .. } | RawElement::ReciprocalGY { .. } => "GY",
-        RawElement::Friction { .. } => "Friction",
-        RawElement::TensionOnly { .. } => "TensionOnly",
-        RawElement::FlowLimit { .. } => "FlowLimit",
-        RawElement::Zero => "Zero",
-        RawElement::One => "One",
+        ElementSpec::Se { .. } => "Se",
+        ElementSpec::Sf { .. } => "Sf",
+        ElementSpec::I { .. } => "I",
+        ElementSpec::C { .. } => "C",
+        ElementSpec::R { .. } | ElementSpec::Conductance { .. } => "R",
+        ElementSpec::TF { .. } => "TF",
+        ElementSpec::GY { .. } | ElementSpec::ReciprocalGY { .. } => "GY",
+        ElementSpec::Friction { .. } => "Friction",
+        ElementSpec::TensionOnly { .. } => "TensionOnly",
+        ElementSpec::FlowLimit { .. } => "FlowLimit",
+        ElementSpec::Zero => "Zero",
+        ElementSpec::One => "One",
     }
 }
 

@@ -4,7 +4,7 @@
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind};
 use crate::model::checked::{Coefficient, ElementKind, ElementMode, FlowLimit, TensionOnly};
-use crate::model::raw::RawElement;
+use crate::model::spec::ElementSpec;
 use crate::symbolic::RatFunc;
 
 use super::coefficients::reciprocal;
@@ -14,32 +14,32 @@ impl Validator<'_> {
     pub(super) fn element_kind(
         &mut self,
         name: &str,
-        raw: &RawElement,
+        raw: &ElementSpec,
         index: usize,
         scope: &Scope<'_>,
     ) -> Option<ElementKind> {
         Some(match raw {
-            RawElement::Se { effort } if self.needs_law(effort, scope, false) => {
+            ElementSpec::Se { effort } if self.needs_law(effort, scope, false) => {
                 self.nonlinear_source(name, index, "effort", effort, scope)?
             }
-            RawElement::Sf { flow } if self.needs_law(flow, scope, false) => {
+            ElementSpec::Sf { flow } if self.needs_law(flow, scope, false) => {
                 self.nonlinear_source(name, index, "flow", flow, scope)?
             }
-            RawElement::Se { effort } => ElementKind::EffortSource(
+            ElementSpec::Se { effort } => ElementKind::EffortSource(
                 self.source_value(name, index, "effort", effort, scope, true)?,
             ),
-            RawElement::Sf { flow } => {
+            ElementSpec::Sf { flow } => {
                 ElementKind::FlowSource(self.source_value(name, index, "flow", flow, scope, true)?)
             }
-            RawElement::I { inertance, flow } => {
+            ElementSpec::I { inertance, flow } => {
                 self.inertia(name, index, (inertance, flow), scope)?
             }
-            RawElement::C {
+            ElementSpec::C {
                 compliance,
                 stiffness,
                 effort,
             } => self.compliance_kind(name, index, (compliance, stiffness, effort), scope)?,
-            RawElement::Friction {
+            ElementSpec::Friction {
                 breakaway,
                 coulomb,
                 viscous,
@@ -51,15 +51,15 @@ impl Validator<'_> {
                 let optional = [viscous, dead_band, stribeck, initial];
                 self.friction(name, index, levels, optional, scope)?
             }
-            RawElement::TensionOnly {
+            ElementSpec::TensionOnly {
                 compliance,
                 stiffness,
                 initial,
             } => self.tension_only(name, index, (compliance, stiffness, initial), scope)?,
-            RawElement::FlowLimit { max_flow, initial } => {
+            ElementSpec::FlowLimit { max_flow, initial } => {
                 self.flow_limit(name, index, (max_flow, initial), scope)?
             }
-            RawElement::R {
+            ElementSpec::R {
                 resistance,
                 effort,
                 flow,
@@ -89,13 +89,13 @@ impl Validator<'_> {
                     }
                 }
             }
-            RawElement::TF { ratio } if self.needs_law(ratio, scope, true) => {
+            ElementSpec::TF { ratio } if self.needs_law(ratio, scope, true) => {
                 self.modulated_two_port(name, index, false, ratio, scope)?
             }
-            RawElement::GY { ratio } if self.needs_law(ratio, scope, true) => {
+            ElementSpec::GY { ratio } if self.needs_law(ratio, scope, true) => {
                 self.modulated_two_port(name, index, true, ratio, scope)?
             }
-            RawElement::TF { ratio } => ElementKind::Transformer(self.coefficient(
+            ElementSpec::TF { ratio } => ElementKind::Transformer(self.coefficient(
                 name,
                 index,
                 "ratio",
@@ -103,7 +103,7 @@ impl Validator<'_> {
                 scope,
                 Sign::NonZero,
             )?),
-            RawElement::GY { ratio } => ElementKind::Gyrator(self.coefficient(
+            ElementSpec::GY { ratio } => ElementKind::Gyrator(self.coefficient(
                 name,
                 index,
                 "ratio",
@@ -111,7 +111,7 @@ impl Validator<'_> {
                 scope,
                 Sign::NonZero,
             )?),
-            RawElement::Conductance { conductance } => {
+            ElementSpec::Conductance { conductance } => {
                 let coefficient = self.coefficient(
                     name,
                     index,
@@ -124,16 +124,16 @@ impl Validator<'_> {
                 )?;
                 ElementKind::Resistor(reciprocal(coefficient))
             }
-            RawElement::ReciprocalGY { ratio } if self.needs_law(ratio, scope, true) => {
+            ElementSpec::ReciprocalGY { ratio } if self.needs_law(ratio, scope, true) => {
                 self.modulated_reciprocal_gyrator(name, index, ratio, scope)?
             }
-            RawElement::ReciprocalGY { ratio } => {
+            ElementSpec::ReciprocalGY { ratio } => {
                 let coefficient =
                     self.coefficient(name, index, "ratio", ratio, scope, Sign::NonZero)?;
                 ElementKind::Gyrator(reciprocal(coefficient))
             }
-            RawElement::Zero => ElementKind::ZeroJunction,
-            RawElement::One => ElementKind::OneJunction,
+            ElementSpec::Zero => ElementKind::ZeroJunction,
+            ElementSpec::One => ElementKind::OneJunction,
         })
     }
 

@@ -327,7 +327,7 @@ impl Validator<'_> {
     }
 
     /// A linear graph's gyrator whose ratio depends on inputs and states: the bond-graph
-    /// gyrator with the reciprocal ratio (see [`crate::model::raw::RawElement::ReciprocalGY`]),
+    /// gyrator with the reciprocal ratio (see [`crate::model::spec::ElementSpec::ReciprocalGY`]),
     /// as for a constant ratio.
     pub(super) fn modulated_reciprocal_gyrator(
         &mut self,

@@ -40,8 +40,8 @@ use std::collections::HashMap;
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind};
 use crate::expr::{self, Expr, ExprKind};
-use crate::model::raw::{RawElement, RawModel};
 use crate::model::source_map::SourceMap;
+use crate::model::spec::{ElementSpec, ModelSpec};
 use crate::model::{ElementId, ElementKind, Model};
 use crate::source::Span;
 
@@ -100,7 +100,7 @@ struct Constraint {
 /// dimensions found for each bond.
 pub(crate) fn check(
     model: &Model,
-    raw: &RawModel,
+    raw: &ModelSpec,
     map: &SourceMap,
     convention: Convention,
 ) -> (Vec<Diagnostic>, Vec<BondDimensions>) {
@@ -195,7 +195,7 @@ fn ordered_only() -> bool {
 /// The laws of every element of `model`, in file order, worded as `convention` says.
 fn constraints(
     model: &Model,
-    raw: &RawModel,
+    raw: &ModelSpec,
     map: &SourceMap,
     names: &HashMap<&str, ElementId>,
     convention: Convention,
@@ -236,22 +236,22 @@ fn constraints(
         let some = |s: &String| Some(s.clone());
         let owned: Vec<Option<String>>;
         match raw_element {
-            RawElement::Se { effort: text } => {
+            ElementSpec::Se { effort: text } => {
                 owned = vec![some(text)];
                 laws.push(("effort", &owned[0], value(e, true), true));
             }
-            RawElement::Sf { flow: text } => {
+            ElementSpec::Sf { flow: text } => {
                 owned = vec![some(text)];
                 laws.push(("flow", &owned[0], value(f, false), true));
             }
-            RawElement::I {
+            ElementSpec::I {
                 inertance,
                 flow: law,
             } => {
                 laws.push(("inertance", inertance, ratio(1, per_s), false));
                 laws.push(("flow", law, value(f, false), false));
             }
-            RawElement::C {
+            ElementSpec::C {
                 compliance,
                 stiffness,
                 effort: law,
@@ -260,7 +260,7 @@ fn constraints(
                 laws.push(("stiffness", stiffness, ratio(1, Dim::TIME), false));
                 laws.push(("effort", law, value(e, true), false));
             }
-            RawElement::TensionOnly {
+            ElementSpec::TensionOnly {
                 compliance,
                 stiffness,
                 ..
@@ -268,7 +268,7 @@ fn constraints(
                 laws.push(("compliance", compliance, ratio(-1, Dim::TIME), false));
                 laws.push(("stiffness", stiffness, ratio(1, Dim::TIME), false));
             }
-            RawElement::R {
+            ElementSpec::R {
                 resistance,
                 effort: effort_law,
                 flow: flow_law,
@@ -277,11 +277,11 @@ fn constraints(
                 laws.push(("effort", effort_law, value(e, true), false));
                 laws.push(("flow", flow_law, value(f, false), false));
             }
-            RawElement::Conductance { conductance } => {
+            ElementSpec::Conductance { conductance } => {
                 owned = vec![some(conductance)];
                 laws.push(("conductance", &owned[0], ratio(-1, Dim::NONE), false));
             }
-            RawElement::TF { ratio: text } => {
+            ElementSpec::TF { ratio: text } => {
                 owned = vec![some(text)];
                 let (i, o) = (port_in, port_out);
                 let two = |a, b| Law::Ratio {
@@ -293,9 +293,9 @@ fn constraints(
                 laws.push(("ratio", &owned[0], two(effort(i), effort(o)), true));
                 laws.push(("ratio", &owned[0], two(flow(o), flow(i)), true));
             }
-            RawElement::GY { ratio: text } | RawElement::ReciprocalGY { ratio: text } => {
+            ElementSpec::GY { ratio: text } | ElementSpec::ReciprocalGY { ratio: text } => {
                 owned = vec![some(text)];
-                let power = if matches!(raw_element, RawElement::GY { .. }) {
+                let power = if matches!(raw_element, ElementSpec::GY { .. }) {
                     1
                 } else {
                     -1
@@ -310,7 +310,7 @@ fn constraints(
                 laws.push(("ratio", &owned[0], two(effort(i), flow(o)), true));
                 laws.push(("ratio", &owned[0], two(effort(o), flow(i)), true));
             }
-            RawElement::Friction {
+            ElementSpec::Friction {
                 breakaway,
                 coulomb,
                 viscous,
@@ -325,11 +325,11 @@ fn constraints(
                 laws.push(("stribeck", stribeck, value(f, false), true));
                 laws.push(("viscous", viscous, ratio(1, Dim::NONE), false));
             }
-            RawElement::FlowLimit { max_flow, .. } => {
+            ElementSpec::FlowLimit { max_flow, .. } => {
                 owned = vec![some(max_flow)];
                 laws.push(("max_flow", &owned[0], value(f, false), true));
             }
-            RawElement::Zero | RawElement::One => {}
+            ElementSpec::Zero | ElementSpec::One => {}
         }
         for (field, text, law, early) in laws {
             let Some(text) = text else { continue };
@@ -366,7 +366,7 @@ fn constraints(
 /// linear graph (see [`crate::model::linear_graph::translate`] for which branch becomes
 /// which element).
 fn words(
-    raw: &RawElement,
+    raw: &ElementSpec,
     field: &'static str,
     convention: Convention,
     kind: &ElementKind,
@@ -375,8 +375,8 @@ fn words(
         return (kind.description(), kind.keyword(), field);
     }
     let (branch, field_word) = match raw {
-        RawElement::I { .. } => ("A-type", "capacitance"),
-        RawElement::C { .. } => (
+        ElementSpec::I { .. } => ("A-type", "capacitance"),
+        ElementSpec::C { .. } => (
             "T-type",
             if field == "compliance" {
                 "inductance"
@@ -384,14 +384,14 @@ fn words(
                 field
             },
         ),
-        RawElement::Conductance { .. } => ("D-type", "resistance"),
-        RawElement::R { .. } => ("D-type", "conductance"),
-        RawElement::Sf { .. } => ("across source", "value"),
-        RawElement::Se { .. } => ("through source", "value"),
-        RawElement::TF { .. } => ("transformer", field),
-        RawElement::GY { .. } | RawElement::ReciprocalGY { .. } => ("gyrator", field),
-        RawElement::Friction { .. } => ("friction contact", field),
-        RawElement::TensionOnly { .. } => (
+        ElementSpec::Conductance { .. } => ("D-type", "resistance"),
+        ElementSpec::R { .. } => ("D-type", "conductance"),
+        ElementSpec::Sf { .. } => ("across source", "value"),
+        ElementSpec::Se { .. } => ("through source", "value"),
+        ElementSpec::TF { .. } => ("transformer", field),
+        ElementSpec::GY { .. } | ElementSpec::ReciprocalGY { .. } => ("gyrator", field),
+        ElementSpec::Friction { .. } => ("friction contact", field),
+        ElementSpec::TensionOnly { .. } => (
             "tension-only T-type",
             if field == "compliance" {
                 "inductance"
@@ -399,7 +399,7 @@ fn words(
                 field
             },
         ),
-        RawElement::FlowLimit { .. } | RawElement::Zero | RawElement::One => {
+        ElementSpec::FlowLimit { .. } | ElementSpec::Zero | ElementSpec::One => {
             (kind.description(), field)
         }
     };

@@ -1,4 +1,5 @@
-//! The model file format, exactly as serde reads it from RON.
+//! A model as written: what a model file says, and what a [`Builder`](super::Builder)
+//! collects in code.
 //!
 //! These types mirror what the user writes and nothing more: names are plain strings,
 //! expressions are unparsed text, and nothing is checked beyond the shape of the data.
@@ -38,32 +39,33 @@ use serde::de::{Deserializer, MapAccess, Visitor};
 /// A whole model file.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(rename = "Model", deny_unknown_fields)]
-pub struct RawModel {
+pub struct ModelSpec {
     /// The model's name.
     pub name: String,
     /// A description for people.
     pub description: Option<String>,
     /// Named parameters, in file order, duplicates kept.
     #[serde(default, deserialize_with = "entries")]
-    pub parameters: Vec<(String, RawParameter)>,
+    pub parameters: Vec<(String, ParameterSpec)>,
     /// Named external inputs (time-varying signals), in file order, duplicates kept.
     #[serde(default, deserialize_with = "entries")]
-    pub inputs: Vec<(String, RawInput)>,
+    pub inputs: Vec<(String, InputSpec)>,
     /// Named elements, in file order, duplicates kept.
     #[serde(default, deserialize_with = "entries")]
-    pub elements: Vec<(String, RawElement)>,
+    pub elements: Vec<(String, ElementSpec)>,
     /// The bonds between elements.
     #[serde(default)]
-    pub bonds: Vec<RawBond>,
+    pub bonds: Vec<BondSpec>,
 }
 
 /// A parameter: a constant with a value.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(rename = "Parameter", deny_unknown_fields)]
-pub struct RawParameter {
+pub struct ParameterSpec {
     /// The value, in the unit given.
     pub value: f64,
-    /// The unit, for people (not checked).
+    /// The unit (SI symbols and prefixes, `"N*s/m"`, `"kPa"`): the value is converted to
+    /// SI with it and the model's units are checked.
     pub unit: Option<String>,
     /// A description for people.
     pub description: Option<String>,
@@ -75,8 +77,9 @@ pub struct RawParameter {
 /// An external input: a signal given at simulation time.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(rename = "Input", deny_unknown_fields)]
-pub struct RawInput {
-    /// The unit, for people (not checked).
+pub struct InputSpec {
+    /// The unit: the signal is given in SI units of its dimension, and the model's units
+    /// are checked with it.
     pub unit: Option<String>,
     /// A description for people.
     pub description: Option<String>,
@@ -86,7 +89,7 @@ pub struct RawInput {
 /// unparsed expressions over parameters and inputs.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(rename = "Element", deny_unknown_fields)]
-pub enum RawElement {
+pub enum ElementSpec {
     /// Effort source.
     Se {
         /// The effort it imposes.
@@ -202,7 +205,96 @@ pub enum RawElement {
 /// A bond `("from", "to")`: power flows from the first element to the second.
 #[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename = "Bond", deny_unknown_fields)]
-pub struct RawBond(pub String, pub String);
+pub struct BondSpec(pub String, pub String);
+
+impl ParameterSpec {
+    /// A parameter of `value` in `unit` (`""` for none), with no description or bounds.
+    pub fn new(value: f64, unit: &str) -> Self {
+        Self {
+            value,
+            unit: (!unit.is_empty()).then(|| unit.to_owned()),
+            description: None,
+            bounds: None,
+        }
+    }
+}
+
+impl ElementSpec {
+    /// An effort source `Se(effort: ...)`.
+    pub fn effort_source(effort: &str) -> Self {
+        Self::Se {
+            effort: effort.into(),
+        }
+    }
+
+    /// A flow source `Sf(flow: ...)`.
+    pub fn flow_source(flow: &str) -> Self {
+        Self::Sf { flow: flow.into() }
+    }
+
+    /// A linear inertia `I(inertance: ...)`.
+    pub fn inertance(inertance: &str) -> Self {
+        Self::I {
+            inertance: Some(inertance.into()),
+            flow: None,
+        }
+    }
+
+    /// A linear capacitance `C(stiffness: ...)`.
+    pub fn stiffness(stiffness: &str) -> Self {
+        Self::C {
+            compliance: None,
+            stiffness: Some(stiffness.into()),
+            effort: None,
+        }
+    }
+
+    /// A linear capacitance `C(compliance: ...)`.
+    pub fn compliance(compliance: &str) -> Self {
+        Self::C {
+            compliance: Some(compliance.into()),
+            stiffness: None,
+            effort: None,
+        }
+    }
+
+    /// A resistance `R(resistance: ...)`.
+    pub fn resistance(resistance: &str) -> Self {
+        Self::R {
+            resistance: Some(resistance.into()),
+            effort: None,
+            flow: None,
+        }
+    }
+
+    /// A transformer `TF(ratio: ...)`.
+    pub fn transformer(ratio: &str) -> Self {
+        Self::TF {
+            ratio: ratio.into(),
+        }
+    }
+
+    /// A gyrator `GY(ratio: ...)`.
+    pub fn gyrator(ratio: &str) -> Self {
+        Self::GY {
+            ratio: ratio.into(),
+        }
+    }
+
+    /// A Karnopp friction contact `Friction(breakaway: ..., coulomb: ...)`, stuck at the
+    /// start, with no viscous term, dead band or Stribeck velocity (set the fields of
+    /// [`ElementSpec::Friction`] for those).
+    pub fn friction(breakaway: &str, coulomb: &str) -> Self {
+        Self::Friction {
+            breakaway: breakaway.into(),
+            coulomb: coulomb.into(),
+            viscous: None,
+            dead_band: None,
+            stribeck: None,
+            initial: None,
+        }
+    }
+}
 
 /// Reads a RON map as its entries in file order, keeping duplicate keys.
 pub(crate) fn entries<'de, D, T>(deserializer: D) -> Result<Vec<(String, T)>, D::Error>
@@ -231,7 +323,7 @@ where
     deserializer.deserialize_map(EntriesVisitor(PhantomData))
 }
 
-impl RawModel {
+impl ModelSpec {
     /// Reads a model from RON `text` with the options model files use (optional fields
     /// without `Some(...)`); errors are ron's, turned into diagnostics by
     /// [`parse_model`](super::parse::parse_model).
@@ -274,7 +366,7 @@ mod tests {
 
     #[test]
     fn reads_a_whole_model_in_file_order() {
-        let model = RawModel::from_ron(MODEL).unwrap();
+        let model = ModelSpec::from_ron(MODEL).unwrap();
         assert_eq!(model.name, "mass-spring-damper");
         assert_eq!(
             model.description.as_deref(),
@@ -284,7 +376,7 @@ mod tests {
         assert_eq!(names, ["m", "k", "b"]);
         assert_eq!(
             model.parameters[0].1,
-            RawParameter {
+            ParameterSpec {
                 value: 1.5,
                 unit: Some("kg".into()),
                 description: Some("the mass".into()),
@@ -294,7 +386,7 @@ mod tests {
         assert_eq!(model.parameters[1].1.value, 100.0);
         assert_eq!(model.inputs[0].0, "F");
         assert_eq!(model.inputs[0].1.unit.as_deref(), Some("N"));
-        let elements: Vec<(&str, &RawElement)> = model
+        let elements: Vec<(&str, &ElementSpec)> = model
             .elements
             .iter()
             .map(|(n, e)| (n.as_str(), e))
@@ -302,18 +394,18 @@ mod tests {
         assert_eq!(
             elements,
             [
-                ("force", &RawElement::Se { effort: "F".into() }),
-                ("j", &RawElement::One),
+                ("force", &ElementSpec::Se { effort: "F".into() }),
+                ("j", &ElementSpec::One),
                 (
                     "mass",
-                    &RawElement::I {
+                    &ElementSpec::I {
                         inertance: Some("m".into()),
                         flow: None,
                     }
                 ),
                 (
                     "spring",
-                    &RawElement::C {
+                    &ElementSpec::C {
                         compliance: None,
                         stiffness: Some("k".into()),
                         effort: None,
@@ -321,7 +413,7 @@ mod tests {
                 ),
                 (
                     "damper",
-                    &RawElement::R {
+                    &ElementSpec::R {
                         resistance: Some("b".into()),
                         effort: None,
                         flow: None,
@@ -329,25 +421,25 @@ mod tests {
                 ),
             ]
         );
-        assert_eq!(model.bonds[2], RawBond("j".into(), "spring".into()));
+        assert_eq!(model.bonds[2], BondSpec("j".into(), "spring".into()));
         assert_eq!(model.bonds.len(), 4);
     }
 
     #[test]
     fn the_model_name_is_optional_and_sections_default_to_empty() {
-        let model = RawModel::from_ron(r#"(name: "empty")"#).unwrap();
+        let model = ModelSpec::from_ron(r#"(name: "empty")"#).unwrap();
         assert_eq!(model.name, "empty");
         assert_eq!(model.description, None);
         assert!(model.parameters.is_empty() && model.inputs.is_empty());
         assert!(model.elements.is_empty() && model.bonds.is_empty());
-        let named = RawModel::from_ron(MODEL).unwrap();
-        let unnamed = RawModel::from_ron(MODEL.replacen("Model(", "(", 1).as_str()).unwrap();
+        let named = ModelSpec::from_ron(MODEL).unwrap();
+        let unnamed = ModelSpec::from_ron(MODEL.replacen("Model(", "(", 1).as_str()).unwrap();
         assert_eq!(named, unnamed);
     }
 
     #[test]
     fn duplicate_names_are_kept_for_later_diagnosis() {
-        let model = RawModel::from_ron(
+        let model = ModelSpec::from_ron(
             r#"(name: "d", parameters: {"m": (value: 1), "m": (value: 2)},
                 elements: {"a": Zero, "b": One, "a": I(inertance: "m")})"#,
         )
@@ -360,7 +452,7 @@ mod tests {
 
     #[test]
     fn explicit_some_and_every_element_kind_are_accepted() {
-        let model = RawModel::from_ron(
+        let model = ModelSpec::from_ron(
             r#"(name: "all", description: Some("d"), elements: {
                 "se": Se(effort: "e"), "sf": Sf(flow: "f"), "i": I(inertance: "m"),
                 "c": C(compliance: "1/k"), "r": R(resistance: "b"), "tf": TF(ratio: "n"),
@@ -372,7 +464,7 @@ mod tests {
         assert_eq!(model.elements.len(), 10);
         assert_eq!(
             model.elements[3].1,
-            RawElement::C {
+            ElementSpec::C {
                 compliance: Some("1/k".into()),
                 stiffness: None,
                 effort: None,
@@ -381,7 +473,7 @@ mod tests {
         // Neither or both of compliance and stiffness is the validator's business.
         assert_eq!(
             model.elements[9].1,
-            RawElement::C {
+            ElementSpec::C {
                 compliance: None,
                 stiffness: None,
                 effort: None,
@@ -399,7 +491,7 @@ mod tests {
             r#"(name: "x", elements: {"c": C(compliance: "m", damping: "b")})"#,
         ];
         for case in cases {
-            let error = RawModel::from_ron(case).unwrap_err();
+            let error = ModelSpec::from_ron(case).unwrap_err();
             assert!(
                 matches!(error.code, ron::Error::NoSuchStructField { .. }),
                 "{case}: {error}"

@@ -1,0 +1,71 @@
+//! A model built in code is the model its file describes: same values, same equations.
+
+use bondgraph_core::model::{self, Builder, ElementSpec, Model, ParameterSpec};
+use bondgraph_core::{equations, laws};
+
+const FILE: &str = r#"Model(
+    name: "msd",
+    parameters: {
+        "m": (value: 2000.0, unit: "g"),
+        "k": (value: 200.0, unit: "N/m"),
+        "b": (value: 4.0, unit: "N*s/m", bounds: (0.0, 10.0)),
+    },
+    inputs: { "F": (unit: "N") },
+    elements: {
+        "force": Se(effort: "F"),
+        "v": One,
+        "mass": I(inertance: "m"),
+        "spring": C(compliance: "1/k"),
+        "damper": R(resistance: "b"),
+    },
+    bonds: [("force", "v"), ("v", "mass"), ("v", "spring"), ("v", "damper")],
+)"#;
+
+fn built() -> Model {
+    Builder::new("msd")
+        .parameter("m", 2000.0, "g")
+        .parameter("k", 200.0, "N/m")
+        .parameter_spec(
+            "b",
+            ParameterSpec {
+                bounds: Some((0.0, 10.0)),
+                ..ParameterSpec::new(4.0, "N*s/m")
+            },
+        )
+        .input("F", "N")
+        .element("force", ElementSpec::effort_source("F"))
+        .element("v", ElementSpec::One)
+        .element("mass", ElementSpec::inertance("m"))
+        .element("spring", ElementSpec::compliance("1/k"))
+        .element("damper", ElementSpec::resistance("b"))
+        .bonds([("force", "v"), ("v", "mass"), ("v", "spring")])
+        .bond("v", "damper")
+        .build()
+        .unwrap()
+}
+
+fn a_matrix(model: &Model) -> Vec<Vec<String>> {
+    let options = equations::Options::default();
+    let eq = equations::derive(model, &laws::plain_laws(model), &options).unwrap();
+    eq.a()
+        .iter()
+        .map(|row| row.iter().map(|e| e.text(&eq.symbols)).collect())
+        .collect()
+}
+
+#[test]
+fn a_built_model_is_the_model_its_file_describes() {
+    let from_code = built();
+    let from_file = model::load_str("msd.ron", FILE).unwrap();
+    // 2000 g is 2 kg either way; the bounds and units are kept.
+    let values = |m: &Model| -> Vec<f64> { m.parameters.iter().map(|p| p.value).collect() };
+    assert_eq!(values(&from_code), [2.0, 200.0, 4.0]);
+    assert_eq!(from_code.values, from_file.values);
+    assert_eq!(from_code.parameters[2].bounds, Some((0.0, 10.0)));
+    assert_eq!(from_code.inputs[0].unit.as_deref(), Some("N"));
+    // p' = -b/m p - k q + F and q' = p/m, by hand.
+    assert_eq!(a_matrix(&from_code), [["-b/m", "-k"], ["1/m", "0"]]);
+    assert_eq!(a_matrix(&from_code), a_matrix(&from_file));
+    let kinds = |m: &Model| -> Vec<&str> { m.elements.iter().map(|e| e.kind.keyword()).collect() };
+    assert_eq!(kinds(&from_code), kinds(&from_file));
+}
