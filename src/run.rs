@@ -61,7 +61,7 @@ pub(crate) fn extend(
     extensions: &[PathBuf],
     out: Option<&Path>,
 ) -> Result<(), Failure> {
-    use bondgraph_core::extension::{self, Extension};
+    use bondgraph_ron::extension::{self, Extension};
     let base = read_source(model)?;
     let mut sources = vec![base.clone()];
     let mut fragments = Vec::new();

@@ -398,7 +398,7 @@ fn explain_names_what_storage_integrates_in_its_domain() {
         elements: {"s": Se(effort: "V"), "j": One, "r": R(resistance: "R"), "c": C(compliance: "C")},
         bonds: [("s", "j"), ("j", "r"), ("j", "c")])"#;
     let source = bondgraph_core::source::SourceFile::new("rc.ron".to_string(), text.to_string());
-    let model = bondgraph_core::model::load_source(&source).expect("a model");
+    let model = bondgraph_ron::model::load_source(&source).expect("a model");
     let mode = modes::Mode::initial(&model);
     let plain = bondgraph_view::explain_bg::document(
         &model,

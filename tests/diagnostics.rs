@@ -44,7 +44,7 @@ pub(crate) fn check_file(path: &str, expect: Expect) -> Diagnostics {
         text.starts_with("//"),
         "{path}: start with a comment saying what is wrong"
     );
-    let diagnostics = match model::load_str(&path, &text) {
+    let diagnostics = match bondgraph_ron::model::load_str(&path, &text) {
         Err(diagnostics) => diagnostics,
         Ok(model) => {
             let laws = laws::plain_laws(&model);
@@ -819,7 +819,7 @@ fn damaged_examples_never_panic() {
     }
     let mut failures = 0;
     for (what, text) in &damaged {
-        let result = model::load_str("damaged.ron", text).and_then(|model| {
+        let result = bondgraph_ron::model::load_str("damaged.ron", text).and_then(|model| {
             let laws = laws::plain_laws(&model);
             equations::derive(&model, &laws, &equations::Options::default()).map(|_| ())
         });

@@ -867,7 +867,7 @@ fn damaged_linear_graphs_never_panic() {
             let mut without = lines.clone();
             without.remove(i);
             let name = format!("{path} without line {}", i + 1);
-            match bondgraph_core::model::load_str(&name, &without.join("\n")) {
+            match bondgraph_ron::model::load_str(&name, &without.join("\n")) {
                 Ok(model) => {
                     let _ = modes::reachable(&model, &options(Variables::CoEnergy));
                 }

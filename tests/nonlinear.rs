@@ -6,7 +6,7 @@ use std::process::Command;
 
 use bondgraph_core::equations::Options;
 use bondgraph_core::equations::nonlinear::{self, OperatingPoint};
-use bondgraph_core::{DiagnosticKind, laws, model};
+use bondgraph_core::{DiagnosticKind, laws};
 
 use crate::support::{load, root};
 
@@ -208,7 +208,7 @@ fn diagnose(elements: &str, bonds: &str) -> bondgraph_core::Diagnostic {
          elements: {{{elements}}},\n\
          bonds: [{bonds}])"
     );
-    let model = match model::load_str("m.ron", &text) {
+    let model = match bondgraph_ron::model::load_str("m.ron", &text) {
         Err(e) => return e.first().clone(),
         Ok(model) => model,
     };
@@ -276,7 +276,7 @@ fn laws_that_cannot_be_used_are_diagnosed_at_their_place() {
     let text = r#"Model(name: "m", parameters: {"c": (value: 1.0)}, inputs: {"u": ()},
         elements: {"src": Sf(flow: "u"), "r": R(flow: "c*sign(effort)*sqrt(abs(effort))")},
         bonds: [("src", "r")])"#;
-    let model = model::load_str("m.ron", text).unwrap();
+    let model = bondgraph_ron::model::load_str("m.ron", text).unwrap();
     assert!(nonlinear::derive(&model, &laws::plain_laws(&model), &Options::default()).is_ok());
 }
 
@@ -285,7 +285,7 @@ fn linear_laws_written_as_nonlinear_ones_stay_linear() {
     let text = r#"Model(name: "m", parameters: {"k": (value: 2.0), "b": (value: 1.0), "m": (value: 1.0)},
         elements: {"j": One, "s": C(effort: "k*q_s"), "d": R(effort: "b*flow"), "i": I(flow: "p_i/m")},
         bonds: [("j", "s"), ("j", "d"), ("j", "i")])"#;
-    let model = model::load_str("m.ron", text).unwrap();
+    let model = bondgraph_ron::model::load_str("m.ron", text).unwrap();
     assert!(!model.is_nonlinear());
     let eq =
         bondgraph_core::equations::derive(&model, &laws::plain_laws(&model), &Options::default())

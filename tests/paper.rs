@@ -421,7 +421,7 @@ fn table_two_matches(path: &str) {
     // The paper's analysis ignores the catheter's viscous friction; so does this comparison.
     let text = std::fs::read_to_string(root().join(path)).unwrap();
     assert!(text.contains("viscous: \"b_ct\", "));
-    let model = bondgraph_core::model::load_str(
+    let model = bondgraph_ron::model::load_str(
         &format!("{path} without b_ct"),
         &text.replace("viscous: \"b_ct\", ", ""),
     )

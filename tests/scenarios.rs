@@ -2,14 +2,11 @@
 //! catheter, parameter changes, and the example scenarios in `models/scenarios/`.
 
 use bondgraph_core::equations::Options;
-use bondgraph_core::model::{
-    self,
-    edit::{self, Edit},
-};
 use bondgraph_core::modes::{self, Mode};
-use bondgraph_core::scenario::{self, Record, Signal};
+use bondgraph_core::scenario::{Record, Signal};
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::{Diagnostic, DiagnosticKind};
+use bondgraph_ron::model::edit::{self, Edit};
 
 use crate::support::{ron_files, root};
 
@@ -50,7 +47,7 @@ fn the_robot_without_its_catheter() {
     let robot = read(ROBOT);
     let edited = edit::apply(&robot, &remove(&CATHETER)).unwrap();
     assert_eq!(edited.name(), "models/eversion/robot.ron (edited)");
-    let model = model::load_source(&edited).unwrap_or_else(|e| panic!("{e}"));
+    let model = bondgraph_ron::model::load_source(&edited).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(model.elements.len(), 10);
     assert_eq!(model.bonds.len(), 9);
     for name in CATHETER {
@@ -93,7 +90,7 @@ fn setting_the_dead_band() {
     assert!(edited.text().contains(
         "\"dv\": (value: 2.5e-7, unit: \"m/s\", description: \"Karnopp dead band (not given in the paper)\"),"
     ));
-    let model = model::load_source(&edited).unwrap();
+    let model = bondgraph_ron::model::load_source(&edited).unwrap();
     let value = |name: &str| {
         model
             .parameters
@@ -149,7 +146,7 @@ fn a_junction_left_with_one_bond_is_reported_when_the_edit_is_loaded() {
     let robot = read(ROBOT);
     // Without the tip's mass (a line above 'rubbing') and without what 'rubbing' joins.
     let edited = edit::apply_traced(&robot, &remove(&["ge", "fr_ct", "catheter"])).unwrap();
-    let error = model::load_source(&edited.file).unwrap_err();
+    let error = bondgraph_ron::model::load_source(&edited.file).unwrap_err();
     let first = error.first();
     assert_eq!(
         summary(first),
@@ -189,13 +186,14 @@ fn every_example_scenario_loads() {
             .split(['(', ')'])
             .find(|part| part.starts_with("models/"))
             .unwrap_or_else(|| panic!("{relative}: the first line names the model"));
-        scenario::load(&source, &read(model)).unwrap_or_else(|e| panic!("{relative}:\n{e}"));
+        bondgraph_ron::scenario::load(&source, &read(model))
+            .unwrap_or_else(|e| panic!("{relative}:\n{e}"));
     }
 }
 
 #[test]
 fn belt_stick_slip() {
-    let scenario = scenario::load(
+    let scenario = bondgraph_ron::scenario::load(
         &read("models/scenarios/belt_stick_slip.ron"),
         &read("models/examples/belt_friction.ron"),
     )
@@ -220,8 +218,9 @@ fn belt_stick_slip() {
 
 #[test]
 fn robot_growth_without_the_catheter() {
-    let scenario = scenario::load(&read("models/scenarios/robot_growth.ron"), &read(ROBOT))
-        .unwrap_or_else(|e| panic!("{e}"));
+    let scenario =
+        bondgraph_ron::scenario::load(&read("models/scenarios/robot_growth.ron"), &read(ROBOT))
+            .unwrap_or_else(|e| panic!("{e}"));
     let model = &scenario.model;
     assert_eq!(model.source.name(), "models/eversion/robot.ron (edited)");
     assert_eq!((model.elements.len(), model.bonds.len()), (10, 9));
@@ -247,7 +246,8 @@ fn a_scenario_that_uses_what_it_removes() {
         .text()
         .replace("\"effort:k\"", "\"flow:ct\"");
     let error =
-        scenario::load(&SourceFile::new("robot_growth.ron", text), &read(ROBOT)).unwrap_err();
+        bondgraph_ron::scenario::load(&SourceFile::new("robot_growth.ron", text), &read(ROBOT))
+            .unwrap_err();
     let d = error.first();
     assert_eq!(
         summary(d),

@@ -6,7 +6,6 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use bondgraph_core::scenario;
 use bondgraph_core::source::SourceFile;
 use bondgraph_solver::Trajectory;
 use bondgraph_view::analyze::{self, Request};
@@ -22,7 +21,7 @@ fn run(model: &str, scenario_file: &str) -> Trajectory {
     };
     let model = read(format!("models/teaching/{model}.ron"));
     let scenario = read(format!("models/teaching/scenarios/{scenario_file}.ron"));
-    let loaded = scenario::load(&scenario, &model).unwrap_or_else(|e| panic!("{e}"));
+    let loaded = bondgraph_ron::scenario::load(&scenario, &model).unwrap_or_else(|e| panic!("{e}"));
     bondgraph_solver::scenario::run(&loaded, false).unwrap_or_else(|e| panic!("{e}"))
 }
 

@@ -9,7 +9,7 @@
 use std::fmt::Write;
 
 use bondgraph_core::equations::{self, Options};
-use bondgraph_core::{laws, model};
+use bondgraph_core::laws;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 
 /// The RON text of an `n`-mass chain.
@@ -56,14 +56,15 @@ fn derive_chain(c: &mut Criterion) {
     for n in [10, 100, 1000, 1667] {
         let text = chain(n);
         // Check once, outside the timing, that the chain is what it claims to be.
-        let parsed = model::load_str("chain.ron", &text).expect("chain model is valid");
+        let parsed =
+            bondgraph_ron::model::load_str("chain.ron", &text).expect("chain model is valid");
         let eq = equations::derive(&parsed, &laws::plain_laws(&parsed), &Options::default())
             .expect("chain derives");
         assert_eq!(eq.state_count(), 2 * n - 1);
 
         group.bench_with_input(BenchmarkId::new("parse_and_derive", n), &text, |b, text| {
             b.iter(|| {
-                let model = model::load_str("chain.ron", text).expect("valid");
+                let model = bondgraph_ron::model::load_str("chain.ron", text).expect("valid");
                 equations::derive(&model, &laws::plain_laws(&model), &Options::default())
                     .expect("derives")
             })

@@ -27,7 +27,7 @@
 //! # Example
 //! ```
 //! use bondgraph_core::{causality, diagram, laws, model, modes};
-//! let model = model::load_str("m.ron", r#"Model(name: "m",
+//! let model = bondgraph_ron::model::load_str("m.ron", r#"Model(name: "m",
 //!     parameters: {"m": (value: 1.0)}, inputs: {"F": ()},
 //!     elements: {"push": Se(effort: "F"), "j": One, "mass": I(inertance: "m")},
 //!     bonds: [("push", "j"), ("j", "mass")])"#).unwrap();

@@ -1,23 +1,24 @@
-//! Bond-graph models, from RON model files to symbolic state equations.
+//! Bond-graph models, from a checked model to symbolic state equations.
 //!
-//! `bondgraph-core` reads a lumped-parameter model written as a bond graph (sources,
-//! inertias, compliances, resistors, transformers, gyrators and junctions, in a RON file) or
-//! as a linear graph (nodes and branches, [`model::linear_graph`], with its
-//! [`normal_tree`]), checks it, assigns causality, and derives its state equations
-//! `dx/dt = A x + B u + c` with entries that read like a textbook: `-(b + K_p)/M`.
+//! `bondgraph-core` checks a lumped-parameter model given as a bond graph (sources,
+//! inertias, compliances, resistors, transformers, gyrators and junctions), built in code
+//! ([`model::Builder`]) or read from a RON file by `bondgraph-ron` (which also reads linear
+//! graphs, [`model::linear_graph`], with their [`normal_tree`]), assigns causality, and
+//! derives its state equations `dx/dt = A x + B u + c` with entries that read like a
+//! textbook: `-(b + K_p)/M`.
 //!
 //! Each stage is a value that can be printed and tested on its own:
 //! [`model`] (the checked model), [`causality`] (causal strokes, derivative causality,
 //! arbitrary choices), [`equations`] (symbolic, sparse state equations, printable as text,
 //! LaTeX and JSON), [`modes`] (the modes of switching elements), and [`scenario`] (how a
 //! model is driven in a simulation: input signals, initial conditions, what to record, and
-//! the model's variant, made by [`model::edit`]).
+//! the model's variant).
 //!
 //! # Example
 //!
 //! A mass on a spring and a damper, pushed by a force: built in code (a [`model::Builder`]
-//! runs the checks a model file goes through, [`model::load_str`] reads the same model
-//! from RON text), then derived.
+//! runs the checks a model file goes through; `bondgraph_ron::model::load_str` reads the
+//! same model from RON text), then derived.
 //!
 //! ```
 //! use bondgraph_core::model::{Builder, ElementSpec};
@@ -56,7 +57,6 @@ pub mod diagnostics;
 pub mod diagram;
 pub mod equations;
 pub mod expr;
-pub mod extension;
 pub mod graph;
 pub mod guards;
 pub mod laws;
@@ -67,9 +67,10 @@ pub mod model;
 pub mod modes;
 pub mod normal_tree;
 pub mod number;
-pub mod read;
 pub mod scenario;
 pub mod source;
+#[cfg(test)]
+mod testing;
 /// The exact algebra, a crate of its own ([`bondgraph_symbolic`]), under its old path.
 pub use bondgraph_symbolic as symbolic;
 pub mod units;

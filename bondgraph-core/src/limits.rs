@@ -25,7 +25,7 @@
 //! let text = r#"Model(name: "m", parameters: { "m": (value: 1.0), "k": (value: 1.0) },
 //!     inputs: {}, elements: { "v": One, "mass": I(inertance: "(m + k)^1000"),
 //!     "spring": C(stiffness: "k") }, bonds: [("v", "mass"), ("v", "spring")])"#;
-//! let error = model::load_str("m.ron", text).unwrap_err();
+//! let error = bondgraph_ron::model::load_str("m.ron", text).unwrap_err();
 //! assert!(error.to_string().contains(&limits::MAX_EXPRESSION_DEGREE.to_string()));
 //! ```
 

@@ -8,7 +8,7 @@
 //! # Example
 //! ```
 //! use bondgraph_core::{model, modes::Mode};
-//! let model = model::load_str("belt.ron", r#"Model(name: "belt",
+//! let model = bondgraph_ron::model::load_str("belt.ron", r#"Model(name: "belt",
 //!     parameters: {"m": (value: 1.0), "k": (value: 10.0), "F_S": (value: 2.0), "F_C": (value: 1.5)},
 //!     inputs: {"v_belt": ()},
 //!     elements: {"belt": Sf(flow: "v_belt"), "contact": Zero,

@@ -514,7 +514,6 @@ fn describe_spec(spec: &str) -> &str {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model;
 
     const BELT: &str = r#"Model(name: "belt",
         parameters: {"m": (value: 1.0), "k": (value: 10.0), "F_S": (value: 2.0), "F_C": (value: 1.5)},
@@ -526,7 +525,7 @@ mod tests {
                 ("v", "block"), ("v", "spring")])"#;
 
     fn error(text: &str) -> String {
-        let model = model::load_str("belt.ron", BELT).unwrap();
+        let model = crate::testing::model(BELT);
         let error = Mode::parse(&model, text).unwrap_err();
         assert_eq!(error.first().kind, DiagnosticKind::BadMode);
         error.first().message.clone()
@@ -534,7 +533,7 @@ mod tests {
 
     #[test]
     fn initial_mode_comes_from_the_file_and_parsing_overrides_it() {
-        let model = model::load_str("belt.ron", BELT).unwrap();
+        let model = crate::testing::model(BELT);
         assert_eq!(Mode::initial(&model).spec(&model), "friction=slip+");
         assert_eq!(Mode::parse(&model, "").unwrap(), Mode::initial(&model));
         let stuck = Mode::parse(&model, " friction = stuck ").unwrap();
@@ -572,7 +571,7 @@ mod tests {
 
     #[test]
     fn the_cache_derives_each_mode_once() {
-        let model = model::load_str("belt.ron", BELT).unwrap();
+        let model = crate::testing::model(BELT);
         let mut cache = ModeCache::new(&model, Options::default());
         let mode = Mode::parse(&model, "friction=stuck").unwrap();
         let first = cache.get(&mode).unwrap();

@@ -34,7 +34,7 @@
 //! # Example
 //! ```
 //! use bondgraph_core::{laws, model, normal_tree};
-//! let model = model::load_str("msd.lg.ron", r#"LinearGraph(name: "msd", ground: "g",
+//! let model = bondgraph_ron::model::load_str("msd.lg.ron", r#"LinearGraph(name: "msd", ground: "g",
 //!     parameters: {"m": (value: 2.0), "k": (value: 200.0), "b": (value: 4.0)},
 //!     inputs: {"F": ()},
 //!     branches: {

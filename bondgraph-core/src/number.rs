@@ -51,6 +51,16 @@ fn trim_zeros(text: &str) -> String {
     }
 }
 
+/// A number as people read it in messages: `0.0058`, `200000`, `1e6`, `1e-4`.
+pub fn readable(value: f64) -> String {
+    let magnitude = value.abs();
+    if value == 0.0 || (1e-3..1e6).contains(&magnitude) || !value.is_finite() {
+        format!("{value}")
+    } else {
+        format!("{value:e}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

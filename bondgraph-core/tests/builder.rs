@@ -1,6 +1,6 @@
 //! A model built in code is the model its file describes: same values, same equations.
 
-use bondgraph_core::model::{self, Builder, ElementSpec, Model, ParameterSpec};
+use bondgraph_core::model::{Builder, ElementSpec, Model, ParameterSpec};
 use bondgraph_core::{equations, laws};
 
 const FILE: &str = r#"Model(
@@ -56,7 +56,7 @@ fn a_matrix(model: &Model) -> Vec<Vec<String>> {
 #[test]
 fn a_built_model_is_the_model_its_file_describes() {
     let from_code = built();
-    let from_file = model::load_str("msd.ron", FILE).unwrap();
+    let from_file = bondgraph_ron::model::load_str("msd.ron", FILE).unwrap();
     // 2000 g is 2 kg either way; the bounds and units are kept.
     let values = |m: &Model| -> Vec<f64> { m.parameters.iter().map(|p| p.value).collect() };
     assert_eq!(values(&from_code), [2.0, 200.0, 4.0]);

@@ -6,13 +6,13 @@ use bondgraph_core::causality::{
     self, Causality, CausalityTrace, Decision, Propagation, Rule, Step, Stroke,
 };
 use bondgraph_core::equations::Options;
-use bondgraph_core::model::{self, BondId, ElementId, Model};
+use bondgraph_core::model::{BondId, ElementId, Model};
 use bondgraph_core::{laws, modes};
 
 fn load(relative: &str) -> Model {
     let path = format!("{}/../{relative}", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    model::load_str(relative, &text).unwrap_or_else(|e| panic!("{relative}:\n{e}"))
+    bondgraph_ron::model::load_str(relative, &text).unwrap_or_else(|e| panic!("{relative}:\n{e}"))
 }
 
 fn traced(model: &Model, mode: &modes::Mode) -> (Causality, CausalityTrace) {
@@ -305,7 +305,7 @@ fn every_flagship_mode_replays_to_its_strokes() {
 fn an_undone_choice_is_recorded_and_left_out_of_the_strokes() {
     // A 1-junction bonded twice to one 0-junction shorts its effort (E + E = 0); the first
     // free choice fails and is undone (see regressions.rs).
-    let model = model::load_str(
+    let model = bondgraph_ron::model::load_str(
         "short.ron",
         r#"Model(
     name: "shorted_junction",

@@ -10,11 +10,11 @@ use bondgraph_core::DiagnosticKind;
 use bondgraph_core::equations::{self, Options, Variables};
 use bondgraph_core::laws;
 use bondgraph_core::linear::Var;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::symbolic::RatFunc;
 
 fn load(text: &str) -> Model {
-    model::load_str("feedback.ron", text).unwrap_or_else(|e| panic!("{e}"))
+    bondgraph_ron::model::load_str("feedback.ron", text).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn controlled(controller: &str) -> String {
@@ -147,7 +147,7 @@ fn storage_driven_through_a_feedback_source_is_refused_by_name() {
 /// `m dv/dt = -(b + K_d) v - (1 + K_c/k) f + F`, `df/dt = k v`.
 #[test]
 fn a_through_source_feeding_back_states_keeps_a_linear_graph_linear() {
-    let model = model::load_str(
+    let model = bondgraph_ron::model::load_str(
         "controlled.lg.ron",
         r#"LinearGraph(name: "controlled",
             parameters: {"m": (value: 2.0), "k": (value: 200.0), "b": (value: 4.0),
@@ -266,7 +266,7 @@ fn feedback_of_storage_moved_by_another_source_is_its_momentum() {
 /// state is suggested.
 #[test]
 fn a_misspelt_state_in_a_source_is_suggested() {
-    let error = model::load_str("feedback.ron", &controlled("-K_c*q_sprin"))
+    let error = bondgraph_ron::model::load_str("feedback.ron", &controlled("-K_c*q_sprin"))
         .expect_err("q_sprin is not a state");
     let first = error.first();
     assert_eq!(first.kind, DiagnosticKind::UnknownSymbol);

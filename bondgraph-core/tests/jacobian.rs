@@ -48,7 +48,6 @@ use crate::random_graph::{Features, Graph, GraphSpec, Kind, graph_spec};
 use bondgraph_core::DiagnosticKind;
 use bondgraph_core::equations::{self, Layout, Note, Options, Quantity, StateEquations, Variables};
 use bondgraph_core::laws;
-use bondgraph_core::model;
 use bondgraph_core::symbolic::{Poly, RatFunc};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
@@ -463,7 +462,7 @@ fn assert_close(
 
 /// Derives `text`'s equations in `variables`, or says why the case is skipped.
 fn derive(text: &str, variables: Variables) -> Result<Result<StateEquations, Skip>, TestCaseError> {
-    let model = match model::load_str("random.ron", text) {
+    let model = match bondgraph_ron::model::load_str("random.ron", text) {
         Ok(model) => model,
         Err(e) => return Err(TestCaseError::fail(format!("load failed: {e}\n{text}"))),
     };

@@ -3,7 +3,6 @@
 
 use bondgraph_core::diagnostics::DiagnosticKind;
 use bondgraph_core::limits::{MAX_EXPRESSION_DEGREE, MAX_EXPRESSION_TERMS};
-use bondgraph_core::model;
 
 /// A mass-spring whose mass is `inertance`, written on line 4 of the file.
 fn with_inertance(inertance: &str) -> String {
@@ -18,7 +17,7 @@ fn with_inertance(inertance: &str) -> String {
 }
 
 fn refusal(inertance: &str) -> (String, bondgraph_core::diagnostics::Diagnostic) {
-    let error = model::load_str("big.ron", &with_inertance(inertance)).unwrap_err();
+    let error = bondgraph_ron::model::load_str("big.ron", &with_inertance(inertance)).unwrap_err();
     let first = error.first().clone();
     (error.to_string(), first)
 }
@@ -51,7 +50,7 @@ fn a_product_with_too_many_terms_is_refused() {
 fn powers_up_to_the_limit_are_kept() {
     assert_eq!(MAX_EXPRESSION_DEGREE, 32);
     let text = with_inertance("(m+k+b)^32");
-    if let Err(e) = model::load_str("ok.ron", &text) {
+    if let Err(e) = bondgraph_ron::model::load_str("ok.ron", &text) {
         panic!("{e}");
     }
     let (text, diagnostic) = refusal("(m+k+b)^33");
@@ -65,7 +64,7 @@ fn a_nonlinear_law_with_a_huge_parameter_power_is_refused() {
         r#""spring": C(stiffness: "k")"#,
         r#""spring": C(effort: "(m+k+b)^300*sin(q_spring)")"#,
     );
-    let error = model::load_str("big.ron", &text).unwrap_err();
+    let error = bondgraph_ron::model::load_str("big.ron", &text).unwrap_err();
     let diagnostic = error.first();
     assert!(error.to_string().contains("degree 300"), "{error}");
     assert_eq!(diagnostic.element.as_deref(), Some("spring"), "{error}");
@@ -114,10 +113,12 @@ fn a_model_with_too_many_modes_is_refused_at_its_switching_elements() {
     use bondgraph_core::equations::Options;
     use bondgraph_core::limits::MAX_MODES;
     use bondgraph_core::modes;
-    let six = model::load_str("chain.ron", &contact_chain(6)).unwrap_or_else(|e| panic!("{e}"));
+    let six = bondgraph_ron::model::load_str("chain.ron", &contact_chain(6))
+        .unwrap_or_else(|e| panic!("{e}"));
     let reachable = modes::reachable(&six, &Options::default()).unwrap();
     assert_eq!(reachable.modes.len() + reachable.impossible.len(), 729);
-    let seven = model::load_str("chain.ron", &contact_chain(7)).unwrap_or_else(|e| panic!("{e}"));
+    let seven = bondgraph_ron::model::load_str("chain.ron", &contact_chain(7))
+        .unwrap_or_else(|e| panic!("{e}"));
     let error = match modes::reachable(&seven, &Options::default()) {
         Ok(reachable) => panic!("{} modes enumerated", reachable.modes.len()),
         Err(error) => error,

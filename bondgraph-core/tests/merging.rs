@@ -12,7 +12,7 @@
 
 use bondgraph_core::equations::{self, Options, Variables};
 use bondgraph_core::laws;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::symbolic::RatFunc;
 
 fn parallel_springs(n: usize) -> Model {
@@ -32,7 +32,8 @@ fn parallel_springs(n: usize) -> Model {
             branches: {{ {} }})"#,
         branches.join(",\n")
     );
-    model::load_str("parallel_springs.lg.ron", &text).unwrap_or_else(|e| panic!("{e}"))
+    bondgraph_ron::model::load_str("parallel_springs.lg.ron", &text)
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn symbol(model: &Model, name: &str) -> RatFunc {

@@ -5,7 +5,7 @@
 use bondgraph_core::DiagnosticKind;
 use bondgraph_core::equations::Options;
 use bondgraph_core::equations::nonlinear::{self, NonlinearEquations, OperatingPoint};
-use bondgraph_core::{laws, model};
+use bondgraph_core::laws;
 
 /// A mass pushed by F and held back by two dampers in series, the first with `damper1`.
 fn series_dampers(damper1: &str) -> String {
@@ -19,7 +19,7 @@ fn series_dampers(damper1: &str) -> String {
 }
 
 fn derive(text: &str) -> Result<NonlinearEquations, bondgraph_core::Diagnostics> {
-    let model = model::load_str("m.ron", text).unwrap();
+    let model = bondgraph_ron::model::load_str("m.ron", text).unwrap();
     assert!(model.is_nonlinear());
     nonlinear::derive(&model, &laws::plain_laws(&model), &Options::default())
 }
@@ -88,7 +88,7 @@ fn rigid_masses_merge_in_a_nonlinear_model() {
 #[test]
 fn a_nonlinear_model_is_not_derived_as_a_linear_one() {
     let text = series_dampers(r#"R(effort: "c*flow^3")"#);
-    let model = model::load_str("m.ron", &text).unwrap();
+    let model = bondgraph_ron::model::load_str("m.ron", &text).unwrap();
     let error =
         bondgraph_core::equations::derive(&model, &laws::plain_laws(&model), &Options::default())
             .unwrap_err();

@@ -17,7 +17,7 @@ use bondgraph_core::causality::{Causality, Stroke};
 use bondgraph_core::equations::{self, Note, Options};
 use bondgraph_core::laws;
 use bondgraph_core::linear::Var;
-use bondgraph_core::model::{self, BondId, Model};
+use bondgraph_core::model::{BondId, Model};
 use bondgraph_core::symbolic::RatFunc;
 
 /// A mass and a damper on a 0-junction whose effort is shorted by a 1-junction bonded to it
@@ -35,7 +35,7 @@ const SHORTED_JUNCTION: &str = r#"Model(
 )"#;
 
 fn load(text: &str) -> Model {
-    model::load_str("regression.ron", text).unwrap_or_else(|e| panic!("{e}"))
+    bondgraph_ron::model::load_str("regression.ron", text).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn symbol(model: &Model, name: &str) -> RatFunc {

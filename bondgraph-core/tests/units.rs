@@ -35,7 +35,7 @@ fn every_shipped_model_and_extension_passes() {
         if first.starts_with("Model(") || first.starts_with("LinearGraph(") {
             let source =
                 bondgraph_core::source::SourceFile::new(path.display().to_string(), text.clone());
-            if let Err(error) = model::load_source(&source) {
+            if let Err(error) = bondgraph_ron::model::load_source(&source) {
                 panic!("{}: {error}", path.display());
             }
             checked += 1;
@@ -66,10 +66,10 @@ fn every_shipped_model_and_extension_passes() {
                 base.display().to_string(),
                 std::fs::read_to_string(&base).unwrap(),
             );
-            let outcome = bondgraph_core::extension::Extension::read(path)
+            let outcome = bondgraph_ron::extension::Extension::read(path)
                 .map_err(|e| e.to_string())
                 .and_then(|extension| {
-                    bondgraph_core::extension::merge(&base, &[extension]).map_err(|e| e.to_string())
+                    bondgraph_ron::extension::merge(&base, &[extension]).map_err(|e| e.to_string())
                 })
                 .and_then(|merged| merged.load().map(|_| ()).map_err(|e| e.to_string()));
             let awaiting = AWAITING_THE_LIBRARY
@@ -117,7 +117,8 @@ fn states_are_described_in_their_domain_words() {
         env!("CARGO_MANIFEST_DIR"),
         "/../tests/fixtures/units/motor.ron"
     );
-    let motor = model::load_str(path, &std::fs::read_to_string(path).unwrap()).unwrap();
+    let motor =
+        bondgraph_ron::model::load_str(path, &std::fs::read_to_string(path).unwrap()).unwrap();
     assert_eq!(
         describe(&motor, equations::Variables::Energy),
         ["p_inductance flux linkage", "p_inertia angular momentum"]
@@ -126,7 +127,7 @@ fn states_are_described_in_their_domain_words() {
         describe(&motor, equations::Variables::CoEnergy),
         ["v_inductance current", "v_inertia angular velocity"]
     );
-    let thermal = model::load_str(
+    let thermal = bondgraph_ron::model::load_str(
         "thermal.ron",
         &std::fs::read_to_string(concat!(
             env!("CARGO_MANIFEST_DIR"),
@@ -145,7 +146,7 @@ fn states_are_described_in_their_domain_words() {
     );
     // A linear-graph circuit: the capacitor (an A-type, the bond graph's inertia) holds a
     // charge and its state is its voltage.
-    let rc = model::load_str(
+    let rc = bondgraph_ron::model::load_str(
         "rc.lg.ron",
         r#"LinearGraph(name: "rc",
     parameters: {"R": (value: 1000.0, unit: "ohm"), "C": (value: 1e-6, unit: "F")},
@@ -167,7 +168,7 @@ fn states_are_described_in_their_domain_words() {
         ["v_capacitor voltage"]
     );
     // Without units, the general words.
-    let plain = model::load_str(
+    let plain = bondgraph_ron::model::load_str(
         "msd.ron",
         r#"Model(name: "msd",
     parameters: {"m": (value: 2.0), "k": (value: 200.0), "b": (value: 4.0)},

@@ -9,12 +9,12 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use bondgraph_core::extension::Extension;
 use bondgraph_core::source::SourceFile;
 use bondgraph_fit::calibration::calibrate;
 use bondgraph_fit::data::{self, Dataset};
 use bondgraph_fit::discover::{self, Candidate, Settings};
 use bondgraph_fit::experiment::Experiment;
+use bondgraph_ron::extension::Extension;
 use criterion::{Criterion, criterion_group, criterion_main};
 
 /// The allocator the `bondgraph` binary runs with, so that these figures are a user's.

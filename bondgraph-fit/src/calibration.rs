@@ -88,7 +88,7 @@ pub fn calibrate(
     data: &Dataset,
     settings: &Settings,
 ) -> Result<Calibration, DiscoverError> {
-    let model = model::load_source(source)?;
+    let model = bondgraph_ron::model::load_source(source)?;
     let rows = &data.rows;
     let (names, bounds, file_start) = fitted_parameters(&model, experiment, rows, &[])?;
     let predictor = Predictor::new(model.clone(), source, experiment)?;

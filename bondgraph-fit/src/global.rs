@@ -887,7 +887,7 @@ mod tests {
 
     #[test]
     fn contacts_order_their_coulomb_and_breakaway_parameters() {
-        let model = bondgraph_core::model::load_str(
+        let model = bondgraph_ron::model::load_str(
             "contacts.ron",
             r#"Model(
                 name: "contacts",

@@ -3,10 +3,10 @@
 //! `experiment_step.ron`) with load-dependent friction hidden in them
 //! (`data/hidden/load-dependent-friction/`).
 
-use bondgraph_core::extension::Extension;
 use bondgraph_fit::data::{self, Dataset};
 use bondgraph_fit::discover::{self, Candidate, Settings};
 use bondgraph_fit::experiment::Experiment;
+use bondgraph_ron::extension::Extension;
 
 use crate::motor::file;
 

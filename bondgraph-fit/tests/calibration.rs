@@ -191,7 +191,7 @@ fn a_bounded_prediction_of_a_time_series_stops_after_the_run_that_settles_it() {
     )
     .unwrap();
     let rows = data::Dataset::join(vec![bad, good.clone()]).rows;
-    let loaded = bondgraph_core::model::load_source(&model).unwrap();
+    let loaded = bondgraph_ron::model::load_source(&model).unwrap();
     let predictor = bondgraph_fit::predict::Predictor::new(loaded, &model, &experiment).unwrap();
     let names: Vec<String> = STEP_TRUTH.iter().map(|(n, _)| n.to_string()).collect();
     let mut evaluator = predictor.evaluator(&names).unwrap();
@@ -231,7 +231,7 @@ fn a_time_series_at_a_breakaway_below_the_coulomb_torque_fails_before_simulating
     let model = file("models/examples/geared_motor/geared_motor.ron");
     let experiment = step_experiment();
     let good = step_data(&experiment, "step_exact.csv");
-    let loaded = bondgraph_core::model::load_source(&model).unwrap();
+    let loaded = bondgraph_ron::model::load_source(&model).unwrap();
     let predictor = bondgraph_fit::predict::Predictor::new(loaded, &model, &experiment).unwrap();
     let names: Vec<String> = STEP_TRUTH.iter().map(|(n, _)| n.to_string()).collect();
     let t_s = names.iter().position(|n| n == "T_S").unwrap();
@@ -267,7 +267,7 @@ fn a_negative_coulomb_torque_is_named_before_simulating() {
     let model = file("models/examples/geared_motor/geared_motor.ron");
     let experiment = step_experiment();
     let run = step_data(&experiment, "step_exact.csv");
-    let loaded = bondgraph_core::model::load_source(&model).unwrap();
+    let loaded = bondgraph_ron::model::load_source(&model).unwrap();
     let predictor = bondgraph_fit::predict::Predictor::new(loaded, &model, &experiment).unwrap();
     let names: Vec<String> = STEP_TRUTH.iter().map(|(n, _)| n.to_string()).collect();
     let t_c = names.iter().position(|n| n == "T_C").unwrap();
@@ -294,7 +294,7 @@ fn a_time_series_at_a_load_dependent_breakaway_below_its_coulomb_force_fails_bef
     // level reads the measured load, but their difference F_S - F_C does not: with F_S 4 N
     // below F_C the contact is inconsistent at any load, and a trial there fails before
     // simulating, naming the contact and the 4 N.
-    use bondgraph_core::extension::{Extension, merge};
+    use bondgraph_ron::extension::{Extension, merge};
     let base = file_at("models/examples/actuator/actuator.ron");
     let extension = Extension::load(&file_at(
         "models/examples/actuator/extensions/load-dependent-friction.ron",
@@ -490,9 +490,9 @@ fn continued_steady_states_change_no_conclusion() {
 /// gain from the leak of a fifth.
 #[test]
 fn refits_continued_from_the_whole_fit_change_no_conclusion() {
-    use bondgraph_core::extension::Extension;
     use bondgraph_fit::budget::Budget;
     use bondgraph_fit::discover::{Candidate, discover};
+    use bondgraph_ron::extension::Extension;
     let model = file("models/examples/two_tank/two_tank.ron");
     let experiment = Experiment::parse(
         "experiment.ron",
@@ -594,9 +594,9 @@ fn assert_same_estimates(
 /// within three standard errors of the truth.
 #[test]
 fn differences_continued_on_their_branch_change_no_conclusion() {
-    use bondgraph_core::extension::Extension;
     use bondgraph_fit::budget::Budget;
     use bondgraph_fit::discover::{Candidate, Resampling, discover};
+    use bondgraph_ron::extension::Extension;
     let model = file("models/examples/actuator/actuator.ron");
     let experiment = Experiment::parse(
         "experiment.ron",
@@ -646,7 +646,7 @@ fn differences_continued_on_their_branch_change_no_conclusion() {
 /// which no difference moves, within the other's interval), the same RMSE to 1e-6.
 #[test]
 fn a_calibration_continues_path_dependent_rows_for_its_differences_only() {
-    use bondgraph_core::extension::{Extension, merge};
+    use bondgraph_ron::extension::{Extension, merge};
     let base = file("models/examples/actuator/actuator.ron");
     let extension = Extension::load(&file(
         "models/examples/actuator/extensions/brush-voltage-drop.ron",

@@ -216,7 +216,7 @@ fn a_leak_in_tank_1_is_found_with_both_levels() {
             path.display().to_string(),
             std::fs::read_to_string(&path).unwrap(),
         );
-        let extension = bondgraph_core::extension::Extension::load(&source).unwrap();
+        let extension = bondgraph_ron::extension::Extension::load(&source).unwrap();
         candidates.push(bondgraph_fit::discover::Candidate::new(&model, &extension).unwrap());
     }
     let discovery = bondgraph_fit::discover::discover(

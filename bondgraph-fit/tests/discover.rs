@@ -13,13 +13,13 @@
 use std::sync::Arc;
 
 use crate::motor::{self, file, library, motor};
-use bondgraph_core::extension::Extension;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::source::SourceFile;
 use bondgraph_fit::data::{self, Dataset};
 use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};
 use bondgraph_fit::experiment::Experiment;
 use bondgraph_fit::synthetic::{self, Noise};
+use bondgraph_ron::extension::Extension;
 
 /// The measurement noise put on the synthetic runs, rad/s (as `data/step.csv` has).
 const SIGMA: f64 = 0.05;
@@ -229,7 +229,7 @@ fn windage_on_a_run_is_a_refit_of_the_viscous_coefficient() {
 #[test]
 fn nothing_hidden_in_a_run_selects_nothing() {
     let source = motor();
-    let base = model::load_source(&source).unwrap();
+    let base = bondgraph_ron::model::load_source(&source).unwrap();
     let dataset = measured_run(&base, &source, &truth(&[]), 9);
     let discovery = run(&dataset);
     let report = discovery.summary();

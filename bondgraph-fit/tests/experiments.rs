@@ -12,7 +12,7 @@ use bondgraph_fit::predict::Predictor;
 fn motor() -> (model::Model, std::sync::Arc<SourceFile>) {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../models/examples/dc_motor.ron");
     let source = SourceFile::new("dc_motor.ron", std::fs::read_to_string(path).unwrap());
-    (model::load_source(&source).unwrap(), source)
+    (bondgraph_ron::model::load_source(&source).unwrap(), source)
 }
 
 #[test]

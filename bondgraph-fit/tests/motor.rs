@@ -4,10 +4,10 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use bondgraph_core::extension::Extension;
 use bondgraph_core::source::SourceFile;
 use bondgraph_fit::discover::Candidate;
 use bondgraph_fit::experiment::Experiment;
+use bondgraph_ron::extension::Extension;
 
 /// A repository file by its path from the root, named by its absolute path (so that a
 /// time series' experiment finds its scenario beside it).

@@ -20,13 +20,12 @@
 use std::path::PathBuf;
 
 use crate::motor::{self, library, motor};
-use bondgraph_core::extension::Extension;
-use bondgraph_core::model;
 use bondgraph_core::source::SourceFile;
 use bondgraph_fit::data::{self, Dataset};
 use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};
 use bondgraph_fit::experiment::Experiment;
 use bondgraph_fit::synthetic::{self, Noise};
+use bondgraph_ron::extension::Extension;
 
 fn experiment() -> Experiment {
     motor::experiment("experiment.ron")
@@ -54,7 +53,10 @@ fn discover_hidden(hidden: Option<(&str, &str, f64)>, seed: u64) -> Discovery {
             let c = library.iter().find(|c| c.id == id).unwrap();
             (c.model.clone(), c.source.clone())
         }
-        None => (model::load_source(&motor()).unwrap(), motor()),
+        None => (
+            bondgraph_ron::model::load_source(&motor()).unwrap(),
+            motor(),
+        ),
     };
     let rows = synthetic::measure(
         &model,

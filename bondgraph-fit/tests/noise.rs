@@ -5,7 +5,6 @@
 use std::sync::Arc;
 
 use crate::motor::{self, file, library, motor};
-use bondgraph_core::model;
 use bondgraph_fit::calibration::calibrate;
 use bondgraph_fit::data::{self, Dataset, Measurement};
 use bondgraph_fit::discover::{self, DiscoverError, Discovery, Settings};
@@ -63,7 +62,7 @@ fn dataset(rows: Vec<Measurement>) -> Dataset {
 /// The truth's speeds on the replicated design, with noise of 0.05 rad/s.
 fn noisy_truth(seed: u64) -> Vec<Measurement> {
     let source = motor();
-    let model = model::load_source(&source).unwrap();
+    let model = bondgraph_ron::model::load_source(&source).unwrap();
     synthetic::measure(
         &model,
         &source,

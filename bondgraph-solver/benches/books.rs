@@ -4,7 +4,6 @@
 //! under 50 ms. The mode is derived once per simulator (the first run); what is measured is
 //! a run with it cached.
 
-use bondgraph_core::model;
 use bondgraph_core::modes::Mode;
 use bondgraph_core::scenario::Book;
 use bondgraph_solver::energy::EnergyColumn;
@@ -34,7 +33,7 @@ fn lightly_damped_books(c: &mut Criterion) {
         .expect("model")
         .replace(r#""b": (value: 4.0"#, r#""b": (value: 0.01"#);
     assert!(text.contains(r#""b": (value: 0.01"#), "the damping is set");
-    let model = model::load_str(relative, &text).expect("valid");
+    let model = bondgraph_ron::model::load_str(relative, &text).expect("valid");
     let books = [Book::Supplied, Book::Dissipated, Book::Stored]
         .into_iter()
         .map(|book| (format!("{book:?}"), EnergyColumn::Book(book)))

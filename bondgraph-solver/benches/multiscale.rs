@@ -10,7 +10,7 @@
 //! takes one, which no in-process median shows: see the README's speed section.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::{Output, Run, Signal, Simulator};
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -32,7 +32,8 @@ fn load(relative: &str) -> Model {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("..")
         .join(relative);
-    model::load_str(relative, &std::fs::read_to_string(path).expect("model")).expect("valid")
+    bondgraph_ron::model::load_str(relative, &std::fs::read_to_string(path).expect("model"))
+        .expect("valid")
 }
 
 fn outputs(model: &Model) -> Vec<Output> {

@@ -4,7 +4,7 @@
 //! models with scipy's `solve_ivp` for comparison.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::{Output, Run, Signal, Simulator};
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -26,7 +26,8 @@ fn load(relative: &str) -> Model {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("..")
         .join(relative);
-    model::load_str(relative, &std::fs::read_to_string(path).expect("model")).expect("valid")
+    bondgraph_ron::model::load_str(relative, &std::fs::read_to_string(path).expect("model"))
+        .expect("valid")
 }
 
 fn bench(

@@ -4,7 +4,7 @@
 //! as in a sweep.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::steady::{SteadySettings, steady_state};
 use bondgraph_solver::{Output, Run, Signal, Simulator};
@@ -40,7 +40,8 @@ fn load(relative: &str) -> Model {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("..")
         .join(relative);
-    model::load_str(relative, &std::fs::read_to_string(path).expect("model")).expect("valid")
+    bondgraph_ron::model::load_str(relative, &std::fs::read_to_string(path).expect("model"))
+        .expect("valid")
 }
 
 fn fig6(c: &mut Criterion) {

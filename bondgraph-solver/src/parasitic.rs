@@ -6,7 +6,7 @@
 //! time scales that matter; removing it (a massless tip whose velocity follows from a force
 //! balance) is the classic singular-perturbation reduction. This module finds candidates
 //! from the modes' eigen-structure; the reduction itself is a model edit
-//! ([`bondgraph_core::model::reduction`]), reported and optional.
+//! (`bondgraph_ron::model::reduction`), reported and optional.
 //!
 //! An element is parasitic when, in every reachable mode where it has a state of its own
 //! (not merged with others) and the mode has other dynamics, it dominates the fastest

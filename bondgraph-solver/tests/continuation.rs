@@ -3,7 +3,7 @@
 //! be vouched for.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::steady::continuation::{continue_branch, continue_steady};
 use bondgraph_solver::steady::{Steady, SteadySettings, steady_state};
@@ -85,7 +85,7 @@ fn the_two_tank_is_continued_to_the_closed_form_at_a_nearby_orifice() {
 /// scale: refused (the search must say where the trajectory goes, not Newton's method).
 #[test]
 fn a_well_is_followed_a_hair_and_refused_a_leap() {
-    let model = model::load_str("double_well.ron", DOUBLE_WELL).unwrap();
+    let model = bondgraph_ron::model::load_str("double_well.ron", DOUBLE_WELL).unwrap();
     let mut simulator = simulator(&model, &["effort:spring"]);
     let first = settle(&mut simulator, &[], &[("p_mass", 2.2)]);
     let anchor = first.anchor.clone().expect("a stable equilibrium");
@@ -124,7 +124,7 @@ fn a_well_is_followed_a_hair_and_refused_a_leap() {
 /// value, no iteration), where a fresh search finds the same.
 #[test]
 fn a_linear_mode_is_continued_to_its_asymptote_at_nearby_values() {
-    let linear = model::load_str(
+    let linear = bondgraph_ron::model::load_str(
         "drag.ron",
         r#"Model(
             name: "drag",
@@ -167,7 +167,7 @@ fn a_linear_mode_is_continued_to_its_asymptote_at_nearby_values() {
 /// anchor where it is an output, for what it reads is where the path left it.
 #[test]
 fn a_linear_anchor_needs_outputs_that_read_no_integrator() {
-    let pushed = model::load_str(
+    let pushed = bondgraph_ron::model::load_str(
         "pushed.ron",
         r#"Model(
             name: "pushed",
@@ -210,7 +210,7 @@ fn a_linear_anchor_needs_outputs_that_read_no_integrator() {
 /// guard it drifts into unseen.)
 #[test]
 fn a_block_carried_into_its_breakaway_settles_slipping_and_is_continued_only_for_a_difference() {
-    let belt = model::load_str("belt.ron", BELT).unwrap();
+    let belt = bondgraph_ron::model::load_str("belt.ron", BELT).unwrap();
     let mut simulator = self::simulator(&belt, &["effort:spring"]);
     let names = simulator.storage().names.clone();
     let steady = steady_state(
@@ -285,7 +285,7 @@ fn a_linear_mode_reached_through_a_breakaway_is_continued_only_for_a_difference(
     let linear = BELT
         .replace("k*q_spring + k_3*q_spring^3", "k*q_spring")
         .replace("\"b\": (value: 20.0", "\"b\": (value: 25.0");
-    let belt = model::load_str("linear_belt.ron", &linear).unwrap();
+    let belt = bondgraph_ron::model::load_str("linear_belt.ron", &linear).unwrap();
     let mut simulator = self::simulator(&belt, &["effort:spring"]);
     let names = simulator.storage().names.clone();
     let settings = SteadySettings::default();
@@ -342,7 +342,7 @@ fn a_linear_mode_reached_through_a_breakaway_is_continued_only_for_a_difference(
 /// difference it is continued, and refused where its guard has changed sign.
 #[test]
 fn a_mode_with_guards_is_continued_only_for_a_difference() {
-    let motor = model::load_str(
+    let motor = bondgraph_ron::model::load_str(
         "held_motor.ron",
         r#"Model(
             name: "held_motor",

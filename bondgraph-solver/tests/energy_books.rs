@@ -8,7 +8,6 @@
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use bondgraph_core::scenario;
 use bondgraph_core::source::SourceFile;
 use bondgraph_solver::Trajectory;
 
@@ -23,8 +22,9 @@ fn model_file(relative: &str) -> std::sync::Arc<SourceFile> {
 /// Runs a scenario on another thread, failing if it takes longer than `limit` (a hang
 /// would otherwise stall the suite): the trajectory and the time taken.
 fn simulate_within(model: &str, scenario_text: &str, limit: Duration) -> (Trajectory, Duration) {
-    let scenario = scenario::load(&SourceFile::new("s.ron", scenario_text), &model_file(model))
-        .unwrap_or_else(|e| panic!("{e}"));
+    let scenario =
+        bondgraph_ron::scenario::load(&SourceFile::new("s.ron", scenario_text), &model_file(model))
+            .unwrap_or_else(|e| panic!("{e}"));
     let (send, receive) = mpsc::channel();
     std::thread::spawn(move || {
         let start = Instant::now();
@@ -131,7 +131,7 @@ fn a_motor_ringing_at_3e32_rad_per_s_says_how_uncertain_its_books_are() {
             inputs: {{"V": Step(at: 0.01, before: 0.0, after: 12.0)}},
             duration: 0.5, sample: 0.05, record: {BOOKS})"#
     );
-    let scenario = scenario::load(
+    let scenario = bondgraph_ron::scenario::load(
         &SourceFile::new("s.ron", &scenario),
         &SourceFile::new("models/examples/dc_motor.ron", text),
     )

@@ -2,7 +2,6 @@
 //! closed forms: a mass-spring released from rest, a damped one pushed by a constant force,
 //! a pendulum at large amplitude (nonlinear storage), and the same on a linear graph.
 
-use bondgraph_core::scenario;
 use bondgraph_core::source::SourceFile;
 use bondgraph_solver::Trajectory;
 
@@ -15,8 +14,9 @@ fn model_file(relative: &str) -> std::sync::Arc<SourceFile> {
 }
 
 fn simulate(model: &str, scenario_text: &str) -> Trajectory {
-    let scenario = scenario::load(&SourceFile::new("s.ron", scenario_text), &model_file(model))
-        .unwrap_or_else(|e| panic!("{e}"));
+    let scenario =
+        bondgraph_ron::scenario::load(&SourceFile::new("s.ron", scenario_text), &model_file(model))
+            .unwrap_or_else(|e| panic!("{e}"));
     bondgraph_solver::scenario::run(&scenario, false).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -207,7 +207,8 @@ fn problem(model: &str, record: &str) -> String {
     let text = format!(
         r#"Scenario(name: "s", inputs: {{"F": Constant(1.0)}}, duration: 1.0, record: ["{record}"])"#
     );
-    let error = scenario::load(&SourceFile::new("s.ron", text), &model_file(model)).unwrap_err();
+    let error = bondgraph_ron::scenario::load(&SourceFile::new("s.ron", text), &model_file(model))
+        .unwrap_err();
     error.first().to_string()
 }
 

@@ -7,7 +7,7 @@
 //! `-4 + 4 e^{-t/2}`, bounded over `[t₀, ∞)` by `-4 + 4 e^{-t₀/2} < 0` for any `t₀ > 0`.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::hybrid::Settings;
 use bondgraph_solver::steady::{SteadySettings, steady_state};
@@ -28,7 +28,7 @@ fn pushed_block() -> Model {
         },
         bonds: [("push", "v"), ("v", "block"), ("v", "contact")],
     )"#;
-    model::load_str("pushed_block.ron", text).unwrap()
+    bondgraph_ron::model::load_str("pushed_block.ron", text).unwrap()
 }
 
 #[test]

@@ -2,7 +2,6 @@
 //! apart in one mode, against references computed independently (the reduced system, and
 //! mpmath's matrix exponential at 60 digits, `reference/expm_oracle.py`).
 
-use bondgraph_core::scenario;
 use bondgraph_core::source::SourceFile;
 use bondgraph_solver::Trajectory;
 
@@ -12,7 +11,7 @@ fn run(model_path: &str, scenario_text: &str, audit_energy: bool) -> Trajectory 
         .join(model_path);
     let model = SourceFile::new(model_path, std::fs::read_to_string(path).unwrap());
     let file = SourceFile::new("extreme.ron", scenario_text);
-    let scenario = scenario::load(&file, &model).unwrap_or_else(|e| panic!("{e}"));
+    let scenario = bondgraph_ron::scenario::load(&file, &model).unwrap_or_else(|e| panic!("{e}"));
     bondgraph_solver::scenario::run(&scenario, audit_energy).unwrap_or_else(|e| panic!("{e}"))
 }
 

@@ -6,7 +6,7 @@
 //! F - b v_max.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::steady::{SteadySettings, steady_state};
 use bondgraph_solver::{Output, Run, Signal, Simulator};
@@ -28,7 +28,7 @@ const CART: &str = r#"Model(
 )"#;
 
 fn cart() -> Model {
-    model::load_str("limited_cart.ron", CART).unwrap()
+    bondgraph_ron::model::load_str("limited_cart.ron", CART).unwrap()
 }
 
 fn outputs(model: &Model) -> Vec<Output> {
@@ -157,7 +157,7 @@ fn a_nearly_massless_body_leaves_the_limit_once_without_chattering() {
     // touches the limit, its rate and sign decided by rounding: the limit must open once
     // and stay open (not re-enter limiting, not stall on crossings of rounding noise), and
     // the body creep on, x = 1 - 0.6 e^{-k (t - t*)/b}.
-    let model = model::load_str(
+    let model = bondgraph_ron::model::load_str(
         "sprung.ron",
         r#"Model(
             name: "sprung",

@@ -1,7 +1,7 @@
 //! Regressions from the hardening issue (12): answers that were once wrong with exit 0.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_core::source::SourceFile;
 use bondgraph_solver::{Output, Run, Signal, Simulator, Trajectory};
@@ -25,7 +25,7 @@ fn tethered_mass(initial: &str) -> Model {
     bonds: [("push", "v_mass"), ("v_mass", "mass"), ("v_mass", "string")],
 )"#
     );
-    model::load_str("tethered_mass.ron", &text).unwrap()
+    bondgraph_ron::model::load_str("tethered_mass.ron", &text).unwrap()
 }
 
 fn run_tethered(model: &Model, force: f64, duration: f64) -> Trajectory {
@@ -94,7 +94,7 @@ fn a_string_pushed_from_taut_at_zero_extension_goes_slack_at_once() {
 /// names the output, instead of recording `inf`.
 #[test]
 fn an_output_that_overflows_is_an_error_naming_it() {
-    let model = model::load_str(
+    let model = bondgraph_ron::model::load_str(
         "fast_spring.ron",
         r#"Model(
     name: "fast_spring",
@@ -137,7 +137,7 @@ fn an_output_that_overflows_is_an_error_naming_it() {
 /// relaxed: `q(t) = sin(ωt)/(m ω)` with ω = √(k/m), so the spring force is
 /// `k q = ω sin(ωt)` and the mass's velocity `cos(ωt)/m`; the energy `1/(2m)` stays.
 fn check_oscillator(m: f64, k: f64, duration: f64, sample: f64) {
-    let model = model::load_str(
+    let model = bondgraph_ron::model::load_str(
         "oscillator.ron",
         &format!(
             r#"Model(
@@ -230,7 +230,7 @@ fn a_contact_whose_breakaway_equals_its_coulomb_force_slips_at_breakaway() {
         .unwrap()
         .replace(r#""F_S": (value: 10.0"#, r#""F_S": (value: 6.0"#);
     assert!(text.contains(r#""F_S": (value: 6.0"#));
-    let model = model::load_str("belt_equal_levels.ron", &text).unwrap();
+    let model = bondgraph_ron::model::load_str("belt_equal_levels.ron", &text).unwrap();
     let outputs = ["effort:spring", "flow:block"]
         .iter()
         .map(|name| Output {
@@ -310,7 +310,7 @@ fn a_very_light_mass_on_a_slack_string_moves_freely() {
     },
     bonds: [("push", "v_mass"), ("v_mass", "mass"), ("v_mass", "string")],
 )"#;
-    let model = model::load_str("light_tethered_mass.ron", text).unwrap();
+    let model = bondgraph_ron::model::load_str("light_tethered_mass.ron", text).unwrap();
     let outputs = ["flow:mass", "effort:string"]
         .iter()
         .map(|name| Output {
@@ -461,7 +461,7 @@ fn a_string_pulled_back_from_slack_goes_taut_every_time() {
     elements: {"push": Se(effort: "F"), "v": One, "mass": I(inertance: "m"),
         "damper": R(resistance: "b"), "string": TensionOnly(stiffness: "k", initial: "taut")},
     bonds: [("push", "v"), ("v", "mass"), ("v", "damper"), ("v", "string")])"#;
-    let model = model::load_str("tether.ron", text).unwrap();
+    let model = bondgraph_ron::model::load_str("tether.ron", text).unwrap();
     let outputs = vec![Output {
         name: "effort:spring".into(),
         spec: OutputSpec::parse(&model, "effort:string").unwrap(),
@@ -524,7 +524,7 @@ fn a_contact_reversing_through_zero_velocity_keeps_the_new_direction() {
         assert!(text.contains(from), "{from}");
         text = text.replace(from, to);
     }
-    let model = model::load_str("geared_motor_reversing.ron", &text).unwrap();
+    let model = bondgraph_ron::model::load_str("geared_motor_reversing.ron", &text).unwrap();
     let outputs = vec![Output {
         name: "flow:load_inertia".into(),
         spec: OutputSpec::parse(&model, "flow:load_inertia").unwrap(),
@@ -595,7 +595,7 @@ fn a_belt_driven_by_a_fast_table_sticks_where_the_closed_form_says() {
         "/../models/examples/belt_friction.ron"
     );
     let model = SourceFile::new(path, std::fs::read_to_string(path).unwrap());
-    let scenario = bondgraph_core::scenario::load(&SourceFile::new("dip.ron", text), &model)
+    let scenario = bondgraph_ron::scenario::load(&SourceFile::new("dip.ron", text), &model)
         .unwrap_or_else(|e| panic!("{e}"));
     let trajectory =
         bondgraph_solver::scenario::run(&scenario, false).unwrap_or_else(|e| panic!("{e}"));
@@ -677,7 +677,8 @@ fn time_stopping_at_a_blow_up_says_the_steps_fell_under_its_resolution() {
     let text = r#"Model(name: "runaway", parameters: {"m": (value: 1.0)},
     elements: {"v": One, "mass": I(inertance: "m"), "push": R(effort: "-flow^2")},
     bonds: [("v", "mass"), ("v", "push")])"#;
-    let model = model::load_str("runaway.ron", text).unwrap_or_else(|e| panic!("{e}"));
+    let model =
+        bondgraph_ron::model::load_str("runaway.ron", text).unwrap_or_else(|e| panic!("{e}"));
     let mut simulator = Simulator::new(&model, Vec::new());
     let error = simulator
         .run(&Run {

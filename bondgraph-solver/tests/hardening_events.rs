@@ -2,7 +2,7 @@
 //! test failed before its fix.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_core::scenario::Signal as Table;
 use bondgraph_solver::{Event, Output, Run, Signal, Simulator, Trajectory};
@@ -147,7 +147,7 @@ fn a_belt_reversing_every_microsecond_runs_on_the_integrated_path() {
     .unwrap();
     let softened = text.replace("\"k_3\": (value: 2.0e4", "\"k_3\": (value: 0.0");
     assert_ne!(softened, text);
-    let integrated = model::load_str(path, &softened).unwrap();
+    let integrated = bondgraph_ron::model::load_str(path, &softened).unwrap();
     assert!(integrated.is_nonlinear());
     let duration = 1e-4;
     for shape in 0..8 {
@@ -190,7 +190,8 @@ fn time_stopping_near_zero_quotes_the_resolution_of_time_there() {
     let text = r#"Model(name: "runaway", parameters: {"m": (value: 1.0e-154)},
     elements: {"v": One, "mass": I(inertance: "m"), "push": R(effort: "-flow^2")},
     bonds: [("v", "mass"), ("v", "push")])"#;
-    let model = model::load_str("runaway.ron", text).unwrap_or_else(|e| panic!("{e}"));
+    let model =
+        bondgraph_ron::model::load_str("runaway.ron", text).unwrap_or_else(|e| panic!("{e}"));
     let mut simulator = Simulator::new(&model, Vec::new());
     let error = simulator
         .run(&Run {
@@ -242,7 +243,7 @@ fn motor_at_balance() -> Model {
         assert!(edited.contains(from), "{from}");
         edited = edited.replace(from, to);
     }
-    model::load_str(path, &edited).unwrap_or_else(|e| panic!("{e}"))
+    bondgraph_ron::model::load_str(path, &edited).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The motor at balance driven by `brake` (N·m) at 1 V for 5 s from `state` (`p` of the
@@ -413,7 +414,8 @@ fn a_damper_seen_through_a_lever_of_1e_minus_154_holds_the_spring_at_its_creep()
         "damper": R(resistance: "b")},
     bonds: [("force", "v"), ("v", "lever"), ("lever", "w"), ("w", "mass"), ("w", "spring"),
         ("v", "damper")])"#;
-    let model = model::load_str("duffing_lever.ron", text).unwrap_or_else(|e| panic!("{e}"));
+    let model =
+        bondgraph_ron::model::load_str("duffing_lever.ron", text).unwrap_or_else(|e| panic!("{e}"));
     let force = Constant(0.0);
     let inputs: [&dyn Signal; 1] = [&force];
     let outputs = vec![output(&model, "flow:mass"), output(&model, "effort:spring")];
@@ -450,7 +452,8 @@ fn a_run_of_crawling_steps_stops_within_seconds_naming_its_time_scale() {
     elements: {"force": Se(effort: "F"), "v": One, "mass": I(inertance: "m"),
         "spring": C(effort: "k*q_spring + k_3*q_spring^3")},
     bonds: [("force", "v"), ("v", "mass"), ("v", "spring")])"#;
-    let model = model::load_str("fast_duffing.ron", text).unwrap_or_else(|e| panic!("{e}"));
+    let model =
+        bondgraph_ron::model::load_str("fast_duffing.ron", text).unwrap_or_else(|e| panic!("{e}"));
     let force = Constant(0.0);
     let inputs: [&dyn Signal; 1] = [&force];
     let error = Simulator::new(&model, Vec::new())

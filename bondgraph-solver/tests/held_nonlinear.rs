@@ -11,14 +11,13 @@
 //! t = 4.44613061856587 s.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model;
 use bondgraph_core::modes::Mode;
 use bondgraph_core::scenario::Signal as Table;
 use bondgraph_solver::{Output, Run, Signal, Simulator};
 
 #[test]
 fn a_block_held_with_no_states_left_breaks_away_and_comes_to_rest() {
-    let model = model::load_str(
+    let model = bondgraph_ron::model::load_str(
         "dragged_block.ron",
         r#"Model(
         name: "dragged_block",

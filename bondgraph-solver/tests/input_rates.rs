@@ -12,7 +12,6 @@
 //! their stiffnesses), then f = E F0 e^{-a t}.
 
 use bondgraph_core::equations::{Options, Variables};
-use bondgraph_core::model;
 use bondgraph_core::modes::{self, Mode};
 use bondgraph_solver::numeric::{NumericMode, Storage};
 
@@ -27,7 +26,7 @@ const MODEL: &str = r#"LinearGraph(name: "dependent_spring_damper", ground: "g",
     })"#;
 
 fn coenergy_mode() -> (bondgraph_core::model::Model, NumericMode) {
-    let model = model::load_str("dependent_spring_damper.lg.ron", MODEL).unwrap();
+    let model = bondgraph_ron::model::load_str("dependent_spring_damper.lg.ron", MODEL).unwrap();
     let derived = modes::derive(
         &model,
         &Mode::initial(&model),

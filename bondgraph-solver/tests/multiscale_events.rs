@@ -37,7 +37,7 @@
 //! ```
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::hybrid::Settings;
 use bondgraph_solver::{Output, Run, Signal, Simulator, Trajectory};
@@ -54,7 +54,7 @@ fn fast_armature() -> Model {
     let shipped = r#""L_a": (value: 0.003,"#;
     assert!(text.contains(shipped), "the shipped L_a changed");
     let text = text.replace(shipped, r#""L_a": (value: 0.0003,"#);
-    model::load_str(relative, &text).expect("valid")
+    bondgraph_ron::model::load_str(relative, &text).expect("valid")
 }
 
 /// The shaft's speed and the events of 5 s from `ω = -5 rad/s` in `bearings=slip-`.
@@ -160,7 +160,7 @@ fn actuator() -> Model {
         assert!(text.contains(shipped), "the shipped {shipped} changed");
         text.replace(shipped, used)
     });
-    model::load_str(relative, &text).expect("valid")
+    bondgraph_ron::model::load_str(relative, &text).expect("valid")
 }
 
 #[test]
@@ -271,8 +271,8 @@ fn brush_actuator_run(
     f_c: f64,
     f_s: f64,
 ) -> Result<bondgraph_solver::hybrid::Trajectory, bondgraph_solver::hybrid::SimError> {
-    use bondgraph_core::extension::{Extension, merge};
     use bondgraph_core::source::SourceFile;
+    use bondgraph_ron::extension::{Extension, merge};
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let read = |relative: &str| std::fs::read_to_string(root.join(relative)).expect(relative);
     let values = [

@@ -3,7 +3,7 @@
 //! `e = R_2 q + K_o q|q|`, which the tank's integral causality needs as `q(e)`.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::{Output, Run, Signal, Simulator, Trajectory};
 
@@ -36,7 +36,7 @@ fn simulate(model: &Model, records: &[&str], inputs: &[&dyn Signal], duration: f
 /// the pipe its effort, so the pipe needs the law's inverse.
 #[test]
 fn a_laminar_and_turbulent_pipe_drains_a_tank() {
-    let model = model::load_str(
+    let model = bondgraph_ron::model::load_str(
         "tank.ron",
         r#"Model(name: "tank",
             parameters: {"C": (value: 2.0), "R_2": (value: 4.0), "K_o": (value: 0.5)},
@@ -74,7 +74,7 @@ fn a_linear_graph_d_type_takes_a_nonlinear_law_either_way_round() {
         r#"through: "k*across*abs(across)""#,
         r#"across: "sign(through)*abs(through)^(1/2)/sqrt(k)""#,
     ] {
-        let model = model::load_str(
+        let model = bondgraph_ron::model::load_str(
             "quadratic.lg.ron",
             &format!(
                 r#"LinearGraph(name: "quadratic", ground: "g",

@@ -5,7 +5,7 @@
 //! with tiny steps written here.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::steady::{SteadySettings, steady_state};
 use bondgraph_solver::{Output, Run, Signal, Simulator, Trajectory};
@@ -228,7 +228,7 @@ fn the_diode_circuit_follows_its_quadrature_and_closed_form() {
     .unwrap()
     .replace("\"leak\": R(resistance: \"R\"),", "")
     .replace("(\"node\", \"leak\"),", "");
-    let alone = model::load_str("diode_alone.ron", &text).unwrap();
+    let alone = bondgraph_ron::model::load_str("diode_alone.ron", &text).unwrap();
     let trajectory = simulate(&alone, &["effort:cap"], &[], vec![C * v0], 1.0, 1e-3);
     let tau = C * V_T / I_S;
     for (i, &t) in trajectory.times.iter().enumerate().step_by(50) {
@@ -269,7 +269,7 @@ fn the_modulated_lever_moves_its_load_as_the_fixed_lever_does() {
     ))
     .unwrap()
     .replace("TF(ratio: \"r_0*c_theta\")", "TF(ratio: \"r_0*1.5\")");
-    let fixed = model::load_str("lever_fixed.ron", &text).unwrap();
+    let fixed = bondgraph_ron::model::load_str("lever_fixed.ron", &text).unwrap();
     assert!(!fixed.is_nonlinear());
     let force = Step {
         at: 0.1,
@@ -481,7 +481,7 @@ impl Signal for ZeroAtEverySample {
 /// m = 2 kg, c = 0.5 N s³/m³ and v₀ = 3 m/s, `v(1 s) = 3/√5.5`.
 #[test]
 fn a_nonlinear_mode_through_a_thousand_breakpoints_keeps_its_accuracy() {
-    let model = model::load_str(
+    let model = bondgraph_ron::model::load_str(
         "drag.ron",
         r#"Model(
     name: "drag",

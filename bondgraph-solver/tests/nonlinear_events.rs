@@ -5,7 +5,7 @@
 //! computed here independently: RK4 with tiny steps, or a closed form.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::{Output, Run, Settings, Signal, SimError, Simulator, Trajectory};
 
@@ -258,7 +258,7 @@ fn towed_cart(initial: &str) -> Model {
         ("v_cart", "cart"), ("v_cart", "drag")],
 )"#
     );
-    model::load_str("towed_cart.ron", &text).unwrap()
+    bondgraph_ron::model::load_str("towed_cart.ron", &text).unwrap()
 }
 
 /// The towed cart from a slack string at zero extension, the cart moving at `u0`, for
@@ -391,7 +391,7 @@ fn a_contact_reversing_through_zero_velocity_under_windage_keeps_the_new_directi
         assert!(text.contains(from), "{from}");
         text = text.replace(from, to);
     }
-    let model = model::load_str("geared_motor_windage.ron", &text).unwrap();
+    let model = bondgraph_ron::model::load_str("geared_motor_windage.ron", &text).unwrap();
     assert!(model.is_nonlinear());
     let (voltage, brake) = (Constant(12.0), Constant(1.0));
     let trajectory = run(

@@ -28,7 +28,6 @@
 //! velocity (`S` of order 1) is checked to 1e-13. The [`ENTRYWISE`] cases are checked against
 //! their sensitivity to the solver's own numbers instead, with why.
 
-use bondgraph_core::scenario;
 use bondgraph_core::source::SourceFile;
 use serde_json::Value;
 
@@ -203,7 +202,7 @@ fn fixture() -> Vec<Case> {
 fn simulate(case: &Case) -> Result<Vec<f64>, String> {
     let model = SourceFile::new(format!("{}.ron", case.name), case.model.clone());
     let file = SourceFile::new("oracle_scenario.ron", case.scenario.clone());
-    let scenario = scenario::load(&file, &model).map_err(|e| format!("{e}"))?;
+    let scenario = bondgraph_ron::scenario::load(&file, &model).map_err(|e| format!("{e}"))?;
     let trajectory =
         bondgraph_solver::scenario::run(&scenario, false).map_err(|e| format!("{e}"))?;
     let last = trajectory.times.len() - 1;

@@ -3,7 +3,7 @@
 //! sixteenth of a period (10,000 samples, 625 periods), where its samples are a sixteenth of
 //! the segment apart (about 150 periods).
 
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::{Run, Signal, Simulator};
 
@@ -30,7 +30,7 @@ fn towed_cart(k: f64) -> Model {
         ("v_cart", "cart"), ("v_cart", "spring")],
 )"#
     );
-    model::load_str("towed_cart.ron", &text).unwrap_or_else(|e| panic!("{e}"))
+    bondgraph_ron::model::load_str("towed_cart.ron", &text).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The time the string goes taut, from the cart at rest with its spring stretched by

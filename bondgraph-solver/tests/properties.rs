@@ -22,7 +22,7 @@
 //! The case counts keep the suite to a few seconds with the workspace's `[profile.test]`.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::{Output, Run, Signal, SimError, Simulator, Trajectory};
 use proptest::prelude::*;
@@ -83,7 +83,7 @@ fn force() -> impl Strategy<Value = Force> {
 }
 
 fn load(name: &str, text: &str) -> Model {
-    model::load_str(name, text).unwrap_or_else(|e| panic!("{name}:\n{e}\n{text}"))
+    bondgraph_ron::model::load_str(name, text).unwrap_or_else(|e| panic!("{name}:\n{e}\n{text}"))
 }
 
 /// Simulates `model` under `force` from `state`, recording `outputs` (an `integral:` prefix

@@ -2,7 +2,7 @@
 //! 30 s mode settles after 36 time constants of the slow one, and no limit in seconds stops it.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::steady::{SteadySettings, steady_state};
 use bondgraph_solver::{Output, Simulator};
@@ -51,7 +51,7 @@ fn output(model: &Model, spec: &str) -> Output {
 
 #[test]
 fn a_search_settles_on_the_slowest_time_constant_not_a_time_limit() {
-    let model = model::load_str("two_scales.ron", TWO_SCALES).unwrap();
+    let model = bondgraph_ron::model::load_str("two_scales.ron", TWO_SCALES).unwrap();
     let outputs = vec![output(&model, "flow:coil"), output(&model, "effort:cap")];
     let mut simulator = Simulator::new(&model, outputs);
     let storage = simulator.storage().len();

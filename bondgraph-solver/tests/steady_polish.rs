@@ -3,7 +3,7 @@
 //! never an equilibrium the trajectory would not reach (two wells, an unstable top).
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::steady::{Steady, SteadySettings, steady_state};
 use bondgraph_solver::{Output, Run, Simulator};
@@ -103,7 +103,7 @@ fn double_well_newton(mut p: f64, mut q: f64) -> (f64, f64) {
 /// 1e-12 to t = 600 s, also from `p = 2.1` and `2.3`).
 #[test]
 fn a_double_well_settles_in_the_well_the_trajectory_reaches() {
-    let model = model::load_str("double_well.ron", DOUBLE_WELL).unwrap();
+    let model = bondgraph_ron::model::load_str("double_well.ron", DOUBLE_WELL).unwrap();
     // The search's windows end at 1, 3, 7, 15, ... times 1/max|λ| at the start (where
     // λ² + 0.1 λ - 1 = 0: 0.9512 s). At the ends of the third and fourth, 6.66 s and 14.27 s,
     // the mass is in the right well both times, and Newton's method from there lands on the
@@ -175,7 +175,7 @@ const PENDULUM: &str = r#"Model(
 
 #[test]
 fn a_pendulum_released_near_the_top_settles_hanging_not_at_the_top() {
-    let model = model::load_str("pendulum.ron", PENDULUM).unwrap();
+    let model = bondgraph_ron::model::load_str("pendulum.ron", PENDULUM).unwrap();
     let release = std::f64::consts::PI - 0.01;
     let steady = settle(&model, &["flow:bob"], &[], &[("q_gravity", release)]);
     let angle = state_of(&model, &steady, "q_gravity");
@@ -196,8 +196,8 @@ fn a_pendulum_released_near_the_top_settles_hanging_not_at_the_top() {
 /// window at all.
 #[test]
 fn blocks_at_rest_where_they_start_are_steady_at_once() {
-    use bondgraph_core::extension::{self, Extension};
     use bondgraph_core::source::SourceFile;
+    use bondgraph_ron::extension::{self, Extension};
     let read = |relative: &str| {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("..")
@@ -266,7 +266,7 @@ const FILLING_TANKS: &str = r#"Model(
 /// orifice's law has an infinite slope at equal levels, so the tanks start apart.)
 #[test]
 fn a_nonlinear_steady_motion_is_read_at_the_simulators_tolerances() {
-    let model = model::load_str("filling_tanks.ron", FILLING_TANKS).unwrap();
+    let model = bondgraph_ron::model::load_str("filling_tanks.ron", FILLING_TANKS).unwrap();
     // Tank 1 starts with 1e-4 m³ (100 Pa) above an empty tank 2.
     let steady = settle(
         &model,

@@ -6,9 +6,8 @@
 //! = 2 + (b - 10) v, sliding faster with F_C + b v.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
-use bondgraph_core::scenario;
 use bondgraph_core::source::SourceFile;
 use bondgraph_solver::steady::{SteadySettings, steady_state};
 use bondgraph_solver::{Output, Simulator};
@@ -30,7 +29,7 @@ fn block(push: f64, viscous: f64) -> Model {
         bonds: [("push", "v"), ("v", "block"), ("v", "contact")],
     )"#
     );
-    model::load_str("stribeck_block.ron", &text).unwrap()
+    bondgraph_ron::model::load_str("stribeck_block.ron", &text).unwrap()
 }
 
 fn settle(model: &Model) -> bondgraph_solver::steady::Steady {
@@ -121,7 +120,7 @@ fn a_light_block_runs_away_to_sliding_within_attoseconds() {
         bonds: [("push", "v"), ("v", "block"), ("v", "contact")],
     )"#;
     let model = SourceFile::new("light_stribeck_block.ron", text.to_string());
-    let scenario = scenario::load(
+    let scenario = bondgraph_ron::scenario::load(
         &SourceFile::new(
             "push.ron",
             r#"Scenario(name: "push", inputs: {"F": Ramp(slope: 100.0, ceiling: 3.0)},

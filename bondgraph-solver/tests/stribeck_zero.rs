@@ -13,7 +13,7 @@
 //! - v = 2.75 - (t - 2.5) until it stops at t = 5.25 s, where F = 0 < F_S holds it.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_core::scenario::Signal as Table;
 use bondgraph_solver::{Output, Run, Signal, Simulator, Trajectory};
@@ -38,7 +38,7 @@ fn block(stribeck: Option<&str>, v_s: f64) -> Model {
         bonds: [("push", "v"), ("v", "block"), ("v", "contact")],
     )"#
     );
-    model::load_str("block.ron", &text).unwrap_or_else(|e| panic!("{e}"))
+    bondgraph_ron::model::load_str("block.ron", &text).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn push() -> Table {
@@ -281,7 +281,7 @@ fn dragged_block(stribeck: Option<&str>) -> Model {
         bonds: [("push", "v"), ("v", "block"), ("v", "drag"), ("v", "contact")],
     )"#
     );
-    model::load_str("dragged_block.ron", &text).unwrap_or_else(|e| panic!("{e}"))
+    bondgraph_ron::model::load_str("dragged_block.ron", &text).unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]
@@ -306,8 +306,8 @@ fn a_zero_stribeck_velocity_in_a_nonlinear_model_is_the_karnopp_contact() {
 /// The actuator example and the same with its guide replaced by the library's Stribeck
 /// extension (`stribeck: "v_s"`, v_s = 0 as shipped).
 fn actuator_and_stribeck_extension() -> (Model, Model) {
-    use bondgraph_core::extension::{Extension, merge};
     use bondgraph_core::source::SourceFile;
+    use bondgraph_ron::extension::{Extension, merge};
     let folder =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/examples/actuator");
     let path = folder.join("actuator.ron");
@@ -320,7 +320,7 @@ fn actuator_and_stribeck_extension() -> (Model, Model) {
     let extended = merge(&base, &[extension])
         .and_then(|merged| merged.load())
         .unwrap_or_else(|e| panic!("{e}"));
-    (model::load_source(&base).unwrap(), extended)
+    (bondgraph_ron::model::load_source(&base).unwrap(), extended)
 }
 
 /// The actuator from rest, 6 V from 10 ms on against no load (its `step.ron`).

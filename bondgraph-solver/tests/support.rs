@@ -1,6 +1,6 @@
 //! Helpers shared by the solver's tests.
 
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_solver::Signal;
 
 /// Loads a model by its path relative to the repository root.
@@ -9,7 +9,7 @@ pub fn load(relative: &str) -> Model {
         .join("..")
         .join(relative);
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{relative}: {e}"));
-    model::load_str(relative, &text).unwrap_or_else(|e| panic!("{relative}:\n{e}"))
+    bondgraph_ron::model::load_str(relative, &text).unwrap_or_else(|e| panic!("{relative}:\n{e}"))
 }
 
 /// A constant input.

@@ -1,7 +1,6 @@
 //! Numerical trouble is detected and reported with the elements involved.
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::steady::{SteadySettings, steady_state};
 use bondgraph_solver::{Output, Run, Settings, Signal, SimError, Simulator};
@@ -120,7 +119,7 @@ fn a_contact_whose_velocity_is_imposed_slips_through_zero() {
         },
         bonds: [("drive", "contact")],
     )"#;
-    let model = model::load_str("driven_contact.ron", text).unwrap();
+    let model = bondgraph_ron::model::load_str("driven_contact.ron", text).unwrap();
     let mut simulator = Simulator::new(&model, Vec::new());
     let inputs: [&dyn Signal; 1] = [&Falling];
     let trajectory = simulator
@@ -157,7 +156,7 @@ fn no_consistent_mode_is_reported_with_the_modes_tried() {
         },
         bonds: [("push", "v"), ("v", "block"), ("v", "contact")],
     )"#;
-    let model = model::load_str("inconsistent.ron", text).unwrap();
+    let model = bondgraph_ron::model::load_str("inconsistent.ron", text).unwrap();
     let mut simulator = Simulator::new(&model, Vec::new());
     let coulomb = Constant(4.0);
     let inputs: [&dyn Signal; 1] = [&coulomb];
@@ -218,7 +217,7 @@ fn two_contacts_that_cannot_hold_alone_break_away_together() {
             ("carried", "damper"),
         ],
     )"#;
-    let model = model::load_str("two_contacts.ron", text).unwrap();
+    let model = bondgraph_ron::model::load_str("two_contacts.ron", text).unwrap();
     let outputs = ["flow:mass", "flow:load"]
         .iter()
         .map(|name| Output {

@@ -7,7 +7,6 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use bondgraph_core::analysis::answer;
 use bondgraph_core::analysis::compare::{Comparison, Verdict, compare};
 use bondgraph_core::equations::{self, Variables};
 use bondgraph_core::model::{ElementKind, Model};
@@ -89,7 +88,7 @@ pub fn check(
     };
     let energy = derive(Variables::Energy)?;
     let coenergy = derive(Variables::CoEnergy)?;
-    let parsed = answer::load(answer, &model.symbols).map_err(|d| Failure {
+    let parsed = bondgraph_ron::answer::load(answer, &model.symbols).map_err(|d| Failure {
         diagnostics: d,
         sources: vec![answer.clone()],
     })?;

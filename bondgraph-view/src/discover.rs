@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use bondgraph_core::DiagnosticKind;
-use bondgraph_core::extension::{self, Extension};
+use bondgraph_ron::extension::{self, Extension};
 use std::sync::Arc;
 
 use bondgraph_core::source::SourceFile;

@@ -1,14 +1,14 @@
 //! Reading model files and writing results, with failures that name the file.
 //!
 //! Every command reads its inputs through these (so that the size limit and the UTF-8
-//! check of `bondgraph_core::read` apply everywhere) and writes its files through
+//! check of `bondgraph_ron::read` apply everywhere) and writes its files through
 //! [`write_file`] (which creates missing folders, as `--out` promises).
 
 use std::path::Path;
 use std::sync::Arc;
 
 use bondgraph_core::diagnostics::DiagnosticKind;
-use bondgraph_core::model::{self, ElementKind, Model};
+use bondgraph_core::model::{ElementKind, Model};
 use bondgraph_core::modes;
 use bondgraph_core::source::SourceFile;
 
@@ -17,7 +17,7 @@ use crate::failure::{Failure, with_source};
 /// Reads a file into a [`SourceFile`].
 pub fn read_source(path: &Path) -> Result<Arc<SourceFile>, Failure> {
     let name = path.display().to_string();
-    let text = bondgraph_core::read::read_text(path, "")
+    let text = bondgraph_ron::read::read_text(path, "")
         .map_err(|message| Failure::message(DiagnosticKind::Io, message))?;
     Ok(SourceFile::new(name, text))
 }
@@ -41,13 +41,13 @@ pub fn write_file(path: &Path, text: &str) -> Result<(), Failure> {
 }
 
 /// Reads and validates a model file, a bond graph or a linear graph
-/// ([`model::load_source`]).
+/// ([`bondgraph_ron::model::load_source`]).
 pub fn load(path: &Path) -> Result<(Model, Arc<SourceFile>), Failure> {
     let name = path.display().to_string();
-    let text = bondgraph_core::read::read_text(path, "model file")
+    let text = bondgraph_ron::read::read_text(path, "model file")
         .map_err(|message| Failure::message(DiagnosticKind::Io, message))?;
     let source = SourceFile::new(name, text);
-    let model = model::load_source(&source).map_err(|d| with_source(d, &source))?;
+    let model = bondgraph_ron::model::load_source(&source).map_err(|d| with_source(d, &source))?;
     Ok((model, source))
 }
 

@@ -46,7 +46,7 @@ pub fn inputs(
         experiment.map_or_else(|| folder.join("experiment.ron"), Path::to_path_buf);
     // Within the size limit of every input file, with invalid UTF-8 located.
     let text =
-        bondgraph_core::read::read_text(&experiment_path, "the experiment file").map_err(|e| {
+        bondgraph_ron::read::read_text(&experiment_path, "the experiment file").map_err(|e| {
             Failure::message(
                 DiagnosticKind::Io,
                 format!("{e} (give one with --experiment)"),

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use bondgraph_core::DiagnosticKind;
-use bondgraph_core::scenario::{self, Scenario};
+use bondgraph_core::scenario::Scenario;
 use bondgraph_core::source::SourceFile;
 use bondgraph_solver::Trajectory;
 
@@ -30,7 +30,7 @@ pub struct Simulated {
 /// A failure pointing into either file for a scenario that does not fit the model, or the
 /// solver's message when the run cannot go on.
 pub fn simulate(model: &Arc<SourceFile>, scenario: &Arc<SourceFile>) -> Result<Simulated, Failure> {
-    let loaded = scenario::load(scenario, model)
+    let loaded = bondgraph_ron::scenario::load(scenario, model)
         .map_err(|d| Failure::with_sources(d, &[model, scenario]))?;
     let started = std::time::Instant::now();
     let trajectory = bondgraph_solver::scenario::run(&loaded, false)

@@ -88,7 +88,7 @@ pub fn axis_label(model: &Model, record: &Record) -> String {
 
 #[cfg(test)]
 mod tests {
-    use bondgraph_core::model::{self, Model};
+    use bondgraph_core::model::Model;
     use bondgraph_core::scenario::Record;
 
     fn label(model: &Model, text: &str) -> String {
@@ -105,7 +105,7 @@ mod tests {
 
     #[test]
     fn recorded_outputs_are_named_in_their_domain_with_units() {
-        let msd = model::load_str("msd.ron", MASS_SPRING_DAMPER).unwrap();
+        let msd = bondgraph_ron::model::load_str("msd.ron", MASS_SPRING_DAMPER).unwrap();
         assert_eq!(label(&msd, "flow:mass"), "flow:mass: velocity (m/s)");
         assert_eq!(label(&msd, "effort:spring"), "effort:spring: force (N)");
         assert_eq!(
@@ -119,7 +119,8 @@ mod tests {
             env!("CARGO_MANIFEST_DIR"),
             "/../tests/fixtures/units/motor.ron"
         );
-        let motor = model::load_str(path, &std::fs::read_to_string(path).unwrap()).unwrap();
+        let motor =
+            bondgraph_ron::model::load_str(path, &std::fs::read_to_string(path).unwrap()).unwrap();
         assert_eq!(
             label(&motor, "integral:flow:inductance"),
             "integral:flow:inductance: charge (C)"
@@ -138,7 +139,7 @@ mod tests {
             .replace(r#", unit: "N/m""#, "")
             .replace(r#", unit: "N*s/m""#, "")
             .replace(r#"(unit: "N")"#, "()");
-        let plain = model::load_str("msd.ron", &plain).unwrap();
+        let plain = bondgraph_ron::model::load_str("msd.ron", &plain).unwrap();
         assert_eq!(label(&plain, "flow:mass"), "flow:mass");
     }
 }

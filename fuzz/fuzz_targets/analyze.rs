@@ -6,9 +6,8 @@
 //! without `--at`, so the search's budget is exercised too.
 #![no_main]
 
-use bondgraph::analyze::{Request, analyze};
-use bondgraph_core::model;
 use bondgraph_core::source::SourceFile;
+use bondgraph_view::analyze::{Request, analyze};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
@@ -16,7 +15,7 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let source = SourceFile::new("fuzz.ron", text);
-    let Ok(model) = model::load_source(&source) else {
+    let Ok(model) = bondgraph_ron::model::load_source(&source) else {
         return;
     };
     let request = Request {

@@ -5,9 +5,9 @@
 
 use std::sync::{Arc, OnceLock};
 
-use bondgraph::compare::check;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::source::SourceFile;
+use bondgraph_view::compare::check;
 use libfuzzer_sys::fuzz_target;
 
 fn base() -> &'static (Model, Arc<SourceFile>) {
@@ -17,7 +17,7 @@ fn base() -> &'static (Model, Arc<SourceFile>) {
             "models/examples/mass_spring_damper.ron",
             include_str!("../../models/examples/mass_spring_damper.ron"),
         );
-        let model = model::load_source(&source).expect("the example loads");
+        let model = bondgraph_ron::model::load_source(&source).expect("the example loads");
         (model, source)
     })
 }

@@ -10,7 +10,7 @@
 
 use std::sync::{Arc, OnceLock};
 
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::source::SourceFile;
 use bondgraph_fit::experiment::Experiment;
 use bondgraph_fit::predict::Predictor;
@@ -23,7 +23,7 @@ fn base() -> &'static (Model, Arc<SourceFile>) {
             "models/examples/geared_motor/geared_motor.ron",
             include_str!("../../models/examples/geared_motor/geared_motor.ron"),
         );
-        let model = model::load_source(&source).expect("the example loads");
+        let model = bondgraph_ron::model::load_source(&source).expect("the example loads");
         (model, source)
     })
 }

@@ -5,8 +5,8 @@
 
 use std::sync::{Arc, OnceLock};
 
-use bondgraph_core::extension::{Extension, merge};
 use bondgraph_core::source::SourceFile;
+use bondgraph_ron::extension::{Extension, merge};
 use libfuzzer_sys::fuzz_target;
 
 fn base() -> &'static Arc<SourceFile> {

@@ -10,16 +10,17 @@
 use std::sync::Arc;
 
 use bondgraph_core::equations::Options;
-use bondgraph_core::model::{self, Format, Model, linear_graph, parse, validate};
+use bondgraph_core::model::{Model, linear_graph, validate};
 use bondgraph_core::modes::{self, Mode};
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::{causality, laws, normal_tree};
+use bondgraph_ron::model::{Format, parse};
 use libfuzzer_sys::fuzz_target;
 
 /// The text as the other kind of model file than the one its top-level value names.
 fn as_other_format(source: &Arc<SourceFile>) -> Option<Model> {
     match Format::of(source.text()) {
-        Format::BondGraph => linear_graph::load(source).ok(),
+        Format::BondGraph => bondgraph_ron::model::linear_graph::load(source).ok(),
         Format::LinearGraph => {
             let (raw, map) = parse::parse_model(source).ok()?;
             validate::validate(source, raw, &map).ok()
@@ -54,7 +55,7 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let source = SourceFile::new("fuzz.ron", text);
-    if let Ok(model) = model::load_source(&source) {
+    if let Ok(model) = bondgraph_ron::model::load_source(&source) {
         exercise(&model);
     }
     if let Some(model) = as_other_format(&source) {

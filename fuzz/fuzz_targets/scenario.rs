@@ -4,7 +4,6 @@
 
 use std::sync::{Arc, OnceLock};
 
-use bondgraph_core::scenario;
 use bondgraph_core::source::SourceFile;
 use libfuzzer_sys::fuzz_target;
 
@@ -23,7 +22,7 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let source = SourceFile::new("fuzz.ron", text);
-    let Ok(scenario) = scenario::load(&source, model()) else {
+    let Ok(scenario) = bondgraph_ron::scenario::load(&source, model()) else {
         return;
     };
     let _ = bondgraph_solver::scenario::run(&scenario, true);

@@ -9,7 +9,7 @@
 use std::sync::Arc;
 
 use bondgraph_core::equations::{Layout, Variables};
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::source::SourceFile;
 use bondgraph_view::{check, compare, derive, explain_bg, graph, parse_mode};
 use pyo3::prelude::*;
@@ -52,8 +52,8 @@ fn layout(matrices: Option<&str>) -> Result<Option<Layout>, Failure> {
 
 impl PyModel {
     fn from_source(source: Arc<SourceFile>) -> Result<Self, Failure> {
-        let model =
-            model::load_source(&source).map_err(|d| Failure::with_sources(d, &[&source]))?;
+        let model = bondgraph_ron::model::load_source(&source)
+            .map_err(|d| Failure::with_sources(d, &[&source]))?;
         Ok(Self { model, source })
     }
 

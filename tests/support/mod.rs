@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use bondgraph_core::equations::{self, Options, StateEquations, Variables};
 use bondgraph_core::expr::{self, Expr, ExprKind};
 use bondgraph_core::laws;
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::symbolic::RatFunc;
 
 /// The repository root.
@@ -17,7 +17,7 @@ pub fn root() -> PathBuf {
 pub fn load(relative: &str) -> Model {
     let path = root().join(relative);
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{relative}: {e}"));
-    model::load_str(relative, &text).unwrap_or_else(|e| panic!("{relative}:\n{e}"))
+    bondgraph_ron::model::load_str(relative, &text).unwrap_or_else(|e| panic!("{relative}:\n{e}"))
 }
 
 /// Derives the only mode of a plain model.

@@ -968,14 +968,13 @@ fn first_difference(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{equations, laws, model};
+    use crate::{equations, laws};
 
     /// Three masses in a chain (five states, past `SYMBOLIC_STATES`): F pushes the first,
     /// G the third, the third is damped; m1 = 1 so that `1/m1^2` and `1/m1` agree at the
     /// parameter values.
     fn chain() -> (StateEquations, StateEquations) {
-        let model = model::load_str(
-            "chain.ron",
+        let model = crate::testing::model(
             r#"Model(
     name: "chain",
     parameters: {
@@ -998,8 +997,7 @@ mod tests {
         ("v3", "mass3"), ("v3", "damper"), ("push", "v3"),
     ],
 )"#,
-        )
-        .unwrap();
+        );
         let derive = |variables| {
             equations::derive(
                 &model,
@@ -1119,8 +1117,7 @@ mod tests {
         // Two free masses pushed by one force through a 0-junction: A = 0, det(sI - A) =
         // s^2. An answer with A' = [[0, 1], [0, 0]] has the same polynomial but one
         // eigenvector, so no T with T A = A' T is invertible, whatever B is.
-        let model = model::load_str(
-            "free.ron",
+        let model = crate::testing::model(
             r#"Model(
     name: "free",
     parameters: { "m1": (value: 1.0, unit: "kg"), "m2": (value: 2.0, unit: "kg") },
@@ -1131,8 +1128,7 @@ mod tests {
     },
     bonds: [("f", "split"), ("split", "v1"), ("v1", "mass1"), ("split", "v2"), ("v2", "mass2")],
 )"#,
-        )
-        .unwrap();
+        );
         let derive = |variables| {
             equations::derive(
                 &model,

@@ -23,7 +23,7 @@
 //! use bondgraph_core::analysis::{Analysis, Channel};
 //! use bondgraph_core::{equations, laws, model};
 //!
-//! let model = model::load_str("rc.ron", r#"Model(
+//! let model = bondgraph_ron::model::load_str("rc.ron", r#"Model(
 //!     name: "rc",
 //!     parameters: { "R": (value: 1000.0, unit: "ohm"), "C": (value: 0.001, unit: "F") },
 //!     inputs: { "V": (unit: "V") },

@@ -17,7 +17,7 @@
 //! ```
 //! use bondgraph_core::causality::{self, Decision};
 //! use bondgraph_core::{laws, model};
-//! let model = model::load_str("m.ron", r#"Model(name: "m",
+//! let model = bondgraph_ron::model::load_str("m.ron", r#"Model(name: "m",
 //!     parameters: {"m": (value: 1.0), "k": (value: 4.0)}, inputs: {"F": ()},
 //!     elements: {"push": Se(effort: "F"), "j": One, "mass": I(inertance: "m"),
 //!                "spring": C(stiffness: "k")},

@@ -7,7 +7,7 @@
 //! Loading collects every independent problem it finds, so a user fixes a file in one pass.
 
 mod suggest;
-pub(crate) use suggest::suggest;
+pub use suggest::suggest;
 
 use std::fmt;
 

@@ -4,10 +4,7 @@
 /// The candidate closest to `name` by edit distance, if it is close enough to be a typo:
 /// a candidate differing only in case comes first, and one that keeps nothing of the name
 /// (`F` for `c`) is no suggestion.
-pub(crate) fn suggest<'a>(
-    name: &str,
-    candidates: impl Iterator<Item = &'a str>,
-) -> Option<&'a str> {
+pub fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
     candidates
         .map(|c| {
             let longer = name.chars().count().max(c.chars().count());

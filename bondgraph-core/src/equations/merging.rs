@@ -593,26 +593,31 @@ impl BondIndex for Var {
 mod tests {
     use super::*;
     use crate::equations::{elimination, number_storage};
-    use crate::{causality, laws, model};
+    use crate::{causality, laws};
 
     /// A force source on a massless node held by spring `K2` (dependent storage), joined to
-    /// a mass by `n` parallel springs.
+    /// a mass by `n` parallel springs (each a 0-junction between the node's and the mass's
+    /// velocities).
     fn parallel_springs(n: usize) -> Model {
-        let mut branches = vec![
-            r#""F": ThroughSource(value: "F", from: "g", to: "node")"#.to_string(),
-            r#""mass": A(capacitance: "m", from: "m", to: "g")"#.to_string(),
-            r#""K2": T(stiffness: "K2", from: "node", to: "g")"#.to_string(),
+        let mut elements = vec![
+            r#""F": Se(effort: "F"), "node": One, "v_m": One, "mass": I(inertance: "m")"#
+                .to_string(),
+            r#""K2": C(stiffness: "K2")"#.to_string(),
         ];
-        branches.extend(
-            (1..=n).map(|i| format!(r#""S{i}": T(stiffness: "K1", from: "node", to: "m")"#)),
-        );
-        let text = format!(
-            r#"LinearGraph(name: "parallel_springs",
+        let mut bonds = vec![r#"("F", "node"), ("node", "K2"), ("v_m", "mass")"#.to_string()];
+        for i in 1..=n {
+            elements.push(format!(r#""s{i}": Zero, "S{i}": C(stiffness: "K1")"#));
+            bonds.push(format!(
+                r#"("node", "s{i}"), ("s{i}", "S{i}"), ("s{i}", "v_m")"#
+            ));
+        }
+        crate::testing::model(&format!(
+            r#"Model(name: "parallel_springs",
                 parameters: {{"m": (value: 2.0), "K1": (value: 300.0), "K2": (value: 100.0)}},
-                inputs: {{"F": ()}}, ground: "g", branches: {{ {} }})"#,
-            branches.join(",\n")
-        );
-        model::load_str("parallel_springs.lg.ron", &text).unwrap()
+                inputs: {{"F": ()}}, elements: {{ {} }}, bonds: [{}])"#,
+            elements.join(",\n"),
+            bonds.join(",\n")
+        ))
     }
 
     /// The size of the linear system each block solves to merge its dependents.

@@ -691,7 +691,7 @@ mod tests {
             elements: {"f": Se(effort: "F*F_S_ge"), "j": One, "load_inertia": I(inertance: "m_load_inertia"),
                        "tyre": C(stiffness: "k_t"), "c": C(stiffness: "k_c")},
             bonds: [("f", "j"), ("j", "load_inertia"), ("j", "tyre"), ("j", "c")])"#;
-        let model = crate::model::load_str("names.ron", text).expect("a model");
+        let model = crate::testing::model(text);
         let eq = crate::equations::derive(
             &model,
             &crate::laws::plain_laws(&model),

@@ -754,8 +754,7 @@ mod tests {
     fn parameters_in_use_are_those_some_law_names() {
         // `unused` is in no law; `mu` only in an input's coefficient of the contact's forces;
         // `g` and `l` only inside a nonlinear law's coefficient; `c` in a flow limit.
-        let model = crate::model::load_str(
-            "uses.ron",
+        let model = crate::testing::model(
             r#"Model(
                 name: "uses",
                 parameters: {
@@ -772,8 +771,7 @@ mod tests {
                 },
                 bonds: [("push", "v"), ("v", "body"), ("v", "pendulum"), ("v", "contact"), ("v", "stop")],
             )"#,
-        )
-        .unwrap();
+        );
         assert_eq!(
             names(&model, &model.parameters_in_use()),
             ["F_C", "F_S", "c", "dv", "g", "l", "m", "mu"]

@@ -30,37 +30,51 @@
 //! )
 //! ```
 
-use std::fmt;
-use std::marker::PhantomData;
-
+#[cfg(any(test, feature = "deserialize"))]
 use serde::Deserialize;
-use serde::de::{Deserializer, MapAccess, Visitor};
 
 /// A whole model file.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(rename = "Model", deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    any(test, feature = "deserialize"),
+    derive(Deserialize),
+    serde(rename = "Model", deny_unknown_fields)
+)]
 pub struct ModelSpec {
     /// The model's name.
     pub name: String,
     /// A description for people.
     pub description: Option<String>,
     /// Named parameters, in file order, duplicates kept.
-    #[serde(default, deserialize_with = "entries")]
+    #[cfg_attr(
+        any(test, feature = "deserialize"),
+        serde(default, deserialize_with = "entries")
+    )]
     pub parameters: Vec<(String, ParameterSpec)>,
     /// Named external inputs (time-varying signals), in file order, duplicates kept.
-    #[serde(default, deserialize_with = "entries")]
+    #[cfg_attr(
+        any(test, feature = "deserialize"),
+        serde(default, deserialize_with = "entries")
+    )]
     pub inputs: Vec<(String, InputSpec)>,
     /// Named elements, in file order, duplicates kept.
-    #[serde(default, deserialize_with = "entries")]
+    #[cfg_attr(
+        any(test, feature = "deserialize"),
+        serde(default, deserialize_with = "entries")
+    )]
     pub elements: Vec<(String, ElementSpec)>,
     /// The bonds between elements.
-    #[serde(default)]
+    #[cfg_attr(any(test, feature = "deserialize"), serde(default))]
     pub bonds: Vec<BondSpec>,
 }
 
 /// A parameter: a constant with a value.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(rename = "Parameter", deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    any(test, feature = "deserialize"),
+    derive(Deserialize),
+    serde(rename = "Parameter", deny_unknown_fields)
+)]
 pub struct ParameterSpec {
     /// The value, in the unit given.
     pub value: f64,
@@ -75,8 +89,12 @@ pub struct ParameterSpec {
 }
 
 /// An external input: a signal given at simulation time.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(rename = "Input", deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    any(test, feature = "deserialize"),
+    derive(Deserialize),
+    serde(rename = "Input", deny_unknown_fields)
+)]
 pub struct InputSpec {
     /// The unit: the signal is given in SI units of its dimension, and the model's units
     /// are checked with it.
@@ -87,8 +105,12 @@ pub struct InputSpec {
 
 /// An element, tagged with its kind (`I(inertance: "m")`, `Zero`); the coefficients are
 /// unparsed expressions over parameters and inputs.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(rename = "Element", deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    any(test, feature = "deserialize"),
+    derive(Deserialize),
+    serde(rename = "Element", deny_unknown_fields)
+)]
 pub enum ElementSpec {
     /// Effort source.
     Se {
@@ -182,7 +204,7 @@ pub enum ElementSpec {
     /// it (serde skips it): it is what a linear graph's `D(resistance: "R")` becomes, since a
     /// linear-graph resistance relates across to through, which are a bond graph's flow and
     /// effort.
-    #[serde(skip)]
+    #[cfg_attr(any(test, feature = "deserialize"), serde(skip))]
     Conductance {
         /// The conductance (1/resistance), positive.
         conductance: String,
@@ -191,7 +213,7 @@ pub enum ElementSpec {
     /// do not write it (serde skips it): it is what a linear graph's `Gyrator(ratio: "G")`
     /// becomes, since a linear-graph gyrator relates an across variable (a bond graph's flow)
     /// to a through variable (effort), the inverse of a bond-graph gyrator.
-    #[serde(skip)]
+    #[cfg_attr(any(test, feature = "deserialize"), serde(skip))]
     ReciprocalGY {
         /// The reciprocal of the gyrator modulus, non-zero.
         ratio: String,
@@ -203,8 +225,12 @@ pub enum ElementSpec {
 }
 
 /// A bond `("from", "to")`: power flows from the first element to the second.
-#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
-#[serde(rename = "Bond", deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(
+    any(test, feature = "deserialize"),
+    derive(Deserialize),
+    serde(rename = "Bond", deny_unknown_fields)
+)]
 pub struct BondSpec(pub String, pub String);
 
 impl ParameterSpec {
@@ -296,12 +322,17 @@ impl ElementSpec {
     }
 }
 
-/// Reads a RON map as its entries in file order, keeping duplicate keys.
-pub(crate) fn entries<'de, D, T>(deserializer: D) -> Result<Vec<(String, T)>, D::Error>
+#[cfg(any(test, feature = "deserialize"))]
+/// Reads a map as its entries in file order, keeping duplicate keys.
+pub fn entries<'de, D, T>(deserializer: D) -> Result<Vec<(String, T)>, D::Error>
 where
-    D: Deserializer<'de>,
-    T: Deserialize<'de>,
+    D: serde::Deserializer<'de>,
+    T: serde::Deserialize<'de>,
 {
+    use serde::de::{MapAccess, Visitor};
+    use std::fmt;
+    use std::marker::PhantomData;
+
     struct EntriesVisitor<T>(PhantomData<T>);
 
     impl<'de, T: Deserialize<'de>> Visitor<'de> for EntriesVisitor<T> {
@@ -321,181 +352,4 @@ where
     }
 
     deserializer.deserialize_map(EntriesVisitor(PhantomData))
-}
-
-impl ModelSpec {
-    /// Reads a model from RON `text` with the options model files use (optional fields
-    /// without `Some(...)`); errors are ron's, turned into diagnostics by
-    /// [`parse_model`](super::parse::parse_model).
-    #[cfg(test)]
-    pub fn from_ron(text: &str) -> Result<Self, ron::error::SpannedError> {
-        ron_options().from_str(text)
-    }
-}
-
-/// The RON options model files are read with: `IMPLICIT_SOME`, so that users write
-/// `unit: "kg"` rather than `unit: Some("kg")`.
-pub fn ron_options() -> ron::Options {
-    ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    const MODEL: &str = r#"
-        Model(
-            name: "mass-spring-damper",
-            description: "a mass on a spring and a damper",
-            parameters: {
-                "m": (value: 1.5, unit: "kg", description: "the mass"),
-                "k": (value: 100, unit: "N/m"),
-                "b": (value: 2.0),
-            },
-            inputs: { "F": (unit: "N") },
-            elements: {
-                "force": Se(effort: "F"),
-                "j": One,
-                "mass": I(inertance: "m"),
-                "spring": C(stiffness: "k"),
-                "damper": R(resistance: "b"),
-            },
-            bonds: [("force", "j"), ("j", "mass"), Bond("j", "spring"), ("j", "damper")],
-        )
-    "#;
-
-    #[test]
-    fn reads_a_whole_model_in_file_order() {
-        let model = ModelSpec::from_ron(MODEL).unwrap();
-        assert_eq!(model.name, "mass-spring-damper");
-        assert_eq!(
-            model.description.as_deref(),
-            Some("a mass on a spring and a damper")
-        );
-        let names: Vec<&str> = model.parameters.iter().map(|(n, _)| n.as_str()).collect();
-        assert_eq!(names, ["m", "k", "b"]);
-        assert_eq!(
-            model.parameters[0].1,
-            ParameterSpec {
-                value: 1.5,
-                unit: Some("kg".into()),
-                description: Some("the mass".into()),
-                bounds: None,
-            }
-        );
-        assert_eq!(model.parameters[1].1.value, 100.0);
-        assert_eq!(model.inputs[0].0, "F");
-        assert_eq!(model.inputs[0].1.unit.as_deref(), Some("N"));
-        let elements: Vec<(&str, &ElementSpec)> = model
-            .elements
-            .iter()
-            .map(|(n, e)| (n.as_str(), e))
-            .collect();
-        assert_eq!(
-            elements,
-            [
-                ("force", &ElementSpec::Se { effort: "F".into() }),
-                ("j", &ElementSpec::One),
-                (
-                    "mass",
-                    &ElementSpec::I {
-                        inertance: Some("m".into()),
-                        flow: None,
-                    }
-                ),
-                (
-                    "spring",
-                    &ElementSpec::C {
-                        compliance: None,
-                        stiffness: Some("k".into()),
-                        effort: None,
-                    }
-                ),
-                (
-                    "damper",
-                    &ElementSpec::R {
-                        resistance: Some("b".into()),
-                        effort: None,
-                        flow: None,
-                    }
-                ),
-            ]
-        );
-        assert_eq!(model.bonds[2], BondSpec("j".into(), "spring".into()));
-        assert_eq!(model.bonds.len(), 4);
-    }
-
-    #[test]
-    fn the_model_name_is_optional_and_sections_default_to_empty() {
-        let model = ModelSpec::from_ron(r#"(name: "empty")"#).unwrap();
-        assert_eq!(model.name, "empty");
-        assert_eq!(model.description, None);
-        assert!(model.parameters.is_empty() && model.inputs.is_empty());
-        assert!(model.elements.is_empty() && model.bonds.is_empty());
-        let named = ModelSpec::from_ron(MODEL).unwrap();
-        let unnamed = ModelSpec::from_ron(MODEL.replacen("Model(", "(", 1).as_str()).unwrap();
-        assert_eq!(named, unnamed);
-    }
-
-    #[test]
-    fn duplicate_names_are_kept_for_later_diagnosis() {
-        let model = ModelSpec::from_ron(
-            r#"(name: "d", parameters: {"m": (value: 1), "m": (value: 2)},
-                elements: {"a": Zero, "b": One, "a": I(inertance: "m")})"#,
-        )
-        .unwrap();
-        let values: Vec<f64> = model.parameters.iter().map(|(_, p)| p.value).collect();
-        assert_eq!(values, [1.0, 2.0]);
-        let names: Vec<&str> = model.elements.iter().map(|(n, _)| n.as_str()).collect();
-        assert_eq!(names, ["a", "b", "a"]);
-    }
-
-    #[test]
-    fn explicit_some_and_every_element_kind_are_accepted() {
-        let model = ModelSpec::from_ron(
-            r#"(name: "all", description: Some("d"), elements: {
-                "se": Se(effort: "e"), "sf": Sf(flow: "f"), "i": I(inertance: "m"),
-                "c": C(compliance: "1/k"), "r": R(resistance: "b"), "tf": TF(ratio: "n"),
-                "gy": GY(ratio: "K"), "z": Zero, "o": One, "cc": C(),
-            })"#,
-        )
-        .unwrap();
-        assert_eq!(model.description.as_deref(), Some("d"));
-        assert_eq!(model.elements.len(), 10);
-        assert_eq!(
-            model.elements[3].1,
-            ElementSpec::C {
-                compliance: Some("1/k".into()),
-                stiffness: None,
-                effort: None,
-            }
-        );
-        // Neither or both of compliance and stiffness is the validator's business.
-        assert_eq!(
-            model.elements[9].1,
-            ElementSpec::C {
-                compliance: None,
-                stiffness: None,
-                effort: None,
-            }
-        );
-    }
-
-    #[test]
-    fn unknown_fields_are_denied_everywhere() {
-        let cases = [
-            r#"(name: "x", extra: 1)"#,
-            r#"(name: "x", parameters: {"m": (value: 1, units: "kg")})"#,
-            r#"(name: "x", inputs: {"u": (value: 1)})"#,
-            r#"(name: "x", elements: {"m": I(inertance: "m", mass: "m")})"#,
-            r#"(name: "x", elements: {"c": C(compliance: "m", damping: "b")})"#,
-        ];
-        for case in cases {
-            let error = ModelSpec::from_ron(case).unwrap_err();
-            assert!(
-                matches!(error.code, ron::Error::NoSuchStructField { .. }),
-                "{case}: {error}"
-            );
-        }
-    }
 }

@@ -1,4 +1,5 @@
-//! From the raw serde structures to a checked [`Model`].
+//! From a model as written ([`ModelSpec`]) to a checked [`Model`]: the one constructor of
+//! models, for files and for code.
 //!
 //! Every independent problem is collected, so a user sees all of them at once: duplicate
 //! names, invalid names, unparsable expressions, unknown symbols, expressions that depend on
@@ -20,15 +21,16 @@ use crate::symbolic::SymbolTable;
 use crate::units::Unit;
 
 use coefficients::to_affine;
-use units::Convention;
 
 mod coefficients;
 mod elements;
 mod friction;
 mod laws;
-pub(crate) mod units;
-#[cfg(test)]
-mod units_tests;
+mod units;
+
+pub use units::Convention;
+#[doc(hidden)]
+pub use units::ordered_reference;
 
 /// Checks `raw` (parsed from `file`, with positions in `map`) and builds the [`Model`].
 ///
@@ -44,7 +46,7 @@ pub fn validate(file: &Arc<SourceFile>, raw: ModelSpec, map: &SourceMap) -> Resu
 ///
 /// # Errors
 /// As [`validate`].
-pub(crate) fn validate_as(
+pub fn validate_as(
     file: &Arc<SourceFile>,
     raw: ModelSpec,
     map: &SourceMap,

@@ -3,11 +3,12 @@
 //! A model file says what the system is; a scenario file says what is done to it: the
 //! signal on every input, the mode and state it starts in, how long it runs and what is
 //! recorded, and which variant of the model is used (elements removed, parameter values
-//! changed; see [`edit`](crate::model::edit)). Keeping these apart lets one model serve
+//! changed). Keeping these apart lets one model serve
 //! every experiment (each figure of a paper is one scenario), and lets a scenario state
 //! its variant of the model in two lines instead of a copy of the model file.
 //!
-//! [`load`] reads a scenario file against its model file and returns a [`Scenario`]: a
+//! `bondgraph_ron::scenario::load` reads a scenario file against its model file and returns
+//! a [`Scenario`]: a
 //! value free of RON in which every name is resolved against the edited model and every
 //! number is checked, so that the solver that consumes it cannot fail on bad input. Every
 //! problem is a [`Diagnostic`] pointing into the scenario file (the model's own problems
@@ -38,31 +39,6 @@
 //!
 //! The other signals are `Step(at: 0.05, before: 0.0, after: 6.3e-3)` and
 //! `Table([(0.0, 0.0), (1.0, 2.0)])` (piecewise linear in time).
-//!
-//! # Example
-//! ```
-//! use bondgraph_core::scenario::{self, Signal};
-//! use bondgraph_core::source::SourceFile;
-//!
-//! let model = SourceFile::new("msd.ron", r#"Model(name: "msd",
-//!     parameters: {"m": (value: 2.0), "k": (value: 200.0), "b": (value: 4.0)},
-//!     inputs: {"F": (unit: "N")},
-//!     elements: {"force": Se(effort: "F"), "v": One, "mass": I(inertance: "m"),
-//!                "spring": C(stiffness: "k"), "damper": R(resistance: "b")},
-//!     bonds: [("force", "v"), ("v", "mass"), ("v", "spring"), ("v", "damper")])"#);
-//! let text = r#"Scenario(name: "push", parameters: {"b": 8.0},
-//!     inputs: {"F": Step(at: 0.1, before: 0.0, after: 10.0)},
-//!     initial_state: {"spring": 0.01}, duration: 2.0, record: ["flow:mass"])"#;
-//! let scenario = scenario::load(&SourceFile::new("push.ron", text), &model).unwrap();
-//! assert_eq!(scenario.model.parameters[2].value, 8.0);
-//! assert_eq!(scenario.inputs[0].value(0.5), 10.0);
-//! assert_eq!(scenario.inputs[0].to_string(), "step from 0 to 10 at t = 0.1 s");
-//!
-//! let typo = text.replace(r#""F": Step"#, r#""f": Step"#);
-//! let error = scenario::load(&SourceFile::new("push.ron", typo), &model).unwrap_err();
-//! assert_eq!(error.first().to_string(),
-//!     "push.ron:2:14: error: input 'f': model 'msd' has no input 'f'\n  note: did you mean 'F'?");
-//! ```
 
 use std::fmt;
 use std::sync::Arc;
@@ -74,10 +50,8 @@ use crate::model::{ElementId, Model};
 use crate::source::SourceFile;
 
 pub mod energy;
-mod read;
 mod table;
 pub use energy::{Book, EnergyRecord};
-pub use read::{load, load_measured};
 pub use table::TableCursor;
 use table::{segment, table_breakpoints, table_rate, table_value};
 
@@ -114,7 +88,7 @@ pub enum Signal {
 
 impl Signal {
     /// The value at time `t` (right-continuous: a step's value at `at` is `after`). An
-    /// empty table, which [`load`] never gives, is 0.
+    /// empty table, which a scenario file never gives, is 0.
     pub fn value(&self, t: f64) -> f64 {
         match self {
             Signal::Constant(value) => *value,
@@ -175,8 +149,8 @@ impl Signal {
         }
     }
 
-    /// When a ramp reaches its ceiling (at or after its start for a ramp that [`load`]
-    /// accepts); `None` for other signals and for a ramp without ceiling or slope.
+    /// When a ramp reaches its ceiling (at or after its start for a ramp that a scenario
+    /// file may have); `None` for other signals and for a ramp without ceiling or slope.
     pub fn ceiling_time(&self) -> Option<f64> {
         match self {
             Signal::Ramp {
@@ -190,26 +164,16 @@ impl Signal {
     }
 }
 
-/// A number as people read it: `0.0058`, `200000`, `1e6`, `1e-4`.
-pub(super) fn num(value: f64) -> String {
-    let magnitude = value.abs();
-    if value == 0.0 || (1e-3..1e6).contains(&magnitude) || !value.is_finite() {
-        format!("{value}")
-    } else {
-        format!("{value:e}")
-    }
-}
-
 impl fmt::Display for Signal {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Signal::Constant(value) => write!(f, "constant {}", num(*value)),
+            Signal::Constant(value) => write!(f, "constant {}", crate::number::readable(*value)),
             Signal::Step { at, before, after } => write!(
                 f,
                 "step from {} to {} at t = {} s",
-                num(*before),
-                num(*after),
-                num(*at)
+                crate::number::readable(*before),
+                crate::number::readable(*after),
+                crate::number::readable(*at)
             ),
             Signal::Ramp {
                 start,
@@ -220,18 +184,26 @@ impl fmt::Display for Signal {
                 write!(
                     f,
                     "ramp from {} at t = {} s with slope {}/s",
-                    num(*initial),
-                    num(*start),
-                    num(*slope)
+                    crate::number::readable(*initial),
+                    crate::number::readable(*start),
+                    crate::number::readable(*slope)
                 )?;
                 match ceiling {
-                    Some(c) if *slope < 0.0 => write!(f, ", down to {}", num(*c)),
-                    Some(c) => write!(f, ", up to {}", num(*c)),
+                    Some(c) if *slope < 0.0 => {
+                        write!(f, ", down to {}", crate::number::readable(*c))
+                    }
+                    Some(c) => write!(f, ", up to {}", crate::number::readable(*c)),
                     None => Ok(()),
                 }
             }
             Signal::Table(points) => {
-                let point = |(t, v): &(f64, f64)| format!("({}, {})", num(*t), num(*v));
+                let point = |(t, v): &(f64, f64)| {
+                    format!(
+                        "({}, {})",
+                        crate::number::readable(*t),
+                        crate::number::readable(*v)
+                    )
+                };
                 if points.len() <= 4 {
                     let all: Vec<String> = points.iter().map(point).collect();
                     write!(f, "table through {}", all.join(", "))
@@ -327,7 +299,7 @@ impl Record {
     }
 
     /// Whether two records record the same quantity, however written.
-    fn same_as(&self, other: &Record) -> bool {
+    pub fn same_as(&self, other: &Record) -> bool {
         let bond = |a: &OutputSpec, b: &OutputSpec| {
             a.quantity == b.quantity && a.bond == b.bond && a.negated == b.negated
         };

@@ -80,7 +80,7 @@ pub struct TableCursor<'a> {
 }
 
 impl<'a> TableCursor<'a> {
-    /// A cursor over a table's points (in increasing time, as [`load`](super::load) checks them).
+    /// A cursor over a table's points (in increasing time, as the reader checks them).
     pub fn new(points: &'a [(f64, f64)]) -> Self {
         Self {
             points,

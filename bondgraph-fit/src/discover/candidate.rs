@@ -2,9 +2,9 @@
 
 use std::sync::Arc;
 
-use bondgraph_core::extension::{self, Extension};
 use bondgraph_core::model::Model;
 use bondgraph_core::source::SourceFile;
+use bondgraph_ron::extension::{self, Extension};
 
 use super::DiscoverError;
 

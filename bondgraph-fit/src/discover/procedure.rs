@@ -3,9 +3,9 @@
 
 use std::sync::Arc;
 
-use bondgraph_core::model::edit::{self, Edit};
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::source::SourceFile;
+use bondgraph_ron::model::edit::{self, Edit};
 use rayon::prelude::*;
 
 use super::cross_validation::{assess_candidate, cross_validate, predicts_as, same_prediction};
@@ -260,7 +260,7 @@ pub fn discover_with_progress(
             needed: 8,
         });
     }
-    let base_model = model::load_source(base)?;
+    let base_model = bondgraph_ron::model::load_source(base)?;
     let columns: Vec<String> = experiment
         .observed
         .iter()

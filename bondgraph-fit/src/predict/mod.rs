@@ -12,11 +12,11 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 use bondgraph_core::equations::OutputSpec;
-use bondgraph_core::model::edit::{self, Edit};
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
 use bondgraph_core::source::SourceFile;
 use bondgraph_core::{Diagnostic, DiagnosticKind, diagnostics::Diagnostics};
+use bondgraph_ron::model::edit::{self, Edit};
 use bondgraph_solver::steady::continuation::{Anchor, continue_branch, continue_steady};
 use bondgraph_solver::steady::{SteadySettings, steady_state};
 use bondgraph_solver::{Output, SharedForms, Simulator};
@@ -287,7 +287,8 @@ fn reduced(
         parameters: Vec::new(),
     };
     let edited = edit::apply_traced(source, &edit).map_err(|d| located(d, None))?;
-    let mut reduced = model::load_source(&edited.file).map_err(|d| located(d, Some(&edited)))?;
+    let mut reduced =
+        bondgraph_ron::model::load_source(&edited.file).map_err(|d| located(d, Some(&edited)))?;
     for parameter in &mut reduced.parameters {
         if let Some(original) = model.parameters.iter().find(|p| p.name == parameter.name) {
             parameter.value = original.value;

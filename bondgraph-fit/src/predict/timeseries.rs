@@ -20,9 +20,9 @@ use std::sync::Arc;
 use bondgraph_core::DiagnosticKind;
 use bondgraph_core::model::Model;
 use bondgraph_core::modes::Mode;
-use bondgraph_core::read::read_text;
-use bondgraph_core::scenario::{self, Signal as ScenarioSignal, TableCursor};
+use bondgraph_core::scenario::{Signal as ScenarioSignal, TableCursor};
 use bondgraph_core::source::SourceFile;
+use bondgraph_ron::read::read_text;
 use bondgraph_solver::hybrid::Stepper;
 use bondgraph_solver::{Signal, Simulator};
 
@@ -72,8 +72,8 @@ impl Drive {
             .iter()
             .map(|c| c.input.as_str())
             .collect();
-        let loaded = scenario::load_measured(&file, model, &measured)?;
-        let base = bondgraph_core::model::load_source(model)?;
+        let loaded = bondgraph_ron::scenario::load_measured(&file, model, &measured)?;
+        let base = bondgraph_ron::model::load_source(model)?;
         let edited = loaded.model.values != base.values
             || loaded.model.element_ids().count() != base.element_ids().count();
         if edited {

@@ -73,7 +73,7 @@ impl SharedForms {
 #[cfg(test)]
 mod tests {
     use bondgraph_core::equations::OutputSpec;
-    use bondgraph_core::model;
+
     use bondgraph_core::modes::Mode;
 
     use super::*;
@@ -84,7 +84,7 @@ mod tests {
     /// too: the forms are expressions of the parameters).
     #[test]
     fn a_simulator_sharing_forms_derives_none_and_agrees() {
-        let belt = model::load_str(
+        let belt = bondgraph_ron::model::load_str(
             "belt.ron",
             r#"Model(
                 name: "belt",

@@ -8,8 +8,6 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use bondgraph_core::extension::Extension;
-use bondgraph_core::model;
 use bondgraph_core::source::SourceFile;
 use bondgraph_eversion::designs::grid_design;
 use bondgraph_fit::data::{self, Dataset};
@@ -17,6 +15,7 @@ use bondgraph_fit::discover::{self, Candidate, Settings};
 use bondgraph_fit::experiment::Experiment;
 use bondgraph_fit::predict::Predictor;
 use bondgraph_fit::synthetic::{self, Noise};
+use bondgraph_ron::extension::Extension;
 use criterion::{Criterion, criterion_group, criterion_main};
 
 /// The allocator the `bondgraph` binary runs with, so that these figures are a user's.
@@ -40,7 +39,7 @@ fn grid(
     pressures: usize,
     channels: usize,
 ) -> Dataset {
-    let model = model::load_source(base).unwrap();
+    let model = bondgraph_ron::model::load_source(base).unwrap();
     let rows = synthetic::measure(
         &model,
         base,
@@ -103,7 +102,7 @@ fn bench(c: &mut Criterion) {
     }
     group.finish();
 
-    let model = model::load_source(&base).unwrap();
+    let model = bondgraph_ron::model::load_source(&base).unwrap();
     let predictor = Predictor::new(model, &base, &experiment).unwrap();
     let names: Vec<String> = ["F_C_ge", "b", "F_S_ge"].map(String::from).to_vec();
     let mut evaluator = predictor.evaluator(&names).unwrap();

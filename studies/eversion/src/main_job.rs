@@ -6,11 +6,11 @@
 //! fact of the robot and its paper (which files, which extensions, the events the paper
 //! reports) is here.
 
-use bondgraph_core::extension::Extension;
 use bondgraph_core::source::SourceFile;
 use bondgraph_fit::data;
 use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};
 use bondgraph_fit::experiment::Experiment;
+use bondgraph_ron::extension::Extension;
 use bondgraph_solver::Trajectory;
 use serde_json::json;
 

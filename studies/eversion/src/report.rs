@@ -72,7 +72,7 @@ impl Reproduction {
                  than the next one in any mode ({:.1e} s). It makes the equations stiff (eigenvalues \
                  near -{:.1e} 1/s beside ones near -1) but should not change any steady result. \
                  Removing it (a massless tip whose velocity follows from its force balance, \
-                 `bondgraph_core::model::reduction`) changes the {} table cells by at most \
+                 `bondgraph_ron::model::reduction`) changes the {} table cells by at most \
                  {:.1e} mm/s.",
                 tip.element,
                 tip.time_constant,

@@ -11,10 +11,9 @@
 
 use std::sync::Arc;
 
-use bondgraph_core::model::reduction;
-use bondgraph_core::model::{self, Model};
-use bondgraph_core::scenario;
+use bondgraph_core::model::Model;
 use bondgraph_core::source::SourceFile;
+use bondgraph_ron::model::reduction;
 use bondgraph_solver::parasitic::{self, Parasitic};
 use bondgraph_solver::{Simulator, Trajectory};
 use serde::Serialize;
@@ -205,7 +204,7 @@ fn error(e: impl std::fmt::Display) -> ReproduceError {
 pub fn reproduce(bundle: &Bundle<'_>) -> Result<Reproduction, ReproduceError> {
     let load = |named: Named<'_>| -> Result<(Model, Arc<SourceFile>), ReproduceError> {
         let source = SourceFile::new(named.name, named.text);
-        Ok((model::load_source(&source)?, source))
+        Ok((bondgraph_ron::model::load_source(&source)?, source))
     };
     let experiment = Experiment::parse(bundle.experiment.name, bundle.experiment.text)?;
     if !columns::matches(&experiment) {
@@ -316,7 +315,7 @@ fn errors_of(table: &str, rows: &[TableRow]) -> Errors {
 fn run_fig6(bundle: &Bundle<'_>, model: Named<'_>) -> Result<Trajectory, ReproduceError> {
     let scenario_source = SourceFile::new(bundle.fig6.name, bundle.fig6.text);
     let model_source = SourceFile::new(model.name, model.text);
-    let loaded = scenario::load(&scenario_source, &model_source)?;
+    let loaded = bondgraph_ron::scenario::load(&scenario_source, &model_source)?;
     bondgraph_solver::scenario::run(&loaded, false).map_err(error)
 }
 

@@ -104,9 +104,9 @@ fn no_candidate_fits_worse_than_the_base_model() {
 /// and breakaway force move the residuals alike); the fit constrained to the face does.
 #[test]
 fn on_the_face_a_weakening_contact_has_the_base_models_errors() {
-    use bondgraph_core::extension::{self, Extension};
     use bondgraph_fit::calibration::calibrate;
     use bondgraph_fit::experiment::Experiment;
+    use bondgraph_ron::extension::{self, Extension};
 
     let path =
         crate::support::root().join("models/eversion/extensions/velocity-weakening-friction.ron");

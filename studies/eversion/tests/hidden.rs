@@ -16,12 +16,12 @@
 
 use std::sync::Arc;
 
-use bondgraph_core::extension::Extension;
 use bondgraph_core::source::SourceFile;
 use bondgraph_eversion::designs;
 use bondgraph_fit::data::{self, Dataset, Measurement};
 use bondgraph_fit::discover::{self, Candidate, Discovery, Settings};
 use bondgraph_fit::synthetic::{self, Noise};
+use bondgraph_ron::extension::Extension;
 
 use crate::support::{experiment, root};
 
@@ -86,7 +86,7 @@ fn discover_at_noise(
         None => {
             let base = base();
             (
-                bondgraph_core::model::load_source(&base).unwrap(),
+                bondgraph_ron::model::load_source(&base).unwrap(),
                 base,
                 vec![],
             )

@@ -21,7 +21,7 @@ fn synthetic_table3(hidden: Option<(&str, &str, f64)>, seed: u64) -> Dataset {
             (c.model, c.source, vec![(parameter.to_string(), value)])
         }
         None => (
-            bondgraph_core::model::load_source(&base()).unwrap(),
+            bondgraph_ron::model::load_source(&base()).unwrap(),
             base(),
             vec![],
         ),

@@ -3,10 +3,10 @@
 //! velocity that once chattered.
 
 use crate::support::*;
-use bondgraph_core::extension::{self, Extension};
 use bondgraph_core::model::Model;
 use bondgraph_core::source::SourceFile;
 use bondgraph_eversion::columns::{self, catheter, channel};
+use bondgraph_ron::extension::{self, Extension};
 
 /// A predictor of the flagship extended with `id`.
 fn extended(id: &str) -> bondgraph_fit::predict::Predictor {

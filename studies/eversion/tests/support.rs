@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use bondgraph_core::model::{self, Model};
+use bondgraph_core::model::Model;
 use bondgraph_core::source::SourceFile;
 use bondgraph_fit::data::{self, Dataset};
 use bondgraph_fit::experiment::Experiment;
@@ -18,7 +18,10 @@ pub fn root() -> PathBuf {
 pub fn load(relative: &str) -> (Model, Arc<SourceFile>) {
     let text = std::fs::read_to_string(root().join(relative)).expect("model file");
     let source = SourceFile::new(relative, text);
-    (model::load_source(&source).expect("valid model"), source)
+    (
+        bondgraph_ron::model::load_source(&source).expect("valid model"),
+        source,
+    )
 }
 
 /// The flagship's experiment description.

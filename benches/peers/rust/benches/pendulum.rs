@@ -16,7 +16,6 @@
 
 use std::hint::black_box;
 
-use bondgraph_core::model;
 use bondgraph_core::modes::Mode;
 use bondgraph_solver::{Run, Signal, Simulator};
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -133,7 +132,7 @@ fn bench(c: &mut Criterion) {
         "/../../../models/examples/nonlinear/pendulum.ron"
     );
     let text = std::fs::read_to_string(path).expect("the pendulum model");
-    let model = model::load_str("pendulum.ron", &text).expect("a valid model");
+    let model = bondgraph_ron::model::load_str("pendulum.ron", &text).expect("a valid model");
     let inputs: [&dyn Signal; 0] = [];
     let run = Run {
         inputs: &inputs,

@@ -175,21 +175,21 @@ pub(crate) fn check(
     (checker.problems, dimensions)
 }
 
-#[cfg(test)]
 thread_local! {
-    /// Tests set this to check every model in [`Schedule::Ordered`] alone, the reference
-    /// the closure must agree with.
-    pub(in crate::model) static ORDERED_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    /// Whether to check every model in [`Schedule::Ordered`] alone, the reference the
+    /// closure must agree with ([`ordered_reference`]).
+    static ORDERED_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
-#[cfg(test)]
+/// Checks units, on this thread, with the ordered reference schedule alone (`true`) or the
+/// usual closure (`false`): for the test that the two agree on every model file.
+#[doc(hidden)]
+pub fn ordered_reference(on: bool) {
+    ORDERED_ONLY.with(|o| o.set(on));
+}
+
 fn ordered_only() -> bool {
     ORDERED_ONLY.with(std::cell::Cell::get)
-}
-
-#[cfg(not(test))]
-fn ordered_only() -> bool {
-    false
 }
 
 /// The laws of every element of `model`, in file order, worded as `convention` says.

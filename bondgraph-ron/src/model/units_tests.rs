@@ -1,11 +1,10 @@
 //! Units checked on whole model files: each case is a small model whose expected verdict
 //! (and line, and the units named) is worked out by hand in its comment.
 
-use crate::diagnostics::{DiagnosticKind, Diagnostics};
-use crate::model;
+use bondgraph_core::diagnostics::{DiagnosticKind, Diagnostics};
 
 fn rejected(text: &str) -> Diagnostics {
-    match model::load_str("units.ron", text) {
+    match crate::model::load_str("units.ron", text) {
         Ok(_) => panic!("the model should be rejected"),
         Err(error) => error,
     }
@@ -55,7 +54,7 @@ fn msd(push: &str, spring: &str) -> String {
 
 #[test]
 fn the_mass_spring_damper_with_consistent_units_passes() {
-    model::load_str("msd.ron", &msd("F", "k")).unwrap();
+    crate::model::load_str("msd.ron", &msd("F", "k")).unwrap();
 }
 
 #[test]
@@ -112,9 +111,9 @@ fn parameters_without_units_are_not_checked() {
     let text = msd("F", "k")
         .replace(r#", unit: "kg""#, "")
         .replace(r#", unit: "N/m""#, "");
-    model::load_str("msd.ron", &text).unwrap();
+    crate::model::load_str("msd.ron", &text).unwrap();
     // A bare number in a source is a number without a unit, not a dimensionless effort.
-    model::load_str("msd.ron", &msd("1", "k")).unwrap();
+    crate::model::load_str("msd.ron", &msd("1", "k")).unwrap();
 }
 
 /// A torque `tau` (N*m) on a pinion of radius `r` (m) driving a rack of mass `m`:
@@ -137,7 +136,7 @@ fn rack(mass_unit: &str) -> String {
 
 #[test]
 fn a_transformer_carries_dimensions_from_rotation_to_translation() {
-    model::load_str("rack.ron", &rack("kg")).unwrap();
+    crate::model::load_str("rack.ron", &rack("kg")).unwrap();
     // The rack's bond is translational only through the TF: a rotational inertia there is
     // wrong.
     let error = rejected(&rack("kg*m^2"));
@@ -171,7 +170,7 @@ fn motor(inertia_unit: &str, friction_unit: &str) -> String {
 
 #[test]
 fn a_gyrator_carries_dimensions_from_the_circuit_to_the_shaft() {
-    model::load_str("motor.ron", &motor("kg*m^2", "N*m*s/rad")).unwrap();
+    crate::model::load_str("motor.ron", &motor("kg*m^2", "N*m*s/rad")).unwrap();
     let error = rejected(&motor("kg*m^2", "N*s/m"));
     assert_eq!(error.0.len(), 1, "{error}");
     assert_eq!(error.first().location.as_ref().unwrap().line, 9);
@@ -210,7 +209,7 @@ fn a_bond_whose_effort_times_flow_is_no_power_is_named() {
 
 #[test]
 fn a_thermal_pseudo_bond_graph_passes_though_temperature_times_heat_flow_is_no_power() {
-    model::load_str(
+    crate::model::load_str(
         "thermal.ron",
         &std::fs::read_to_string(concat!(
             env!("CARGO_MANIFEST_DIR"),
@@ -239,7 +238,7 @@ fn lg_msd(spring: &str) -> String {
 
 #[test]
 fn a_linear_graph_is_checked_through_its_bond_graph() {
-    model::load_str("msd.lg.ron", &lg_msd("k")).unwrap();
+    crate::model::load_str("msd.lg.ron", &lg_msd("k")).unwrap();
     let error = rejected(&lg_msd("m"));
     assert_eq!(error.0.len(), 1, "{error}");
     let first = error.first();
@@ -270,7 +269,7 @@ fn a_linear_graph_circuit_takes_currents_as_through_variables() {
     }})"#
         )
     };
-    model::load_str("rc.lg.ron", &circuit("V")).unwrap();
+    crate::model::load_str("rc.lg.ron", &circuit("V")).unwrap();
     let error = rejected(&circuit("A"));
     let first = error.first();
     assert_eq!(first.location.as_ref().unwrap().line, 6, "{error}");
@@ -294,7 +293,8 @@ fn si_value(value: &str, unit: &str) -> f64 {
     elements: {{"force": Se(effort: "F"), "v": One, "mass": I(inertance: "m")}},
     bonds: [("force", "v"), ("v", "mass")])"#
     );
-    let model = model::load_str("scaled.ron", &text).unwrap_or_else(|e| panic!("{unit}: {e}"));
+    let model =
+        crate::model::load_str("scaled.ron", &text).unwrap_or_else(|e| panic!("{unit}: {e}"));
     model.parameters[1].value
 }
 
@@ -423,7 +423,7 @@ fn a_celsius_temperature_alone_is_offset_and_in_a_compound_unit_is_a_difference(
 
 #[test]
 fn a_parameters_bounds_are_converted_with_its_value() {
-    let model = model::load_str(
+    let model = crate::model::load_str(
         "bounds.ron",
         r#"Model(name: "b",
     parameters: {"m": (value: 2.0, unit: "kg"), "k": (value: 0.2, unit: "N/mm", bounds: (0.05, 1.5))},
@@ -526,8 +526,8 @@ fn an_input_with_a_scaled_unit_is_refused_naming_the_factor_and_the_si_unit() {
         "input 'T_amb' has unit \"degC\" = K - 273.15: inputs take SI values in scenarios, experiments and --at; declare it in \"K\""
     );
     // An input in a coherent SI unit passes.
-    model::load_str("tank.ron", &with_input("Pa")).unwrap();
-    model::load_str("tank.ron", &with_input("N/m^2")).unwrap();
+    crate::model::load_str("tank.ron", &with_input("Pa")).unwrap();
+    crate::model::load_str("tank.ron", &with_input("N/m^2")).unwrap();
 }
 
 // ---------------------------------------------------------------------------------------
@@ -575,7 +575,7 @@ fn half_car(front_arm_unit: &str) -> String {
 
 #[test]
 fn a_wrong_front_lever_arm_is_blamed_on_the_front_arm() {
-    model::load_str("half_car.ron", &half_car("m")).unwrap();
+    crate::model::load_str("half_car.ron", &half_car("m")).unwrap();
     for wrong in ["1", "m^2", "kg"] {
         let error = rejected(&half_car(wrong));
         assert_eq!(error.0.len(), 1, "{wrong}: {error}");
@@ -614,7 +614,7 @@ fn lg_tank(capacitance_unit: &str, pump: &str) -> String {
 
 #[test]
 fn a_linear_graphs_unit_errors_speak_its_own_words() {
-    model::load_str("tank.lg.ron", &lg_tank("m^3/Pa", "Q")).unwrap();
+    crate::model::load_str("tank.lg.ron", &lg_tank("m^3/Pa", "Q")).unwrap();
     let error = rejected(&lg_tank("kg", "Q"));
     assert_eq!(error.0.len(), 1, "{error}");
     assert_eq!(error.first().location.as_ref().unwrap().line, 7);
@@ -668,7 +668,8 @@ fn decimal_powers_parse_as_exact_rationals() {
         "m^(3/2)",
         "Pa^0.25",
     ] {
-        model::load_str("orifice.ron", &orifice(unit)).unwrap_or_else(|e| panic!("{unit}: {e}"));
+        crate::model::load_str("orifice.ron", &orifice(unit))
+            .unwrap_or_else(|e| panic!("{unit}: {e}"));
     }
     let problem = |unit: &str| rejected(&orifice(unit)).first().message.clone();
     assert_eq!(
@@ -706,7 +707,7 @@ fn an_edit_writes_an_si_value_in_the_parameters_own_unit() {
     inputs: {"F": (unit: "N")},
     elements: {"force": Se(effort: "F"), "v": One, "mass": I(inertance: "m"), "spring": C(stiffness: "k")},
     bonds: [("force", "v"), ("v", "mass"), ("v", "spring")])"#;
-    let source = crate::source::SourceFile::new("msd.ron", text);
+    let source = bondgraph_core::source::SourceFile::new("msd.ron", text);
     let set = [
         ("k", 250.0),
         ("Q", 1e-4),
@@ -741,7 +742,7 @@ fn an_edit_writes_an_si_value_in_the_parameters_own_unit() {
         "{}",
         edited.text()
     );
-    let model = model::load_source(&edited).unwrap();
+    let model = crate::model::load_source(&edited).unwrap();
     for (name, value) in set {
         let p = model.parameters.iter().find(|p| p.name == name).unwrap();
         assert_eq!(
@@ -778,9 +779,9 @@ fn the_linear_closure_agrees_with_the_ordered_check_on_every_model_file() {
         ron_files(&root.join(dir), &mut files);
     }
     let load = |path: &Path, text: &str, ordered: bool| {
-        super::units::ORDERED_ONLY.with(|o| o.set(ordered));
-        let result = model::load_str(&path.display().to_string(), text);
-        super::units::ORDERED_ONLY.with(|o| o.set(false));
+        bondgraph_core::model::validate::ordered_reference(ordered);
+        let result = crate::model::load_str(&path.display().to_string(), text);
+        bondgraph_core::model::validate::ordered_reference(false);
         result
     };
     let (mut models, mut rejected) = (0, 0);

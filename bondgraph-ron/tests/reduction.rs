@@ -2,8 +2,8 @@
 //! without it gives.
 
 use bondgraph_core::DiagnosticKind;
-use bondgraph_core::model::{self, reduction::without_storage};
 use bondgraph_core::source::SourceFile;
+use bondgraph_ron::model::reduction::without_storage;
 
 const TWO_MASSES: &str = r#"Model(name: "tip",
     parameters: {"m": (value: 1e-12), "M": (value: 2.0), "b": (value: 3.0), "k": (value: 5.0)},
@@ -17,7 +17,7 @@ const TWO_MASSES: &str = r#"Model(name: "tip",
 #[test]
 fn removing_a_tiny_mass_leaves_a_valid_model_with_one_state_less() {
     let source = SourceFile::new("tip.ron", TWO_MASSES);
-    let model = model::load_source(&source).unwrap();
+    let model = bondgraph_ron::model::load_source(&source).unwrap();
     let reduced = without_storage(&model, &source, &["tiny".into()]).unwrap();
     assert_eq!(reduced.removed, ["tiny"]);
     assert_eq!(reduced.model.elements.len(), model.elements.len() - 1);
@@ -40,7 +40,7 @@ fn removing_a_tiny_mass_leaves_a_valid_model_with_one_state_less() {
 #[test]
 fn only_storage_can_be_removed() {
     let source = SourceFile::new("tip.ron", TWO_MASSES);
-    let model = model::load_source(&source).unwrap();
+    let model = bondgraph_ron::model::load_source(&source).unwrap();
     let error = without_storage(&model, &source, &["damper".into()]).unwrap_err();
     assert_eq!(error.first().kind, DiagnosticKind::InvalidValue);
     let error = without_storage(&model, &source, &["nope".into()]).unwrap_err();

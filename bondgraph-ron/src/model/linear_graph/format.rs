@@ -26,7 +26,7 @@
 
 use serde::Deserialize;
 
-use crate::model::spec::{InputSpec, ParameterSpec, entries};
+use bondgraph_core::model::spec::{InputSpec, ParameterSpec, entries};
 
 /// A whole linear-graph file.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -209,7 +209,7 @@ impl RawBranch {
 impl RawLinearGraph {
     /// Reads a linear graph from RON `text` with the options model files use.
     pub fn from_ron(text: &str) -> Result<Self, ron::error::SpannedError> {
-        crate::model::spec::ron_options().from_str(text)
+        crate::model::parse::ron_options().from_str(text)
     }
 }
 

@@ -1,7 +1,7 @@
 //! The scanner's tokens: identifiers, numbers, strings (raw ones included), characters and
 //! punctuation, with comments and whitespace as RON has them skipped between.
 
-use crate::source::Span;
+use bondgraph_core::source::Span;
 
 /// What a token is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -11,14 +11,12 @@
 
 use ron::error::{Position, SpannedError};
 
-use crate::diagnostics::{Diagnostic, DiagnosticKind};
-use crate::source::{SourceFile, Span};
+use bondgraph_core::diagnostics::{Diagnostic, DiagnosticKind};
+use bondgraph_core::source::{SourceFile, Span};
 
 use super::FileKind;
-use crate::model::source_map::{
-    EntrySpans, ItemSpans, List, Section, SourceMap, Token, TokenKind, closer, lex, open_brackets,
-    skip_trivia,
-};
+use crate::source_map::{Token, TokenKind, closer, lex, open_brackets, skip_trivia};
+use bondgraph_core::model::source_map::{EntrySpans, ItemSpans, List, Section, SourceMap};
 
 /// What was found where ron expected something else.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -292,13 +290,13 @@ pub(super) fn diagnose(file: &SourceFile, error: &SpannedError, file_kind: FileK
     };
 
     // Where it is: scan the whole text, or failing that the text up to the focus.
-    let full = SourceMap::scan(text);
+    let full = crate::source_map::scan(text);
     let partial;
     let (map, inclusive) = match &full {
         Some(map) => (map, false),
         None => {
             let cut = focus.end.min(text.len());
-            partial = SourceMap::scan_partial(text.get(..cut).unwrap_or(text));
+            partial = crate::source_map::scan_partial(text.get(..cut).unwrap_or(text));
             (&partial, true)
         }
     };

@@ -12,10 +12,10 @@
 
 use std::sync::Arc;
 
-use crate::diagnostics::{Diagnostic, DiagnosticKind, Result};
 use crate::model::edit::{self, Edit};
-use crate::model::{ElementKind, Model};
-use crate::source::SourceFile;
+use bondgraph_core::diagnostics::{Diagnostic, DiagnosticKind, Result};
+use bondgraph_core::model::{ElementKind, Model};
+use bondgraph_core::source::SourceFile;
 
 /// A model with storage elements removed.
 #[derive(Clone, Debug)]

@@ -18,11 +18,11 @@
 //! `value` is replaced by the shortest text that reads back as exactly the same `f64`.
 //! Values set are in SI units, like every value once a file is read; one is written in the
 //! parameter's own unit (250 N/m as `0.25` beside `N/mm`), so that reading the edited file
-//! gives it back exactly ([`crate::units::Unit::from_si`]).
+//! gives it back exactly ([`bondgraph_core::units::Unit::from_si`]).
 //!
 //! # Example
 //! ```
-//! use bondgraph_core::model::{self, edit::{self, Edit}};
+//! use bondgraph_ron::model::{self, edit::{self, Edit}};
 //! use bondgraph_core::source::SourceFile;
 //!
 //! let source = SourceFile::new("msd.ron", r#"Model(name: "msd",
@@ -37,7 +37,7 @@
 //! let edit = Edit { remove: vec!["extra".into()], parameters: vec![("m".into(), 0.5)] };
 //! let edited = edit::apply(&source, &edit).unwrap();
 //! assert_eq!(edited.name(), "msd.ron (edited)");
-//! let model = model::load_source(&edited).unwrap();
+//! let model = bondgraph_ron::model::load_source(&edited).unwrap();
 //! assert_eq!(model.elements.len(), 3);
 //! assert_eq!(model.parameters[0].value, 0.5);
 //! ```
@@ -45,13 +45,14 @@
 use std::collections::HashSet;
 use std::sync::Arc;
 
-use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
-use crate::source::{Location, SourceFile, Span};
+use bondgraph_core::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
+use bondgraph_core::source::{Location, SourceFile, Span};
 
 use super::parse::parse_model;
-use super::source_map::{SourceMap, TokenKind, lex};
-use super::spec::ModelSpec;
-use crate::diagnostics::suggest;
+use crate::source_map::{TokenKind, lex};
+use bondgraph_core::diagnostics::suggest;
+use bondgraph_core::model::ModelSpec;
+use bondgraph_core::model::source_map::SourceMap;
 
 /// Changes to make to a model: elements to take out and parameter values to set.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -353,7 +354,7 @@ fn unknown_parameter(raw: &ModelSpec, name: &str, location: Location) -> Diagnos
 /// unit, as reading the file converts it back to exactly `value` (`0.25` for 250 N/m in
 /// `N/mm`); [`number`] where the unit is SI, absent or not a unit (which loading reports).
 fn in_file_unit(value: f64, unit: Option<&str>) -> String {
-    match unit.map(crate::units::parse_scaled) {
+    match unit.map(bondgraph_core::units::parse_scaled) {
         Some(Ok(unit)) => unit.from_si(value),
         _ => number(value),
     }

@@ -1,7 +1,7 @@
 //! Extension laws written as a user writes them: the law's inverse where causality needs it,
 //! and what is said where it cannot be found.
 
-use crate::model;
+use bondgraph_core::model;
 
 fn tank_draining_through(law: &str) -> String {
     format!(
@@ -14,9 +14,13 @@ fn tank_draining_through(law: &str) -> String {
     )
 }
 
-fn derive(text: &str) -> crate::diagnostics::Result<()> {
-    let model = model::load_str("tank.ron", text)?;
-    crate::modes::reachable_nonlinear(&model, &crate::equations::Options::default()).map(|_| ())
+fn derive(text: &str) -> bondgraph_core::diagnostics::Result<()> {
+    let model = crate::model::load_str("tank.ron", text)?;
+    bondgraph_core::modes::reachable_nonlinear(
+        &model,
+        &bondgraph_core::equations::Options::default(),
+    )
+    .map(|_| ())
 }
 
 #[test]
@@ -50,17 +54,17 @@ fn a_series_resistor_at_zero_is_accepted_in_a_bond_graph() {
         elements: {"T1": Zero, "T2": Zero, "block_1": C(compliance: "C_1"), "block_2": C(compliance: "C_2"),
                    "drop": One, "bar": R(resistance: "R_12"), "joint": R(resistance: "R_c")},
         bonds: [("T1", "block_1"), ("T2", "block_2"), ("T1", "drop"), ("drop", "bar"), ("drop", "joint"), ("drop", "T2")])"#;
-    let model = model::load_str("pair.ron", text).unwrap_or_else(|e| panic!("{e}"));
+    let model = crate::model::load_str("pair.ron", text).unwrap_or_else(|e| panic!("{e}"));
     // States q_1 = C_1 T1, q_2 = C_2 T2: dq_1/dt = -(T1 - T2)/R_12 = -q_1/2 + q_2/3.
     assert_eq!(a_matrix(&model), [[-0.5, 1.0 / 3.0], [0.5, -1.0 / 3.0]]);
 }
 
 /// The state matrix at the model's values; panics on any problem.
 fn a_matrix(model: &model::Model) -> Vec<Vec<f64>> {
-    let equations = crate::equations::derive(
+    let equations = bondgraph_core::equations::derive(
         model,
-        &crate::laws::plain_laws(model),
-        &crate::equations::Options::default(),
+        &bondgraph_core::laws::plain_laws(model),
+        &bondgraph_core::equations::Options::default(),
     )
     .unwrap_or_else(|e| panic!("{e}"));
     equations
@@ -82,7 +86,7 @@ fn a_series_resistance_at_zero_is_accepted_in_a_linear_graph() {
             "bar": D(resistance: "R_12", from: "T1", to: "contact"),
             "joint": D(resistance: "R_c", from: "contact", to: "T2"),
         })"#;
-    let model = model::load_str("pair.lg.ron", text).unwrap_or_else(|e| panic!("{e}"));
+    let model = crate::model::load_str("pair.lg.ron", text).unwrap_or_else(|e| panic!("{e}"));
     // States the heats p_1 = C_1 T1, p_2 = C_2 T2 (energy variables, as for the bond
     // graph): dp_1/dt = -(T1 - T2)/R_12 = -p_1/2 + p_2/3.
     assert_eq!(a_matrix(&model), [[-0.5, 1.0 / 3.0], [0.5, -1.0 / 3.0]]);
@@ -102,15 +106,15 @@ fn a_law_that_is_zero_over_zero_at_its_no_effect_value_is_named() {
                 bonds: [("p", "tank"), ("p", "drain")])"#
         )
     };
-    let error =
-        model::load_str("tapered.ron", &tank("(sqrt(A_0^2 + 2*a*q_tank) - A_0)/a")).unwrap_err();
+    let error = crate::model::load_str("tapered.ron", &tank("(sqrt(A_0^2 + 2*a*q_tank) - A_0)/a"))
+        .unwrap_err();
     let first = error.first();
     assert_eq!(
         first.message,
         "element 'tank': effort \"(sqrt(A_0^2 + 2*a*q_tank) - A_0)/a\" is 0/0 at a = 0, its value in the model, whatever the state"
     );
     assert_eq!(first.location.as_ref().unwrap().line, 3);
-    model::load_str(
+    crate::model::load_str(
         "tapered.ron",
         &tank("2*q_tank/(sqrt(A_0^2 + 2*a*q_tank) + A_0)"),
     )

@@ -50,7 +50,7 @@
 //!
 //! # Example
 //! ```
-//! use bondgraph_core::extension::{self, Extension};
+//! use bondgraph_ron::extension::{self, Extension};
 //! use bondgraph_core::source::SourceFile;
 //!
 //! let base = SourceFile::new("msd.ron", r#"Model(name: "msd",
@@ -78,15 +78,17 @@ use std::sync::Arc;
 
 use serde::Deserialize;
 
-use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
-use crate::source::{SourceFile, Span};
+use bondgraph_core::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
+use bondgraph_core::source::{SourceFile, Span};
 
-use crate::diagnostics::suggest;
+use crate::model::Format;
 use crate::model::linear_graph::format::{RawBranch, RawLinearGraph};
 use crate::model::parse::{FileKind, parse_file, parse_model};
-use crate::model::source_map::{EntrySpans, SourceMap, TokenKind, lex};
-use crate::model::spec::{BondSpec, ElementSpec, InputSpec, ParameterSpec, entries};
-use crate::model::{Format, Model};
+use crate::source_map::{TokenKind, lex};
+use bondgraph_core::diagnostics::suggest;
+use bondgraph_core::model::Model;
+use bondgraph_core::model::source_map::{EntrySpans, SourceMap};
+use bondgraph_core::model::spec::{BondSpec, ElementSpec, InputSpec, ParameterSpec, entries};
 
 /// An extension file, exactly as serde reads it.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -375,11 +377,11 @@ impl Extended {
     /// equations.
     pub fn check(&self) -> Result<Model> {
         let model = self.load()?;
-        let options = crate::equations::Options::default();
+        let options = bondgraph_core::equations::Options::default();
         let derived = if model.is_nonlinear() {
-            crate::modes::reachable_nonlinear(&model, &options).map(|_| ())
+            bondgraph_core::modes::reachable_nonlinear(&model, &options).map(|_| ())
         } else {
-            crate::modes::reachable(&model, &options).map(|_| ())
+            bondgraph_core::modes::reachable(&model, &options).map(|_| ())
         };
         match derived {
             Ok(()) => Ok(model),

@@ -1,23 +1,50 @@
 //! Reading a scenario file: its text through serde, every name resolved against the edited
 //! model and every number checked, each problem a [`Diagnostic`] pointing into the file.
+//!
+//! # Example
+//! ```
+//! use bondgraph_ron::scenario;
+//! use bondgraph_core::source::SourceFile;
+//!
+//! let model = SourceFile::new("msd.ron", r#"Model(name: "msd",
+//!     parameters: {"m": (value: 2.0), "k": (value: 200.0), "b": (value: 4.0)},
+//!     inputs: {"F": (unit: "N")},
+//!     elements: {"force": Se(effort: "F"), "v": One, "mass": I(inertance: "m"),
+//!                "spring": C(stiffness: "k"), "damper": R(resistance: "b")},
+//!     bonds: [("force", "v"), ("v", "mass"), ("v", "spring"), ("v", "damper")])"#);
+//! let text = r#"Scenario(name: "push", parameters: {"b": 8.0},
+//!     inputs: {"F": Step(at: 0.1, before: 0.0, after: 10.0)},
+//!     initial_state: {"spring": 0.01}, duration: 2.0, record: ["flow:mass"])"#;
+//! let scenario = scenario::load(&SourceFile::new("push.ron", text), &model).unwrap();
+//! assert_eq!(scenario.model.parameters[2].value, 8.0);
+//! assert_eq!(scenario.inputs[0].value(0.5), 10.0);
+//! assert_eq!(scenario.inputs[0].to_string(), "step from 0 to 10 at t = 0.1 s");
+//!
+//! let typo = text.replace(r#""F": Step"#, r#""f": Step"#);
+//! let error = scenario::load(&SourceFile::new("push.ron", typo), &model).unwrap_err();
+//! assert_eq!(error.first().to_string(),
+//!     "push.ron:2:14: error: input 'f': model 'msd' has no input 'f'\n  note: did you mean 'F'?");
+//! ```
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
 use serde::Deserialize;
 
-use crate::diagnostics::suggest;
-use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
-use crate::equations::OutputSpec;
-use crate::mode::Mode;
 use crate::model::edit::{self, Edit, EditItem};
 use crate::model::parse::{FileKind, parse_file};
-use crate::model::source_map::{EntrySpans, SourceMap, Token, TokenKind, lex, list_items};
-use crate::model::spec::entries;
-use crate::model::{self, ElementId, ElementKind, Model};
-use crate::source::{SourceFile, Span};
+use crate::source_map::{Token, TokenKind, lex, list_items};
+use bondgraph_core::diagnostics::suggest;
+use bondgraph_core::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
+use bondgraph_core::equations::OutputSpec;
+use bondgraph_core::mode::Mode;
+use bondgraph_core::model::source_map::{EntrySpans, SourceMap};
+use bondgraph_core::model::spec::entries;
+use bondgraph_core::model::{ElementId, ElementKind, Model};
+use bondgraph_core::source::{SourceFile, Span};
 
-use super::{EnergyRecord, Record, Scenario, Signal, num};
+use bondgraph_core::number::readable as num;
+use bondgraph_core::scenario::{EnergyRecord, Record, Scenario, Signal};
 
 /// A scenario file, as serde reads it.
 #[derive(Debug, Deserialize)]
@@ -141,8 +168,8 @@ pub fn load_measured(
     }
     let interval = raw.sample.unwrap_or(raw.duration / 1000.0);
     if raw.duration > 0.0 && raw.duration.is_finite() && interval > 0.0 && interval.is_finite() {
-        let count = crate::limits::sample_count(raw.duration, interval);
-        if count > crate::limits::MAX_SAMPLES as f64 {
+        let count = bondgraph_core::limits::sample_count(raw.duration, interval);
+        if count > bondgraph_core::limits::MAX_SAMPLES as f64 {
             let span = checker.number_in(checker.field_value_span("sample"));
             checker.problem(
                 DiagnosticKind::TooLarge,
@@ -150,8 +177,8 @@ pub fn load_measured(
                     "{} s sampled every {} s is {} samples, over the limit of {}; give a longer sample interval",
                     checker.written(duration_span, raw.duration),
                     checker.written(span, interval),
-                    crate::limits::count_in_words(count),
-                    crate::limits::MAX_SAMPLES,
+                    bondgraph_core::limits::count_in_words(count),
+                    bondgraph_core::limits::MAX_SAMPLES,
                 ),
                 span,
                 None,
@@ -457,7 +484,7 @@ impl Checker<'_> {
         edit: &Edit,
         edit_parameters: &[usize],
     ) -> Result<Model> {
-        let original = model::load_source(model_file)?;
+        let original = crate::model::load_source(model_file)?;
         if edit.is_empty() {
             return Ok(original);
         }
@@ -474,7 +501,7 @@ impl Checker<'_> {
             Some(file.locate(span.unwrap_or(map.root)))
         };
         let edited = edit::apply_located(model_file, edit, &locate)?;
-        model::load_source(&edited.file).map_err(|diagnostics| {
+        crate::model::load_source(&edited.file).map_err(|diagnostics| {
             let field = if edit.remove.is_empty() {
                 "parameters"
             } else {
@@ -811,9 +838,9 @@ impl Checker<'_> {
 
 /// Which of the model's inputs some element uses.
 fn used_inputs(model: &Model) -> Vec<bool> {
-    use crate::linear::Var;
+    use bondgraph_core::linear::Var;
     let mut used = vec![false; model.inputs.len()];
-    let mut mark = |form: &crate::linear::LinearForm| {
+    let mut mark = |form: &bondgraph_core::linear::LinearForm| {
         for (var, _) in form.terms() {
             if let Var::Input(i) = var
                 && let Some(u) = used.get_mut(*i as usize)

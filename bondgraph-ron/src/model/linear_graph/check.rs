@@ -21,10 +21,11 @@ use std::collections::HashMap;
 
 use petgraph::unionfind::UnionFind;
 
-use crate::diagnostics::suggest;
-use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
-use crate::model::source_map::{EntrySpans, SourceMap, TokenKind, lex};
-use crate::source::{SourceFile, Span};
+use crate::source_map::{TokenKind, lex};
+use bondgraph_core::diagnostics::suggest;
+use bondgraph_core::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
+use bondgraph_core::model::source_map::{EntrySpans, SourceMap};
+use bondgraph_core::source::{SourceFile, Span};
 
 use super::format::{RawBranch, RawLinearGraph};
 use super::graph::{Node, NodeId};

@@ -41,10 +41,10 @@
 
 use std::collections::HashSet;
 
-use crate::model::source_map::{EntrySpans, FieldSpan, ItemSpans, SourceMap};
-use crate::model::spec::{BondSpec, ElementSpec, ModelSpec};
-use crate::model::{BondId, ElementId};
-use crate::source::Span;
+use bondgraph_core::model::source_map::{EntrySpans, FieldSpan, ItemSpans, SourceMap};
+use bondgraph_core::model::spec::{BondSpec, ElementSpec, ModelSpec};
+use bondgraph_core::model::{BondId, ElementId};
+use bondgraph_core::source::Span;
 
 use super::check::Topology;
 use super::format::{RawBranch, RawLinearGraph};
@@ -680,10 +680,10 @@ fn raw_keyword(raw: &ElementSpec) -> &'static str {
 
 #[cfg(test)]
 mod tests {
-    use crate::model::{self, ElementKind, Model};
+    use bondgraph_core::model::{ElementKind, Model};
 
     fn load(branches: &str) -> Model {
-        model::load_str(
+        crate::model::load_str(
             "t.lg.ron",
             &format!(
                 r#"LinearGraph(name: "t", ground: "g",

@@ -13,11 +13,12 @@
 
 use serde::de::DeserializeOwned;
 
-use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics};
-use crate::source::{SourceFile, Span};
+use bondgraph_core::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics};
+use bondgraph_core::source::{SourceFile, Span};
 
-use super::source_map::{SourceMap, skip_trivia};
-use super::spec::ModelSpec;
+use crate::source_map::skip_trivia;
+use bondgraph_core::model::ModelSpec;
+use bondgraph_core::model::source_map::SourceMap;
 
 mod diagnose;
 use diagnose::diagnose;
@@ -70,7 +71,7 @@ pub fn parse_model(file: &SourceFile) -> Result<(ModelSpec, SourceMap), Diagnost
     parse_file(file, FileKind::Model)
 }
 
-/// Parses a file of `kind` into `T` (read with [`ron_options`](super::spec::ron_options))
+/// Parses a file of `kind` into `T` (read with [`ron_options`])
 /// and the spans of its parts, as [`parse_model`] does for models: an empty file, or text
 /// that is not a `T`, gives one located diagnostic.
 pub fn parse_file<T: DeserializeOwned>(
@@ -90,13 +91,19 @@ pub fn parse_file<T: DeserializeOwned>(
         .at(file, Span::new(0, 0))
         .into());
     }
-    match super::spec::ron_options().from_str::<T>(text) {
+    match ron_options().from_str::<T>(text) {
         Ok(value) => {
-            let map = SourceMap::scan(text).unwrap_or_else(|| SourceMap::scan_partial(text));
+            let map = crate::source_map::scan(text)
+                .unwrap_or_else(|| crate::source_map::scan_partial(text));
             Ok((value, map))
         }
         Err(error) => Err(diagnose(file, &error, kind).into()),
     }
+}
+
+/// The ron options every file is read with: optional fields written without `Some(...)`.
+pub fn ron_options() -> ron::Options {
+    ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
 }
 
 #[cfg(test)]

@@ -1,9 +1,9 @@
-//! Reading an input file as text, within [`crate::limits::MAX_FILE_BYTES`] and with invalid
+//! Reading an input file as text, within [`bondgraph_core::limits::MAX_FILE_BYTES`] and with invalid
 //! UTF-8 located at its line and column (the standard library says only "stream did not
 //! contain valid UTF-8").
 //!
 //! ```
-//! use bondgraph_core::read::decode;
+//! use bondgraph_ron::read::decode;
 //! let error = decode("m.ron", b"Model(\n  name: \"\xff\"\n)".to_vec()).unwrap_err();
 //! assert_eq!(error, "m.ron:2:10: byte 0xff is not valid UTF-8 (files must be UTF-8 text)");
 //! ```
@@ -11,7 +11,7 @@
 use std::io::Read;
 use std::path::Path;
 
-use crate::limits::MAX_FILE_BYTES;
+use bondgraph_core::limits::MAX_FILE_BYTES;
 
 /// The text of the file at `path`, or why not, in one sentence naming the file as `what`
 /// (`"model file"`, or `""`) and, for invalid UTF-8, the line and column.
