@@ -83,7 +83,7 @@ pub(crate) fn extend(
     match out {
         Some(path) => {
             write_file(path, extended.file.text())?;
-            let parts = match &merged.linear_graph {
+            let parts = match &merged.linear_graph() {
                 Some(graph) => format!(
                     "{}, {}",
                     count(graph.nodes.len(), "node"),
@@ -91,14 +91,14 @@ pub(crate) fn extend(
                 ),
                 None => format!(
                     "{}, {}",
-                    count(merged.elements.len(), "element"),
-                    count(merged.bonds.len(), "bond")
+                    count(merged.elements().len(), "element"),
+                    count(merged.bonds().len(), "bond")
                 ),
             };
             eprintln!(
                 "{}: model '{}' written ({parts})",
                 path.display(),
-                merged.name,
+                merged.name(),
             );
         }
         None => print(extended.file.text()),

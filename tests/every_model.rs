@@ -35,7 +35,7 @@ fn failed(what: &str, failure: Failure) -> ! {
 fn own_answer(model: &Model, mode: &Mode) -> String {
     let variables = Variables::preferred(model);
     let derived = modes::derive(model, mode, &Options { variables })
-        .unwrap_or_else(|e| panic!("{}: {e}", model.name));
+        .unwrap_or_else(|e| panic!("{}: {e}", model.name()));
     let document = serde_json::to_value(derived.equations.to_json(&mode.spec(model), &[]))
         .expect("the equations' JSON");
     let names: Vec<&Value> = document["states"]
@@ -85,7 +85,7 @@ fn every_command(model: &Model, source: &Arc<SourceFile>, mode: &Mode, what: &st
     );
 
     // explain: the steps, and the states they end with.
-    let text = if let Some(graph) = &model.linear_graph {
+    let text = if let Some(graph) = &model.linear_graph() {
         explain_lg::document(model, graph, mode, source, ExplainFormat::Markdown)
             .unwrap_or_else(|e| failed(&format!("{what}: explain"), e))
     } else {
@@ -104,7 +104,7 @@ fn every_command(model: &Model, source: &Arc<SourceFile>, mode: &Mode, what: &st
 
     // graph --format svg: every bond, or every branch, drawn once.
     let laws = laws::for_mode(model, mode);
-    match &model.linear_graph {
+    match &model.linear_graph() {
         Some(graph) => {
             let tree = normal_tree::of_mode(model, &laws).expect("a normal tree");
             let svg = lg_svg::draw(model, graph, &tree, &spec);
@@ -119,8 +119,8 @@ fn every_command(model: &Model, source: &Arc<SourceFile>, mode: &Mode, what: &st
             let causal = causality::assign(model, &laws).expect("causality");
             let svg = bg_svg::draw(model, mode, &causal);
             let drawing = bond_graph_views::read(&svg);
-            assert_eq!(drawing.bonds.len(), model.bonds.len(), "{what}: bonds");
-            for n in 1..=model.bonds.len() {
+            assert_eq!(drawing.bonds.len(), model.bonds().len(), "{what}: bonds");
+            for n in 1..=model.bonds().len() {
                 assert_eq!(drawing.bonds[&n].len(), 1, "{what}: bond {n}");
             }
         }

@@ -22,7 +22,7 @@ fn options(variables: Variables) -> Options {
 
 fn derive(model: &Model, mode: &Mode, variables: Variables) -> ModeEquations {
     modes::derive(model, mode, &options(variables))
-        .unwrap_or_else(|e| panic!("{} {}: {e}", model.name, mode.spec(model)))
+        .unwrap_or_else(|e| panic!("{} {}: {e}", model.name(), mode.spec(model)))
 }
 
 /// The examples that have both a bond graph and a linear graph: `(bond graph, linear graph)`.
@@ -241,7 +241,7 @@ fn every_linear_graph() -> Vec<String> {
 fn the_states_are_the_normal_trees_in_every_mode() {
     for path in every_linear_graph() {
         let model = load(&path);
-        let graph = model.linear_graph.clone().unwrap();
+        let graph = model.linear_graph().unwrap();
         let reachable = modes::reachable(&model, &options(Variables::CoEnergy)).unwrap();
         for mode in &reachable.modes {
             let laws = laws::for_mode(&model, &mode.mode);
@@ -261,7 +261,7 @@ fn the_states_are_the_normal_trees_in_every_mode() {
                 .collect();
             assert_eq!(
                 derived,
-                tree.states(&graph),
+                tree.states(graph),
                 "{path} in mode '{}'",
                 mode.mode.spec(&model)
             );
@@ -288,7 +288,7 @@ fn the_states_are_the_normal_trees_in_every_mode() {
 #[test]
 fn a_gear_between_two_inertias_needs_the_two_port_alternatives() {
     let model = load("models/examples/rowell_wormley_dc_motor.lg.ron");
-    let graph = model.linear_graph.clone().unwrap();
+    let graph = model.linear_graph().unwrap();
     let tree = normal_tree::of_mode(&model, &laws::plain_laws(&model)).unwrap();
     // Two transformers, four placements (the motor's port varying first): both primaries
     // (J_L in the tree); the motor's secondary with the gear's primary, infeasible (both on
@@ -303,7 +303,7 @@ fn a_gear_between_two_inertias_needs_the_two_port_alternatives() {
     assert!(!summary[1].0);
     assert_eq!(summary[2..], [(true, 1, 0), (true, 0, 1)]);
     assert_eq!(tree.chosen, 0);
-    assert_eq!(tree.states(&graph), ["f_L", "v_J_L"]);
+    assert_eq!(tree.states(graph), ["f_L", "v_J_L"]);
     let dependent: Vec<&str> = tree
         .dependent_storage()
         .into_iter()
@@ -315,7 +315,7 @@ fn a_gear_between_two_inertias_needs_the_two_port_alternatives() {
 #[test]
 fn cut_set_and_loop_equations_of_the_normal_tree() {
     let model = load("models/examples/two_masses.lg.ron");
-    let graph = model.linear_graph.clone().unwrap();
+    let graph = model.linear_graph().unwrap();
     let tree = normal_tree::of_mode(&model, &laws::plain_laws(&model)).unwrap();
     let named = |terms: normal_tree::Terms| -> Vec<(String, i64)> {
         terms
@@ -327,22 +327,22 @@ fn cut_set_and_loop_equations_of_the_normal_tree() {
     // The tree: mass1 (v1 - g) and mass2 (v2 - g). Cut-set of mass1 (node v1): the force
     // flows in, the spring out: f_mass1 = f_force - f_spring.
     assert_eq!(
-        named(tree.cut_set_equation(&graph, index("mass1"), 0)),
+        named(tree.cut_set_equation(graph, index("mass1"), 0)),
         [("force".to_string(), 1), ("spring".to_string(), -1)]
     );
     // Cut-set of mass2 (node v2): the spring flows in, the damper out.
     assert_eq!(
-        named(tree.cut_set_equation(&graph, index("mass2"), 0)),
+        named(tree.cut_set_equation(graph, index("mass2"), 0)),
         [("spring".to_string(), 1), ("damper".to_string(), -1)]
     );
     // Loop of the spring (v1 -> v2): v_spring = v_mass1 - v_mass2.
     assert_eq!(
-        named(tree.loop_equation(&graph, index("spring"), 0)),
+        named(tree.loop_equation(graph, index("spring"), 0)),
         [("mass1".to_string(), 1), ("mass2".to_string(), -1)]
     );
     // Loop of the force (g -> v1): v_force = -v_mass1.
     assert_eq!(
-        named(tree.loop_equation(&graph, index("force"), 0)),
+        named(tree.loop_equation(graph, index("force"), 0)),
         [("mass1".to_string(), -1)]
     );
 }
@@ -918,7 +918,7 @@ fn a_gyrator_relates_across_to_through() {
 /// a node) overlapping, and no branch's line across a label.
 fn check_lg_drawing(model: &Model, mode: &Mode, what: &str) {
     use crate::bond_graph_views::{Box4, tags};
-    let graph = model.linear_graph.as_ref().expect("a linear graph");
+    let graph = model.linear_graph().expect("a linear graph");
     let laws = laws::for_mode(model, mode);
     let tree = normal_tree::of_mode(model, &laws).expect("a normal tree");
     let svg = bondgraph_view::lg_svg::draw(model, graph, &tree, &mode.spec(model));

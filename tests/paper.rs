@@ -173,7 +173,7 @@ fn compare(
                     .states
                     .iter()
                     .zip(&ours)
-                    .map(|(_, k)| k.map_or("0".into(), |k| c[k].text(&model.symbols)))
+                    .map(|(_, k)| k.map_or("0".into(), |k| c[k].text(model.symbols())))
                     .collect::<Vec<_>>()
                     .join("; ")
             ),
@@ -203,7 +203,7 @@ fn compare(
             if &entry(printed_text) != derived {
                 differences.push(Difference {
                     entry: label,
-                    derived: derived.text(&model.symbols),
+                    derived: derived.text(model.symbols()),
                 });
             }
         };
@@ -274,7 +274,7 @@ fn printed_equations_match(path: &str) {
                 } else {
                     let derived = expected(&model, &with_signs(&erratum.derived, &mode.signs));
                     assert_eq!(
-                        derived.text(&model.symbols),
+                        derived.text(model.symbols()),
                         difference.derived,
                         "{}",
                         erratum.id

@@ -48,8 +48,8 @@ fn the_robot_without_its_catheter() {
     let edited = edit::apply(&robot, &remove(&CATHETER)).unwrap();
     assert_eq!(edited.name(), "models/eversion/robot.ron (edited)");
     let model = bondgraph_ron::model::load_source(&edited).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(model.elements.len(), 10);
-    assert_eq!(model.bonds.len(), 9);
+    assert_eq!(model.elements().len(), 10);
+    assert_eq!(model.bonds().len(), 9);
     for name in CATHETER {
         assert_eq!(model.element_named(name), None, "{name}");
     }
@@ -93,7 +93,7 @@ fn setting_the_dead_band() {
     let model = bondgraph_ron::model::load_source(&edited).unwrap();
     let value = |name: &str| {
         model
-            .parameters
+            .parameters()
             .iter()
             .find(|p| p.name == name)
             .map(|p| p.value)
@@ -200,7 +200,7 @@ fn belt_stick_slip() {
     .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(scenario.name, "belt_stick_slip");
     assert_eq!(
-        scenario.model.source.name(),
+        scenario.model.source().name(),
         "models/examples/belt_friction.ron"
     );
     assert_eq!(scenario.inputs, [Signal::Constant(0.1)]);
@@ -222,10 +222,10 @@ fn robot_growth_without_the_catheter() {
         bondgraph_ron::scenario::load(&read("models/scenarios/robot_growth.ron"), &read(ROBOT))
             .unwrap_or_else(|e| panic!("{e}"));
     let model = &scenario.model;
-    assert_eq!(model.source.name(), "models/eversion/robot.ron (edited)");
-    assert_eq!((model.elements.len(), model.bonds.len()), (10, 9));
+    assert_eq!(model.source().name(), "models/eversion/robot.ron (edited)");
+    assert_eq!((model.elements().len(), model.bonds().len()), (10, 9));
     // P_s, v_ac, and v_ct_des, which drives nothing once the servo is removed.
-    let names: Vec<&str> = model.inputs.iter().map(|i| i.name.as_str()).collect();
+    let names: Vec<&str> = model.inputs().iter().map(|i| i.name.as_str()).collect();
     assert_eq!(names, ["P_s", "v_ac", "v_ct_des"]);
     assert_eq!(scenario.inputs[2], Signal::Constant(0.0));
     // The tip breaks away when A P_s = 1e-4 m^2 * P_s reaches 11.7 N: at 117 kPa, t = 0.117 s.

@@ -14,7 +14,7 @@ use crate::support::{load, ron_files};
 fn every_stage_of_every_example() {
     for file in ron_files("models/examples") {
         let model = load(&file);
-        let name = &model.name;
+        let name = model.name().to_string();
         insta::assert_snapshot!(format!("{name}__1_graph"), graph::describe(&model));
         let energy = Options {
             variables: Variables::Energy,
@@ -69,7 +69,7 @@ fn every_stage_of_every_example() {
 fn every_mode_of_the_eversion_models() {
     for file in ["models/eversion/paper.ron", "models/eversion/robot.ron"] {
         let model = load(file);
-        let name = &model.name;
+        let name = model.name().to_string();
         let reachable = modes::reachable(
             &model,
             &Options {

@@ -44,7 +44,7 @@
 //!         "damper": D(conductance: "b", from: "v1", to: "g"),
 //!     })"#).unwrap();
 //! let tree = normal_tree::of_mode(&model, &laws::plain_laws(&model)).unwrap();
-//! let graph = model.linear_graph.as_ref().unwrap();
+//! let graph = model.linear_graph().unwrap();
 //! let in_tree: Vec<&str> = tree.tree_edges().map(|(b, _)| graph.branches[b].name.as_str()).collect();
 //! assert_eq!(in_tree, ["mass"]);
 //! assert_eq!(tree.states(graph), ["v_mass", "f_spring"]);

@@ -58,14 +58,15 @@ fn a_built_model_is_the_model_its_file_describes() {
     let from_code = built();
     let from_file = bondgraph_ron::model::load_str("msd.ron", FILE).unwrap();
     // 2000 g is 2 kg either way; the bounds and units are kept.
-    let values = |m: &Model| -> Vec<f64> { m.parameters.iter().map(|p| p.value).collect() };
+    let values = |m: &Model| -> Vec<f64> { m.parameters().iter().map(|p| p.value).collect() };
     assert_eq!(values(&from_code), [2.0, 200.0, 4.0]);
-    assert_eq!(from_code.values, from_file.values);
-    assert_eq!(from_code.parameters[2].bounds, Some((0.0, 10.0)));
-    assert_eq!(from_code.inputs[0].unit.as_deref(), Some("N"));
+    assert_eq!(from_code.values(), from_file.values());
+    assert_eq!(from_code.parameters()[2].bounds, Some((0.0, 10.0)));
+    assert_eq!(from_code.inputs()[0].unit.as_deref(), Some("N"));
     // p' = -b/m p - k q + F and q' = p/m, by hand.
     assert_eq!(a_matrix(&from_code), [["-b/m", "-k"], ["1/m", "0"]]);
     assert_eq!(a_matrix(&from_code), a_matrix(&from_file));
-    let kinds = |m: &Model| -> Vec<&str> { m.elements.iter().map(|e| e.kind.keyword()).collect() };
+    let kinds =
+        |m: &Model| -> Vec<&str> { m.elements().iter().map(|e| e.kind.keyword()).collect() };
     assert_eq!(kinds(&from_code), kinds(&from_file));
 }

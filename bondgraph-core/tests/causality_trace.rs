@@ -17,7 +17,7 @@ fn load(relative: &str) -> Model {
 
 fn traced(model: &Model, mode: &modes::Mode) -> (Causality, CausalityTrace) {
     causality::assign_traced(model, &laws::for_mode(model, mode))
-        .unwrap_or_else(|e| panic!("{}:\n{e}", model.name))
+        .unwrap_or_else(|e| panic!("{}:\n{e}", model.name()))
 }
 
 fn id(model: &Model, name: &str) -> ElementId {
@@ -62,7 +62,7 @@ fn step(
 
 /// The trace replays to the assignment's strokes, every bond stroked exactly once.
 fn assert_replays(model: &Model, causal: &Causality, trace: &CausalityTrace, what: &str) {
-    let mut times = vec![0; model.bonds.len()];
+    let mut times = vec![0; model.bonds().len()];
     for (b, _, _) in trace.assignments() {
         times[b.index()] += 1;
     }
@@ -71,7 +71,7 @@ fn assert_replays(model: &Model, causal: &Causality, trace: &CausalityTrace, wha
         "{what}: strokes per bond {times:?}"
     );
     let replayed: Vec<Stroke> = trace
-        .strokes(model.bonds.len())
+        .strokes(model.bonds().len())
         .into_iter()
         .map(|s| s.expect("every bond stroked"))
         .collect();

@@ -32,7 +32,7 @@ fn controlled(controller: &str) -> String {
 }
 
 fn symbol(model: &Model, name: &str) -> RatFunc {
-    RatFunc::symbol(model.symbols.get(name).expect("parameter"))
+    RatFunc::symbol(model.symbols().get(name).expect("parameter"))
 }
 
 fn derive(model: &Model, variables: Variables) -> equations::StateEquations {

@@ -37,7 +37,7 @@ fn parallel_springs(n: usize) -> Model {
 }
 
 fn symbol(model: &Model, name: &str) -> RatFunc {
-    RatFunc::symbol(model.symbols.get(name).expect("parameter"))
+    RatFunc::symbol(model.symbols().get(name).expect("parameter"))
 }
 
 /// Eighty springs, in co-energy variables (a linear graph's): every entry by hand. Merging

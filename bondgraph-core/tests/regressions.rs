@@ -39,7 +39,7 @@ fn load(text: &str) -> Model {
 }
 
 fn symbol(model: &Model, name: &str) -> RatFunc {
-    RatFunc::symbol(model.symbols.get(name).expect("parameter"))
+    RatFunc::symbol(model.symbols().get(name).expect("parameter"))
 }
 
 /// By hand: the node's effort is `E = 0`, so `dp/dt = E = 0`; the mass's flow `p/m` leaves

@@ -107,7 +107,7 @@ fn states_are_described_in_their_domain_words() {
                     "{} {}",
                     s.name,
                     s.quantity
-                        .description_in(s.domain, model.linear_graph.is_some())
+                        .description_in(s.domain, model.linear_graph().is_some())
                 )
             })
             .collect::<Vec<_>>()

@@ -120,7 +120,7 @@ pub fn calibrate(
             settings,
         )?
     };
-    let failed_trials = crate::budget::failed_trials(&model.name, &trials, &settings.budget);
+    let failed_trials = crate::budget::failed_trials(model.name(), &trials, &settings.budget);
     evaluator.set(&fit.values);
     let predictions = evaluator.predict(rows)?;
     let observed = &experiment.observed;
@@ -211,7 +211,7 @@ pub fn calibrate(
         .collect();
     Ok(Calibration {
         data: data.name.clone(),
-        model: model.name.clone(),
+        model: model.name().to_string(),
         rows: n,
         params,
         rmse,

@@ -104,7 +104,7 @@ fn gap_between(model: &Model, names: &[String], friction: &Friction) -> Option<O
         .iter()
         .map(|n| {
             model
-                .parameters
+                .parameters()
                 .iter()
                 .find(|p| &p.name == n)
                 .map(|p| p.symbol.index())
@@ -112,9 +112,9 @@ fn gap_between(model: &Model, names: &[String], friction: &Friction) -> Option<O
         .collect::<Option<_>>()?;
     let (mut lower, mut upper) = (None, None);
     for (j, &slot) in slots.iter().enumerate() {
-        let mut moved = model.values.clone();
+        let mut moved = model.values().to_vec();
         moved[slot] += 1.0;
-        let slope = gap.eval(&moved) - gap.eval(&model.values);
+        let slope = gap.eval(&moved) - gap.eval(model.values());
         if (slope - 1.0).abs() < 1e-9 && upper.is_none() {
             upper = Some(j);
         } else if (slope + 1.0).abs() < 1e-9 && lower.is_none() {
@@ -128,8 +128,8 @@ fn gap_between(model: &Model, names: &[String], friction: &Friction) -> Option<O
         upper: upper?,
     };
     // Exactly the difference (nothing else in it), here and at another point.
-    let second: Vec<f64> = model.values.iter().map(|v| 1.7 * v + 0.3).collect();
-    for values in [&model.values, &second] {
+    let second: Vec<f64> = model.values().iter().map(|v| 1.7 * v + 0.3).collect();
+    for values in [model.values(), &second] {
         let difference = values[slots[ordering.upper]] - values[slots[ordering.lower]];
         if (gap.eval(values) - difference).abs() > 1e-9 * (1.0 + difference.abs()) {
             return None;

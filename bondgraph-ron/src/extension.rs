@@ -68,9 +68,9 @@
 //! let extension = Extension::load(&fragment).unwrap();
 //! let extended = extension::merge(&base, &[extension]).unwrap();
 //! let model = extended.load().unwrap();
-//! assert_eq!(model.name, "msd+air-drag");
-//! assert_eq!(model.elements.len(), 5);
-//! assert_eq!(model.parameters[2].bounds, Some((0.0, 10.0)));
+//! assert_eq!(model.name(), "msd+air-drag");
+//! assert_eq!(model.elements().len(), 5);
+//! assert_eq!(model.parameters()[2].bounds, Some((0.0, 10.0)));
 //! ```
 
 use std::collections::HashSet;

@@ -27,7 +27,7 @@
 //!     bonds: [("force", "v"), ("v", "mass"), ("v", "spring")],
 //! )"#);
 //! let checked = bondgraph_ron::model::load_source(&model).unwrap();
-//! assert_eq!(checked.elements.len(), 4);
+//! assert_eq!(checked.elements().len(), 4);
 //!
 //! let file = SourceFile::new("step.ron", r#"Scenario(
 //!     name: "step", inputs: { "F": Constant(1.0) },

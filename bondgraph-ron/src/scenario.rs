@@ -16,7 +16,7 @@
 //!     inputs: {"F": Step(at: 0.1, before: 0.0, after: 10.0)},
 //!     initial_state: {"spring": 0.01}, duration: 2.0, record: ["flow:mass"])"#;
 //! let scenario = scenario::load(&SourceFile::new("push.ron", text), &model).unwrap();
-//! assert_eq!(scenario.model.parameters[2].value, 8.0);
+//! assert_eq!(scenario.model.parameters()[2].value, 8.0);
 //! assert_eq!(scenario.inputs[0].value(0.5), 10.0);
 //! assert_eq!(scenario.inputs[0].to_string(), "step from 0 to 10 at t = 0.1 s");
 //!
@@ -545,7 +545,7 @@ impl Checker<'_> {
         raw: &RawScenario,
         signals: Vec<Option<Signal>>,
     ) -> Option<Vec<Signal>> {
-        let mut given: Vec<Option<Signal>> = vec![None; model.inputs.len()];
+        let mut given: Vec<Option<Signal>> = vec![None; model.inputs().len()];
         let mut seen: HashMap<&str, Span> = HashMap::new();
         let mut ok = true;
         for (index, ((name, _), signal)) in raw.inputs.iter().zip(signals).enumerate() {
@@ -565,11 +565,12 @@ impl Checker<'_> {
             }
             let Some(id) = model.input_named(name) else {
                 let mut notes = Vec::new();
-                if model.parameters.iter().any(|p| p.name == *name) {
+                if model.parameters().iter().any(|p| p.name == *name) {
                     notes.push(format!(
                         "'{name}' is a parameter of the model; set it under parameters"
                     ));
-                } else if let Some(s) = suggest(name, model.inputs.iter().map(|i| i.name.as_str()))
+                } else if let Some(s) =
+                    suggest(name, model.inputs().iter().map(|i| i.name.as_str()))
                 {
                     notes.push(format!("did you mean '{s}'?"));
                 }
@@ -577,7 +578,7 @@ impl Checker<'_> {
                     DiagnosticKind::UnknownName,
                     format!(
                         "input '{name}': model '{}' has no input '{name}'",
-                        model.name
+                        model.name()
                     ),
                     span,
                     Some(name),
@@ -597,8 +598,8 @@ impl Checker<'_> {
             .map
             .field("inputs")
             .map_or(self.map.root, |f| f.name_span);
-        let mut inputs = Vec::with_capacity(model.inputs.len());
-        for (index, input) in model.inputs.iter().enumerate() {
+        let mut inputs = Vec::with_capacity(model.inputs().len());
+        for (index, input) in model.inputs().iter().enumerate() {
             match given[index].take() {
                 Some(signal) => inputs.push(signal),
                 None if !used[index] || self.measured.contains(&input.name.as_str()) => {
@@ -614,7 +615,8 @@ impl Checker<'_> {
                         DiagnosticKind::MissingInput,
                         format!(
                             "input '{}'{unit} of model '{}' has no signal",
-                            input.name, model.name
+                            input.name,
+                            model.name()
                         ),
                         inputs_span,
                         Some(&input.name),
@@ -663,7 +665,7 @@ impl Checker<'_> {
                         && model.element_named(name).is_none()
                     {
                         diagnostic = diagnostic.element(name.clone());
-                        let names = model.elements.iter().map(|e| e.name.clone());
+                        let names = model.elements().iter().map(|e| e.name.clone());
                         if let Some(note) = Self::missing_element_note(raw, name, names) {
                             diagnostic = diagnostic.note(note);
                         }
@@ -699,13 +701,13 @@ impl Checker<'_> {
                 continue;
             }
             let Some(id) = model.element_named(name) else {
-                let names = model.elements.iter().map(|e| e.name.clone());
+                let names = model.elements().iter().map(|e| e.name.clone());
                 let note = Self::missing_element_note(raw, name, names);
                 self.problem(
                     DiagnosticKind::UnknownName,
                     format!(
                         "initial state of '{name}': model '{}' has no element '{name}'",
-                        model.name
+                        model.name()
                     ),
                     span,
                     Some(name),
@@ -785,7 +787,7 @@ impl Checker<'_> {
                         if let Some(name) = diagnostic.element.clone()
                             && model.element_named(&name).is_none()
                         {
-                            let names = model.elements.iter().map(|e| e.name.clone());
+                            let names = model.elements().iter().map(|e| e.name.clone());
                             if let Some(note) = Self::missing_element_note(raw, &name, names) {
                                 diagnostic = diagnostic.note(note);
                             }
@@ -839,7 +841,7 @@ impl Checker<'_> {
 /// Which of the model's inputs some element uses.
 fn used_inputs(model: &Model) -> Vec<bool> {
     use bondgraph_core::linear::Var;
-    let mut used = vec![false; model.inputs.len()];
+    let mut used = vec![false; model.inputs().len()];
     let mut mark = |form: &bondgraph_core::linear::LinearForm| {
         for (var, _) in form.terms() {
             if let Var::Input(i) = var
@@ -849,7 +851,7 @@ fn used_inputs(model: &Model) -> Vec<bool> {
             }
         }
     };
-    for element in &model.elements {
+    for element in model.elements() {
         match &element.kind {
             ElementKind::EffortSource(source) | ElementKind::FlowSource(source) => {
                 mark(&source.value);
@@ -987,10 +989,10 @@ Scenario(
         );
         assert_eq!(scenario.source.name(), "scenarios/push.ron");
         let model = &scenario.model;
-        assert_eq!(model.source.name(), "models/cart.ron (edited)");
+        assert_eq!(model.source().name(), "models/cart.ron (edited)");
         let value = |name: &str| {
             model
-                .parameters
+                .parameters()
                 .iter()
                 .find(|p| p.name == name)
                 .unwrap()
@@ -1097,7 +1099,7 @@ Scenario(
         let text = r#"(name: "rest", inputs: {"F": Constant(0), "G": Constant(0),
             "H": Constant(0), "v_w": Constant(0)}, duration: 1)"#;
         let scenario = load_text(text).unwrap();
-        assert_eq!(scenario.model.source.name(), "models/cart.ron");
+        assert_eq!(scenario.model.source().name(), "models/cart.ron");
         assert_eq!(
             scenario.initial_mode.spec(&scenario.model),
             "fr=stuck,string=taut"
@@ -1459,14 +1461,14 @@ Scenario(
         .replace("\"effort:string\", ", "");
         let scenario = load_text(&text).unwrap_or_else(|e| panic!("{e}"));
         let model = &scenario.model;
-        assert_eq!(model.source.name(), "models/cart.ron (edited)");
-        assert_eq!(model.elements.len(), 4);
-        assert_eq!(model.bonds.len(), 3);
+        assert_eq!(model.source().name(), "models/cart.ron (edited)");
+        assert_eq!(model.elements().len(), 4);
+        assert_eq!(model.bonds().len(), 3);
         assert_eq!(model.element_named("damper"), None);
-        assert_eq!(model.parameters[1].value, 250.0);
-        assert_eq!(model.inputs.len(), 4);
+        assert_eq!(model.parameters()[1].value, 250.0);
+        assert_eq!(model.inputs().len(), 4);
         assert_eq!(scenario.inputs[3], Signal::Constant(0.0));
-        assert!(model.source.text().contains("// A cart on a rough floor"));
+        assert!(model.source().text().contains("// A cart on a rough floor"));
 
         // What the scenario removed cannot be used.
         let error = load_text(&text.replace("\"mass\": 0.5", "\"wall\": 0.5")).unwrap_err();

@@ -20,7 +20,7 @@ fn removing_a_tiny_mass_leaves_a_valid_model_with_one_state_less() {
     let model = bondgraph_ron::model::load_source(&source).unwrap();
     let reduced = without_storage(&model, &source, &["tiny".into()]).unwrap();
     assert_eq!(reduced.removed, ["tiny"]);
-    assert_eq!(reduced.model.elements.len(), model.elements.len() - 1);
+    assert_eq!(reduced.model.elements().len(), model.elements().len() - 1);
     assert_eq!(reduced.source.name(), "tip.ron (without tiny)");
     // By hand: without the tiny mass the damper sets v from F - k q = b v, so with states
     // (q_spring, p_body): dq/dt = v - p/M = -(k/b) q - p/M + F/b and dp/dt = k q.

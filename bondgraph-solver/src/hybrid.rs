@@ -183,7 +183,7 @@ impl<'m> Simulator<'m> {
             model,
             storage: Storage::of(model),
             outputs,
-            values: model.values.clone(),
+            values: model.values().to_vec(),
             symbolic: ModeCache::new(model, Options::default()),
             forms: ModeMap::default(),
             nonlinear_forms: ModeMap::default(),
@@ -267,12 +267,12 @@ impl<'m> Simulator<'m> {
     /// # Errors
     /// [`SimError::Inputs`] when `values` does not have one value per parameter of the model.
     pub fn set_parameter_values(&mut self, values: &[f64]) -> Result<(), SimError> {
-        if values.len() != self.model.values.len() {
+        if values.len() != self.model.values().len() {
             return Err(SimError::Inputs(format!(
                 "{} parameter values given, but model '{}' has {} parameters",
                 values.len(),
-                self.model.name,
-                self.model.values.len()
+                self.model.name(),
+                self.model.values().len()
             )));
         }
         if values != self.values.as_slice() {

@@ -280,7 +280,7 @@ pub struct StorageLawTape {
 impl StorageLawTape {
     /// The law of nonlinear storage element `index` of `model`, if it is one.
     pub fn of(model: &Model, index: usize, values: &[f64]) -> Option<Self> {
-        let element = &model.elements[index];
+        let element = &model.elements()[index];
         let ElementKind::Nonlinear(nl) = &element.kind else {
             return None;
         };

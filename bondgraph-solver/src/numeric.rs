@@ -48,7 +48,7 @@ pub struct Storage {
 impl Storage {
     /// The storage elements of `model`: inertias, compliances and tension-only elements.
     pub fn of(model: &Model) -> Self {
-        Self::with_values(model, &model.values)
+        Self::with_values(model, model.values())
     }
 
     /// The storage elements of `model` with the parameter values `values` (indexed like

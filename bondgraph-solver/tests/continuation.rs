@@ -36,8 +36,8 @@ fn settle(simulator: &mut Simulator<'_>, inputs: &[f64], start: &[(&str, f64)]) 
 
 /// The model's values with `name` set to `value`.
 fn with_value(model: &Model, name: &str, value: f64) -> Vec<f64> {
-    let mut values = model.values.clone();
-    let parameter = model.parameters.iter().find(|p| p.name == name).unwrap();
+    let mut values = model.values().to_vec();
+    let parameter = model.parameters().iter().find(|p| p.name == name).unwrap();
     values[parameter.symbol.index()] = value;
     values
 }
@@ -393,7 +393,7 @@ fn a_mode_with_guards_is_continued_only_for_a_difference() {
     // A breakaway torque below the holding torque K i = 0.01875 N m: the stuck branch's
     // guard has changed sign, and the continuation is refused.
     let mut values = with_value(&motor, "T_S", 0.0187);
-    let t_c = motor.parameters.iter().find(|p| p.name == "T_C").unwrap();
+    let t_c = motor.parameters().iter().find(|p| p.name == "T_C").unwrap();
     values[t_c.symbol.index()] = 0.0187;
     simulator.set_parameter_values(&values).unwrap();
     assert!(continue_branch(&mut simulator, &anchor, &settings).is_none());

@@ -154,14 +154,14 @@ fn new_parameter_values_keep_the_derived_modes_and_change_the_numbers() {
     let start = Mode::parse(&model, "fr_ge=stuck,k=slack,fr_ct=stuck").unwrap();
     let inputs = [110e3, 5.8e-3, 1.8e-3];
     let b_index = model
-        .parameters
+        .parameters()
         .iter()
         .find(|p| p.name == "b")
         .unwrap()
         .symbol
         .index();
     for b in [1250.0, 2500.0, 600.0] {
-        let mut values = model.values.clone();
+        let mut values = model.values().to_vec();
         values[b_index] = b;
         simulator.set_parameter_values(&values).unwrap();
         let steady = steady_state(

@@ -751,7 +751,7 @@ fn the_steps_of_a_run_are_bounded() {
                 assert_eq!(limit, 100_000);
                 assert!(t > 0.0 && t < 1e12, "{message}");
             }
-            _ => panic!("{}: {message}", model.name),
+            _ => panic!("{}: {message}", model.name()),
         }
         assert!(message.starts_with("more than 100000 steps"), "{message}");
     }

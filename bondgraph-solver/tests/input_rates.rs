@@ -37,7 +37,7 @@ fn coenergy_mode() -> (bondgraph_core::model::Model, NumericMode) {
     .unwrap();
     assert_eq!(derived.equations.states[0].name, "f_K1");
     let storage = Storage::of(&model);
-    let numeric = NumericMode::new(&model, &model.values, &storage, &derived, &[]);
+    let numeric = NumericMode::new(&model, model.values(), &storage, &derived, &[]);
     (model, numeric)
 }
 

@@ -28,7 +28,7 @@ fn simulate(model: &Model, records: &[&str], inputs: &[&dyn Signal], duration: f
             sample: Some(10.0),
             audit_energy: true,
         })
-        .unwrap_or_else(|e| panic!("{}: {e}", model.name))
+        .unwrap_or_else(|e| panic!("{}: {e}", model.name()))
 }
 
 /// A tank (compliance 2) filled at 2 from empty, draining through a pipe whose pressure

@@ -41,7 +41,7 @@ fn simulate(
             sample: Some(sample),
             audit_energy: true,
         })
-        .unwrap_or_else(|e| panic!("{}: {e}", model.name))
+        .unwrap_or_else(|e| panic!("{}: {e}", model.name()))
 }
 
 /// The complete elliptic integral of the first kind, `K(k) = π / (2 AGM(1, √(1 - k²)))`.

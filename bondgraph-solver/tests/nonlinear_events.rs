@@ -36,7 +36,7 @@ fn run(
             sample: Some(end / 1000.0),
             audit_energy: true,
         })
-        .unwrap_or_else(|e| panic!("{}: {e}", model.name))
+        .unwrap_or_else(|e| panic!("{}: {e}", model.name()))
 }
 
 /// One RK4 step of `dy/dt = f(y)` for a state of two.

@@ -33,7 +33,7 @@ fn settle(model: &Model, outputs: &[&str], inputs: &[f64], start: &[(&str, f64)]
         state,
         &SteadySettings::default(),
     )
-    .unwrap_or_else(|e| panic!("{}: {e}", model.name))
+    .unwrap_or_else(|e| panic!("{}: {e}", model.name()))
 }
 
 fn state_of(model: &Model, steady: &Steady, element: &str) -> f64 {
@@ -210,8 +210,8 @@ fn blocks_at_rest_where_they_start_are_steady_at_once() {
     let mut model = extension::merge(&base, std::slice::from_ref(&radiation))
         .and_then(|extended| extended.load())
         .unwrap();
-    let ea = model.symbols.get("eA").unwrap();
-    model.values[ea.index()] = 0.01;
+    let ea = model.symbols().get("eA").unwrap();
+    model.set_value(ea, 0.01);
     for room in [290.0, 300.0, 310.0] {
         let steady = settle(
             &model,

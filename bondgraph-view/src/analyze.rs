@@ -466,7 +466,7 @@ impl ChannelUnits {
             output_label,
             output: quantity.map(|(_, unit)| unit),
             input: model
-                .inputs
+                .inputs()
                 .iter()
                 .find(|i| i.name == input)
                 .and_then(|i| i.unit.clone()),

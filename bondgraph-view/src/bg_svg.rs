@@ -20,9 +20,9 @@ const DERIVATIVE: &str = "#c62828";
 /// The title of a drawing of `model` in the mode `spec` (empty for the only mode).
 pub fn title(model: &Model, spec: &str) -> String {
     if spec.is_empty() {
-        format!("bond graph '{}'", model.name)
+        format!("bond graph '{}'", model.name())
     } else {
-        format!("bond graph '{}' in mode {spec}", model.name)
+        format!("bond graph '{}' in mode {spec}", model.name())
     }
 }
 

@@ -29,7 +29,7 @@ pub fn summary(model: &Model, source: &Arc<SourceFile>) -> Result<String, Failur
         let states = reachable.modes.first().map(|m| m.equations.state_count());
         (states, reachable.modes.len(), !reachable.initial.is_empty())
     };
-    let (kind, parts) = match (&model.linear_graph, model.is_nonlinear()) {
+    let (kind, parts) = match (&model.linear_graph(), model.is_nonlinear()) {
         (Some(graph), false) => (
             "linear graph",
             [
@@ -44,8 +44,8 @@ pub fn summary(model: &Model, source: &Arc<SourceFile>) -> Result<String, Failur
                 "model"
             },
             [
-                (model.elements.len(), "element"),
-                (model.bonds.len(), "bond"),
+                (model.elements().len(), "element"),
+                (model.bonds().len(), "bond"),
             ],
         ),
     };
@@ -57,11 +57,11 @@ pub fn summary(model: &Model, source: &Arc<SourceFile>) -> Result<String, Failur
     Ok(format!(
         "{}: ok: {kind} '{}' with {}, {}, {}, {} and {}{modes}",
         source.name(),
-        model.name,
+        model.name(),
         count(parts[0].0, parts[0].1),
         count(parts[1].0, parts[1].1),
-        count(model.parameters.len(), "parameter"),
-        count(model.inputs.len(), "input"),
+        count(model.parameters().len(), "parameter"),
+        count(model.inputs().len(), "input"),
         count(states.unwrap_or(0), "state"),
     ))
 }

@@ -58,7 +58,7 @@ pub fn check(
     mode: Option<&str>,
 ) -> Result<Compared, Failure> {
     if let Some(element) = model
-        .elements
+        .elements()
         .iter()
         .find(|e| matches!(e.kind, ElementKind::Nonlinear(_)))
     {
@@ -76,7 +76,7 @@ pub fn check(
                 law.text
             ),
         )
-        .at_location(model.source.locate(law.span))
+        .at_location(model.source().locate(law.span))
         .element(element.name.clone());
         return Err(with_source(diagnostic.into(), source));
     }
@@ -88,7 +88,7 @@ pub fn check(
     };
     let energy = derive(Variables::Energy)?;
     let coenergy = derive(Variables::CoEnergy)?;
-    let parsed = bondgraph_ron::answer::load(answer, &model.symbols).map_err(|d| Failure {
+    let parsed = bondgraph_ron::answer::load(answer, model.symbols()).map_err(|d| Failure {
         diagnostics: d,
         sources: vec![answer.clone()],
     })?;

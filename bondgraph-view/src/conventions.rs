@@ -23,6 +23,6 @@ pub fn latex_preamble(model: &Model) -> String {
         "% State equations of '{}' (bondgraph). The matrices need \\usepackage{{amsmath}}:\n\
          % put this inside \\begin{{document}}...\\end{{document}} of a document whose preamble\n\
          % has \\documentclass{{article}} and \\usepackage{{amsmath}}.\n",
-        model.name
+        model.name()
     )
 }

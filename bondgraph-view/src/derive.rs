@@ -195,7 +195,7 @@ pub fn derive(
         point,
         found,
         parameters: model
-            .parameters
+            .parameters()
             .iter()
             .map(|p| ParameterJson {
                 name: p.name.clone(),
@@ -208,7 +208,7 @@ pub fn derive(
             })
             .collect(),
         converted: model
-            .parameters
+            .parameters()
             .iter()
             .filter(|p| p.as_written.is_some())
             .map(|p| p.in_si_text())
@@ -236,7 +236,7 @@ fn guard_lines<E>(
 ) -> Vec<String> {
     guards
         .iter()
-        .filter(|guard| guard.applies(model, &model.values))
+        .filter(|guard| guard.applies(model, model.values()))
         .map(|guard| {
             let element = &model.element(guard.element).name;
             format!(

@@ -55,7 +55,7 @@ pub fn explain(
     source: &Arc<SourceFile>,
     format: ExplainFormat,
 ) -> Result<Explanation, Failure> {
-    if let Some(graph) = &model.linear_graph {
+    if let Some(graph) = &model.linear_graph() {
         Ok(Explanation {
             text: crate::explain_lg::document(model, graph, mode, source, format)?,
             underivable: None,
@@ -173,7 +173,7 @@ impl Explainer<'_> {
         };
         let title = format!(
             "bond graph {}{mode}: causality assigned step by step (SCAP)",
-            self.name(&model.name)
+            self.name(model.name())
         );
         if self.markdown {
             out.push_str(&format!("# {title}\n\n"));
@@ -368,7 +368,7 @@ impl Explainer<'_> {
                 "The derivation merges it{also} into {}: the state {} now has the {storage} {}.",
                 self.name(&state.element),
                 self.code(&state.name),
-                self.code(&state.storage.text(&model.symbols))
+                self.code(&state.storage.text(model.symbols()))
             ));
         }
         derivation

@@ -147,7 +147,7 @@ fn explain(
         &mut out,
         &format!(
             "linear graph {}{}: the normal tree (Rowell & Wormley)",
-            writer.name(&model.name),
+            writer.name(model.name()),
             if spec.is_empty() {
                 String::new()
             } else {
@@ -422,7 +422,7 @@ fn role_text(graph: &LinearGraph, b: usize, role: Role) -> String {
 /// The branch's constitutive law in the mode, in its across and through variables.
 fn elemental(model: &Model, graph: &LinearGraph, b: usize, law: &Law) -> String {
     let name = variable(graph, b, 0);
-    let text = |r: &RatFunc| r.text(&model.symbols);
+    let text = |r: &RatFunc| r.text(model.symbols());
     let times = |r: &RatFunc, v: &str| {
         if r.is_one() {
             v.to_string()
@@ -474,10 +474,10 @@ fn elemental(model: &Model, graph: &LinearGraph, b: usize, law: &Law) -> String 
 fn form_text(model: &Model, form: &LinearForm, variable: &str) -> String {
     let mut out = String::new();
     for (var, coefficient) in form.terms() {
-        let (negative, magnitude) = coefficient.signed_text(&model.symbols);
+        let (negative, magnitude) = coefficient.signed_text(model.symbols());
         let name = match var {
             Var::State(_) => variable.to_string(),
-            Var::Input(i) => model.inputs[*i as usize].name.clone(),
+            Var::Input(i) => model.inputs()[*i as usize].name.clone(),
             Var::Storage(e) => model
                 .storage_name(bondgraph_core::model::ElementId(*e))
                 .unwrap_or_default(),

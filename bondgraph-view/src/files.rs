@@ -60,12 +60,12 @@ pub fn parse_mode(
     source: &Arc<SourceFile>,
 ) -> Result<modes::Mode, Failure> {
     let Some(spec) = spec else {
-        return Ok(modes::Mode::initial(model).at_values(model, &model.values));
+        return Ok(modes::Mode::initial(model).at_values(model, model.values()));
     };
     let mode = modes::Mode::parse(model, spec).map_err(|d| with_source(d, source))?;
     for &(id, element_mode) in mode.assignments() {
         if let ElementKind::Friction(contact) = &model.element(id).kind
-            && contact.mode_at(element_mode, &model.values) != element_mode
+            && contact.mode_at(element_mode, model.values()) != element_mode
         {
             let stribeck = contact.stribeck.as_ref().map_or("", |s| s.text.as_str());
             return Err(Failure::message(

@@ -26,7 +26,7 @@ pub fn render(
     source: &Arc<SourceFile>,
     format: GraphFormat,
 ) -> Result<String, Failure> {
-    if let Some(graph) = &model.linear_graph {
+    if let Some(graph) = &model.linear_graph() {
         return lg_graph::render(model, graph, mode, format, source);
     }
     let laws = laws::for_mode(model, mode);

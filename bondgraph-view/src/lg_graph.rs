@@ -52,7 +52,7 @@ pub fn render(
 pub fn describe(model: &Model, graph: &LinearGraph, tree: &NormalTree, spec: &str) -> String {
     let mut out = format!(
         "linear graph '{}': {} nodes (ground '{}'), {} branches\n\nnodes:\n",
-        model.name,
+        model.name(),
         graph.nodes.len(),
         graph.node(graph.ground).name,
         graph.branches.len()
@@ -149,7 +149,7 @@ pub fn to_dot(model: &Model, graph: &LinearGraph, tree: &NormalTree) -> String {
     let quote = |s: &str| format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""));
     let mut out = format!(
         "digraph {} {{\n  // linear graph: tree branches bold, links dashed\n  node [shape=circle];\n",
-        quote(&model.name)
+        quote(model.name())
     );
     for (n, node) in graph.nodes.iter().enumerate() {
         let shape = if n == graph.ground.index() {

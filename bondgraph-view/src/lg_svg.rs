@@ -262,12 +262,12 @@ pub fn draw(model: &Model, graph: &LinearGraph, tree: &NormalTree, spec: &str) -
     let title = if spec.is_empty() {
         format!(
             "linear graph '{}': normal tree bold, links dashed",
-            model.name
+            model.name()
         )
     } else {
         format!(
             "linear graph '{}' in mode {spec}: normal tree bold, links dashed",
-            model.name
+            model.name()
         )
     };
     let _ = writeln!(

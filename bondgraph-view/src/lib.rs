@@ -16,7 +16,7 @@
 //!
 //! let text = std::fs::read_to_string("../models/examples/rlc.lg.ron").unwrap();
 //! let model = bondgraph_ron::model::load_str("rlc.lg.ron", &text).unwrap();
-//! let graph = model.linear_graph.as_ref().unwrap();
+//! let graph = model.linear_graph().unwrap();
 //! let mode = Mode::initial(&model);
 //! let tree = normal_tree::of_mode(&model, &laws::for_mode(&model, &mode)).unwrap();
 //! let svg = bondgraph_view::lg_svg::draw(&model, graph, &tree, &mode.spec(&model));

@@ -47,7 +47,7 @@ impl Simulated {
     pub fn json(&self) -> serde_json::Value {
         trajectory::to_json(
             &self.trajectory,
-            &self.scenario.model.name,
+            self.scenario.model.name(),
             &self.scenario.name,
         )
     }
@@ -61,7 +61,8 @@ impl Simulated {
     pub fn title(&self) -> String {
         format!(
             "{}: scenario {}",
-            self.scenario.model.name, self.scenario.name
+            self.scenario.model.name(),
+            self.scenario.name
         )
     }
 

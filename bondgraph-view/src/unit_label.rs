@@ -12,10 +12,10 @@ use bondgraph_core::units::{Dim, Domain};
 /// The quantity `record` measures and its unit (`("velocity", "m/s")`), where the model's
 /// units tell them.
 pub fn quantity(model: &Model, record: &Record) -> Option<(String, String)> {
-    let lg = model.linear_graph.is_some();
+    let lg = model.linear_graph().is_some();
     match record {
         Record::Output(spec) | Record::Integral(spec) => {
-            let dims = model.bond_dimensions.get(spec.bond.index())?;
+            let dims = model.bond_dimensions().get(spec.bond.index())?;
             let effort = spec.quantity == OutputQuantity::Effort;
             let dim = if effort { dims.effort? } else { dims.flow? };
             let domain = dims

@@ -37,7 +37,7 @@ fn exercise(model: &Model) {
     } else {
         let _ = modes::reachable(model, &options);
     }
-    if model.linear_graph.is_some() {
+    if model.linear_graph().is_some() {
         let laws = laws::for_mode(model, &Mode::initial(model));
         match causality::assign(model, &laws) {
             Ok(_) => {

@@ -94,7 +94,7 @@ impl PyModel {
     /// The model's name.
     #[getter]
     fn name(&self) -> String {
-        self.model.name.clone()
+        self.model.name().to_string()
     }
 
     /// The model file's text.
@@ -106,7 +106,7 @@ impl PyModel {
     /// Whether the model is a linear graph.
     #[getter]
     fn is_linear_graph(&self) -> bool {
-        self.model.linear_graph.is_some()
+        self.model.linear_graph().is_some()
     }
 
     /// Whether some law makes the model nonlinear.

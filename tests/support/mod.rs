@@ -23,7 +23,7 @@ pub fn load(relative: &str) -> Model {
 /// Derives the only mode of a plain model.
 pub fn derive(model: &Model, variables: Variables) -> StateEquations {
     equations::derive(model, &laws::plain_laws(model), &Options { variables })
-        .unwrap_or_else(|e| panic!("{}:\n{e}", model.name))
+        .unwrap_or_else(|e| panic!("{}:\n{e}", model.name()))
 }
 
 /// A hand-written expression over the model's parameters, as an exact rational function.
@@ -37,7 +37,7 @@ pub fn expected(model: &Model, text: &str) -> RatFunc {
             ExprKind::Number(n) => RatFunc::from_decimal(n).expect("number"),
             ExprKind::Symbol(s) => RatFunc::symbol(
                 model
-                    .symbols
+                    .symbols()
                     .get(s)
                     .unwrap_or_else(|| panic!("unknown parameter {s}")),
             ),
@@ -78,7 +78,7 @@ pub fn assert_symbolic(
                 entry,
                 &expected(model, text),
                 "{what}[{i}][{j}]: got {}, expected {text}",
-                entry.text(&model.symbols)
+                entry.text(model.symbols())
             );
         }
     }
@@ -101,7 +101,7 @@ pub fn assert_numeric(what: &str, actual: &[Vec<f64>], expected_rows: &[&[f64]])
 /// The numeric value of a parameter.
 pub fn value(model: &Model, name: &str) -> f64 {
     model
-        .parameters
+        .parameters()
         .iter()
         .find(|p| p.name == name)
         .unwrap_or_else(|| panic!("no parameter {name}"))
@@ -198,7 +198,7 @@ pub fn affine(
         match &e.kind {
             ExprKind::Number(n) => LinearForm::constant(RatFunc::from_decimal(n).expect("number")),
             ExprKind::Symbol(s) => {
-                if let Some(symbol) = model.symbols.get(s) {
+                if let Some(symbol) = model.symbols().get(s) {
                     LinearForm::constant(RatFunc::symbol(symbol))
                 } else if let Some(k) = eq.state_named(s) {
                     LinearForm::var(Var::State(k as u32))

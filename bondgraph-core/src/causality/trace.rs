@@ -29,7 +29,7 @@
 //! // The mass's integral causality gave the junction its flow; the junction imposed it on
 //! // the spring's bond.
 //! assert_eq!(trace.steps[1].propagated.len(), 1);
-//! let replayed: Vec<_> = trace.strokes(model.bonds.len()).into_iter().flatten().collect();
+//! let replayed: Vec<_> = trace.strokes(model.bonds().len()).into_iter().flatten().collect();
 //! assert_eq!(replayed, causal.strokes);
 //! ```
 

@@ -34,7 +34,7 @@ use crate::source::SourceFile;
 ///     .bonds([("supply", "loop"), ("loop", "resistor"), ("loop", "capacitor")])
 ///     .build()
 ///     .unwrap();
-/// assert_eq!(model.elements.len(), 4);
+/// assert_eq!(model.elements().len(), 4);
 ///
 /// let error = Builder::new("bad")
 ///     .element("mass", ElementSpec::inertance("m"))

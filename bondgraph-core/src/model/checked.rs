@@ -46,33 +46,35 @@ impl InputId {
     }
 }
 
-/// A checked, self-contained model.
+/// A checked, self-contained model: made only by the validator (from a file's reader or a
+/// [`Builder`](crate::model::Builder)), so that every model a later stage sees has been
+/// checked; read through its accessors.
 #[derive(Clone, Debug)]
 pub struct Model {
     /// The model's name.
-    pub name: String,
+    pub(crate) name: String,
     /// What the model describes.
-    pub description: Option<String>,
+    pub(crate) description: Option<String>,
     /// The file it was read from (for locating diagnostics).
-    pub source: Arc<SourceFile>,
+    pub(crate) source: Arc<SourceFile>,
     /// The parameter symbols, in print order.
-    pub symbols: SymbolTable,
+    pub(crate) symbols: SymbolTable,
     /// Parameters in file order.
-    pub parameters: Vec<Parameter>,
+    pub(crate) parameters: Vec<Parameter>,
     /// Inputs in file order.
-    pub inputs: Vec<Input>,
+    pub(crate) inputs: Vec<Input>,
     /// Elements in file order.
-    pub elements: Vec<Element>,
+    pub(crate) elements: Vec<Element>,
     /// Bonds in file order.
-    pub bonds: Vec<Bond>,
+    pub(crate) bonds: Vec<Bond>,
     /// Parameter values indexed by [`Symbol::index`].
-    pub values: Vec<f64>,
+    pub(crate) values: Vec<f64>,
     /// The linear graph the model was translated from, if its file is a `LinearGraph(...)`:
     /// its nodes and branches, and where each branch is in this bond graph.
-    pub linear_graph: Option<Arc<crate::model::linear_graph::LinearGraph>>,
+    pub(crate) linear_graph: Option<Arc<crate::model::linear_graph::LinearGraph>>,
     /// The dimensions of each bond's effort and flow, where the units check could tell them
     /// (indexed by [`BondId::index`]; see [`crate::units`]).
-    pub bond_dimensions: Vec<crate::units::BondDimensions>,
+    pub(crate) bond_dimensions: Vec<crate::units::BondDimensions>,
 }
 
 /// A named parameter with its value.
@@ -584,6 +586,77 @@ impl Bond {
 }
 
 impl Model {
+    /// The model's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// What the model describes.
+    pub fn description(&self) -> Option<&str> {
+        self.description.as_deref()
+    }
+
+    /// The file it was read from (for locating diagnostics), or a source with no text for a
+    /// model built in code.
+    pub fn source(&self) -> &Arc<SourceFile> {
+        &self.source
+    }
+
+    /// The parameter symbols, in print order.
+    pub fn symbols(&self) -> &SymbolTable {
+        &self.symbols
+    }
+
+    /// Parameters in file order.
+    pub fn parameters(&self) -> &[Parameter] {
+        &self.parameters
+    }
+
+    /// Inputs in file order.
+    pub fn inputs(&self) -> &[Input] {
+        &self.inputs
+    }
+
+    /// Elements in file order.
+    pub fn elements(&self) -> &[Element] {
+        &self.elements
+    }
+
+    /// Bonds in file order.
+    pub fn bonds(&self) -> &[Bond] {
+        &self.bonds
+    }
+
+    /// Parameter values indexed by [`Symbol::index`] (in SI units).
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// Sets the value of parameter `symbol` (in SI units), as a fit's trial: in
+    /// [`Model::values`] and in its [`Parameter`]. The model's laws are symbolic, so nothing
+    /// else depends on it.
+    ///
+    /// # Panics
+    /// If `symbol` is not one of this model's parameters.
+    pub fn set_value(&mut self, symbol: Symbol, value: f64) {
+        self.values[symbol.index()] = value;
+        if let Some(parameter) = self.parameters.iter_mut().find(|p| p.symbol == symbol) {
+            parameter.value = value;
+        }
+    }
+
+    /// The linear graph the model was translated from, if its file is a `LinearGraph(...)`:
+    /// its nodes and branches, and where each branch is in this bond graph.
+    pub fn linear_graph(&self) -> Option<&Arc<crate::model::linear_graph::LinearGraph>> {
+        self.linear_graph.as_ref()
+    }
+
+    /// The dimensions of each bond's effort and flow, where the units check could tell them
+    /// (indexed by [`BondId::index`]; see [`crate::units`]).
+    pub fn bond_dimensions(&self) -> &[crate::units::BondDimensions] {
+        &self.bond_dimensions
+    }
+
     /// The model as a directed graph: node `i` is element `i`, edge `j` is bond `j`, pointing
     /// the way power flows.
     pub fn bond_graph(&self) -> petgraph::graph::DiGraph<ElementId, BondId> {

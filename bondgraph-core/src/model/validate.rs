@@ -28,7 +28,7 @@ mod friction;
 mod laws;
 mod units;
 
-pub use units::Convention;
+use units::Convention;
 #[doc(hidden)]
 pub use units::ordered_reference;
 
@@ -40,13 +40,31 @@ pub fn validate(file: &Arc<SourceFile>, raw: ModelSpec, map: &SourceMap) -> Resu
     validate_as(file, raw, map, Convention::BondGraph)
 }
 
+/// [`validate`] for the bond graph a linear graph became (`spec`, with its through variables
+/// as efforts, spans in the linear-graph file), which the model keeps as its
+/// [`linear_graph`](Model::linear_graph).
+///
+/// # Errors
+/// As [`validate`], worded for the bond graph (see
+/// [`Words`](crate::model::linear_graph::Words) for the graph's terms).
+pub fn validate_linear_graph(
+    file: &Arc<SourceFile>,
+    spec: ModelSpec,
+    map: &SourceMap,
+    graph: crate::model::linear_graph::LinearGraph,
+) -> Result<Model> {
+    let mut model = validate_as(file, spec, map, Convention::LinearGraph)?;
+    model.linear_graph = Some(Arc::new(graph));
+    Ok(model)
+}
+
 /// [`validate`], for a model whose efforts and flows follow `convention` (a linear graph
 /// translated into a bond graph has its through variables as efforts): the units check
 /// ([`crate::units`]) needs to know which is which.
 ///
 /// # Errors
 /// As [`validate`].
-pub fn validate_as(
+fn validate_as(
     file: &Arc<SourceFile>,
     raw: ModelSpec,
     map: &SourceMap,

@@ -56,7 +56,7 @@ pub(super) fn reproduced_by_base(
     let active = (first_own..fitted.names.len()).any(|j| {
         candidate
             .model
-            .parameters
+            .parameters()
             .iter()
             .find(|p| p.name == fitted.names[j])
             .is_some_and(|p| {
@@ -84,7 +84,7 @@ pub(super) fn no_effect(candidate: &Candidate, assessment: &Assessment) -> bool 
     (base..assessment.names.len()).all(|j| {
         candidate
             .model
-            .parameters
+            .parameters()
             .iter()
             .find(|p| p.name == assessment.names[j])
             .and_then(|p| p.bounds)

@@ -106,7 +106,7 @@ pub(crate) fn fitted_parameters(
             "fitted_when_present"
         };
         let parameter = model
-            .parameters
+            .parameters()
             .iter()
             .find(|p| &p.name == name)
             .ok_or_else(|| {
@@ -118,7 +118,7 @@ pub(crate) fn fitted_parameters(
                             name,
                             format!(
                                 "experiment: `{field}` names '{name}', which is not a parameter of model '{}'",
-                                model.name
+                                model.name()
                             ),
                         )
                         .into(),
@@ -133,7 +133,7 @@ pub(crate) fn fitted_parameters(
                         name,
                         format!(
                             "experiment: parameter '{name}' of model '{}' is fitted but has no bounds",
-                            model.name
+                            model.name()
                         ),
                     )
                     .note("give it bounds in the model file: bounds: (low, high)")

@@ -149,16 +149,13 @@ impl Predictor {
     pub fn set_parameters(&mut self, values: &[(String, f64)]) -> Result<(), ExperimentError> {
         for variant in &mut self.variants {
             for (name, value) in values {
-                let index = parameter_index(&variant.model, name)?;
-                variant.model.values[index] = *value;
-                if let Some(parameter) = variant
+                parameter_index(&variant.model, name)?;
+                let symbol = variant
                     .model
-                    .parameters
-                    .iter_mut()
-                    .find(|p| &p.name == name)
-                {
-                    parameter.value = *value;
-                }
+                    .symbols()
+                    .get(name)
+                    .expect("a parameter's symbol");
+                variant.model.set_value(symbol, *value);
             }
         }
         Ok(())
@@ -215,7 +212,7 @@ impl Predictor {
         masks.into_iter().any(|mask| {
             let model = &self.variants[mask].model;
             model
-                .parameters
+                .parameters()
                 .iter()
                 .find(|p| p.name == name)
                 .is_some_and(|p| model.parameters_in_use().contains(&p.symbol))
@@ -272,7 +269,7 @@ fn reduced(
                     .map(|n| format!("'{n}'"))
                     .collect::<Vec<_>>()
                     .join(", "),
-                model.name,
+                model.name(),
                 diagnostics.first().message
             ),
         )];
@@ -289,10 +286,9 @@ fn reduced(
     let edited = edit::apply_traced(source, &edit).map_err(|d| located(d, None))?;
     let mut reduced =
         bondgraph_ron::model::load_source(&edited.file).map_err(|d| located(d, Some(&edited)))?;
-    for parameter in &mut reduced.parameters {
-        if let Some(original) = model.parameters.iter().find(|p| p.name == parameter.name) {
-            parameter.value = original.value;
-            reduced.values[parameter.symbol.index()] = original.value;
+    for original in model.parameters() {
+        if let Some(symbol) = reduced.symbols().get(&original.name) {
+            reduced.set_value(symbol, original.value);
         }
     }
     Ok(reduced)
@@ -379,10 +375,10 @@ impl<'p> Session<'p> {
         let ranges = slots
             .iter()
             .map(|&slot| {
-                let parameter = model.parameters.iter().find(|p| p.symbol.index() == slot);
+                let parameter = model.parameters().iter().find(|p| p.symbol.index() == slot);
                 match parameter.and_then(|p| p.bounds) {
                     Some((low, high)) => high - low,
-                    None => model.values[slot].abs(),
+                    None => model.values()[slot].abs(),
                 }
             })
             .collect();
@@ -393,7 +389,7 @@ impl<'p> Session<'p> {
                 .with_shared_forms(Arc::clone(&variant.forms)),
             slots,
             ranges,
-            values: model.values.clone(),
+            values: model.values().to_vec(),
             anchors: HashMap::new(),
         }
     }
@@ -666,7 +662,7 @@ impl<'p> Evaluator<'p> {
         let experiment = &self.predictor.experiment;
         let session = &mut self.sessions[self.predictor.mask(row)];
         let variant = session.variant;
-        let mut inputs = vec![0.0; variant.model.inputs.len()];
+        let mut inputs = vec![0.0; variant.model.inputs().len()];
         for (k, condition) in experiment.conditions.iter().enumerate() {
             if let (Some(input), Some(cell)) = (variant.inputs[k], row.conditions[k]) {
                 inputs[input] = condition.factor * cell;
@@ -870,14 +866,14 @@ impl<'p> Evaluator<'p> {
 /// Where the parameter `name` sits in the model's values.
 fn parameter_index(model: &Model, name: &str) -> Result<usize, ExperimentError> {
     model
-        .parameters
+        .parameters()
         .iter()
         .find(|p| p.name == name)
         .map(|p| p.symbol.index())
         .ok_or_else(|| {
             Diagnostic::new(
                 DiagnosticKind::UnknownName,
-                format!("'{name}' is not a parameter of model '{}'", model.name),
+                format!("'{name}' is not a parameter of model '{}'", model.name()),
             )
             .into()
         })
@@ -897,7 +893,7 @@ impl Variant {
                 let input = model.input_named(&condition.input).map(|i| i.index());
                 if input.is_none() {
                     let inputs: Vec<String> =
-                        model.inputs.iter().map(|i| format!("'{}'", i.name)).collect();
+                        model.inputs().iter().map(|i| format!("'{}'", i.name)).collect();
                     problems.push(
                         experiment
                             .error(
@@ -906,7 +902,7 @@ impl Variant {
                                 &condition.input,
                                 format!(
                                     "experiment: column `{}` sets input '{}', which model '{}' does not have",
-                                    condition.column, condition.input, model.name
+                                    condition.column, condition.input, model.name()
                                 ),
                             )
                             .note(format!("its inputs are {}", inputs.join(", "))),

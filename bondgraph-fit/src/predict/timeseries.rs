@@ -74,7 +74,7 @@ impl Drive {
             .collect();
         let loaded = bondgraph_ron::scenario::load_measured(&file, model, &measured)?;
         let base = bondgraph_ron::model::load_source(model)?;
-        let edited = loaded.model.values != base.values
+        let edited = loaded.model.values() != base.values()
             || loaded.model.element_ids().count() != base.element_ids().count();
         if edited {
             return Err(at_kind(format!(
@@ -85,7 +85,7 @@ impl Drive {
         Ok(Some(Self {
             signals: loaded
                 .model
-                .inputs
+                .inputs()
                 .iter()
                 .zip(&loaded.inputs)
                 .map(|(input, signal)| (input.name.clone(), signal.clone()))
@@ -150,7 +150,7 @@ pub(crate) fn predict_run(
     }
     let model = setup.model;
     let mut signals: Vec<ScenarioSignal> = model
-        .inputs
+        .inputs()
         .iter()
         .map(|input| {
             drive

@@ -47,8 +47,8 @@ fn fragment(name: &str, text: &str) -> Extension {
 fn a_fragment_splits_a_branch_with_a_new_node() {
     let extended = merge(&graph(), &[fragment("joint.ron", JOINT)]).unwrap();
     let model = extended.check().unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(model.name, "pair+joint");
-    let graph = model.linear_graph.as_ref().expect("still a linear graph");
+    assert_eq!(model.name(), "pair+joint");
+    let graph = model.linear_graph().expect("still a linear graph");
     let names: Vec<&str> = graph.branches.iter().map(|b| b.name.as_str()).collect();
     assert_eq!(
         names,
@@ -58,7 +58,7 @@ fn a_fragment_splits_a_branch_with_a_new_node() {
     // The bar now ends at the new node, and the joint's R_c is a parameter with its bounds.
     let bar = &graph.branches[3];
     assert_eq!(graph.node(bar.edges[0].to).name, "contact");
-    let r_c = model.parameters.iter().find(|p| p.name == "R_c").unwrap();
+    let r_c = model.parameters().iter().find(|p| p.name == "R_c").unwrap();
     assert_eq!(r_c.bounds, Some((0.0, 10.0)));
 }
 

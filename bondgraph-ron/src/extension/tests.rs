@@ -62,10 +62,10 @@ fn appended_entries_keep_the_base_text_and_its_comments() {
     ));
     assert!(text.contains("(\"v\", \"damper\"),\n        // added by extension 'wall-spring'\n        (\"v\", \"spring\"),\n    ],"));
     let model = extended.load().unwrap();
-    assert_eq!(model.name, "msd+wall-spring");
-    assert_eq!(model.elements.len(), 5);
-    assert_eq!(model.parameters[2].name, "k");
-    assert_eq!(model.parameters[2].bounds, Some((0.0, 1000.0)));
+    assert_eq!(model.name(), "msd+wall-spring");
+    assert_eq!(model.elements().len(), 5);
+    assert_eq!(model.parameters()[2].name, "k");
+    assert_eq!(model.parameters()[2].bounds, Some((0.0, 1000.0)));
 }
 
 #[test]
@@ -83,7 +83,7 @@ fn a_replaced_element_is_rewritten_in_place() {
             .text()
             .contains("        \"damper\": R(resistance: \"2*b\"),\n    },")
     );
-    assert_eq!(extended.load().unwrap().elements.len(), 4);
+    assert_eq!(extended.load().unwrap().elements().len(), 4);
 }
 
 #[test]
@@ -182,7 +182,7 @@ fn two_extensions_merge_in_one_pass() {
     )
     .unwrap();
     let model = extended.load().unwrap();
-    assert_eq!(model.name, "msd+wall-spring+air");
-    assert_eq!(model.elements.len(), 6);
+    assert_eq!(model.name(), "msd+wall-spring+air");
+    assert_eq!(model.elements().len(), 6);
     assert_eq!(extended.file.name(), "models/msd.ron+wall-spring+air");
 }

@@ -38,8 +38,8 @@
 //! let edited = edit::apply(&source, &edit).unwrap();
 //! assert_eq!(edited.name(), "msd.ron (edited)");
 //! let model = bondgraph_ron::model::load_source(&edited).unwrap();
-//! assert_eq!(model.elements.len(), 3);
-//! assert_eq!(model.parameters[0].value, 0.5);
+//! assert_eq!(model.elements().len(), 3);
+//! assert_eq!(model.parameters()[0].value, 0.5);
 //! ```
 
 use std::collections::HashSet;
@@ -533,7 +533,7 @@ Model(
                 .contains("\"m\": (value: 5.0, unit: \"kg\"),\n        \"k\"")
         );
         let model = load_source(&edited).unwrap();
-        assert_eq!(model.parameters[0].value, 5.0);
+        assert_eq!(model.parameters()[0].value, 5.0);
     }
 
     #[test]

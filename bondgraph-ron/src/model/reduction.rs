@@ -42,7 +42,7 @@ pub fn without_storage(model: &Model, source: &SourceFile, elements: &[String]) 
                 DiagnosticKind::UndefinedElement,
                 format!(
                     "cannot reduce '{name}': model '{}' has no such element",
-                    model.name
+                    model.name()
                 ),
             )
             .element(name.clone())

@@ -295,7 +295,7 @@ fn si_value(value: &str, unit: &str) -> f64 {
     );
     let model =
         crate::model::load_str("scaled.ron", &text).unwrap_or_else(|e| panic!("{unit}: {e}"));
-    model.parameters[1].value
+    model.parameters()[1].value
 }
 
 /// Every SI prefix, on the metre, the gram and the pascal, against its power of ten as
@@ -432,10 +432,10 @@ fn a_parameters_bounds_are_converted_with_its_value() {
     bonds: [("force", "v"), ("v", "mass"), ("v", "spring")])"#,
     )
     .unwrap();
-    let k = &model.parameters[1];
+    let k = &model.parameters()[1];
     assert_eq!(k.value, 200.0);
     assert_eq!(k.bounds, Some((50.0, 1500.0)));
-    assert_eq!(model.values[k.symbol.index()], 200.0);
+    assert_eq!(model.values()[k.symbol.index()], 200.0);
 }
 
 #[test]
@@ -744,7 +744,7 @@ fn an_edit_writes_an_si_value_in_the_parameters_own_unit() {
     );
     let model = crate::model::load_source(&edited).unwrap();
     for (name, value) in set {
-        let p = model.parameters.iter().find(|p| p.name == name).unwrap();
+        let p = model.parameters().iter().find(|p| p.name == name).unwrap();
         assert_eq!(
             p.value.to_bits(),
             value.to_bits(),
@@ -790,12 +790,12 @@ fn the_linear_closure_agrees_with_the_ordered_check_on_every_model_file() {
         match (load(path, &text, false), load(path, &text, true)) {
             (Ok(closed), Ok(ordered)) => {
                 assert_eq!(
-                    closed.bond_dimensions,
-                    ordered.bond_dimensions,
+                    closed.bond_dimensions(),
+                    ordered.bond_dimensions(),
                     "{}",
                     path.display()
                 );
-                models += usize::from(closed.bond_dimensions.iter().any(|d| d.effort.is_some()));
+                models += usize::from(closed.bond_dimensions().iter().any(|d| d.effort.is_some()));
             }
             (Err(closed), Err(ordered)) => {
                 let messages = |d: &Diagnostics| -> Vec<String> {

@@ -117,7 +117,7 @@ mod tests {
         let slipping = Mode::parse(&belt, "friction=slip+").unwrap();
         let mut first = Simulator::new(&belt, outputs()).with_shared_forms(Arc::clone(&shared));
         let mut second = Simulator::new(&belt, outputs()).with_shared_forms(Arc::clone(&shared));
-        let mut values = belt.values.clone();
+        let mut values = belt.values().to_vec();
         for mode in [&stuck, &slipping] {
             let a = first.mode(mode).unwrap();
             let b = second.mode(mode).unwrap();
@@ -128,7 +128,7 @@ mod tests {
         assert_eq!(second.symbolic.len(), 0);
         // At b = 40 N s/m the slipping block is m p̈ + b ṗ + k p = 0:
         // s = -20 ± √300 (s² + 40 s + 100 = 0).
-        let b_index = belt.parameters.iter().find(|p| p.name == "b").unwrap();
+        let b_index = belt.parameters().iter().find(|p| p.name == "b").unwrap();
         values[b_index.symbol.index()] = 40.0;
         second.set_parameter_values(&values).unwrap();
         let slipping = second.mode(&slipping).unwrap();

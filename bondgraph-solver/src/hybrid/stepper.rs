@@ -67,11 +67,11 @@ impl<'s, 'm> Stepper<'s, 'm> {
         sample: Option<f64>,
     ) -> Result<Self, SimError> {
         let model = simulator.model;
-        if inputs.len() != model.inputs.len() {
+        if inputs.len() != model.inputs().len() {
             return Err(SimError::Inputs(format!(
                 "model '{}' has {} inputs but {} signals were given",
-                model.name,
-                model.inputs.len(),
+                model.name(),
+                model.inputs().len(),
                 inputs.len()
             )));
         }
@@ -79,7 +79,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
             return Err(SimError::Inputs(format!(
                 "the initial state has {} values but model '{}' stores energy in {} elements",
                 initial_state.len(),
-                model.name,
+                model.name(),
                 simulator.storage.len()
             )));
         }

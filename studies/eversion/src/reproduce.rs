@@ -358,7 +358,7 @@ fn reduction_check(
 
 fn parameter(model: &Model, name: &str) -> f64 {
     model
-        .parameters
+        .parameters()
         .iter()
         .find(|p| p.name == name)
         .map_or(f64::NAN, |p| p.value)

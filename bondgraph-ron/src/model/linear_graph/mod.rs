@@ -44,8 +44,8 @@
 //!     },
 //! )"#).unwrap();
 //! // A force source, one 1-junction and three elements: the textbook bond graph.
-//! assert_eq!(model.elements.len(), 5);
-//! assert_eq!(model.linear_graph.as_ref().unwrap().branches.len(), 4);
+//! assert_eq!(model.elements().len(), 5);
+//! assert_eq!(model.linear_graph().unwrap().branches.len(), 4);
 //!
 //! let typo = bondgraph_ron::model::load_str("msd.lg.ron", r#"LinearGraph(name: "msd", ground: "g",
 //!     parameters: {"m": (value: 2.0), "k": (value: 1.0)},
@@ -97,15 +97,13 @@ pub fn load(source: &Arc<SourceFile>) -> Result<Model> {
         })
         .collect();
     let words = Words::new(&translated.graph, &names, &bonds, &translated.fields);
-    let mut model = bondgraph_core::model::validate::validate_as(
+    bondgraph_core::model::validate::validate_linear_graph(
         source,
         translated.raw,
         &translated.map,
-        bondgraph_core::model::validate::Convention::LinearGraph,
+        translated.graph,
     )
-    .map_err(|d| words.apply(d))?;
-    model.linear_graph = Some(Arc::new(translated.graph));
-    Ok(model)
+    .map_err(|d| words.apply(d))
 }
 
 /// The linear graph in `source` in the shape [`edit`](crate::model::edit) edits: a raw

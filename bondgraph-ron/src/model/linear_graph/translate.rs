@@ -697,7 +697,7 @@ mod tests {
     /// The bond graph as `kind name` per element and `from -> to` per bond.
     fn structure(model: &Model) -> (Vec<String>, Vec<String>) {
         let elements = model
-            .elements
+            .elements()
             .iter()
             .map(|e| format!("{} {}", e.kind.keyword(), e.name))
             .collect();
@@ -722,7 +722,7 @@ mod tests {
             bonds,
             ["force -> v1", "v1 -> mass", "v1 -> spring", "v1 -> damper"]
         );
-        let graph = model.linear_graph.as_ref().unwrap();
+        let graph = model.linear_graph().unwrap();
         // The mass's across variable is the flow into it, its through variable the effort.
         let mass = &graph.branches[1].edges[0];
         assert_eq!((mass.across_sign, mass.through_sign), (1, 1));
@@ -739,7 +739,7 @@ mod tests {
         );
         let (_, bonds) = structure(&model);
         assert_eq!(bonds, ["push -> n", "mass -> n", "n -> spring"]);
-        let graph = model.linear_graph.as_ref().unwrap();
+        let graph = model.linear_graph().unwrap();
         assert_eq!(graph.branches[1].edges[0].across_sign, -1);
     }
 
@@ -753,7 +753,7 @@ mod tests {
         let (elements, bonds) = structure(&model);
         assert_eq!(elements, ["Sf drive", "R damper"]);
         assert_eq!(bonds, ["drive -> damper"]);
-        let graph = model.linear_graph.as_ref().unwrap();
+        let graph = model.linear_graph().unwrap();
         // The flow out of the source is its across variable; its through variable runs the
         // other way through it.
         let drive = &graph.branches[0].edges[0];
