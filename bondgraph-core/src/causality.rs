@@ -35,7 +35,7 @@
 //! assert!(causal.dependent.is_empty());
 //! ```
 
-pub mod trace;
+pub(crate) mod trace;
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::laws::Law;
@@ -114,7 +114,7 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
 }
 
 /// Assigns causality as [`assign`] does, and returns the record of every decision it made
-/// on the way ([`trace`]): the same run, so the trace's strokes are the causality's.
+/// on the way ([`CausalityTrace`]): the same run, so the trace's strokes are the causality's.
 ///
 /// # Errors
 /// As [`assign`].

@@ -14,7 +14,7 @@
 //! With `T` fixed every entry of `A`, `B`, `E` is compared exactly and the first that
 //! differs named. **Unnamed states** (or names that are neither) leave `T` open: the answer
 //! is similar when an invertible `T` with `T A = A' T`, `T B = B'`, `T E = E'` exists,
-//! found exactly by [`super::similarity`] and reported, so that a reader sees which states
+//! found exactly (`analysis/similarity.rs`) and reported, so that a reader sees which states
 //! the answer's must be. That is a weaker check: with one input any two controllable pairs
 //! with the same characteristic polynomial are similar, so a wrong gain in `B` shows only in
 //! `T` (`z2 = 2*p_mass`), which the verdict asks to confirm by naming the states.

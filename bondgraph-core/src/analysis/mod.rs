@@ -42,7 +42,7 @@
 pub mod answer;
 mod characteristic;
 pub mod compare;
-pub mod similarity;
+pub(crate) mod similarity;
 mod transfer;
 
 pub use characteristic::{Characteristic, Matrix, characteristic};

@@ -91,6 +91,7 @@ impl Solver {
     }
 
     /// What made `v` known, if it is.
+    #[cfg(test)]
     pub fn known(&self, v: Var) -> Option<Known> {
         let (root, factor) = self.find(v);
         self.value[root].as_ref().map(|k| Known {

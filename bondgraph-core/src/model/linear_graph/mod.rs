@@ -6,7 +6,7 @@
 //! Linear-graph files are read, checked and translated into a bond graph by
 //! `bondgraph-ron`; the model then goes through the one validator.
 
-pub mod graph;
+pub(crate) mod graph;
 
 pub use graph::{Branch, BranchKind, Edge, JunctionOf, LinearGraph, Node, NodeId};
 

@@ -62,7 +62,7 @@ pub mod translate;
 
 use std::sync::Arc;
 
-use bondgraph_core::model::linear_graph::{Words, graph};
+use bondgraph_core::model::linear_graph::{self as graph, Words};
 
 use crate::model::parse::{FileKind, parse_file};
 use bondgraph_core::diagnostics::Result;
