@@ -18,7 +18,6 @@ mod linear_graphs;
 mod new_systems;
 mod nonlinear;
 mod overflow;
-mod paper;
 mod scenarios;
 mod snapshots;
 mod stribeck_zero;

@@ -2,6 +2,7 @@
 
 mod global_fits;
 mod hidden;
+mod paper;
 mod reproduce;
 mod stability;
 mod stalls;

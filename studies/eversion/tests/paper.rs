@@ -1,6 +1,6 @@
 //! The paper's printed equations against the equations derived from `paper.ron`.
 //!
-//! `tests/fixtures/paper/printed.ron` transcribes equations (4), (8), (10), (15) and the
+//! `tests/fixtures/printed.ron` (of this study) transcribes equations (4), (8), (10), (15) and the
 //! hold condition (13)/(14) as printed, and lists the errata. For every mode a printed
 //! equation describes, the derivation (co-energy states, as the paper writes them) must
 //! equal the printed matrices entry by entry, except for exactly the listed errata, and each
@@ -17,7 +17,12 @@ use bondgraph_core::modes::{self, Mode, ModeEquations};
 use bondgraph_core::symbolic::RatFunc;
 use serde::Deserialize;
 
-use crate::support::{affine, expected, load, root};
+use std::path::PathBuf;
+
+use bondgraph_core::analysis::answer::rational;
+use bondgraph_core::expr::{self, Expr, ExprKind};
+
+use crate::support;
 
 #[derive(Deserialize)]
 struct Printed {
@@ -102,10 +107,9 @@ struct Erratum {
 }
 
 fn printed() -> Printed {
-    let path = root().join("tests/fixtures/paper/printed.ron");
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/printed.ron");
     let text = std::fs::read_to_string(&path).expect("fixture");
-    ron::Options::default()
-        .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+    bondgraph_ron::model::parse::ron_options()
         .from_str(&text)
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
@@ -234,7 +238,7 @@ fn printed_equations_match_the_linear_graph_except_the_errata() {
 }
 
 fn printed_equations_match(path: &str) {
-    let model = load(path);
+    let model = support::load(path).0;
     let fixture = printed();
     let mut errata_used = Vec::new();
     for printed in &fixture.equations {
@@ -330,7 +334,7 @@ fn hold_condition_matches_the_linear_graph_except_the_errata() {
 }
 
 fn hold_condition_matches(path: &str) {
-    let model = load(path);
+    let model = support::load(path).0;
     let fixture = printed();
     let hold = &fixture.hold;
     let derived = derive(&model, &hold.mode);
@@ -419,7 +423,7 @@ fn table_two_matches_the_linear_graphs_guards_except_the_errata() {
 
 fn table_two_matches(path: &str) {
     // The paper's analysis ignores the catheter's viscous friction; so does this comparison.
-    let text = std::fs::read_to_string(root().join(path)).unwrap();
+    let text = std::fs::read_to_string(support::root().join(path)).unwrap();
     assert!(text.contains("viscous: \"b_ct\", "));
     let model = bondgraph_ron::model::load_str(
         &format!("{path} without b_ct"),
@@ -524,7 +528,8 @@ fn table_two_matches(path: &str) {
 #[test]
 fn every_erratum_is_explained_and_documented() {
     let fixture = printed();
-    let doc = std::fs::read_to_string(root().join("docs/paper-errata.md")).expect("errata doc");
+    let doc =
+        std::fs::read_to_string(support::root().join("docs/paper-errata.md")).expect("errata doc");
     for erratum in &fixture.errata {
         assert!(
             erratum.why.len() > 80,
@@ -543,4 +548,76 @@ fn every_erratum_is_explained_and_documented() {
             "docs/paper-errata.md does not describe {id}"
         );
     }
+}
+
+/// A hand-written expression over the model's parameters, as an exact rational function
+/// (read by the answer files' converter, apart from the model validator's).
+fn expected(model: &Model, text: &str) -> RatFunc {
+    rational(text, model.symbols()).unwrap_or_else(|(message, _)| panic!("{text}: {message}"))
+}
+
+/// A hand-written affine expression over the parameters, the states of `equations` (by
+/// name) and the model's inputs, as a linear form (see [`expected`] for why it is separate
+/// from the validator's converter).
+fn affine(
+    model: &Model,
+    equations: &StateEquations,
+    text: &str,
+) -> bondgraph_core::linear::LinearForm {
+    use bondgraph_core::linear::{LinearForm, Var};
+    fn convert(model: &Model, eq: &StateEquations, e: &Expr) -> LinearForm {
+        let constant = |form: &LinearForm| {
+            assert!(
+                !form.mentions(|v| v != Var::Constant),
+                "not affine: a product or quotient of variables"
+            );
+            form.coefficient(Var::Constant)
+        };
+        match &e.kind {
+            ExprKind::Number(n) => LinearForm::constant(RatFunc::from_decimal(n).expect("number")),
+            ExprKind::Symbol(s) => {
+                if let Some(symbol) = model.symbols().get(s) {
+                    LinearForm::constant(RatFunc::symbol(symbol))
+                } else if let Some(k) = eq.state_named(s) {
+                    LinearForm::var(Var::State(k as u32))
+                } else if let Some(i) = eq.inputs.iter().position(|u| u == s) {
+                    LinearForm::var(Var::Input(i as u32))
+                } else {
+                    panic!("unknown symbol {s}")
+                }
+            }
+            ExprKind::Neg(a) => convert(model, eq, a).scaled(&RatFunc::integer(-1)),
+            ExprKind::Add(a, b) | ExprKind::Sub(a, b) => {
+                let mut left = convert(model, eq, a);
+                let sign = if matches!(e.kind, ExprKind::Add(..)) {
+                    1
+                } else {
+                    -1
+                };
+                left.add_scaled(&convert(model, eq, b), &RatFunc::integer(sign));
+                left
+            }
+            ExprKind::Mul(a, b) => {
+                let (left, right) = (convert(model, eq, a), convert(model, eq, b));
+                if left.mentions(|v| v != Var::Constant) {
+                    left.scaled(&constant(&right))
+                } else {
+                    right.scaled(&constant(&left))
+                }
+            }
+            ExprKind::Div(a, b) => convert(model, eq, a)
+                .scaled(&constant(&convert(model, eq, b)).inv().expect("non-zero")),
+            ExprKind::Pow(a, n) => {
+                LinearForm::constant(constant(&convert(model, eq, a)).powi(*n).expect("power"))
+            }
+            ExprKind::RealPow(..) | ExprKind::Call(..) => {
+                panic!("expected forms are affine, not {e:?}")
+            }
+        }
+    }
+    convert(
+        model,
+        equations,
+        &expr::parse(text).expect("expression parses"),
+    )
 }
