@@ -92,22 +92,3 @@ fn stick_slip_balances_its_energy_with_losses_at_sticking() {
         None,
     );
 }
-
-#[test]
-fn the_eversion_models_balance_their_energy_through_the_fig6_scenario() {
-    let pressure = Ramp {
-        initial: 0.0,
-        slope: 1e6,
-        ceiling: 1.5e5,
-    };
-    let (channel, catheter) = (Constant(5.8e-3), Constant(6.3e-3));
-    for file in ["models/eversion/robot.ron", "models/eversion/paper.ron"] {
-        balance(
-            file,
-            &[&pressure, &channel, &catheter],
-            vec![0.0, 0.0, 5e-4 * 6.19e-3],
-            0.3,
-            Some("fr_ge=stuck,k=slack,fr_ct=slip-"),
-        );
-    }
-}

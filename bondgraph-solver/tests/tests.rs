@@ -7,8 +7,6 @@ mod energy_books;
 mod energy_records;
 mod event_bounds;
 mod extreme_ratios;
-mod fig6;
-mod flagship;
 mod flow_limit;
 mod hardening;
 mod hardening_events;

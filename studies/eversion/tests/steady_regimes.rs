@@ -10,7 +10,11 @@ use bondgraph_core::modes::Mode;
 use bondgraph_solver::steady::{SteadySettings, steady_state};
 use bondgraph_solver::{Output, Simulator};
 
-use crate::support::load;
+use crate::support;
+
+fn load(relative: &str) -> Model {
+    support::load(relative).0
+}
 
 const A: f64 = 1e-4;
 const F_C_GE: f64 = 9.125;
