@@ -6,7 +6,6 @@
 //! non-zero.
 
 mod args;
-mod reproduce;
 mod run;
 
 use std::io::Write;
@@ -182,7 +181,7 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
         }),
         // Dispatched in `main`, for its exit codes.
         Command::Compare { .. } => Ok(()),
-        Command::Reproduce { out, format } => reproduce::run(&out, format == ReproduceFormat::Json),
+        Command::Reproduce { out, format } => run::reproduce(&out, format == ReproduceFormat::Json),
         Command::Calibrate {
             model,
             data,
