@@ -58,16 +58,10 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
         208,
     ),
     (
-        "bondgraph-core/src/model/validate/units.rs",
-        "constraints",
-        167,
-    ),
-    (
         "bondgraph-solver/src/hybrid/stepper.rs",
         "closed_form_segment",
         200,
     ),
-    ("bondgraph-solver/src/energy/modal.rs", "over", 177),
 ];
 
 fn root() -> PathBuf {

@@ -141,7 +141,6 @@ impl ModalBooks {
         b: f64,
     ) -> Increment {
         let h = b - a;
-        let n = self.terms.len();
         self.start.clear();
         self.start
             .extend_from_slice(segment.modal_state(a).expect("a modal segment"));
@@ -155,7 +154,59 @@ impl ModalBooks {
                 .extend_from_slice(segment.modal_state(b).expect("a modal segment"));
         }
 
-        // The Taylor degree the slowest-converging slow coordinate needs.
+        let degree = self.taylor_degree(h);
+
+        self.forms(a, h, degree);
+
+        // `∫₀¹` of each pair of fast exponentials, and of one with the other's conjugate.
+        self.pairs.clear();
+        self.conjugate_pairs.clear();
+        for p in &self.fast {
+            for q in &self.fast {
+                self.pairs
+                    .push(pair(p.lambda, p.at_end, q.lambda, q.at_end, h));
+                self.conjugate_pairs
+                    .push(pair(p.lambda, p.at_end, q.lambda.conj(), q.at_end, h));
+            }
+        }
+
+        let u: Vec<f64> = self
+            .u0
+            .iter()
+            .zip(&self.u1)
+            .map(|(u0, u1)| u0 + u1 * a)
+            .collect();
+        let mut increment = Increment::default();
+        for (k, port) in mode.ports.iter().enumerate() {
+            self.effort.fill(
+                &self.rows[2 * k],
+                &port.effort,
+                &self.fast,
+                &self.coordinates,
+                &u,
+                &self.u1,
+                h,
+                degree,
+            );
+            self.flow.fill(
+                &self.rows[2 * k + 1],
+                &port.flow,
+                &self.fast,
+                &self.coordinates,
+                &u,
+                &self.u1,
+                h,
+                degree,
+            );
+            let (value, magnitude) = self.power_integral(degree);
+            increment.book(port.source, h * value, ROUNDING * h * magnitude);
+        }
+        increment
+    }
+
+    /// The Taylor degree the slowest-converging slow coordinate needs over a stretch of
+    /// length `h` (at least 1; 2 or more when any coordinate is slow).
+    fn taylor_degree(&self, h: f64) -> usize {
         let rho = self
             .terms
             .iter()
@@ -172,8 +223,15 @@ impl ModalBooks {
                 degree += 1;
             }
         }
+        degree
+    }
 
-        // Each coordinate's form; the fast ones' polynomial parts go with the slow ones.
+    /// Each coordinate's form over the stretch from `a` of length `h`: a polynomial of
+    /// `degree` for a slow one, an exponential (in `self.fast`) plus the polynomial part for
+    /// a fast one.
+    fn forms(&mut self, a: f64, h: f64, degree: usize) {
+        let n = self.terms.len();
+        // The fast ones' polynomial parts go with the slow ones.
         self.fast.clear();
         self.coordinates.clear();
         for j in 0..n {
@@ -234,81 +292,41 @@ impl ModalBooks {
                 });
             }
         }
+    }
 
-        // `∫₀¹` of each pair of fast exponentials, and of one with the other's conjugate.
+    /// `∫₀¹ e·f` of the effort and flow just filled (in the stretch's unit time): its value
+    /// and the magnitude its rounding scales with.
+    fn power_integral(&self, degree: usize) -> (f64, f64) {
         let f = self.fast.len();
-        self.pairs.clear();
-        self.conjugate_pairs.clear();
-        for p in &self.fast {
-            for q in &self.fast {
-                self.pairs
-                    .push(pair(p.lambda, p.at_end, q.lambda, q.at_end, h));
-                self.conjugate_pairs
-                    .push(pair(p.lambda, p.at_end, q.lambda.conj(), q.at_end, h));
+        let (e, fl) = (&self.effort, &self.flow);
+        let (mut value, mut magnitude) = (0.0, 0.0);
+        for i in 0..f {
+            for j in 0..f {
+                let (pij, cij) = (self.pairs[i * f + j], self.conjugate_pairs[i * f + j]);
+                value += 0.5
+                    * ((e.fast[i] * fl.fast[j] * pij).re
+                        + (e.fast[i] * fl.fast[j].conj() * cij).re);
+                magnitude +=
+                    0.5 * e.fast_magnitude[i] * fl.fast_magnitude[j] * (pij.norm() + cij.norm());
             }
         }
-
-        let u: Vec<f64> = self
-            .u0
-            .iter()
-            .zip(&self.u1)
-            .map(|(u0, u1)| u0 + u1 * a)
-            .collect();
-        let mut increment = Increment::default();
-        for (k, port) in mode.ports.iter().enumerate() {
-            self.effort.fill(
-                &self.rows[2 * k],
-                &port.effort,
-                &self.fast,
-                &self.coordinates,
-                &u,
-                &self.u1,
-                h,
-                degree,
-            );
-            self.flow.fill(
-                &self.rows[2 * k + 1],
-                &port.flow,
-                &self.fast,
-                &self.coordinates,
-                &u,
-                &self.u1,
-                h,
-                degree,
-            );
-            let (e, fl) = (&self.effort, &self.flow);
-            let (mut value, mut magnitude) = (0.0, 0.0);
-            for i in 0..f {
-                for j in 0..f {
-                    let (pij, cij) = (self.pairs[i * f + j], self.conjugate_pairs[i * f + j]);
-                    value += 0.5
-                        * ((e.fast[i] * fl.fast[j] * pij).re
-                            + (e.fast[i] * fl.fast[j].conj() * cij).re);
-                    magnitude += 0.5
-                        * e.fast_magnitude[i]
-                        * fl.fast_magnitude[j]
-                        * (pij.norm() + cij.norm());
-                }
+        for (j, fast) in self.fast.iter().enumerate() {
+            for (kk, moment) in fast.moments.iter().enumerate() {
+                value +=
+                    (e.fast[j] * moment).re * fl.poly[kk] + (fl.fast[j] * moment).re * e.poly[kk];
+                magnitude += moment.norm()
+                    * (e.fast_magnitude[j] * fl.poly_magnitude[kk]
+                        + fl.fast_magnitude[j] * e.poly_magnitude[kk]);
             }
-            for (j, fast) in self.fast.iter().enumerate() {
-                for (kk, moment) in fast.moments.iter().enumerate() {
-                    value += (e.fast[j] * moment).re * fl.poly[kk]
-                        + (fl.fast[j] * moment).re * e.poly[kk];
-                    magnitude += moment.norm()
-                        * (e.fast_magnitude[j] * fl.poly_magnitude[kk]
-                            + fl.fast_magnitude[j] * e.poly_magnitude[kk]);
-                }
-            }
-            for k in 0..=degree {
-                for l in 0..=degree {
-                    let weight = 1.0 / (k + l + 1) as f64;
-                    value += e.poly[k] * fl.poly[l] * weight;
-                    magnitude += e.poly_magnitude[k] * fl.poly_magnitude[l] * weight;
-                }
-            }
-            increment.book(port.source, h * value, ROUNDING * h * magnitude);
         }
-        increment
+        for k in 0..=degree {
+            for l in 0..=degree {
+                let weight = 1.0 / (k + l + 1) as f64;
+                value += e.poly[k] * fl.poly[l] * weight;
+                magnitude += e.poly_magnitude[k] * fl.poly_magnitude[l] * weight;
+            }
+        }
+        (value, magnitude)
     }
 }
 

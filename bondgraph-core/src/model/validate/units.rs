@@ -224,116 +224,10 @@ fn constraints(
                 .map(|b| b.index());
             (into.unwrap_or(first), out_of.unwrap_or(first))
         };
-        let value = |var, is_effort| Law::Value { var, is_effort };
-        let ratio = |power, k| Law::Ratio {
-            a: e,
-            b: f,
-            power,
-            k,
-        };
-        let per_s = Dim::TIME.recip();
-        let mut laws: Vec<(&'static str, &Option<String>, Law, bool)> = Vec::new();
-        let some = |s: &String| Some(s.clone());
-        let owned: Vec<Option<String>>;
-        match raw_element {
-            ElementSpec::Se { effort: text } => {
-                owned = vec![some(text)];
-                laws.push(("effort", &owned[0], value(e, true), true));
-            }
-            ElementSpec::Sf { flow: text } => {
-                owned = vec![some(text)];
-                laws.push(("flow", &owned[0], value(f, false), true));
-            }
-            ElementSpec::I {
-                inertance,
-                flow: law,
-            } => {
-                laws.push(("inertance", inertance, ratio(1, per_s), false));
-                laws.push(("flow", law, value(f, false), false));
-            }
-            ElementSpec::C {
-                compliance,
-                stiffness,
-                effort: law,
-            } => {
-                laws.push(("compliance", compliance, ratio(-1, Dim::TIME), false));
-                laws.push(("stiffness", stiffness, ratio(1, Dim::TIME), false));
-                laws.push(("effort", law, value(e, true), false));
-            }
-            ElementSpec::TensionOnly {
-                compliance,
-                stiffness,
-                ..
-            } => {
-                laws.push(("compliance", compliance, ratio(-1, Dim::TIME), false));
-                laws.push(("stiffness", stiffness, ratio(1, Dim::TIME), false));
-            }
-            ElementSpec::R {
-                resistance,
-                effort: effort_law,
-                flow: flow_law,
-            } => {
-                laws.push(("resistance", resistance, ratio(1, Dim::NONE), false));
-                laws.push(("effort", effort_law, value(e, true), false));
-                laws.push(("flow", flow_law, value(f, false), false));
-            }
-            ElementSpec::Conductance { conductance } => {
-                owned = vec![some(conductance)];
-                laws.push(("conductance", &owned[0], ratio(-1, Dim::NONE), false));
-            }
-            ElementSpec::TF { ratio: text } => {
-                owned = vec![some(text)];
-                let (i, o) = (port_in, port_out);
-                let two = |a, b| Law::Ratio {
-                    a,
-                    b,
-                    power: 1,
-                    k: Dim::NONE,
-                };
-                laws.push(("ratio", &owned[0], two(effort(i), effort(o)), true));
-                laws.push(("ratio", &owned[0], two(flow(o), flow(i)), true));
-            }
-            ElementSpec::GY { ratio: text } | ElementSpec::ReciprocalGY { ratio: text } => {
-                owned = vec![some(text)];
-                let power = if matches!(raw_element, ElementSpec::GY { .. }) {
-                    1
-                } else {
-                    -1
-                };
-                let (i, o) = (port_in, port_out);
-                let two = |a, b| Law::Ratio {
-                    a,
-                    b,
-                    power,
-                    k: Dim::NONE,
-                };
-                laws.push(("ratio", &owned[0], two(effort(i), flow(o)), true));
-                laws.push(("ratio", &owned[0], two(effort(o), flow(i)), true));
-            }
-            ElementSpec::Friction {
-                breakaway,
-                coulomb,
-                viscous,
-                dead_band,
-                stribeck,
-                ..
-            } => {
-                owned = vec![some(breakaway), some(coulomb)];
-                laws.push(("breakaway", &owned[0], value(e, true), true));
-                laws.push(("coulomb", &owned[1], value(e, true), true));
-                laws.push(("dead_band", dead_band, value(f, false), true));
-                laws.push(("stribeck", stribeck, value(f, false), true));
-                laws.push(("viscous", viscous, ratio(1, Dim::NONE), false));
-            }
-            ElementSpec::FlowLimit { max_flow, .. } => {
-                owned = vec![some(max_flow)];
-                laws.push(("max_flow", &owned[0], value(f, false), true));
-            }
-            ElementSpec::Zero | ElementSpec::One => {}
-        }
+        let laws = element_laws(raw_element, (e, f), (port_in, port_out));
         for (field, text, law, early) in laws {
             let Some(text) = text else { continue };
-            let Ok(expr) = expr::parse(text) else {
+            let Ok(expr) = expr::parse(&text) else {
                 continue;
             };
             let span = map
@@ -349,7 +243,7 @@ fn constraints(
                 who: format!("{kind} '{name}'"),
                 field_word,
                 keyword,
-                text: text.clone(),
+                text,
                 expr,
                 span,
                 law,
@@ -359,6 +253,129 @@ fn constraints(
         }
     }
     out
+}
+
+/// The laws an element's fields state about its bond's effort `e` and flow `f` (for a
+/// two-port, about its ports' variables): `(field, its text, the law, checked early)`.
+fn element_laws(
+    raw_element: &ElementSpec,
+    (e, f): (Var, Var),
+    (port_in, port_out): (usize, usize),
+) -> Vec<(&'static str, Option<String>, Law, bool)> {
+    let value = |var, is_effort| Law::Value { var, is_effort };
+    let ratio = |power, k| Law::Ratio {
+        a: e,
+        b: f,
+        power,
+        k,
+    };
+    let per_s = Dim::TIME.recip();
+    let mut laws: Vec<(&'static str, Option<String>, Law, bool)> = Vec::new();
+    match raw_element {
+        ElementSpec::Se { effort: text } => {
+            laws.push(("effort", Some(text.clone()), value(e, true), true));
+        }
+        ElementSpec::Sf { flow: text } => {
+            laws.push(("flow", Some(text.clone()), value(f, false), true));
+        }
+        ElementSpec::I {
+            inertance,
+            flow: law,
+        } => {
+            laws.push(("inertance", inertance.clone(), ratio(1, per_s), false));
+            laws.push(("flow", law.clone(), value(f, false), false));
+        }
+        ElementSpec::C {
+            compliance,
+            stiffness,
+            effort: law,
+        } => {
+            laws.push((
+                "compliance",
+                compliance.clone(),
+                ratio(-1, Dim::TIME),
+                false,
+            ));
+            laws.push(("stiffness", stiffness.clone(), ratio(1, Dim::TIME), false));
+            laws.push(("effort", law.clone(), value(e, true), false));
+        }
+        ElementSpec::TensionOnly {
+            compliance,
+            stiffness,
+            ..
+        } => {
+            laws.push((
+                "compliance",
+                compliance.clone(),
+                ratio(-1, Dim::TIME),
+                false,
+            ));
+            laws.push(("stiffness", stiffness.clone(), ratio(1, Dim::TIME), false));
+        }
+        ElementSpec::R {
+            resistance,
+            effort: effort_law,
+            flow: flow_law,
+        } => {
+            laws.push(("resistance", resistance.clone(), ratio(1, Dim::NONE), false));
+            laws.push(("effort", effort_law.clone(), value(e, true), false));
+            laws.push(("flow", flow_law.clone(), value(f, false), false));
+        }
+        ElementSpec::Conductance { conductance } => {
+            laws.push((
+                "conductance",
+                Some(conductance.clone()),
+                ratio(-1, Dim::NONE),
+                false,
+            ));
+        }
+        ElementSpec::TF { ratio: text } => {
+            let (i, o) = (port_in, port_out);
+            let two = |a, b| Law::Ratio {
+                a,
+                b,
+                power: 1,
+                k: Dim::NONE,
+            };
+            laws.push(("ratio", Some(text.clone()), two(effort(i), effort(o)), true));
+            laws.push(("ratio", Some(text.clone()), two(flow(o), flow(i)), true));
+        }
+        ElementSpec::GY { ratio: text } | ElementSpec::ReciprocalGY { ratio: text } => {
+            let power = if matches!(raw_element, ElementSpec::GY { .. }) {
+                1
+            } else {
+                -1
+            };
+            let (i, o) = (port_in, port_out);
+            let two = |a, b| Law::Ratio {
+                a,
+                b,
+                power,
+                k: Dim::NONE,
+            };
+            laws.push(("ratio", Some(text.clone()), two(effort(i), flow(o)), true));
+            laws.push(("ratio", Some(text.clone()), two(effort(o), flow(i)), true));
+        }
+        ElementSpec::Friction {
+            breakaway,
+            coulomb,
+            viscous,
+            dead_band,
+            stribeck,
+            ..
+        } => {
+            laws.push(("breakaway", Some(breakaway.clone()), value(e, true), true));
+            laws.push(("coulomb", Some(coulomb.clone()), value(e, true), true));
+            laws.push(("dead_band", dead_band.clone(), value(f, false), true));
+            laws.push(("stribeck", stribeck.clone(), value(f, false), true));
+            laws.push(("viscous", viscous.clone(), ratio(1, Dim::NONE), false));
+        }
+        ElementSpec::FlowLimit { max_flow, .. } => {
+            laws.push(("max_flow", Some(max_flow.clone()), value(f, false), true));
+        }
+        ElementSpec::Zero | ElementSpec::One => {}
+    }
+    laws
 }
 
 /// How the file names an element, its kind and one of its fields: `(inertia, I,
