@@ -48,11 +48,6 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("bondgraph-core/src/equations/elimination.rs", "define", 230),
     ("bondgraph-solver/src/linalg/mod.rs", "eigen", 228),
     (
-        "bondgraph-ron/src/model/linear_graph/translate.rs",
-        "translate",
-        228,
-    ),
-    (
         "bondgraph-solver/src/hybrid/integrate.rs",
         "integrated_segment",
         208,

@@ -92,6 +92,81 @@ struct DraftBond {
 
 /// Translates `raw` (checked into `topology`, positions in `map`).
 pub(crate) fn translate(raw: &RawLinearGraph, map: &SourceMap, topology: &Topology) -> Translated {
+    let Drafted {
+        mut elements,
+        mut bonds,
+        element_of_branch,
+        fields,
+    } = draft(raw, topology);
+    simplify(&mut elements, &mut bonds);
+    let emitted = emit(&elements, &bonds, map, topology, &fields);
+    let new_index = &emitted.new_index;
+    let branches = branches(raw, map, topology, &bonds, &element_of_branch, &emitted);
+    let junctions = elements
+        .iter()
+        .enumerate()
+        .filter(|(_, e)| e.alive)
+        .filter_map(|(i, e)| {
+            let of = match e.what {
+                Draft::Node(n) => JunctionOf::Node(n),
+                Draft::Junction(b, p) => JunctionOf::Branch(b, p),
+                Draft::Element(_) => return None,
+            };
+            Some((ElementId(new_index[i] as u32), of))
+        })
+        .collect();
+
+    let mut map_fields = map.fields.clone();
+    if let Some(branches_field) = map.field("branches") {
+        for alias in ["elements", "bonds"] {
+            map_fields.push(FieldSpan {
+                name: alias.to_string(),
+                ..branches_field.clone()
+            });
+        }
+    }
+    Translated {
+        raw: ModelSpec {
+            name: raw.name.clone(),
+            description: raw.description.clone(),
+            parameters: raw.parameters.clone(),
+            inputs: raw.inputs.clone(),
+            elements: emitted.raw_elements,
+            bonds: emitted.raw_bonds,
+        },
+        map: SourceMap {
+            root: map.root,
+            fields: map_fields,
+            parameters: map.parameters.clone(),
+            inputs: map.inputs.clone(),
+            elements: emitted.element_spans,
+            bonds: emitted.bond_spans,
+            ..SourceMap::default()
+        },
+        graph: LinearGraph {
+            nodes: topology.nodes.clone(),
+            ground: topology.ground,
+            branches,
+            junctions,
+        },
+        fields,
+    }
+}
+
+/// The draft of a translation, before simplification: a 1-junction per node (ground
+/// apart), a 0-junction per port, each branch's element, and the bonds between them.
+struct Drafted {
+    elements: Vec<DraftElement>,
+    bonds: Vec<DraftBond>,
+    /// The draft index of each branch's element.
+    element_of_branch: Vec<usize>,
+    /// `(bond-graph field, linear-graph field)` per branch, for diagnostics.
+    fields: Vec<Vec<(&'static str, &'static str)>>,
+}
+
+/// Drafts the bond graph of `raw`: fresh names for the junctions, the branches' elements
+/// under their own names.
+fn draft(raw: &RawLinearGraph, topology: &Topology) -> Drafted {
     let mut taken: HashSet<String> = raw
         .branches
         .iter()
@@ -188,10 +263,36 @@ pub(crate) fn translate(raw: &RawLinearGraph, map: &SourceMap, topology: &Topolo
         }
     }
 
-    simplify(&mut elements, &mut bonds);
+    Drafted {
+        elements,
+        bonds,
+        element_of_branch,
+        fields,
+    }
+}
 
-    // Emit the survivors, in draft order: node junctions, then each branch's junctions and
-    // element.
+/// The survivors of simplification as a model spec's elements and bonds, with their spans
+/// in the linear-graph file, and where each draft element and bond went.
+struct Emitted {
+    /// The new index of each draft element (`usize::MAX`: removed).
+    new_index: Vec<usize>,
+    raw_elements: Vec<(String, ElementSpec)>,
+    element_spans: Vec<EntrySpans>,
+    raw_bonds: Vec<BondSpec>,
+    bond_spans: Vec<ItemSpans>,
+    /// The new index of each draft bond (`usize::MAX`: removed).
+    bond_index: Vec<usize>,
+}
+
+/// Emits the survivors, in draft order: node junctions, then each branch's junctions and
+/// element.
+fn emit(
+    elements: &[DraftElement],
+    bonds: &[DraftBond],
+    map: &SourceMap,
+    topology: &Topology,
+    fields: &[Vec<(&'static str, &'static str)>],
+) -> Emitted {
     let mut new_index = vec![usize::MAX; elements.len()];
     let mut raw_elements = Vec::new();
     let mut element_spans = Vec::new();
@@ -201,7 +302,7 @@ pub(crate) fn translate(raw: &RawLinearGraph, map: &SourceMap, topology: &Topolo
         }
         new_index[i] = raw_elements.len();
         raw_elements.push((element.name.clone(), element.raw.clone()));
-        element_spans.push(entry_spans(element, map, topology, &fields));
+        element_spans.push(entry_spans(element, map, topology, fields));
     }
     let mut raw_bonds = Vec::new();
     let mut bond_spans = Vec::new();
@@ -226,7 +327,26 @@ pub(crate) fn translate(raw: &RawLinearGraph, map: &SourceMap, topology: &Topolo
         });
     }
 
-    // Where each branch's across and through variables are.
+    Emitted {
+        new_index,
+        raw_elements,
+        element_spans,
+        raw_bonds,
+        bond_spans,
+        bond_index,
+    }
+}
+
+/// Where each branch's across and through variables are in the emitted bond graph.
+fn branches(
+    raw: &RawLinearGraph,
+    map: &SourceMap,
+    topology: &Topology,
+    bonds: &[DraftBond],
+    element_of_branch: &[usize],
+    emitted: &Emitted,
+) -> Vec<Branch> {
+    let (new_index, bond_index) = (&emitted.new_index, &emitted.bond_index);
     let mut branches = Vec::new();
     for (b, (name, branch)) in raw.branches.iter().enumerate() {
         let e = element_of_branch[b];
@@ -269,55 +389,7 @@ pub(crate) fn translate(raw: &RawLinearGraph, map: &SourceMap, topology: &Topolo
             element: ElementId(new_index[e] as u32),
         });
     }
-    let junctions = elements
-        .iter()
-        .enumerate()
-        .filter(|(_, e)| e.alive)
-        .filter_map(|(i, e)| {
-            let of = match e.what {
-                Draft::Node(n) => JunctionOf::Node(n),
-                Draft::Junction(b, p) => JunctionOf::Branch(b, p),
-                Draft::Element(_) => return None,
-            };
-            Some((ElementId(new_index[i] as u32), of))
-        })
-        .collect();
-
-    let mut map_fields = map.fields.clone();
-    if let Some(branches_field) = map.field("branches") {
-        for alias in ["elements", "bonds"] {
-            map_fields.push(FieldSpan {
-                name: alias.to_string(),
-                ..branches_field.clone()
-            });
-        }
-    }
-    Translated {
-        raw: ModelSpec {
-            name: raw.name.clone(),
-            description: raw.description.clone(),
-            parameters: raw.parameters.clone(),
-            inputs: raw.inputs.clone(),
-            elements: raw_elements,
-            bonds: raw_bonds,
-        },
-        map: SourceMap {
-            root: map.root,
-            fields: map_fields,
-            parameters: map.parameters.clone(),
-            inputs: map.inputs.clone(),
-            elements: element_spans,
-            bonds: bond_spans,
-            ..SourceMap::default()
-        },
-        graph: LinearGraph {
-            nodes: topology.nodes.clone(),
-            ground: topology.ground,
-            branches,
-            junctions,
-        },
-        fields,
-    }
+    branches
 }
 
 /// Whether port `port` of `branch` has its element bond pointing into its 0-junction.
