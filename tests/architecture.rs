@@ -52,11 +52,6 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
         "integrated_segment",
         208,
     ),
-    (
-        "bondgraph-solver/src/hybrid/stepper.rs",
-        "closed_form_segment",
-        200,
-    ),
 ];
 
 fn root() -> PathBuf {

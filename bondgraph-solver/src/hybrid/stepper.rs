@@ -308,47 +308,8 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let buffers = std::mem::take(&mut self.simulator.segment_buffers);
         let mut segment = current.propagator.start_in(&self.x, &u0, &u1, buffers);
         self.stats.segments += 1;
-        // Guards are located only as far as their samples follow the mode's oscillations:
-        // the segment ends there, and the next one samples on from its end. (An oscillation
-        // whose 625 periods are shorter than the spacing of doubles at `t` cannot be
-        // followed at all: its segment is not cut, or time would stop.)
-        let window = if current.guards.is_empty() {
-            length
-        } else {
-            events::sampled_horizon(current.propagator.eigenvalues(), length)
-        };
-        let window = if self.t + window > self.t {
-            window
-        } else {
-            length
-        };
-        let mut samples = 0;
-        let located = events::first_crossing(
-            &current,
-            &mut segment,
-            &u0,
-            &u1,
-            length,
-            window,
-            &mut self.armed,
-            &self.arm_below,
-            &self.fire_above,
-            &mut samples,
-            &mut self.simulator.scratch,
-        );
-        if self.over_step_limit(samples) {
-            let scale = TimeScale::of_eigenvalues(current.propagator.eigenvalues());
-            return Err(self.too_many_steps(self.t, None, scale));
-        }
-        // An event's state is the root's, where its guard is exactly at its threshold (see
-        // `event_time` for its time).
-        let (crossing, stop, stop_time) = match located {
-            events::Located::Crossing(c) => (Some(c), c.tau, event_time(self.t, c.tau, end)),
-            events::Located::Clear(reached) if reached < length => {
-                (None, reached, self.t + reached)
-            }
-            events::Located::Clear(_) => (None, length, end),
-        };
+        let (crossing, stop, stop_time) =
+            self.locate_in_closed_form(&current, &mut segment, (&u0, &u1), length, end)?;
 
         let n = self.x.len();
         let mut state = vec![0.0; n];
@@ -367,21 +328,7 @@ impl<'s, 'm> Stepper<'s, 'm> {
         let (mut booked, mut booked_to) = (Increment::default(), 0.0);
         if let Some(times) = self.sample {
             let mode_index = self.recorder.mode_index(&current.spec);
-            // In eigen-coordinates each output is Re(Σ c_j z_j(τ)) + a + b τ (and its integral
-            // Re(Σ c_j ∫z_j) + a τ + b τ²/2), with c = row V, a = d·u₀ + r·u₁ + k, b = d·u₁.
-            let modal: Option<Vec<(Vec<Complex64>, f64, f64)>> = segment.vectors().map(|v| {
-                current
-                    .outputs
-                    .iter()
-                    .map(|row| {
-                        let c = (0..n)
-                            .map(|j| (0..n).map(|i| v[(i, j)] * row.state[i]).sum())
-                            .collect();
-                        let a = dot(&row.input, &u0) + dot(&row.rate, &u1) + row.constant;
-                        (c, a, dot(&row.input, &u1))
-                    })
-                    .collect()
-            });
+            let modal = modal_outputs(&current, &segment, &u0, &u1, n);
             let mut u = vec![0.0; u0.len()];
             let mut energy_state = vec![0.0; n];
             let books_wanted = self
@@ -500,6 +447,60 @@ impl<'s, 'm> Stepper<'s, 'm> {
             self.book_input_step(&current, &before);
         }
         Ok(crossing)
+    }
+
+    /// Locates the first crossing of `current`'s guards within `length` of the segment
+    /// (or as far as their samples follow its oscillations): the crossing, how far the
+    /// segment goes, and the time it ends at.
+    fn locate_in_closed_form(
+        &mut self,
+        current: &NumericMode,
+        segment: &mut crate::propagate::Segment<'_>,
+        (u0, u1): (&[f64], &[f64]),
+        length: f64,
+        end: f64,
+    ) -> Result<(Option<events::Crossing>, f64, f64), SimError> {
+        // Guards are located only as far as their samples follow the mode's oscillations:
+        // the segment ends there, and the next one samples on from its end. (An oscillation
+        // whose 625 periods are shorter than the spacing of doubles at `t` cannot be
+        // followed at all: its segment is not cut, or time would stop.)
+        let window = if current.guards.is_empty() {
+            length
+        } else {
+            events::sampled_horizon(current.propagator.eigenvalues(), length)
+        };
+        let window = if self.t + window > self.t {
+            window
+        } else {
+            length
+        };
+        let mut samples = 0;
+        let located = events::first_crossing(
+            current,
+            segment,
+            u0,
+            u1,
+            length,
+            window,
+            &mut self.armed,
+            &self.arm_below,
+            &self.fire_above,
+            &mut samples,
+            &mut self.simulator.scratch,
+        );
+        if self.over_step_limit(samples) {
+            let scale = TimeScale::of_eigenvalues(current.propagator.eigenvalues());
+            return Err(self.too_many_steps(self.t, None, scale));
+        }
+        // An event's state is the root's, where its guard is exactly at its threshold (see
+        // `event_time` for its time).
+        Ok(match located {
+            events::Located::Crossing(c) => (Some(c), c.tau, event_time(self.t, c.tau, end)),
+            events::Located::Clear(reached) if reached < length => {
+                (None, reached, self.t + reached)
+            }
+            events::Located::Clear(_) => (None, length, end),
+        })
     }
 
     /// Books the energy of an input's step at the current time, from `before` (the left
@@ -763,6 +764,33 @@ impl<'s, 'm> Stepper<'s, 'm> {
         trajectory.energy = self.energy;
         trajectory
     }
+}
+
+/// Each output of `current` on a segment with eigenvectors, as `(c, a, b)`: in
+/// eigen-coordinates the output is Re(Σ c_j z_j(τ)) + a + b τ (and its integral
+/// Re(Σ c_j ∫z_j) + a τ + b τ²/2), with c = row V, a = d·u₀ + r·u₁ + k, b = d·u₁. `None` for
+/// a segment without eigenvectors.
+#[allow(clippy::type_complexity)]
+fn modal_outputs(
+    current: &NumericMode,
+    segment: &crate::propagate::Segment<'_>,
+    u0: &[f64],
+    u1: &[f64],
+    n: usize,
+) -> Option<Vec<(Vec<Complex64>, f64, f64)>> {
+    segment.vectors().map(|v| {
+        current
+            .outputs
+            .iter()
+            .map(|row| {
+                let c = (0..n)
+                    .map(|j| (0..n).map(|i| v[(i, j)] * row.state[i]).sum())
+                    .collect();
+                let a = dot(&row.input, u0) + dot(&row.rate, u1) + row.constant;
+                (c, a, dot(&row.input, u1))
+            })
+            .collect()
+    })
 }
 
 /// Whether a guard found crossing only touches its threshold: on it, level there (its value
