@@ -47,11 +47,6 @@ const OVERSIZED_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("bondgraph-core/src/equations/merging.rs", "merge", 280),
     ("bondgraph-core/src/equations/elimination.rs", "define", 230),
     ("bondgraph-solver/src/linalg/mod.rs", "eigen", 228),
-    (
-        "bondgraph-solver/src/hybrid/integrate.rs",
-        "integrated_segment",
-        208,
-    ),
 ];
 
 fn root() -> PathBuf {

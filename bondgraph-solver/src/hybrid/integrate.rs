@@ -345,6 +345,27 @@ struct Looks<'a> {
     end: Look,
 }
 
+impl<'a> Looks<'a> {
+    /// Looks with `guards`, for a system of `size` variables.
+    fn new(guards: Guards<'a>, size: usize) -> Self {
+        Self {
+            guards,
+            point: vec![0.0; size],
+            end: Look::default(),
+        }
+    }
+}
+
+/// Steps held to a few spacings of doubles at `t` (the clock's `resolution`) in `mode`,
+/// with no guard met: the motion stalled.
+fn stalled(t: f64, mode: &NumericMode, step: f64, resolution: f64) -> SimError {
+    SimError::Stalled {
+        t,
+        mode: mode.spec.clone(),
+        cause: super::Stall::Steps { step, resolution },
+    }
+}
+
 /// A step just taken, as its looks at the guards need it.
 struct TakenStep<'a> {
     /// Its start in the segment's time, and its size.
@@ -456,14 +477,7 @@ impl Stepper<'_, '_> {
         let length = end - self.t;
         let (u0, u1) = self.inputs_at(self.t);
         self.stats.segments += 1;
-        let integral_outputs: Vec<usize> = self
-            .simulator
-            .outputs
-            .iter()
-            .enumerate()
-            .filter(|(_, o)| o.integral)
-            .map(|(k, _)| k)
-            .collect();
+        let integral_outputs = self.integral_outputs();
         let Workspace {
             tapes,
             segment: segment_buffers,
@@ -481,39 +495,23 @@ impl Stepper<'_, '_> {
         let mut z = vec![0.0; size];
         z[..n].copy_from_slice(&self.x);
         let mut guards = Guards::new(&nl, start_buffers, &self.fire_above);
-        let guard_count = guards.count();
         let mode_index = self.sample.map(|_| self.recorder.mode_index(&current.spec));
         let start = self.t;
 
         // Guards at the start: an armed guard already at zero fires at once.
-        guards.at(0.0, &z, &u0, &u1);
-        let mut previous = Look::default();
-        guards.look_into(&mut previous);
-        if let Some(k) = (0..guard_count).find(|&k| self.armed[k] && previous.values[k] >= 0.0) {
-            self.sample_until(&mut system, start, &z, None, start, mode_index);
-            return Ok(Some(Crossing { guard: k, tau: 0.0 }));
-        }
-        let magnitudes: Vec<f64> = (0..guard_count).map(|k| guards.magnitude(k)).collect();
-        let from_zero =
-            step_guards::arm_at_zero(&mut previous, &magnitudes, &mut self.armed, &self.arm_below);
-        let not_from_zero = vec![false; guard_count];
-        for (k, value) in previous.values.iter().enumerate() {
-            if *value < self.arm_below[k] {
-                self.armed[k] = true;
-            }
-        }
+        let armed = self.arm_at_start(&mut guards, &z, (&u0, &u1));
         self.sample_until(&mut system, start, &z, None, start, mode_index);
+        let Ok((mut previous, from_zero)) = armed else {
+            return Ok(armed.err().map(|k| Crossing { guard: k, tau: 0.0 }));
+        };
+        let not_from_zero = vec![false; guards.count()];
 
         let (mut integrator, mut h) = self.integrator_for(&mut system, &z, length);
         let mut tau = 0.0;
         let mut before = vec![0.0; size];
         let mut point = vec![0.0; size];
         let mut crossing: Option<Crossing> = None;
-        let mut looks = Looks {
-            guards: Guards::new(&nl, look_buffers, &self.fire_above),
-            point: vec![0.0; size],
-            end: Look::default(),
-        };
+        let mut looks = Looks::new(Guards::new(&nl, look_buffers, &self.fire_above), size);
         while tau < length {
             let step = h.min(length - tau);
             // A step held to a few spacings of doubles at `t` makes no progress, unless it is
@@ -529,21 +527,11 @@ impl Stepper<'_, '_> {
             if held {
                 // Steps collapse where the motion reaches a guard tangentially (a tank
                 // emptying as (t_e - t)², its law's slope infinite there): the guard is met.
-                guards.at(tau, &z, &u0, &u1);
-                // (A guard armed at zero as it falls from the segment's start is not met.)
-                let touching = (0..guard_count).find(|&k| {
-                    let tolerance = 1e-9 * guards.magnitude(k) + f64::MIN_POSITIVE;
-                    self.armed[k] && guards.value(k) >= -tolerance && !(tau == 0.0 && from_zero[k])
-                });
-                if let Some(k) = touching {
+                if let Some(k) = self.touching(&mut guards, tau, &z, (&u0, &u1), &from_zero) {
                     crossing = Some(Crossing { guard: k, tau });
                     break;
                 }
-                return Err(SimError::Stalled {
-                    t: start + tau,
-                    mode: current.spec.clone(),
-                    cause: super::Stall::Steps { step, resolution },
-                });
+                return Err(stalled(start + tau, &current, step, resolution));
             }
             before.copy_from_slice(&z);
             if self.over_step_limit(1) {
@@ -585,44 +573,23 @@ impl Stepper<'_, '_> {
                 },
             );
             if let Some((k, theta)) = found {
-                let mut landing_steps = 0;
-                let hit = land_on_crossing(
-                    &mut integrator,
-                    &mut system,
+                let landing = Landing {
+                    start: start + tau,
+                    tau,
+                    before: &before,
+                    step,
+                    guard: k,
+                    u0: &u0,
+                    u1: &u1,
+                };
+                let hit = self.land(
+                    (&mut integrator, &mut system),
                     &mut guards,
-                    Landing {
-                        start: start + tau,
-                        tau,
-                        before: &before,
-                        step,
-                        guard: k,
-                        u0: &u0,
-                        u1: &u1,
-                    },
-                    theta * step,
+                    landing,
+                    (theta * step, dense_ready),
                     &mut point,
-                    &mut landing_steps,
-                );
-                if self.over_step_limit(landing_steps) {
-                    return Err(self.too_many_steps_at(
-                        &mut system,
-                        start + tau + hit,
-                        &point,
-                        step,
-                        &current,
-                    ));
-                }
-                if !dense_ready && self.sample_before(start + tau + hit, mode_index) {
-                    integrator.prepare_dense(&mut system);
-                }
-                self.sample_until(
-                    &mut system,
-                    start + tau,
-                    &before,
-                    Some((&integrator, step, &point)),
-                    start + tau + hit,
-                    mode_index,
-                );
+                    (mode_index, &current),
+                )?;
                 z.copy_from_slice(&point);
                 tau += hit;
                 crossing = Some(Crossing { guard: k, tau });
@@ -642,11 +609,7 @@ impl Stepper<'_, '_> {
             tau += step;
         }
         self.add_quadratures(&z, n, &integral_outputs);
-        self.t = match crossing {
-            Some(crossing) => super::event_time(start, crossing.tau, end),
-            None => end,
-        };
-        self.x = z[..n].to_vec();
+        self.finish_integrated(start, end, crossing, &z[..n]);
         self.simulator.integrator = Some(integrator);
         self.simulator.workspace = Some(Workspace {
             tapes,
@@ -654,6 +617,110 @@ impl Stepper<'_, '_> {
             guards: [guards.buffers, looks.guards.buffers],
         });
         Ok(crossing)
+    }
+
+    /// The armed guard the state `z` at `tau` touches, if any: at its threshold to rounding.
+    /// (A guard armed at zero as it falls from the segment's start is not met.)
+    fn touching(
+        &self,
+        guards: &mut Guards<'_>,
+        tau: f64,
+        z: &[f64],
+        (u0, u1): (&[f64], &[f64]),
+        from_zero: &[bool],
+    ) -> Option<usize> {
+        guards.at(tau, z, u0, u1);
+        (0..guards.count()).find(|&k| {
+            let tolerance = 1e-9 * guards.magnitude(k) + f64::MIN_POSITIVE;
+            self.armed[k] && guards.value(k) >= -tolerance && !(tau == 0.0 && from_zero[k])
+        })
+    }
+
+    /// The indices of the outputs recorded as time integrals.
+    fn integral_outputs(&self) -> Vec<usize> {
+        self.simulator
+            .outputs
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| o.integral)
+            .map(|(k, _)| k)
+            .collect()
+    }
+
+    /// Ends an integrated segment that started at `start` and was to reach `end`: at its
+    /// crossing's event time or at `end`, in state `x`.
+    fn finish_integrated(&mut self, start: f64, end: f64, crossing: Option<Crossing>, x: &[f64]) {
+        self.t = match crossing {
+            Some(crossing) => super::event_time(start, crossing.tau, end),
+            None => end,
+        };
+        self.x = x.to_vec();
+    }
+
+    /// Arms the guards at a segment's start (state `z`, inputs `u0 + u1 τ`): their first
+    /// look and which are armed at zero as they fall from it, or `Err` with the armed guard
+    /// already at its threshold, which fires at once.
+    fn arm_at_start(
+        &mut self,
+        guards: &mut Guards<'_>,
+        z: &[f64],
+        (u0, u1): (&[f64], &[f64]),
+    ) -> Result<(Look, Vec<bool>), usize> {
+        let guard_count = guards.count();
+        guards.at(0.0, z, u0, u1);
+        let mut previous = Look::default();
+        guards.look_into(&mut previous);
+        if let Some(k) = (0..guard_count).find(|&k| self.armed[k] && previous.values[k] >= 0.0) {
+            return Err(k);
+        }
+        let magnitudes: Vec<f64> = (0..guard_count).map(|k| guards.magnitude(k)).collect();
+        let from_zero =
+            step_guards::arm_at_zero(&mut previous, &magnitudes, &mut self.armed, &self.arm_below);
+        for (k, value) in previous.values.iter().enumerate() {
+            if *value < self.arm_below[k] {
+                self.armed[k] = true;
+            }
+        }
+        Ok((previous, from_zero))
+    }
+
+    /// Lands the step `landing` on its guard's crossing, first seen at `at` into the step,
+    /// and samples up to it: how far into the step the crossing is, its state in `point`.
+    fn land(
+        &mut self,
+        (integrator, system): (&mut Switching, &mut Segment<'_>),
+        guards: &mut Guards<'_>,
+        landing: Landing<'_>,
+        (at, dense_ready): (f64, bool),
+        point: &mut [f64],
+        (mode_index, current): (Option<usize>, &NumericMode),
+    ) -> Result<f64, SimError> {
+        let (start, step, before) = (landing.start, landing.step, landing.before);
+        let mut landing_steps = 0;
+        let hit = land_on_crossing(
+            integrator,
+            system,
+            guards,
+            landing,
+            at,
+            point,
+            &mut landing_steps,
+        );
+        if self.over_step_limit(landing_steps) {
+            return Err(self.too_many_steps_at(system, start + hit, point, step, current));
+        }
+        if !dense_ready && self.sample_before(start + hit, mode_index) {
+            integrator.prepare_dense(system);
+        }
+        self.sample_until(
+            system,
+            start,
+            before,
+            Some((integrator, step, point)),
+            start + hit,
+            mode_index,
+        );
+        Ok(hit)
     }
 
     /// Adds a segment's quadratures (after its `n` states in `z`: the energy books when
