@@ -327,121 +327,28 @@ fn define(
                     define(effort(bond), element, form);
                 }
             }
-            Law::Transformer(n) => {
-                let (input, output) = two_port_bonds(model, element);
-                let inverse = n.inv().expect("ratio validated non-zero");
-                if receives(input) {
-                    define(
-                        effort(output),
-                        element,
-                        LinearForm::term(effort(input), inverse.clone()),
-                    );
-                    define(
-                        flow(input),
-                        element,
-                        LinearForm::term(flow(output), inverse),
-                    );
-                } else {
-                    define(
-                        effort(input),
-                        element,
-                        LinearForm::term(effort(output), n.clone()),
-                    );
-                    define(
-                        flow(output),
-                        element,
-                        LinearForm::term(flow(input), n.clone()),
-                    );
-                }
+            Law::Transformer(ratio) => {
+                define_two_port(model, element, ratio, true, &receives, &mut define);
             }
-            Law::Gyrator(r) => {
-                let (input, output) = two_port_bonds(model, element);
-                if receives(input) {
-                    let inverse = r.inv().expect("ratio validated non-zero");
-                    define(
-                        flow(output),
-                        element,
-                        LinearForm::term(effort(input), inverse.clone()),
-                    );
-                    define(
-                        flow(input),
-                        element,
-                        LinearForm::term(effort(output), inverse),
-                    );
-                } else {
-                    define(
-                        effort(input),
-                        element,
-                        LinearForm::term(flow(output), r.clone()),
-                    );
-                    define(
-                        effort(output),
-                        element,
-                        LinearForm::term(flow(input), r.clone()),
-                    );
-                }
+            Law::Gyrator(ratio) => {
+                define_two_port(model, element, ratio, false, &receives, &mut define);
             }
             Law::Nonlinear(law) => {
-                // The law's outputs are auxiliary variables, defined by the nonlinear
-                // derivation in terms of what the law receives.
                 let first = numbering.auxiliary[element.index()]
                     .expect("every nonlinear law has its auxiliary variables");
-                let aux = |k: u32| LinearForm::var(Var::Auxiliary(first + k));
-                match &**law {
-                    NonlinearLaw::EffortSource(_) | NonlinearLaw::Compliance(_) => {
-                        define(effort(bonds[0]), element, aux(0));
-                    }
-                    NonlinearLaw::FlowSource(_) => {
-                        define(flow(bonds[0]), element, aux(0).scaled(&-sign(bonds[0])));
-                    }
-                    NonlinearLaw::Inertia(_) => {
-                        define(flow(bonds[0]), element, aux(0).scaled(&sign(bonds[0])));
-                    }
-                    NonlinearLaw::Resistor(_) => {
-                        if receives(bonds[0]) {
-                            define(flow(bonds[0]), element, aux(0).scaled(&sign(bonds[0])));
-                        } else {
-                            define(effort(bonds[0]), element, aux(0));
-                        }
-                    }
-                    NonlinearLaw::Transformer(_) | NonlinearLaw::Gyrator(_) => {
-                        let transformer = matches!(&**law, NonlinearLaw::Transformer(_));
-                        let (input, output) = two_port_bonds(model, element);
-                        let (first, second) = match (transformer, receives(input)) {
-                            (true, true) => (effort(output), flow(input)),
-                            (true, false) => (effort(input), flow(output)),
-                            (false, true) => (flow(output), flow(input)),
-                            (false, false) => (effort(input), effort(output)),
-                        };
-                        define(first, element, aux(0));
-                        define(second, element, aux(1));
-                    }
-                }
+                let ports = Ports {
+                    receives: &receives,
+                    sign: &sign,
+                };
+                define_nonlinear(model, element, law, first, ports, &mut define);
             }
             Law::ZeroJunction | Law::OneJunction => {
                 let zero = matches!(laws[element.index()], Law::ZeroJunction);
-                // The unique bond: effort in for a 0-junction, effort out for a 1-junction.
-                let unique = *bonds
-                    .iter()
-                    .find(|&&b| receives(b) == zero)
-                    .expect("causality leaves every junction one unique bond");
-                let (common, summed): (BondVariable, BondVariable) =
-                    if zero { (effort, flow) } else { (flow, effort) };
-                // Σ σ_j x_j = 0 over the junction's bonds (σ = +1 into the junction), solved
-                // for the unique bond's summed variable.
-                let mut sum = LinearForm::zero();
-                let unique_sign = sign(unique);
-                for &bond in bonds {
-                    if bond == unique {
-                        continue;
-                    }
-                    define(common(bond), element, LinearForm::var(common(unique)));
-                    sum.add_scaled(
-                        &LinearForm::var(summed(bond)),
-                        &-(&sign(bond) * &unique_sign),
-                    );
-                }
-                define(summed(unique), element, sum);
+                let ports = Ports {
+                    receives: &receives,
+                    sign: &sign,
+                };
+                define_junction(bonds, element, zero, ports, &mut define);
             }
         }
     }
@@ -449,6 +356,158 @@ fn define(
         .into_iter()
         .map(|d| d.expect("causality defines every bond variable exactly once"))
         .collect())
+}
+
+/// Defines a transformer's (`transformer`) or gyrator's bond variables: the two it imposes,
+/// by the ratio `n` (`r` for a gyrator), the way the causality has it.
+fn define_two_port(
+    model: &Model,
+    element: ElementId,
+    ratio: &RatFunc,
+    transformer: bool,
+    receives: &dyn Fn(BondId) -> bool,
+    define: &mut dyn FnMut(Var, ElementId, LinearForm),
+) {
+    if transformer {
+        let n = ratio;
+        let (input, output) = two_port_bonds(model, element);
+        let inverse = n.inv().expect("ratio validated non-zero");
+        if receives(input) {
+            define(
+                effort(output),
+                element,
+                LinearForm::term(effort(input), inverse.clone()),
+            );
+            define(
+                flow(input),
+                element,
+                LinearForm::term(flow(output), inverse),
+            );
+        } else {
+            define(
+                effort(input),
+                element,
+                LinearForm::term(effort(output), n.clone()),
+            );
+            define(
+                flow(output),
+                element,
+                LinearForm::term(flow(input), n.clone()),
+            );
+        }
+    } else {
+        let r = ratio;
+        let (input, output) = two_port_bonds(model, element);
+        if receives(input) {
+            let inverse = r.inv().expect("ratio validated non-zero");
+            define(
+                flow(output),
+                element,
+                LinearForm::term(effort(input), inverse.clone()),
+            );
+            define(
+                flow(input),
+                element,
+                LinearForm::term(effort(output), inverse),
+            );
+        } else {
+            define(
+                effort(input),
+                element,
+                LinearForm::term(flow(output), r.clone()),
+            );
+            define(
+                effort(output),
+                element,
+                LinearForm::term(flow(input), r.clone()),
+            );
+        }
+    }
+}
+
+/// The bonds of an element as its causality and directions see them: whether it receives
+/// each bond's effort, and each bond's sign into it.
+#[derive(Clone, Copy)]
+struct Ports<'a> {
+    receives: &'a dyn Fn(BondId) -> bool,
+    sign: &'a dyn Fn(BondId) -> RatFunc,
+}
+
+/// Defines a nonlinear law's outputs: auxiliary variables from `first` on, defined by the
+/// nonlinear derivation in terms of what the law receives.
+fn define_nonlinear(
+    model: &Model,
+    element: ElementId,
+    law: &NonlinearLaw,
+    first: u32,
+    Ports { receives, sign }: Ports<'_>,
+    define: &mut dyn FnMut(Var, ElementId, LinearForm),
+) {
+    let bonds = &model.element(element).bonds;
+    let aux = |k: u32| LinearForm::var(Var::Auxiliary(first + k));
+    match law {
+        NonlinearLaw::EffortSource(_) | NonlinearLaw::Compliance(_) => {
+            define(effort(bonds[0]), element, aux(0));
+        }
+        NonlinearLaw::FlowSource(_) => {
+            define(flow(bonds[0]), element, aux(0).scaled(&-sign(bonds[0])));
+        }
+        NonlinearLaw::Inertia(_) => {
+            define(flow(bonds[0]), element, aux(0).scaled(&sign(bonds[0])));
+        }
+        NonlinearLaw::Resistor(_) => {
+            if receives(bonds[0]) {
+                define(flow(bonds[0]), element, aux(0).scaled(&sign(bonds[0])));
+            } else {
+                define(effort(bonds[0]), element, aux(0));
+            }
+        }
+        NonlinearLaw::Transformer(_) | NonlinearLaw::Gyrator(_) => {
+            let transformer = matches!(law, NonlinearLaw::Transformer(_));
+            let (input, output) = two_port_bonds(model, element);
+            let (first, second) = match (transformer, receives(input)) {
+                (true, true) => (effort(output), flow(input)),
+                (true, false) => (effort(input), flow(output)),
+                (false, true) => (flow(output), flow(input)),
+                (false, false) => (effort(input), effort(output)),
+            };
+            define(first, element, aux(0));
+            define(second, element, aux(1));
+        }
+    }
+}
+
+/// Defines a junction's bond variables: its common variable (effort at a 0-junction, flow
+/// at a 1-junction) on every bond from its unique bond, and the unique bond's summed one.
+fn define_junction(
+    bonds: &[BondId],
+    element: ElementId,
+    zero: bool,
+    Ports { receives, sign }: Ports<'_>,
+    define: &mut dyn FnMut(Var, ElementId, LinearForm),
+) {
+    // The unique bond: effort in for a 0-junction, effort out for a 1-junction.
+    let unique = *bonds
+        .iter()
+        .find(|&&b| receives(b) == zero)
+        .expect("causality leaves every junction one unique bond");
+    let (common, summed): (BondVariable, BondVariable) =
+        if zero { (effort, flow) } else { (flow, effort) };
+    // Σ σ_j x_j = 0 over the junction's bonds (σ = +1 into the junction), solved
+    // for the unique bond's summed variable.
+    let mut sum = LinearForm::zero();
+    let unique_sign = sign(unique);
+    for &bond in bonds {
+        if bond == unique {
+            continue;
+        }
+        define(common(bond), element, LinearForm::var(common(unique)));
+        sum.add_scaled(
+            &LinearForm::var(summed(bond)),
+            &-(&sign(bond) * &unique_sign),
+        );
+    }
+    define(summed(unique), element, sum);
 }
 
 /// A source's value with the energy variables it feeds back ([`Var::Storage`]) written in

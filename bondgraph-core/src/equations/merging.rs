@@ -182,10 +182,6 @@ pub(crate) fn merge(
     bond_vars: &[LinearForm],
 ) -> Result<Merged> {
     let state_count = state_elements.len();
-    let domain_of_state: Vec<Domain> = state_elements
-        .iter()
-        .map(|e| domain(&laws[e.index()]))
-        .collect();
     let storage_of_state: Vec<RatFunc> = state_elements
         .iter()
         .map(|e| storage_coefficient(&laws[e.index()]))
@@ -204,149 +200,23 @@ pub(crate) fn merge(
         })
         .collect();
 
-    let mut dependents: Vec<Dependent> = Vec::new();
-    for element in model.element_ids() {
-        let Some(index) = numbering.dependent[element.index()] else {
-            continue;
-        };
-        debug_assert_eq!(index as usize, dependents.len());
-        let law = &laws[element.index()];
-        let bond = model.element(element).bonds[0];
-        let driven = match domain(law) {
-            Domain::Kinetic => bond_vars[flow(bond).bond_index()]
-                .scaled(&RatFunc::integer(model.bond(bond).sign_into(element))),
-            _ => bond_vars[effort(bond).bond_index()].clone(),
-        };
-        if driven.mentions(|v| matches!(v, Var::Auxiliary(_))) {
-            return Err(crate::equations::nonlinear::dependent_through_law(
-                model, laws, element,
-            ));
-        }
-        let own = domain(law);
-        for (var, _) in driven.terms() {
-            let offending = match var {
-                Var::State(k) if domain_of_state[*k as usize] != own => {
-                    Some(state_elements[*k as usize])
-                }
-                Var::Dependent(j) => {
-                    Some(dependents.get(*j as usize).map_or(element, |d| d.element))
-                }
-                _ => None,
-            };
-            if let Some(other) = offending {
-                return Err(cross_domain(model, element, other));
-            }
-        }
-        dependents.push(Dependent {
-            element,
-            driven,
-            storage: storage_coefficient(law),
-        });
-    }
-
-    // Group states connected through dependents (union-find).
-    let mut parent: Vec<usize> = (0..state_count).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
-    for dependent in &dependents {
-        let followed: Vec<usize> = followed_states(&dependent.driven);
-        for pair in followed.windows(2) {
-            let (a, b) = (root(&mut parent, pair[0]), root(&mut parent, pair[1]));
-            parent[a.max(b)] = a.min(b);
-        }
-    }
-    let mut members: BTreeMap<usize, Vec<u32>> = BTreeMap::new();
-    for state in 0..state_count {
-        let r = root(&mut parent, state);
-        members.entry(r).or_default().push(state as u32);
-    }
-    let mut group_dependents: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-    let mut held: Vec<usize> = Vec::new();
-    for (j, dependent) in dependents.iter().enumerate() {
-        match followed_states(&dependent.driven).first() {
-            Some(&k) => group_dependents
-                .entry(root(&mut parent, k))
-                .or_default()
-                .push(j),
-            None => held.push(j),
-        }
-    }
-
-    // Blocks: each group's storage matrix and the momentum its dependents' sources feed in.
-    let mut blocks = Vec::new();
-    let mut merged_into: Vec<Vec<ElementId>> = vec![Vec::new(); state_count];
-    let mut group_solutions: Vec<GroupSolution> = Vec::new();
-    for (group_root, states) in &members {
-        let deps = group_dependents
-            .get(group_root)
-            .cloned()
-            .unwrap_or_default();
-        let n = states.len();
-        // T_dk = τ_dk · storage_k, where the dependent follows f_k = x_k / storage_k.
-        let t_rows: Vec<(usize, Vec<RatFunc>)> = deps
-            .iter()
-            .map(|&j| {
-                let row = states
-                    .iter()
-                    .map(|&k| {
-                        &dependents[j].driven.coefficient(Var::State(k))
-                            * &storage_of_state[k as usize]
-                    })
-                    .collect();
-                (j, row)
-            })
-            .collect();
-        let mut offset = vec![LinearForm::zero(); n];
-        for (j, row) in &t_rows {
-            let dependent = &dependents[*j];
-            let sources = dependent
-                .driven
-                .filtered(|v| matches!(v, Var::Input(_) | Var::Constant));
-            for a in 0..n {
-                if !row[a].is_zero() {
-                    offset[a].add_scaled(&sources, &(&row[a] * &dependent.storage));
-                }
-            }
-            // The dependent is reported under the first state it follows.
-            let first_followed = row.iter().position(|c| !c.is_zero()).unwrap_or(0);
-            merged_into[states[first_followed] as usize].push(dependent.element);
-        }
-        let matrix = StorageMatrix::new(
-            states
-                .iter()
-                .map(|&k| storage_of_state[k as usize].clone())
-                .collect(),
-            t_rows.iter().map(|(_, row)| row.clone()).collect(),
-            t_rows
-                .iter()
-                .map(|(j, _)| dependents[*j].storage.clone())
-                .collect(),
-        );
-        let Some(matrix) = matrix else {
-            let element = deps
-                .first()
-                .map_or(state_elements[states[0] as usize], |&j| {
-                    dependents[j].element
-                });
-            return Err(singular_merge(model, element));
-        };
-        if !t_rows.is_empty() {
-            group_solutions.push(GroupSolution {
-                block: blocks.len(),
-                t_rows,
-            });
-        }
-        blocks.push(Block {
-            states: states.clone(),
-            matrix,
-            offset,
-        });
-    }
+    let dependents = dependents(model, laws, numbering, state_elements, bond_vars)?;
+    let Groups {
+        members,
+        group_dependents,
+        held,
+    } = groups(state_count, &dependents);
+    let Blocks {
+        blocks,
+        merged_into,
+        group_solutions,
+    } = blocks(
+        model,
+        (state_elements, &storage_of_state),
+        &dependents,
+        &members,
+        &group_dependents,
+    )?;
 
     // Merged derivatives: dx'_k/dt = dx_k/dt + Σ_d T_dk e_d, where the e_d cancel.
     for GroupSolution { block, t_rows } in &group_solutions {
@@ -452,6 +322,207 @@ pub(crate) fn merge(
         blocks,
         storage_energy,
         storage_of_state,
+    })
+}
+
+/// The dependent storage of this mode, in numbering order: what drives each (its flow for
+/// an inertia, its effort for a compliance) and its storage coefficient. A dependent driven
+/// through a nonlinear law, or by storage of another domain, is an error.
+fn dependents(
+    model: &Model,
+    laws: &[Law],
+    numbering: &Numbering,
+    state_elements: &[ElementId],
+    bond_vars: &[LinearForm],
+) -> Result<Vec<Dependent>> {
+    let domain_of_state: Vec<Domain> = state_elements
+        .iter()
+        .map(|e| domain(&laws[e.index()]))
+        .collect();
+    let mut dependents: Vec<Dependent> = Vec::new();
+    for element in model.element_ids() {
+        let Some(index) = numbering.dependent[element.index()] else {
+            continue;
+        };
+        debug_assert_eq!(index as usize, dependents.len());
+        let law = &laws[element.index()];
+        let bond = model.element(element).bonds[0];
+        let driven = match domain(law) {
+            Domain::Kinetic => bond_vars[flow(bond).bond_index()]
+                .scaled(&RatFunc::integer(model.bond(bond).sign_into(element))),
+            _ => bond_vars[effort(bond).bond_index()].clone(),
+        };
+        if driven.mentions(|v| matches!(v, Var::Auxiliary(_))) {
+            return Err(crate::equations::nonlinear::dependent_through_law(
+                model, laws, element,
+            ));
+        }
+        let own = domain(law);
+        for (var, _) in driven.terms() {
+            let offending = match var {
+                Var::State(k) if domain_of_state[*k as usize] != own => {
+                    Some(state_elements[*k as usize])
+                }
+                Var::Dependent(j) => {
+                    Some(dependents.get(*j as usize).map_or(element, |d| d.element))
+                }
+                _ => None,
+            };
+            if let Some(other) = offending {
+                return Err(cross_domain(model, element, other));
+            }
+        }
+        dependents.push(Dependent {
+            element,
+            driven,
+            storage: storage_coefficient(law),
+        });
+    }
+
+    Ok(dependents)
+}
+
+/// States connected through dependents, and which dependents each group has.
+struct Groups {
+    /// Each group's states, by the group's root state.
+    members: BTreeMap<usize, Vec<u32>>,
+    /// Each group's dependents (by index), by the group's root state.
+    group_dependents: BTreeMap<usize, Vec<usize>>,
+    /// The dependents that follow no state (held by sources alone).
+    held: Vec<usize>,
+}
+
+/// Groups the states connected through dependents (union-find).
+fn groups(state_count: usize, dependents: &[Dependent]) -> Groups {
+    let mut parent: Vec<usize> = (0..state_count).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for dependent in dependents {
+        let followed: Vec<usize> = followed_states(&dependent.driven);
+        for pair in followed.windows(2) {
+            let (a, b) = (root(&mut parent, pair[0]), root(&mut parent, pair[1]));
+            parent[a.max(b)] = a.min(b);
+        }
+    }
+    let mut members: BTreeMap<usize, Vec<u32>> = BTreeMap::new();
+    for state in 0..state_count {
+        let r = root(&mut parent, state);
+        members.entry(r).or_default().push(state as u32);
+    }
+    let mut group_dependents: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    let mut held: Vec<usize> = Vec::new();
+    for (j, dependent) in dependents.iter().enumerate() {
+        match followed_states(&dependent.driven).first() {
+            Some(&k) => group_dependents
+                .entry(root(&mut parent, k))
+                .or_default()
+                .push(j),
+            None => held.push(j),
+        }
+    }
+
+    Groups {
+        members,
+        group_dependents,
+        held,
+    }
+}
+
+/// Each group's block, where its dependents are reported, and the groups with dependents.
+struct Blocks {
+    blocks: Vec<Block>,
+    merged_into: Vec<Vec<ElementId>>,
+    group_solutions: Vec<GroupSolution>,
+}
+
+/// Each group's storage matrix and the momentum its dependents' sources feed in.
+fn blocks(
+    model: &Model,
+    (state_elements, storage_of_state): (&[ElementId], &[RatFunc]),
+    dependents: &[Dependent],
+    members: &BTreeMap<usize, Vec<u32>>,
+    group_dependents: &BTreeMap<usize, Vec<usize>>,
+) -> Result<Blocks> {
+    let state_count = state_elements.len();
+    let mut blocks = Vec::new();
+    let mut merged_into: Vec<Vec<ElementId>> = vec![Vec::new(); state_count];
+    let mut group_solutions: Vec<GroupSolution> = Vec::new();
+    for (group_root, states) in members {
+        let deps = group_dependents
+            .get(group_root)
+            .cloned()
+            .unwrap_or_default();
+        let n = states.len();
+        // T_dk = τ_dk · storage_k, where the dependent follows f_k = x_k / storage_k.
+        let t_rows: Vec<(usize, Vec<RatFunc>)> = deps
+            .iter()
+            .map(|&j| {
+                let row = states
+                    .iter()
+                    .map(|&k| {
+                        &dependents[j].driven.coefficient(Var::State(k))
+                            * &storage_of_state[k as usize]
+                    })
+                    .collect();
+                (j, row)
+            })
+            .collect();
+        let mut offset = vec![LinearForm::zero(); n];
+        for (j, row) in &t_rows {
+            let dependent = &dependents[*j];
+            let sources = dependent
+                .driven
+                .filtered(|v| matches!(v, Var::Input(_) | Var::Constant));
+            for a in 0..n {
+                if !row[a].is_zero() {
+                    offset[a].add_scaled(&sources, &(&row[a] * &dependent.storage));
+                }
+            }
+            // The dependent is reported under the first state it follows.
+            let first_followed = row.iter().position(|c| !c.is_zero()).unwrap_or(0);
+            merged_into[states[first_followed] as usize].push(dependent.element);
+        }
+        let matrix = StorageMatrix::new(
+            states
+                .iter()
+                .map(|&k| storage_of_state[k as usize].clone())
+                .collect(),
+            t_rows.iter().map(|(_, row)| row.clone()).collect(),
+            t_rows
+                .iter()
+                .map(|(j, _)| dependents[*j].storage.clone())
+                .collect(),
+        );
+        let Some(matrix) = matrix else {
+            let element = deps
+                .first()
+                .map_or(state_elements[states[0] as usize], |&j| {
+                    dependents[j].element
+                });
+            return Err(singular_merge(model, element));
+        };
+        if !t_rows.is_empty() {
+            group_solutions.push(GroupSolution {
+                block: blocks.len(),
+                t_rows,
+            });
+        }
+        blocks.push(Block {
+            states: states.clone(),
+            matrix,
+            offset,
+        });
+    }
+
+    Ok(Blocks {
+        blocks,
+        merged_into,
+        group_solutions,
     })
 }
 

@@ -133,37 +133,7 @@ pub fn eigen(a: &DMatrix<f64>) -> Result<Eigen, EigenError> {
         scale,
         weights,
     } = symmetrize(a);
-    let schur = nalgebra::Schur::try_new(scaled.clone(), f64::EPSILON, 10_000)
-        .ok_or(EigenError::NoConvergence)?;
-    // A real eigenvalue may come out with an imaginary part of rounding size (relative to the
-    // eigenvalue, or to the matrix for one near zero); snap it back so propagation can use
-    // real arithmetic for it.
-    let norm = one_norm(&scaled).max(f64::MIN_POSITIVE);
-    let snap = |v: Complex64| {
-        if v.im.abs() <= 1e-13 * v.re.abs() || v.im.abs() <= 1e-14 * norm {
-            Complex64::new(v.re, 0.0)
-        } else {
-            v
-        }
-    };
-    // Each value beside the Schur form's own, unsnapped: on a graded matrix the Schur form's
-    // absolute error (ε‖B‖, 55 /s for a 5e-15 kg tip on a 1250 N·s/m damper) can exceed a slow oscillation's
-    // frequency, and the snapped value must then be checked (below).
-    let mut values: Vec<(Complex64, Complex64)> = schur
-        .complex_eigenvalues()
-        .iter()
-        .map(|v| (snap(*v), *v))
-        .collect();
-    // Deterministic order: by real part, then imaginary part (so a conjugate pair is
-    // adjacent, its negative imaginary part first).
-    let order = |x: &Complex64, y: &Complex64| {
-        x.re.partial_cmp(&y.re)
-            .unwrap_or(std::cmp::Ordering::Equal)
-            .then(x.im.partial_cmp(&y.im).unwrap_or(std::cmp::Ordering::Equal))
-    };
-    values.sort_by(|x, y| order(&x.0, &y.0).then(order(&x.1, &y.1)));
-    let raw: Vec<Complex64> = values.iter().map(|v| v.1).collect();
-    let mut values: Vec<Complex64> = values.iter().map(|v| v.0).collect();
+    let (raw, mut values, norm) = schur_values(&scaled)?;
     let estimates = values.clone();
     let matrices = Matrices::new(&scaled);
 
@@ -244,64 +214,17 @@ pub fn eigen(a: &DMatrix<f64>) -> Result<Eigen, EigenError> {
         left,
         ..
     } = pairs;
-    let mut inverse = DMatrix::<Complex64>::zeros(n, n);
-    for group in &groups {
-        let r = DMatrix::from_columns(&group.iter().map(|&j| right.column(j)).collect::<Vec<_>>());
-        let l = DMatrix::from_columns(&group.iter().map(|&j| left.column(j)).collect::<Vec<_>>());
-        let pairing = l.transpose() * &r;
-        if pairing
-            .iter()
-            .any(|z| !z.re.is_finite() || !z.im.is_finite())
-        {
-            return Err(EigenError::Defective(f64::INFINITY));
-        }
-        let rows = pairing
-            .try_inverse()
-            .ok_or(EigenError::Defective(f64::INFINITY))?
-            * l.transpose();
-        for (slot, &j) in group.iter().enumerate() {
-            inverse.set_row(j, &rows.row(slot));
-        }
-    }
+    let mut inverse = group_inverse(&groups, &right, &left)?;
 
     // The real part of an oscillation from the energy balance (see [`oscillation_decay`])
-    // where that is the more accurate: over 1e150 periods, a damping error of ε ω turns
-    // e^{σt} into zero or infinity.
-    let mut decays = Vec::new();
-    for group in &groups {
-        let j = group[0];
-        if values[j].im <= 0.0 {
-            continue;
-        }
-        let vector = right.column(j).into_owned();
-        let (decay, bound) = oscillation_decay(&scaled, &weights, &vector);
-        if bound < newton_bound(&scaled, &vector, &left.column(j).into_owned()) {
-            decays.push((values[j], decay));
-        }
-    }
-    // The same to the group's members and the conjugate group (exactly conjugate values).
-    for (value, decay) in decays {
-        for v in values.iter_mut() {
-            if *v == value || *v == value.conj() {
-                v.re = decay;
-            }
-        }
-    }
+    // where that is the more accurate.
+    energy_decays(&groups, &mut values, (&right, &left), (&scaled, &weights));
 
     // Judge the eigenvectors in the scaled coordinates: the scaling is an exact similarity,
     // so the grading it removes (a momentum of order 1 beside a displacement of order 1e-10
     // in a stiff oscillator) costs no precision, and must not count as near-dependence (it
     // once sent such oscillators to the exponential, which turned a rotation into growth).
-    for c in 0..n {
-        let column_norm = right.column(c).iter().map(|z| z.norm()).fold(0.0, f64::max);
-        if column_norm == 0.0 || !column_norm.is_finite() {
-            return Err(EigenError::Defective(f64::INFINITY));
-        }
-        let mut column = right.column_mut(c);
-        column /= Complex64::new(column_norm, 0.0);
-        let mut row = inverse.row_mut(c);
-        row *= Complex64::new(column_norm, 0.0);
-    }
+    normalize_columns(&mut right, &mut inverse)?;
     let condition = complex_one_norm(&right) * complex_one_norm(&inverse);
     if condition.is_nan() || condition > MAX_CONDITION {
         return Err(EigenError::Defective(condition));
@@ -322,7 +245,70 @@ pub fn eigen(a: &DMatrix<f64>) -> Result<Eigen, EigenError> {
             inverse[(c, r)] /= scale[r];
         }
     }
-    for c in 0..n {
+    normalize_columns(&mut vectors, &mut inverse)?;
+    Ok(Eigen {
+        values,
+        vectors,
+        inverse,
+        condition,
+    })
+}
+
+/// The eigenvalues of the Schur form of `scaled`, in a deterministic order (by real part,
+/// then imaginary part: a conjugate pair adjacent, its negative imaginary part first), as
+/// computed and with a real eigenvalue's rounding-size imaginary part snapped to zero; and
+/// the matrix's 1-norm, which the snapping and the refinement judge against.
+///
+/// # Errors
+/// [`EigenError::NoConvergence`] when the Schur iteration does not converge.
+#[allow(clippy::type_complexity)]
+fn schur_values(
+    scaled: &DMatrix<f64>,
+) -> Result<(Vec<Complex64>, Vec<Complex64>, f64), EigenError> {
+    let schur = nalgebra::Schur::try_new(scaled.clone(), f64::EPSILON, 10_000)
+        .ok_or(EigenError::NoConvergence)?;
+    // A real eigenvalue may come out with an imaginary part of rounding size (relative to the
+    // eigenvalue, or to the matrix for one near zero); snap it back so propagation can use
+    // real arithmetic for it.
+    let norm = one_norm(scaled).max(f64::MIN_POSITIVE);
+    let snap = |v: Complex64| {
+        if v.im.abs() <= 1e-13 * v.re.abs() || v.im.abs() <= 1e-14 * norm {
+            Complex64::new(v.re, 0.0)
+        } else {
+            v
+        }
+    };
+    // Each value beside the Schur form's own, unsnapped: on a graded matrix the Schur form's
+    // absolute error (ε‖B‖, 55 /s for a 5e-15 kg tip on a 1250 N·s/m damper) can exceed a slow oscillation's
+    // frequency, and the snapped value must then be checked (below).
+    let mut values: Vec<(Complex64, Complex64)> = schur
+        .complex_eigenvalues()
+        .iter()
+        .map(|v| (snap(*v), *v))
+        .collect();
+    // Deterministic order: by real part, then imaginary part (so a conjugate pair is
+    // adjacent, its negative imaginary part first).
+    let order = |x: &Complex64, y: &Complex64| {
+        x.re.partial_cmp(&y.re)
+            .unwrap_or(std::cmp::Ordering::Equal)
+            .then(x.im.partial_cmp(&y.im).unwrap_or(std::cmp::Ordering::Equal))
+    };
+    values.sort_by(|x, y| order(&x.0, &y.0).then(order(&x.1, &y.1)));
+    let raw: Vec<Complex64> = values.iter().map(|v| v.1).collect();
+    let values: Vec<Complex64> = values.iter().map(|v| v.0).collect();
+    Ok((raw, values, norm))
+}
+
+/// Scales each column of `vectors` to a largest component of 1, and the matching row of
+/// `inverse` inversely.
+///
+/// # Errors
+/// [`EigenError::Defective`] for a zero or non-finite column.
+fn normalize_columns(
+    vectors: &mut DMatrix<Complex64>,
+    inverse: &mut DMatrix<Complex64>,
+) -> Result<(), EigenError> {
+    for c in 0..vectors.ncols() {
         let column_norm = vectors
             .column(c)
             .iter()
@@ -336,12 +322,72 @@ pub fn eigen(a: &DMatrix<f64>) -> Result<Eigen, EigenError> {
         let mut row = inverse.row_mut(c);
         row *= Complex64::new(column_norm, 0.0);
     }
-    Ok(Eigen {
-        values,
-        vectors,
-        inverse,
-        condition,
-    })
+    Ok(())
+}
+
+/// The inverse of the right eigenvectors, group by group: within a group of a repeated
+/// eigenvalue, `(Lᵀ R)⁻¹ Lᵀ`.
+///
+/// # Errors
+/// [`EigenError::Defective`] where a group's pairing is singular or non-finite.
+fn group_inverse(
+    groups: &[Vec<usize>],
+    right: &DMatrix<Complex64>,
+    left: &DMatrix<Complex64>,
+) -> Result<DMatrix<Complex64>, EigenError> {
+    let n = right.nrows();
+    let mut inverse = DMatrix::<Complex64>::zeros(n, n);
+    for group in groups {
+        let r = DMatrix::from_columns(&group.iter().map(|&j| right.column(j)).collect::<Vec<_>>());
+        let l = DMatrix::from_columns(&group.iter().map(|&j| left.column(j)).collect::<Vec<_>>());
+        let pairing = l.transpose() * &r;
+        if pairing
+            .iter()
+            .any(|z| !z.re.is_finite() || !z.im.is_finite())
+        {
+            return Err(EigenError::Defective(f64::INFINITY));
+        }
+        let rows = pairing
+            .try_inverse()
+            .ok_or(EigenError::Defective(f64::INFINITY))?
+            * l.transpose();
+        for (slot, &j) in group.iter().enumerate() {
+            inverse.set_row(j, &rows.row(slot));
+        }
+    }
+    Ok(inverse)
+}
+
+/// The real part of each oscillation from the energy balance (see [`oscillation_decay`])
+/// where that is the more accurate: over 1e150 periods, a damping error of ε ω turns
+/// e^{σt} into zero or infinity. Applied to the group's members and the conjugate group
+/// (exactly conjugate values).
+fn energy_decays(
+    groups: &[Vec<usize>],
+    values: &mut [Complex64],
+    (right, left): (&DMatrix<Complex64>, &DMatrix<Complex64>),
+    (scaled, weights): (&DMatrix<f64>, &[f64]),
+) {
+    let mut decays = Vec::new();
+    for group in groups {
+        let j = group[0];
+        if values[j].im <= 0.0 {
+            continue;
+        }
+        let vector = right.column(j).into_owned();
+        let (decay, bound) = oscillation_decay(scaled, weights, &vector);
+        if bound < newton_bound(scaled, &vector, &left.column(j).into_owned()) {
+            decays.push((values[j], decay));
+        }
+    }
+    // The same to the group's members and the conjugate group (exactly conjugate values).
+    for (value, decay) in decays {
+        for v in values.iter_mut() {
+            if *v == value || *v == value.conj() {
+                v.re = decay;
+            }
+        }
+    }
 }
 
 /// The scaled matrix in the forms the refinement uses.
