@@ -570,8 +570,23 @@ impl<'m> Simulator<'m> {
         }
         // Within the limit: `resolve` checked the count before searching.
         let combinations = combinations::count(choices.iter().map(|(_, o)| o.len())).unwrap_or(0);
+        // Where no combination is consistent, a guard entered only because it is level on
+        // its threshold is set aside ([`Entry::Level`]): its rate, judged zero against the
+        // rounding of its terms, may be real. A friction contact whose breakaway force
+        // exceeds its Coulomb force by less than the rounding of its forces (1.7e-8 N at
+        // 8.3 N) on a stiff body (a 5e-15 kg tip) slips with an acceleration (1.4e7 m/s²,
+        // from that difference) that its terms (1.5e16) call level, and the second
+        // derivative that then decides is the stiff body's relaxation (4e-18 s), not the
+        // contact's motion: each slip direction sends it to the other, and stuck breaks
+        // away. Setting the level guards aside leaves the slip the stuck mode breaks into.
         let mut best: Option<((usize, usize), Arc<NumericMode>)> = None;
-        for index in 0..combinations {
+        for (level_counts, index) in [true, false]
+            .into_iter()
+            .flat_map(|level_counts| (0..combinations).map(move |index| (level_counts, index)))
+        {
+            if !level_counts && best.is_some() {
+                break;
+            }
             let mut mode = candidate.clone();
             let mut rest = index;
             for (id, options) in &choices {
@@ -583,7 +598,7 @@ impl<'m> Simulator<'m> {
                 Err(SimError::Derivation(_)) => continue,
                 Err(e) => return Err(e),
             };
-            if !self.consistent(&numeric, full, u, rate, crossed)? {
+            if !self.consistent(&numeric, (full, u, rate), crossed, level_counts)? {
                 continue;
             }
             let stuck = choices
@@ -613,19 +628,21 @@ impl<'m> Simulator<'m> {
     }
 
     /// Whether no guard of `mode` is entered at this instant, counting a dead-band guard
-    /// only while its relative velocity is not leaving the band.
+    /// only while its relative velocity is not leaving the band, and a guard entered only
+    /// because it is level on its threshold ([`Entry::Level`]) only if `level_counts`.
     fn consistent(
         &mut self,
         mode: &NumericMode,
-        full: &[f64],
-        u: &[f64],
-        rate: &[f64],
+        (full, u, rate): (&[f64], &[f64], &[f64]),
         crossed: Option<&Crossed>,
+        level_counts: bool,
     ) -> Result<bool, SimError> {
         let x = mode.project(full, u);
         for guard in &mode.guards {
-            if !self.entered(mode, guard, &x, u, rate, crossed) {
-                continue;
+            match self.entry(mode, guard, &x, u, rate, crossed) {
+                Entry::Clear => continue,
+                Entry::Level if !level_counts => continue,
+                Entry::Level | Entry::Decided => {}
             }
             if guard.requires_hold {
                 let leaving = mode.row_rate(&guard.row, &x, u, rate) < 0.0;
@@ -649,21 +666,43 @@ impl<'m> Simulator<'m> {
         rate: &[f64],
         crossed: Option<&Crossed>,
     ) -> bool {
+        self.entry(mode, guard, x, u, rate, crossed) != Entry::Clear
+    }
+
+    /// How a guard stands at entry: clear of its threshold, entered by its value or its
+    /// rate, or entered only because it is level on its threshold and its second
+    /// derivative turns it in ([`Entry::Level`]).
+    fn entry(
+        &self,
+        mode: &NumericMode,
+        guard: &NumericGuard,
+        x: &[f64],
+        u: &[f64],
+        rate: &[f64],
+        crossed: Option<&Crossed>,
+    ) -> Entry {
         let value = guard.row.eval(x, u, rate);
         let tolerance = threshold_rounding(&guard.row, x, u, rate);
         let on_crossed_threshold = crossed.is_some_and(|c| c.watches_as(guard, value, tolerance));
+        let decided = |entered: bool| {
+            if entered {
+                Entry::Decided
+            } else {
+                Entry::Clear
+            }
+        };
         if !on_crossed_threshold {
             if value > tolerance {
-                return true;
+                return Entry::Decided;
             }
             if value < -tolerance {
-                return false;
+                return Entry::Clear;
             }
         }
         let first = mode.row_rate(&guard.row, x, u, rate);
         let rate_tolerance = 1e-9 * mode.row_rate_magnitude(&guard.row, x, u, rate);
         if first.abs() > rate_tolerance {
-            return first > 0.0;
+            return decided(first > 0.0);
         }
         // On the threshold and level: a string at zero extension with its mass at rest, or a
         // contact whose breakaway force equals its Coulomb force slipping at the instant the
@@ -673,7 +712,11 @@ impl<'m> Simulator<'m> {
         // threshold (a contact holding exactly its breakaway force, zero at a balance with no
         // breakaway), which leaves the mode nothing to leave for.
         let (second, rounding) = second_rate(mode, &guard.row, x, u, rate);
-        second > rounding
+        if second > rounding {
+            Entry::Level
+        } else {
+            Entry::Clear
+        }
     }
 
     /// Whether the element of a `requires_hold` guard can hold in the mode the guard leads
@@ -722,6 +765,18 @@ impl<'m> Simulator<'m> {
                 .collect(),
         }
     }
+}
+
+/// How a guard stands at the instant a mode is entered ([`Simulator::entry`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Entry {
+    /// Below its threshold, or on it and moving away.
+    Clear,
+    /// Past its threshold, or on it and moving in.
+    Decided,
+    /// On its threshold and level there (value and rate zero to the rounding of their
+    /// terms), its second derivative turning it in.
+    Level,
 }
 
 /// The time of an event found `tau` into a segment from `start` to `end`: the root's,

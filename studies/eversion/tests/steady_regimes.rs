@@ -185,3 +185,36 @@ fn new_parameter_values_keep_the_derived_modes_and_change_the_numbers() {
     }
     assert!(simulator.set_parameter_values(&[1.0]).is_err());
 }
+
+#[test]
+fn a_catheter_contact_whose_two_friction_forces_differ_by_rounding_still_slips() {
+    // The catheter contact's breakaway force exceeds its Coulomb force by 1.7e-8 N (2e-9 of
+    // 8.28 N), below the rounding of the forces its guards weigh. From rest, the tip breaks
+    // away and the catheter slips backwards against the contact; when the contact's relative
+    // velocity first reaches zero, stuck breaks away at once and each slip direction's
+    // acceleration is judged level against the stiff tip's terms: the run once stopped there
+    // ("no mode is consistent: switching 'fr_ct' cycles"). It must slip on as it does with
+    // the two forces equal or 1 mN apart, the tip at v = (P_s A + 2 F_C_ct - F_C_ge)/b.
+    let (f_c_ct, f_c_ge, b, p_s) = (8.27680505338857, 9.0, 1300.0, 1.1e5);
+    let text = format!(
+        r#"Scenario(name: "edge",
+            parameters: {{"F_C_ct": {f_c_ct:?}, "F_S_ct": 8.276805070605269,
+                          "F_C_ge": {f_c_ge:?}, "F_S_ge": 11.5, "b": {b:?}}},
+            inputs: {{"P_s": Constant({p_s:?}), "v_ac": Constant(0.05), "v_ct_des": Constant(0.03)}},
+            duration: 2.0, record: ["flow:ge"], sample: 0.5)"#
+    );
+    let root = support::root();
+    let model = bondgraph_core::source::SourceFile::new(
+        "models/eversion/robot.ron",
+        std::fs::read_to_string(root.join("models/eversion/robot.ron")).unwrap(),
+    );
+    let scenario = bondgraph_core::source::SourceFile::new("edge.ron", text);
+    let scenario = bondgraph_ron::scenario::load(&scenario, &model).unwrap();
+    let trajectory = bondgraph_solver::scenario::run(&scenario, false).unwrap();
+    let last = trajectory.times.len() - 1;
+    let v = trajectory.value(last, 0).unwrap();
+    let expected = (p_s * A + 2.0 * f_c_ct - f_c_ge) / b;
+    assert!(close(v, expected), "{v} against {expected}");
+    let mode = &trajectory.modes[trajectory.sample_modes[last]];
+    assert_eq!(mode, "fr_ge=slip+,k=slack,fr_ct=slip-");
+}
