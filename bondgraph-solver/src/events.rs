@@ -263,6 +263,11 @@ pub struct Scratch {
 /// The crossing, or how far no guard reaches zero: `length`, or, when `window < length`,
 /// the end of the sampled stretch. That stretch starts where some guard may first reach
 /// zero by a bound of each guard over a modal segment (`events/envelope.rs`), or at zero.
+///
+/// (Over the size budget, and listed in `tests/architecture.rs`: its evaluation and slope
+/// closures share the scratch buffers across the arming at the start, the bracketing over
+/// the samples, the search for a guard touching zero between two and the refinement, and
+/// cutting it means threading those buffers through each step.)
 #[allow(clippy::too_many_arguments)]
 pub fn first_crossing(
     mode: &NumericMode,
