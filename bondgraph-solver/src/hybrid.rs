@@ -580,38 +580,37 @@ impl<'m> Simulator<'m> {
         // contact's motion: each slip direction sends it to the other, and stuck breaks
         // away. Setting the level guards aside leaves the slip the stuck mode breaks into.
         let mut best: Option<((usize, usize), Arc<NumericMode>)> = None;
-        for (level_counts, index) in [true, false]
-            .into_iter()
-            .flat_map(|level_counts| (0..combinations).map(move |index| (level_counts, index)))
-        {
-            if !level_counts && best.is_some() {
+        for level_counts in [true, false] {
+            if best.is_some() {
                 break;
             }
-            let mut mode = candidate.clone();
-            let mut rest = index;
-            for (id, options) in &choices {
-                mode = mode.with(*id, options[rest % options.len()]);
-                rest /= options.len();
-            }
-            let numeric = match self.mode(&mode) {
-                Ok(numeric) => numeric,
-                Err(SimError::Derivation(_)) => continue,
-                Err(e) => return Err(e),
-            };
-            if !self.consistent(&numeric, (full, u, rate), crossed, level_counts)? {
-                continue;
-            }
-            let stuck = choices
-                .iter()
-                .filter(|(id, _)| mode.of(*id) == Some(ElementMode::Stuck))
-                .count();
-            let distance = choices
-                .iter()
-                .filter(|(id, _)| mode.of(*id) != candidate.of(*id))
-                .count();
-            let rank = (usize::MAX - stuck, distance);
-            if best.as_ref().is_none_or(|(r, _)| rank < *r) {
-                best = Some((rank, numeric));
+            for index in 0..combinations {
+                let mut mode = candidate.clone();
+                let mut rest = index;
+                for (id, options) in &choices {
+                    mode = mode.with(*id, options[rest % options.len()]);
+                    rest /= options.len();
+                }
+                let numeric = match self.mode(&mode) {
+                    Ok(numeric) => numeric,
+                    Err(SimError::Derivation(_)) => continue,
+                    Err(e) => return Err(e),
+                };
+                if !self.consistent(&numeric, (full, u, rate), crossed, level_counts)? {
+                    continue;
+                }
+                let stuck = choices
+                    .iter()
+                    .filter(|(id, _)| mode.of(*id) == Some(ElementMode::Stuck))
+                    .count();
+                let distance = choices
+                    .iter()
+                    .filter(|(id, _)| mode.of(*id) != candidate.of(*id))
+                    .count();
+                let rank = (usize::MAX - stuck, distance);
+                if best.as_ref().is_none_or(|(r, _)| rank < *r) {
+                    best = Some((rank, numeric));
+                }
             }
         }
         Ok(best.map(|(_, numeric)| numeric))

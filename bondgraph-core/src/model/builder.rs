@@ -187,6 +187,26 @@ mod tests {
     }
 
     #[test]
+    fn a_built_models_misplaced_bonds_are_named_by_their_ends_not_lines() {
+        let error = Builder::new("gear")
+            .parameter("n", 2.0, "")
+            .element("j", ElementSpec::One)
+            .element("k", ElementSpec::One)
+            .element("t", ElementSpec::transformer("n"))
+            .bonds([("j", "t"), ("k", "j")])
+            .build()
+            .unwrap_err();
+        let messages: Vec<String> = error.0.iter().map(|d| d.message.clone()).collect();
+        assert!(
+            messages.contains(
+                &"transformer 't' has 1 bonds (j -> t); it takes exactly two, one in and one out"
+                    .to_string()
+            ),
+            "{messages:?}"
+        );
+    }
+
+    #[test]
     fn a_spec_becomes_a_builder_again() {
         let builder = built();
         let again = Builder::from(builder.spec().clone());

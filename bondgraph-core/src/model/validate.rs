@@ -656,12 +656,21 @@ impl Validator<'_> {
     fn check_ports(&mut self, model: &Model, element: ElementId) {
         let e = model.element(element);
         let count = e.bonds.len();
+        // Where the bonds are: their lines in a file, their ends in a model built in code.
         let lines = || {
-            e.bonds
+            let in_code = model.source.is_in_code();
+            let places: Vec<String> = e
+                .bonds
                 .iter()
-                .map(|b| model.locate_bond(*b).line.to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
+                .map(|&b| match in_code {
+                    true => model.bond_label(b),
+                    false => model.locate_bond(b).line.to_string(),
+                })
+                .collect();
+            match in_code {
+                true => places.join(", "),
+                false => format!("lines {}", places.join(", ")),
+            }
         };
         let problem = match e.kind.port_count() {
             Some(1) if count != 1 => Some(if count == 0 {
@@ -672,7 +681,7 @@ impl Validator<'_> {
                 )
             } else {
                 format!(
-                    "{} '{}' has {count} bonds (lines {}); a one-port takes exactly one",
+                    "{} '{}' has {count} bonds ({}); a one-port takes exactly one",
                     e.kind.description(),
                     e.name,
                     lines()
@@ -685,7 +694,7 @@ impl Validator<'_> {
                 if count == 0 {
                     String::new()
                 } else {
-                    format!(" (lines {})", lines())
+                    format!(" ({})", lines())
                 }
             )),
             Some(2) => {
