@@ -16,7 +16,8 @@
 //! atom    := number | identifier | function '(' expr (',' expr)* ')' | '(' expr ')'
 //! function := sin | cos | tan | exp | ln | sqrt | abs | sign | tanh | atan | min | max
 //! number  := digits ('.' digits?)? (('e' | 'E') ('+' | '-')? digits)?  |  '.' digits ...
-//! identifier := [A-Za-z_][A-Za-z0-9_]*
+//! identifier := name ('.' name)*                          (front.k_s: a sub-model's k_s)
+//! name    := [A-Za-z_][A-Za-z0-9_]*
 //! ```
 //!
 //! `^` binds tighter than unary minus (`-a^2` is `-(a^2)`); an exponent that is an integer
@@ -323,9 +324,7 @@ fn lex(text: &str) -> Result<Vec<Token>, ExprError> {
                 continue;
             }
             b'A'..=b'Z' | b'a'..=b'z' | b'_' => {
-                while i < bytes.len() && (bytes[i].is_ascii_alphanumeric() || bytes[i] == b'_') {
-                    i += 1;
-                }
+                i = identifier_end(bytes, i);
                 tokens.push(Token {
                     kind: Tok::Ident(text[start..i].to_string()),
                     span: Span::new(start, i),
@@ -349,6 +348,67 @@ fn lex(text: &str) -> Result<Vec<Token>, ExprError> {
         });
     }
     Ok(tokens)
+}
+
+/// The end of the identifier starting at `start`: names joined by `.` (`front.k_s`, the
+/// parameter `k_s` of sub-model `front`), each a letter or `_` and then letters, digits and
+/// `_`. A `.` not followed by a letter or `_` ends the identifier.
+fn identifier_end(bytes: &[u8], start: usize) -> usize {
+    let name_char = |b: &u8| b.is_ascii_alphanumeric() || *b == b'_';
+    let mut i = start;
+    loop {
+        while bytes.get(i).is_some_and(name_char) {
+            i += 1;
+        }
+        let next_starts_a_name = bytes
+            .get(i + 1)
+            .is_some_and(|b| b.is_ascii_alphabetic() || *b == b'_');
+        if bytes.get(i) == Some(&b'.') && next_starts_a_name {
+            i += 1;
+        } else {
+            return i;
+        }
+    }
+}
+
+/// `text` with each symbol `rename` gives a new name for replaced by it, everything else
+/// (numbers, operators, spacing, function names) kept as written. A function's name is
+/// not a symbol, so a call `sin(...)` is never renamed. Text that does not lex is returned
+/// unchanged: the composer of sub-models renames expressions that were already checked.
+///
+/// ```
+/// use bondgraph_core::expr::rename_symbols;
+/// let renamed = rename_symbols("k_s*sin(q_spring) + 2", |name| match name {
+///     "k_s" => Some("(2*k)".into()),
+///     "q_spring" => Some("front.q_spring".into()),
+///     _ => None,
+/// });
+/// assert_eq!(renamed, "(2*k)*sin(front.q_spring) + 2");
+/// ```
+pub fn rename_symbols(text: &str, rename: impl Fn(&str) -> Option<String>) -> String {
+    let Ok(tokens) = lex(text) else {
+        return text.to_string();
+    };
+    let mut out = String::with_capacity(text.len());
+    let mut copied = 0;
+    for (index, token) in tokens.iter().enumerate() {
+        let Tok::Ident(name) = &token.kind else {
+            continue;
+        };
+        let is_call = tokens
+            .get(index + 1)
+            .is_some_and(|next| next.kind == Tok::LParen);
+        if is_call {
+            continue;
+        }
+        if let Some(new_name) = rename(name) {
+            out.push_str(&text[copied..token.span.start]);
+            out.push_str(&new_name);
+            copied = token.span.end;
+        }
+    }
+    out.push_str(&text[copied..]);
+    out
 }
 
 /// Scans a number literal starting at `start`; returns the end offset.
@@ -1169,7 +1229,15 @@ mod tests {
         assert_eq!(error("a $ b"), ("unexpected character '$'".into(), (2, 3)));
         // A multi-byte character is reported whole.
         assert_eq!(error("m·g"), ("unexpected character '·'".into(), (1, 3)));
-        assert_eq!(error("a.b"), ("unexpected character '.'".into(), (1, 2)));
+        // A '.' joins names (`front.k_s`) only when a name follows it.
+        assert_eq!(error("a. b"), ("unexpected character '.'".into(), (1, 2)));
+        assert_eq!(
+            error("a.1"),
+            (
+                "expected an operator or the end of the expression, found '.1'".into(),
+                (1, 3)
+            )
+        );
         assert_eq!(
             error("2e + 1"),
             (

@@ -475,7 +475,7 @@ impl NormalTree {
                 } else {
                     "f"
                 };
-                format!("{letter}_{}", graph.branches[b].name)
+                crate::model::state_symbol(letter, &graph.branches[b].name)
             })
             .collect()
     }

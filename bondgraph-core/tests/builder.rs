@@ -70,3 +70,75 @@ fn a_built_model_is_the_model_its_file_describes() {
         |m: &Model| -> Vec<&str> { m.elements().iter().map(|e| e.kind.keyword()).collect() };
     assert_eq!(kinds(&from_code), kinds(&from_file));
 }
+
+/// Names joined by '.' are a sub-model's qualified names: a state keeps the prefix in front
+/// of its own name (`front.q_spring`), and an expression can name it.
+#[test]
+fn qualified_names_give_qualified_states_that_expressions_can_name() {
+    let model = Builder::new("qualified")
+        .parameter("front.m", 2.0, "kg")
+        .parameter("front.k", 200.0, "N/m")
+        .parameter("c", 3.0, "N*s/m^2")
+        .input("F", "N")
+        .element("force", ElementSpec::effort_source("F"))
+        .element("front.v", ElementSpec::One)
+        .element("front.mass", ElementSpec::inertance("front.m"))
+        .element("front.spring", ElementSpec::stiffness("front.k"))
+        // A damper modulated by the spring's stretch.
+        .element("front.damper", ElementSpec::resistance("c*front.q_spring"))
+        .bonds([
+            ("force", "front.v"),
+            ("front.v", "front.mass"),
+            ("front.v", "front.spring"),
+            ("front.v", "front.damper"),
+        ])
+        .build()
+        .unwrap();
+    let names: Vec<String> = model
+        .element_ids()
+        .filter_map(|id| model.storage_name(id))
+        .collect();
+    assert_eq!(names, ["front.p_mass", "front.q_spring"]);
+    let options = equations::Options::default();
+    let derived =
+        equations::nonlinear::derive(&model, &laws::plain_laws(&model), &options).unwrap();
+    let text = derived.to_text(None);
+    // The damper's force c q v, with v = p/m, by hand.
+    assert!(text.contains("front.q_spring"), "{text}");
+    assert!(text.contains("front.p_mass"), "{text}");
+    // Without the modulated damper: p' = -k q + F, q' = p/m, by hand.
+    let linear = Builder::new("qualified")
+        .parameter("front.m", 2.0, "kg")
+        .parameter("front.k", 200.0, "N/m")
+        .input("F", "N")
+        .element("force", ElementSpec::effort_source("F"))
+        .element("front.v", ElementSpec::One)
+        .element("front.mass", ElementSpec::inertance("front.m"))
+        .element("front.spring", ElementSpec::stiffness("front.k"))
+        .bonds([
+            ("force", "front.v"),
+            ("front.v", "front.mass"),
+            ("front.v", "front.spring"),
+        ])
+        .build()
+        .unwrap();
+    assert_eq!(a_matrix(&linear), [["0", "-front.k"], ["1/front.m", "0"]]);
+}
+
+#[test]
+fn a_name_with_an_empty_part_is_refused() {
+    let error = Builder::new("bad")
+        .parameter("m", 1.0, "kg")
+        .element("v", ElementSpec::One)
+        .element("front..mass", ElementSpec::inertance("m"))
+        .element("push", ElementSpec::effort_source("1"))
+        .bonds([("push", "v"), ("v", "front..mass")])
+        .build()
+        .unwrap_err();
+    assert!(
+        error
+            .to_string()
+            .contains("'front..mass' is not a valid name"),
+        "{error}"
+    );
+}

@@ -74,7 +74,9 @@ impl Storage {
                 _ => continue,
             };
             storage.elements.push(id);
-            storage.names.push(format!("{letter}_{}", element.name));
+            storage
+                .names
+                .push(bondgraph_core::model::state_symbol(letter, &element.name));
             storage.coefficients.push(coefficient);
             storage
                 .laws

@@ -238,8 +238,18 @@ const GREEK: [&str; 33] = [
 /// plain (italic in mathematics), a Greek letter's name its command, anything else upright;
 /// the rest is one subscript, written by [`latex_subscript`]. A name without `_` that is a
 /// letter and digits is the letter numbered (`m1` is `m_{1}`). A name with an empty part
-/// (`_x`, `a__b`, `a_`) prints upright as a whole, with its underscores escaped.
+/// (`_x`, `a__b`, `a_`) prints upright as a whole, with its underscores escaped. A
+/// sub-model's symbol prints its prefix upright before the part's own name: `front.k_s` is
+/// `\mathrm{front}.k_{s}`.
 pub fn latex_name(name: &str) -> String {
+    // A sub-model's symbol (`front.k_s`): its prefix upright, then the part's own name.
+    if let Some((prefix, leaf)) = name.rsplit_once('.') {
+        return format!(
+            "\\mathrm{{{}}}.{}",
+            prefix.replace('_', "\\_"),
+            latex_name(leaf)
+        );
+    }
     if name.split('_').any(str::is_empty) {
         return format!("\\mathrm{{{}}}", name.replace('_', "\\_"));
     }
@@ -494,6 +504,12 @@ mod tests {
         assert_eq!(latex_name("ab1"), "\\mathrm{ab1}");
         assert_eq!(latex_name("_x"), "\\mathrm{\\_x}");
         assert_eq!(latex_name("a__b"), "\\mathrm{a\\_\\_b}");
+        // A sub-model's symbols: the prefix upright, the part's own name as it would be.
+        assert_eq!(latex_name("front.k_s"), "\\mathrm{front}.k_{s}");
+        assert_eq!(
+            latex_name("front.rear_axle.p_wheel"),
+            "\\mathrm{front.rear\\_axle}.p_{\\mathrm{wheel}}"
+        );
         assert_eq!(latex_name(""), "\\mathrm{}");
     }
 

@@ -372,7 +372,7 @@ pub(crate) fn derive_parts(
             let name = &model.element(element).name;
             let (block, position) = place[k];
             StateVariable {
-                name: format!("{}_{name}", quantity.letter()),
+                name: crate::model::state_symbol(quantity.letter(), name),
                 element: name.clone(),
                 quantity,
                 merged: merged.merged_into[k]

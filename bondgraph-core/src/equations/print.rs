@@ -552,10 +552,15 @@ impl StateEquations {
 /// by the rule parameters follow ([`latex_name`]): `q_{\mathrm{tyre}}`,
 /// `p_{\mathrm{load\_inertia}}`, `q_{c}`.
 pub(crate) fn state_latex(state: &crate::equations::StateVariable) -> String {
+    // A sub-model's state (`front.q_spring`): its prefix upright, as for its parameters.
+    let (prefix, element) = match state.element.rsplit_once('.') {
+        Some((prefix, leaf)) => (format!("\\mathrm{{{}}}.", prefix.replace('_', "\\_")), leaf),
+        None => (String::new(), state.element.as_str()),
+    };
     format!(
-        "{}_{{{}}}",
+        "{prefix}{}_{{{}}}",
         state.quantity.letter(),
-        latex_subscript(&state.element)
+        latex_subscript(element)
     )
 }
 

@@ -744,7 +744,7 @@ impl Model {
             },
             _ => return None,
         };
-        Some(format!("{letter}_{}", element.name))
+        Some(super::state_symbol(letter, &element.name))
     }
 
     /// The energy domain of element `id`'s (first) bond, if its units tell it: a capacitor's

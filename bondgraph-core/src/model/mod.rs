@@ -21,3 +21,36 @@ pub use checked::{
     TensionOnly,
 };
 pub use spec::{BondSpec, ElementSpec, InputSpec, ModelSpec, ParameterSpec};
+
+/// The name of an element's energy variable: `letter` (`p` for a momentum, `q` for a
+/// displacement; a linear graph's `v` and `f`) and the element's name, `p_mass`. An element
+/// of a sub-model keeps the sub-model's prefix in front (`front.q_spring` for
+/// `front.spring`), so that the state reads as the part's own, qualified.
+///
+/// ```
+/// use bondgraph_core::model::{state_symbol, state_element};
+/// assert_eq!(state_symbol("p", "mass"), "p_mass");
+/// assert_eq!(state_symbol("q", "front.rear.spring"), "front.rear.q_spring");
+/// assert_eq!(state_element("front.rear.q_spring"), Some(("q", "front.rear.spring".into())));
+/// ```
+pub fn state_symbol(letter: &str, element: &str) -> String {
+    match element.rsplit_once('.') {
+        Some((prefix, leaf)) => format!("{prefix}.{letter}_{leaf}"),
+        None => format!("{letter}_{element}"),
+    }
+}
+
+/// The letter and element of an energy variable's name written by [`state_symbol`], if
+/// `symbol` has that form (whether such an element exists is the caller's to check).
+pub fn state_element(symbol: &str) -> Option<(&str, String)> {
+    let (prefix, leaf) = match symbol.rsplit_once('.') {
+        Some((prefix, leaf)) => (Some(prefix), leaf),
+        None => (None, symbol),
+    };
+    let (letter, element) = leaf.split_once('_')?;
+    let element = match prefix {
+        Some(prefix) => format!("{prefix}.{element}"),
+        None => element.to_string(),
+    };
+    Some((letter, element))
+}

@@ -213,7 +213,7 @@ fn energy_variables(raw: &ModelSpec) -> HashMap<String, u32> {
                 ElementSpec::C { .. } | ElementSpec::TensionOnly { .. } => "q",
                 _ => return None,
             };
-            Some((format!("{letter}_{name}"), index as u32))
+            Some((super::state_symbol(letter, name), index as u32))
         })
         .collect()
 }
@@ -607,11 +607,13 @@ impl Validator<'_> {
     }
 
     fn check_name(&mut self, name: &str, what: &str, span: Span) -> bool {
-        let valid = name
-            .chars()
-            .next()
-            .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
-            && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+        // Names joined by '.' are the qualified names of a sub-model's parts (`front.spring`).
+        let valid = name.split('.').all(|part| {
+            part.chars()
+                .next()
+                .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+                && part.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        });
         if !valid {
             self.problems.push(
                 Diagnostic::new(

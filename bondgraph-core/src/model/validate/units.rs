@@ -503,8 +503,8 @@ impl Symbols for Scope<'_, '_> {
             _ => {}
         }
         let model = self.checker.model;
-        let (letter, element) = name.split_once('_')?;
-        let id = *self.checker.names.get(element)?;
+        let (letter, element) = crate::model::state_element(name)?;
+        let id = *self.checker.names.get(element.as_str())?;
         let bond = model.element(id).bonds.first()?.index();
         match (letter, model.storage_name(id)) {
             ("q", Some(state)) if state == name => {
