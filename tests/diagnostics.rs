@@ -202,7 +202,7 @@ fn unknown_element_kind() {
             element: Some("mass"),
             underlined: "Mass",
             message: "element 'mass': unknown element kind 'Mass'; expected one of Se, Sf, I, C, \
-                      R, TF, GY, Friction, TensionOnly, FlowLimit, Zero, One",
+                      R, TF, GY, Friction, TensionOnly, FlowLimit, Submodel, Zero, One",
         },
     );
 }

@@ -39,6 +39,7 @@ pub(crate) mod trace;
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::laws::Law;
+use crate::model::AtElement;
 use crate::model::{BondId, ElementId, ElementKind, Model, NonlinearLaw};
 
 pub use trace::{CausalityTrace, Decision, Propagation, Rule, Step};
@@ -106,6 +107,27 @@ impl Causality {
     }
 }
 
+/// Why a model with ports has no causality of its own: the outside its ports join is
+/// missing.
+fn open_ports(model: &Model, first: &crate::model::Port) -> Diagnostic {
+    let names: Vec<String> = model
+        .ports()
+        .iter()
+        .map(|p| format!("'{}'", p.name))
+        .collect();
+    Diagnostic::new(
+        DiagnosticKind::Submodel,
+        format!(
+            "model '{}' is a part with open ports ({}): it has equations only where a model \
+             uses it and bonds its ports",
+            model.name(),
+            names.join(", ")
+        ),
+    )
+    .at_location(model.source().locate(first.span))
+    .note("use it as an element of another model: \"name\": Submodel(file: \"...\"), bonded to \"name.port\"")
+}
+
 /// Assigns causality to every bond by SCAP: sources first, then storage preferring integral
 /// causality, then resistors, then whatever is left, propagating through junctions,
 /// transformers and gyrators after each choice. See the module documentation.
@@ -119,6 +141,9 @@ pub fn assign(model: &Model, laws: &[Law]) -> Result<Causality> {
 /// # Errors
 /// As [`assign`].
 pub fn assign_traced(model: &Model, laws: &[Law]) -> Result<(Causality, CausalityTrace)> {
+    if let Some(port) = model.ports().first() {
+        return Err(open_ports(model, port).into());
+    }
     let mut scap = Scap::new(model, laws);
 
     for element in model.element_ids() {
@@ -485,7 +510,7 @@ impl<'a> Scap<'a> {
                 "no causal assignment found after {SEARCH_BUDGET} choices; the search stopped at '{name}'"
             ),
         )
-        .at_location(self.model.locate_element(element))
+        .at_element(self.model, element)
         .element(name.clone())
         .note("the graph's resistor network leaves too many choices open; check it for redundant junctions")
         .into()
@@ -708,7 +733,7 @@ impl<'a> Scap<'a> {
             format!("causal conflict at {what} '{name}': no bond can set its common {variable}")
         };
         Diagnostic::new(DiagnosticKind::CausalConflict, message)
-            .at_location(model.locate_element(junction))
+            .at_element(model, junction)
             .element(name.clone())
             .note(format!(
                 "a {what} needs exactly one bond that sets its {variable}; two sources of \
@@ -727,7 +752,7 @@ impl<'a> Scap<'a> {
                 self.describe_origin(self.origin[b.index()])
             ),
         )
-        .at_location(self.model.locate_element(element))
+        .at_element(self.model, element)
         .element(name.clone())
         .into()
     }

@@ -14,6 +14,7 @@ use std::sync::Arc;
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use crate::equations::{self, Options, StateEquations};
+use crate::model::AtElement;
 use serde::Serialize;
 
 use crate::equations::nonlinear::{self, NonlinearEquations};
@@ -351,7 +352,7 @@ fn too_many_modes(model: &Model) -> Diagnostics {
     .note("a friction contact has three modes and a string or flow limit two; simulate the model instead, which derives only the modes it enters");
     if let Some(&first) = switching.first() {
         diagnostic = diagnostic
-            .at_location(model.locate_element(first))
+            .at_element(model, first)
             .element(model.element(first).name.clone());
     }
     diagnostic.into()

@@ -142,3 +142,35 @@ fn a_name_with_an_empty_part_is_refused() {
         "{error}"
     );
 }
+
+/// A port is a junction the outside's bonds join: it counts as one of the junction's bonds,
+/// so a part whose port junction has a single bond of its own is whole.
+#[test]
+fn ports_are_junctions_and_count_as_a_bond() {
+    let part = || {
+        Builder::new("mass")
+            .parameter("m", 2.0, "kg")
+            .element("v", ElementSpec::One)
+            .element("mass", ElementSpec::inertance("m"))
+            .bond("v", "mass")
+    };
+    let model = part().port("hub", "v").build().unwrap();
+    assert_eq!(model.ports().len(), 1);
+    assert_eq!(model.ports()[0].name, "hub");
+    assert_eq!(model.element(model.ports()[0].element).name, "v");
+
+    // Without the port, the junction has one bond.
+    let error = part().build().unwrap_err().to_string();
+    assert!(
+        error.contains("has 1 bond; a junction joins two or more"),
+        "{error}"
+    );
+
+    let error = part().port("hub", "mass").build().unwrap_err().to_string();
+    assert!(
+        error.contains("port 'hub': 'mass' is an inertia; a port is a 0- or 1-junction"),
+        "{error}"
+    );
+    let error = part().port("hub", "vv").build().unwrap_err().to_string();
+    assert!(error.contains("port 'hub': no element 'vv'"), "{error}");
+}

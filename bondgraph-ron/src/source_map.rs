@@ -220,6 +220,7 @@ impl<'a> Walker<'a> {
             Section::Elements => &mut self.map.elements,
             Section::InitialState => &mut self.map.initial_state,
             Section::Branches => &mut self.map.branches,
+            Section::Ports => &mut self.map.ports,
         }
     }
 

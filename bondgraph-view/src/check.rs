@@ -18,6 +18,9 @@ use crate::{Failure, count, json, with_source};
 /// # Errors
 /// A failure when some reachable mode has no equations.
 pub fn summary(model: &Model, source: &Arc<SourceFile>) -> Result<String, Failure> {
+    if !model.ports().is_empty() {
+        return Ok(part_summary(model, source));
+    }
     let options = equations::Options::default();
     let located = |d| with_source(d, source);
     let (states, reached, switching) = if model.is_nonlinear() {
@@ -54,8 +57,12 @@ pub fn summary(model: &Model, source: &Arc<SourceFile>) -> Result<String, Failur
     } else {
         String::new()
     };
+    let composed = match model.parts().len() {
+        0 => String::new(),
+        n => format!(", composed from {}", count(n, "sub-model")),
+    };
     Ok(format!(
-        "{}: ok: {kind} '{}' with {}, {}, {}, {} and {}{modes}",
+        "{}: ok: {kind} '{}' with {}, {}, {}, {} and {}{modes}{composed}",
         source.name(),
         model.name(),
         count(parts[0].0, parts[0].1),
@@ -64,6 +71,30 @@ pub fn summary(model: &Model, source: &Arc<SourceFile>) -> Result<String, Failur
         count(model.inputs().len(), "input"),
         count(states.unwrap_or(0), "state"),
     ))
+}
+
+/// The summary of a part (a model with ports): its size and its ports, each with its domain
+/// where units tell it. It has no states of its own until a model bonds its ports.
+fn part_summary(model: &Model, source: &Arc<SourceFile>) -> String {
+    let ports: Vec<String> = model
+        .ports()
+        .iter()
+        .map(|port| match model.element_domain(port.element) {
+            Some(domain) => format!("'{}' ({})", port.name, domain.name),
+            None => format!("'{}'", port.name),
+        })
+        .collect();
+    format!(
+        "{}: ok: part '{}' with {}, {}, {}, {} and {}: {}",
+        source.name(),
+        model.name(),
+        count(model.elements().len(), "element"),
+        count(model.bonds().len(), "bond"),
+        count(model.parameters().len(), "parameter"),
+        count(model.inputs().len(), "input"),
+        count(ports.len(), "port"),
+        ports.join(", ")
+    )
 }
 
 /// `bondgraph modes`: every mode reachable from the initial one, its states and guards

@@ -191,6 +191,31 @@ impl Explainer<'_> {
              its flow in, a transformer passes causality through, a gyrator turns it over. \
              The causal stroke | is at the end of a bond that receives the effort.",
         );
+        if !model.parts().is_empty() {
+            self.heading(
+                &mut out,
+                "Sub-models, flattened: each element named with its use's name in front",
+            );
+            let lines: Vec<String> = model
+                .parts()
+                .iter()
+                .map(|part| {
+                    let ports: Vec<String> = part
+                        .ports
+                        .iter()
+                        .map(|(port, junction)| format!("{}.{port} is '{junction}'", part.name))
+                        .collect();
+                    format!(
+                        "{}: '{}' from {}; {}",
+                        part.name,
+                        part.model,
+                        part.file,
+                        ports.join(", ")
+                    )
+                })
+                .collect();
+            self.block(&mut out, &lines);
+        }
         self.heading(
             &mut out,
             "Bonds (power flows from -> to), numbered in file order",

@@ -36,9 +36,24 @@ impl Failure {
 
     /// Diagnostics that point into `sources`.
     pub fn with_sources(diagnostics: Diagnostics, sources: &[&Arc<SourceFile>]) -> Self {
+        let mut sources: Vec<Arc<SourceFile>> = sources.iter().map(|s| Arc::clone(s)).collect();
+        // A diagnostic inside a sub-model's file points into a file no command opened:
+        // read it, so that the problem is shown with its line like any other.
+        for diagnostic in &diagnostics.0 {
+            let Some(location) = &diagnostic.location else {
+                continue;
+            };
+            if location.is_in_code() || sources.iter().any(|s| s.name() == location.file) {
+                continue;
+            }
+            let path = std::path::Path::new(&location.file);
+            if let Ok(text) = bondgraph_ron::read::read_text(path, "") {
+                sources.push(SourceFile::new(location.file.clone(), text));
+            }
+        }
         Self {
             diagnostics,
-            sources: sources.iter().map(|s| Arc::clone(s)).collect(),
+            sources,
         }
     }
 }

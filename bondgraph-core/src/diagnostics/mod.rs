@@ -103,6 +103,10 @@ pub enum DiagnosticKind {
     /// whose parameter does not have the unit its law needs on its bond (a mass used as a
     /// stiffness), or a bond whose effort times flow is not a power.
     UnitMismatch,
+    /// A sub-model's use that cannot be composed: a file that uses itself, a port the
+    /// sub-model does not have or one left unconnected, a value for a parameter or input it
+    /// does not have, a file with no ports.
+    Submodel,
 }
 
 /// One problem found in a model, with where it is and what it concerns.

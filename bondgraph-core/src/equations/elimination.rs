@@ -29,6 +29,7 @@ use crate::causality::Causality;
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Result};
 use crate::laws::Law;
 use crate::linear::{LinearForm, Var};
+use crate::model::AtElement;
 use crate::model::{BondId, ElementId, Model, NonlinearLaw};
 use crate::symbolic::RatFunc;
 
@@ -213,7 +214,7 @@ fn singular_loop(
             names.join(", ")
         ),
     )
-    .at_location(model.locate_element(elements[0]))
+    .at_element(model, elements[0])
     .element(model.element(elements[0]).name.clone())
     .note("the loop's resistors, transformers or gyrators cancel each other; check their values and bond directions")
     .into()
@@ -586,7 +587,7 @@ fn loop_through_feedback(
                     "source '{source_name}' feeds back {energy}, but '{storage_name}' is in derivative causality and its {energy} follows from what '{source_name}' imposes: an algebraic loop, not a controller"
                 ),
             )
-            .at_location(model.locate_element(source))
+            .at_element(model, source)
             .element(source_name.clone())
             .note(format!(
                 "give '{storage_name}' a state of its own (a compliance or resistor between it and '{source_name}'), or feed back a state the source does not set"
@@ -606,7 +607,7 @@ fn feedback_without_state(model: &Model, element: ElementId) -> crate::diagnosti
             "a source feeds back the state of '{name}', which is in derivative causality and has no state of its own in this mode"
         ),
     )
-    .at_location(model.locate_element(element))
+    .at_element(model, element)
     .element(name.clone())
     .note("add a compliance or resistor next to it so that it keeps its own state")
     .into()
@@ -631,7 +632,7 @@ fn zero_resistance(model: &Model, element: ElementId) -> crate::diagnostics::Dia
              but its resistance is zero"
         ),
     )
-    .at_location(model.locate_element(element))
+    .at_element(model, element)
     .element(name.clone())
     .note("a zero resistance is a rigid connection: replace the resistor by a bond")
     .into()

@@ -11,6 +11,7 @@
 use super::StateEquations;
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Result};
 use crate::linear::{LinearForm, Var};
+use crate::model::AtElement;
 use crate::model::{BondId, ElementId, ElementKind, Model};
 use crate::number;
 use crate::symbolic::RatFunc;
@@ -30,7 +31,7 @@ pub(crate) fn check(
             let element = state_elements[k];
             return Err(
                 refusal(model, equations, element, &place, var, coefficient, value)
-                    .at_location(model.locate_element(element))
+                    .at_element(model, element)
                     .element(model.element(element).name.clone())
                     .into(),
             );

@@ -39,6 +39,7 @@ use crate::equations::elimination::{Numbering, effort, flow};
 use crate::equations::matrix::StorageMatrix;
 use crate::laws::Law;
 use crate::linear::{LinearForm, Var};
+use crate::model::AtElement;
 use crate::model::{ElementId, Model};
 use crate::symbolic::RatFunc;
 
@@ -586,7 +587,7 @@ fn cross_domain(model: &Model, dependent: ElementId, other: ElementId) -> Diagno
             o.name
         ),
     )
-    .at_location(model.locate_element(dependent))
+    .at_element(model, dependent)
     .element(d.name.clone())
     .note("add a compliance or resistor next to it so that it can keep its own state")
     .into()
@@ -618,7 +619,7 @@ fn through_feedback(model: &Model, dependent: ElementId, sources: &[String]) -> 
             sources.join(", ")
         ),
     )
-    .at_location(model.locate_element(dependent))
+    .at_element(model, dependent)
     .element(name.clone())
     .note("add a compliance or resistor next to it so that it keeps its own state")
     .into()
@@ -630,7 +631,7 @@ fn singular_merge(model: &Model, element: ElementId) -> Diagnostics {
         DiagnosticKind::DependentStorage,
         format!("merging '{name}' into the states it follows gives a singular storage matrix"),
     )
-    .at_location(model.locate_element(element))
+    .at_element(model, element)
     .element(name.clone())
     .into()
 }
@@ -641,7 +642,7 @@ fn internal(model: &Model, element: ElementId, what: &str) -> Diagnostics {
         DiagnosticKind::DependentStorage,
         format!("internal error while merging '{name}': {what}"),
     )
-    .at_location(model.locate_element(element))
+    .at_element(model, element)
     .element(name.clone())
     .note("please report this model as a bug")
     .into()

@@ -9,7 +9,7 @@
 use crate::diagnostics::Result;
 use crate::model::Model;
 use crate::model::source_map::SourceMap;
-use crate::model::spec::{BondSpec, ElementSpec, InputSpec, ModelSpec, ParameterSpec};
+use crate::model::spec::{BondSpec, ElementSpec, InputSpec, ModelSpec, ParameterSpec, PortSpec};
 use crate::model::validate;
 use crate::source::SourceFile;
 
@@ -60,6 +60,8 @@ impl Builder {
                 inputs: Vec::new(),
                 elements: Vec::new(),
                 bonds: Vec::new(),
+                ports: Vec::new(),
+                parts: Vec::new(),
             },
         }
     }
@@ -111,6 +113,19 @@ impl Builder {
         bonds
             .into_iter()
             .fold(self, |builder, (from, to)| builder.bond(from, to))
+    }
+
+    /// Declares a port: junction `element` is where bonds from outside attach when the
+    /// model is used as a sub-model of another.
+    pub fn port(mut self, name: impl Into<String>, element: impl Into<String>) -> Self {
+        self.spec.ports.push((
+            name.into(),
+            PortSpec {
+                element: element.into(),
+                description: None,
+            },
+        ));
+        self
     }
 
     /// What has been collected so far.

@@ -75,6 +75,25 @@ pub struct Model {
     /// The dimensions of each bond's effort and flow, where the units check could tell them
     /// (indexed by [`BondId::index`]; see [`crate::units`]).
     pub(crate) bond_dimensions: Vec<crate::units::BondDimensions>,
+    /// The model's ports, for use as a sub-model of another.
+    pub(crate) ports: Vec<Port>,
+    /// The sub-models it was composed from.
+    pub(crate) parts: Vec<crate::model::PartSpec>,
+}
+
+/// A port: a junction of the model that bonds from outside attach to when the model is used
+/// as a sub-model of another.
+#[derive(Clone, Debug)]
+pub struct Port {
+    /// The port's name (`hub`), which the using model writes after the use's name
+    /// (`"front.hub"`).
+    pub name: String,
+    /// The junction it is.
+    pub element: ElementId,
+    /// What it is.
+    pub description: Option<String>,
+    /// Where it is declared.
+    pub span: Span,
 }
 
 /// A named parameter with its value.
@@ -612,6 +631,18 @@ impl Model {
         &self.parameters
     }
 
+    /// The model's ports, in file order: the junctions bonds attach to when it is used as a
+    /// sub-model of another.
+    pub fn ports(&self) -> &[Port] {
+        &self.ports
+    }
+
+    /// The sub-models the model was composed from, in the order they are used (a nested
+    /// use after its parent's, named `front.rear`): empty for a flat model.
+    pub fn parts(&self) -> &[crate::model::PartSpec] {
+        &self.parts
+    }
+
     /// Inputs in file order.
     pub fn inputs(&self) -> &[Input] {
         &self.inputs
@@ -702,9 +733,21 @@ impl Model {
             .map(|i| InputId(i as u32))
     }
 
-    /// Where element `id` is defined.
+    /// Where element `id` is defined: in the model's file (for a sub-model's element, where
+    /// the sub-model is used; see [`Model::element_origin`]).
     pub fn locate_element(&self, id: ElementId) -> Location {
         self.source.locate(self.element(id).span)
+    }
+
+    /// Where a sub-model's element `id` is written in the sub-model's own file; `None` for
+    /// an element of the model's own file.
+    pub fn element_origin(&self, id: ElementId) -> Option<&Location> {
+        let name = &self.element(id).name;
+        self.parts
+            .iter()
+            .flat_map(|part| &part.origins)
+            .find(|(element, _)| element == name)
+            .map(|(_, location)| location)
     }
 
     /// Where bond `id` is defined.
@@ -805,6 +848,28 @@ impl Model {
     /// The ids of all bonds.
     pub fn bond_ids(&self) -> impl Iterator<Item = BondId> + '_ {
         (0..self.bonds.len() as u32).map(BondId)
+    }
+}
+
+/// Placing a diagnostic at an element of a model: its location, and for a sub-model's
+/// element a note naming where the element is written in its own file.
+pub trait AtElement {
+    /// The diagnostic at element `id` of `model`.
+    #[must_use]
+    fn at_element(self, model: &Model, id: ElementId) -> Self;
+}
+
+impl AtElement for crate::diagnostics::Diagnostic {
+    fn at_element(self, model: &Model, id: ElementId) -> Self {
+        let placed = self.at_location(model.locate_element(id));
+        match model.element_origin(id) {
+            Some(origin) if !origin.is_in_code() => {
+                let name = &model.element(id).name;
+                let leaf = name.rsplit('.').next().unwrap_or(name);
+                placed.note(format!("'{name}' is element '{leaf}' of {origin}"))
+            }
+            _ => placed,
+        }
     }
 }
 

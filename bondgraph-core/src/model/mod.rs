@@ -16,11 +16,13 @@ pub mod validate;
 
 pub use builder::Builder;
 pub use checked::{
-    Bond, BondId, Coefficient, Element, ElementId, ElementKind, ElementMode, FlowLimit, Friction,
-    Input, InputId, Model, NonlinearElement, NonlinearLaw, Parameter, ResistorLaw, SourceValue,
-    TensionOnly,
+    AtElement, Bond, BondId, Coefficient, Element, ElementId, ElementKind, ElementMode, FlowLimit,
+    Friction, Input, InputId, Model, NonlinearElement, NonlinearLaw, Parameter, Port, ResistorLaw,
+    SourceValue, TensionOnly,
 };
-pub use spec::{BondSpec, ElementSpec, InputSpec, ModelSpec, ParameterSpec};
+pub use spec::{
+    BondSpec, ElementSpec, InputSpec, ModelSpec, ParameterSpec, ParameterValue, PartSpec, PortSpec,
+};
 
 /// The name of an element's energy variable: `letter` (`p` for a momentum, `q` for a
 /// displacement; a linear graph's `v` and `f`) and the element's name, `p_mass`. An element

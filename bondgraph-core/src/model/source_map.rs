@@ -5,7 +5,7 @@
 //! unknown symbol in an expression is underlined inside the string it was written in. A
 //! reader (`bondgraph-ron`) records the spans of the things users name next to the value it
 //! reads: top-level fields and their values, the entries of the map sections (`parameters`,
-//! `inputs`, `elements`, `branches`, `initial_state`: key, kind, fields, string contents), and
+//! `inputs`, `elements`, `branches`, `ports`, `initial_state`: key, kind, fields, string contents), and
 //! the items of the list sections (`bonds`, `remove`, `record`). Entries and items are
 //! recorded one for one with the value's lists (file order, duplicates kept), so index `i`
 //! of [`SourceMap::elements`] is the span of element `i` of the [`ModelSpec`]. A model built
@@ -35,6 +35,8 @@ pub struct SourceMap {
     /// The entries of the `initial_state` map (scenario files), in file order, duplicates
     /// kept.
     pub initial_state: Vec<EntrySpans>,
+    /// The entries of the `ports` map (model files), in file order, duplicates kept.
+    pub ports: Vec<EntrySpans>,
     /// The items of the `bonds` list (model files), in file order.
     pub bonds: Vec<ItemSpans>,
     /// The items of the `remove` list (scenario files), in file order.
@@ -99,6 +101,8 @@ pub enum Section {
     InitialState,
     /// `branches: {...}`, in linear-graph files.
     Branches,
+    /// `ports: {...}`, in model files used as sub-models.
+    Ports,
 }
 
 /// Which list section an item is in.
@@ -114,12 +118,13 @@ pub enum List {
 
 impl Section {
     /// Every section, in the order lookups try them.
-    pub const ALL: [Section; 5] = [
+    pub const ALL: [Section; 6] = [
         Section::Parameters,
         Section::Inputs,
         Section::Elements,
         Section::InitialState,
         Section::Branches,
+        Section::Ports,
     ];
 
     /// What one entry of the section is called in messages: "parameter", "input",
@@ -131,6 +136,7 @@ impl Section {
             Section::Elements => "element",
             Section::InitialState => "initial state",
             Section::Branches => "branch",
+            Section::Ports => "port",
         }
     }
 
@@ -142,6 +148,7 @@ impl Section {
             Section::Elements => "elements",
             Section::InitialState => "initial_state",
             Section::Branches => "branches",
+            Section::Ports => "ports",
         }
     }
 
@@ -226,6 +233,7 @@ impl SourceMap {
             Section::Elements => &self.elements,
             Section::InitialState => &self.initial_state,
             Section::Branches => &self.branches,
+            Section::Ports => &self.ports,
         }
     }
 

@@ -66,6 +66,66 @@ pub struct ModelSpec {
     /// The bonds between elements.
     #[cfg_attr(any(test, feature = "deserialize"), serde(default))]
     pub bonds: Vec<BondSpec>,
+    /// Named ports, in file order: the junctions that bonds from outside attach to when the
+    /// model is used as a sub-model of another ([`ElementSpec::Submodel`]).
+    #[cfg_attr(
+        any(test, feature = "deserialize"),
+        serde(default, deserialize_with = "entries")
+    )]
+    pub ports: Vec<(String, PortSpec)>,
+    /// The sub-models this model was composed from, once a reader has flattened them into
+    /// its elements (their elements named `front.spring`); never written in a file.
+    #[cfg_attr(any(test, feature = "deserialize"), serde(skip))]
+    pub parts: Vec<PartSpec>,
+}
+
+/// A port of a model used as a sub-model: a 0- or 1-junction of the model, to which the
+/// using model's bonds attach (as many as it likes; each adds to the junction's bonds).
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    any(test, feature = "deserialize"),
+    derive(Deserialize),
+    serde(rename = "Port", deny_unknown_fields)
+)]
+pub struct PortSpec {
+    /// The junction the port is (in a model with sub-models of its own, possibly a
+    /// sub-model's port, `"wheel.axle"`).
+    pub element: String,
+    /// A description for people.
+    pub description: Option<String>,
+}
+
+/// A value given to a sub-model's parameter where it is used.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    any(test, feature = "deserialize"),
+    derive(Deserialize),
+    serde(untagged)
+)]
+pub enum ParameterValue {
+    /// A new value in the parameter's own unit (as the sub-model writes it): the parameter
+    /// stays a parameter (`front.k_s`), with this value.
+    Value(f64),
+    /// An expression of the using model's parameters (`"k_front"`, `"2*k"`): the
+    /// sub-model's parameter is replaced by it, and is a parameter no longer.
+    Expression(String),
+}
+
+/// One use of a sub-model, recorded when it was flattened: what its name, file and ports
+/// became.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PartSpec {
+    /// The use's name, the prefix of its elements (`front`; `front.rear` nested).
+    pub name: String,
+    /// The sub-model's file, as the using file names it.
+    pub file: String,
+    /// The sub-model's own name (its `name:` field).
+    pub model: String,
+    /// Its ports, each with the flattened element it is (`("hub", "front.hub_force")`).
+    pub ports: Vec<(String, String)>,
+    /// Where each of its elements (flattened names) is written in its own file, so that a
+    /// problem found in the composed model can say so.
+    pub origins: Vec<(String, crate::source::Location)>,
 }
 
 /// A parameter: a constant with a value.
@@ -218,6 +278,27 @@ pub enum ElementSpec {
         /// The reciprocal of the gyrator modulus, non-zero.
         ratio: String,
     },
+    /// A sub-model: another model file used here as one element, several times if need
+    /// be, its bonds attaching to its ports (`"front.hub"`). Readers flatten it into its
+    /// elements, named with the use's name in front (`front.spring`), before validation.
+    Submodel {
+        /// The model file, relative to the file that uses it.
+        file: String,
+        /// Values for the sub-model's parameters in this use, by the sub-model's names.
+        #[cfg_attr(
+            any(test, feature = "deserialize"),
+            serde(default, deserialize_with = "entries")
+        )]
+        parameters: Vec<(String, ParameterValue)>,
+        /// Signals for the sub-model's inputs in this use: expressions of the using model's
+        /// inputs and parameters, by the sub-model's names. An input not given stays an
+        /// input of the whole model (`front.V`).
+        #[cfg_attr(
+            any(test, feature = "deserialize"),
+            serde(default, deserialize_with = "entries")
+        )]
+        inputs: Vec<(String, String)>,
+    },
     /// Common-effort junction.
     Zero,
     /// Common-flow junction.
@@ -246,6 +327,70 @@ impl ParameterSpec {
 }
 
 impl ElementSpec {
+    /// The element's expressions (coefficients and laws), each with its field's name, in
+    /// field order; a sub-model's and a junction's are none.
+    pub fn expressions_mut(&mut self) -> Vec<(&'static str, &mut String)> {
+        let mut out: Vec<(&'static str, &mut String)> = Vec::new();
+        match self {
+            Self::Se { effort } => out.push(("effort", effort)),
+            Self::Sf { flow } => out.push(("flow", flow)),
+            Self::I { inertance, flow } => {
+                out.extend(inertance.as_mut().map(|e| ("inertance", e)));
+                out.extend(flow.as_mut().map(|e| ("flow", e)));
+            }
+            Self::C {
+                compliance,
+                stiffness,
+                effort,
+            } => {
+                out.extend(compliance.as_mut().map(|e| ("compliance", e)));
+                out.extend(stiffness.as_mut().map(|e| ("stiffness", e)));
+                out.extend(effort.as_mut().map(|e| ("effort", e)));
+            }
+            Self::R {
+                resistance,
+                effort,
+                flow,
+            } => {
+                out.extend(resistance.as_mut().map(|e| ("resistance", e)));
+                out.extend(effort.as_mut().map(|e| ("effort", e)));
+                out.extend(flow.as_mut().map(|e| ("flow", e)));
+            }
+            Self::TF { ratio } | Self::GY { ratio } | Self::ReciprocalGY { ratio } => {
+                out.push(("ratio", ratio));
+            }
+            Self::Friction {
+                breakaway,
+                coulomb,
+                viscous,
+                dead_band,
+                stribeck,
+                initial: _,
+            } => {
+                out.push(("breakaway", breakaway));
+                out.push(("coulomb", coulomb));
+                out.extend(viscous.as_mut().map(|e| ("viscous", e)));
+                out.extend(dead_band.as_mut().map(|e| ("dead_band", e)));
+                out.extend(stribeck.as_mut().map(|e| ("stribeck", e)));
+            }
+            Self::TensionOnly {
+                compliance,
+                stiffness,
+                initial: _,
+            } => {
+                out.extend(compliance.as_mut().map(|e| ("compliance", e)));
+                out.extend(stiffness.as_mut().map(|e| ("stiffness", e)));
+            }
+            Self::FlowLimit {
+                max_flow,
+                initial: _,
+            } => out.push(("max_flow", max_flow)),
+            Self::Conductance { conductance } => out.push(("conductance", conductance)),
+            Self::Submodel { .. } | Self::Zero | Self::One => {}
+        }
+        out
+    }
+
     /// An effort source `Se(effort: ...)`.
     pub fn effort_source(effort: &str) -> Self {
         Self::Se {

@@ -13,8 +13,10 @@ use std::sync::Arc;
 use petgraph::unionfind::UnionFind;
 
 use crate::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result, suggest};
-use crate::model::checked::{Bond, BondId, Element, ElementId, Input, Model, Parameter};
-use crate::model::source_map::{EntrySpans, SourceMap};
+use crate::model::checked::{
+    Bond, BondId, Element, ElementId, ElementKind, Input, Model, Parameter, Port,
+};
+use crate::model::source_map::{EntrySpans, FieldSpan, SourceMap};
 use crate::model::spec::{ElementSpec, ModelSpec};
 use crate::source::{SourceFile, Span};
 use crate::symbolic::SymbolTable;
@@ -180,7 +182,10 @@ fn validate_as(
         values,
         linear_graph: None,
         bond_dimensions: Vec::new(),
+        ports: Vec::new(),
+        parts: raw.parts.clone(),
     };
+    model.ports = v.ports(&raw, &element_index, &model);
     for element in model.element_ids() {
         if dropped[element.index()] == 0 {
             v.check_ports(&model, element);
@@ -203,6 +208,14 @@ fn validate_as(
 
 /// Storage elements' energy variables, by their printed names (`p_mass`, `q_spring`), for
 /// nonlinear laws.
+/// "a" or "an", for a kind's description.
+fn article(word: &str) -> &'static str {
+    match word.chars().next() {
+        Some('a' | 'e' | 'i' | 'o' | 'u') => "an",
+        _ => "a",
+    }
+}
+
 fn energy_variables(raw: &ModelSpec) -> HashMap<String, u32> {
     raw.elements
         .iter()
@@ -655,9 +668,79 @@ impl Validator<'_> {
         true
     }
 
+    /// The model's ports: each named once, validly, and a junction of the model.
+    fn ports(
+        &mut self,
+        raw: &ModelSpec,
+        element_index: &HashMap<String, ElementId>,
+        model: &Model,
+    ) -> Vec<Port> {
+        let mut seen: HashMap<String, (Span, &'static str)> = HashMap::new();
+        let mut ports = Vec::new();
+        for (index, (name, port)) in raw.ports.iter().enumerate() {
+            let span = self.entry_span(&self.map.ports, index);
+            if !self.check_name(name, "port", span)
+                || !self.check_unique(&mut seen, name, "port", span)
+            {
+                continue;
+            }
+            let element_span = self
+                .map
+                .ports
+                .get(index)
+                .and_then(|e| e.field("element"))
+                .map_or(span, FieldSpan::text_span);
+            let Some(&element) = element_index.get(&port.element) else {
+                let names = element_index.keys().map(String::as_str);
+                let mut diagnostic = Diagnostic::new(
+                    DiagnosticKind::UndefinedElement,
+                    format!("port '{name}': no element '{}'", port.element),
+                )
+                .at(&self.file, element_span)
+                .element(name.clone());
+                if let Some(near) = suggest(&port.element, names) {
+                    diagnostic = diagnostic.note(format!("did you mean '{near}'?"));
+                }
+                self.problems.push(diagnostic);
+                continue;
+            };
+            let kind = &model.element(element).kind;
+            if !matches!(kind, ElementKind::ZeroJunction | ElementKind::OneJunction) {
+                self.problems.push(
+                    Diagnostic::new(
+                        DiagnosticKind::BondCount,
+                        format!(
+                            "port '{name}': '{}' is {} {}; a port is a 0- or 1-junction, \
+                             which the outside's bonds join",
+                            port.element,
+                            article(kind.description()),
+                            kind.description()
+                        ),
+                    )
+                    .at(&self.file, element_span)
+                    .element(name.clone())
+                    .note(format!(
+                        "bond '{}' to a junction and name the junction as the port",
+                        port.element
+                    )),
+                );
+                continue;
+            }
+            ports.push(Port {
+                name: name.clone(),
+                element,
+                description: port.description.clone(),
+                span,
+            });
+        }
+        ports
+    }
+
     fn check_ports(&mut self, model: &Model, element: ElementId) {
         let e = model.element(element);
-        let count = e.bonds.len();
+        // A port counts as a bond: the outside's, when the model is used as a sub-model.
+        let outside = model.ports.iter().filter(|p| p.element == element).count();
+        let count = e.bonds.len() + outside;
         // Where the bonds are: their lines in a file, their ends in a model built in code.
         let lines = || {
             let in_code = model.source.is_in_code();

@@ -48,6 +48,8 @@ use std::sync::Arc;
 use bondgraph_core::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result};
 use bondgraph_core::source::{Location, SourceFile, Span};
 
+mod part_values;
+
 use super::parse::parse_model;
 use crate::source_map::{TokenKind, lex};
 use bondgraph_core::diagnostics::suggest;
@@ -160,6 +162,7 @@ fn parameter_values<'m>(
 ) -> Vec<(Span, String)> {
     let mut replacements: Vec<(Span, String)> = Vec::new();
     let mut set: HashSet<&str> = HashSet::new();
+    let mut qualified: Vec<(usize, &str, f64)> = Vec::new();
     for (index, (name, value)) in edit.parameters.iter().enumerate() {
         let item = EditItem::Parameter(index);
         let entries: Vec<usize> = (0..raw.parameters.len())
@@ -177,7 +180,12 @@ fn parameter_values<'m>(
             continue;
         }
         if entries.is_empty() {
-            problems.push(unknown_parameter(raw, name, place(item, "parameters")));
+            // A sub-model's parameter (`front.k_s`) is given in its use, below.
+            if name.contains('.') && value.is_finite() {
+                qualified.push((index, name.as_str(), *value));
+            } else {
+                problems.push(unknown_parameter(raw, name, place(item, "parameters")));
+            }
             continue;
         }
         if !value.is_finite() {
@@ -202,6 +210,15 @@ fn parameter_values<'m>(
                 span,
                 in_file_unit(*value, raw.parameters[i].1.unit.as_deref()),
             ));
+        }
+    }
+    if !qualified.is_empty() {
+        let (given, unknown) = part_values::part_values(source, (raw, map), &qualified);
+        replacements.extend(given);
+        for index in unknown {
+            let (name, _) = &edit.parameters[index];
+            let at = place(EditItem::Parameter(index), "parameters");
+            problems.push(unknown_parameter(raw, name, at));
         }
     }
     replacements

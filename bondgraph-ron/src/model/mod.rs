@@ -20,6 +20,7 @@
 //! assert_eq!(error.first().location.as_ref().unwrap().line, 3);
 //! assert_eq!(error.first().element.as_deref(), Some("mass"));
 //! ```
+pub mod compose;
 pub mod edit;
 pub mod linear_graph;
 pub mod parse;
@@ -48,7 +49,9 @@ pub fn load_source(source: &Arc<SourceFile>) -> Result<Model> {
         Format::LinearGraph => linear_graph::load(source),
         Format::BondGraph => {
             let (raw, map) = parse::parse_model(source)?;
-            validate::validate(source, raw, &map)
+            let composed = compose::compose(source, raw, map)?;
+            validate::validate(source, composed.spec, &composed.map)
+                .map_err(|d| compose::with_origins(d, &composed.origins))
         }
     }
 }

@@ -249,7 +249,7 @@ Model(
         assert_eq!(
             d.message,
             "unknown field 'author' in the model; expected one of 'name', 'description', \
-             'parameters', 'inputs', 'elements', 'bonds'"
+             'parameters', 'inputs', 'elements', 'bonds', 'ports'"
         );
         assert_eq!((line, column, d.element.as_deref()), (4, 5, None));
     }
@@ -261,7 +261,7 @@ Model(
         assert_eq!(d.kind, DiagnosticKind::UnknownElementKind);
         assert_eq!(
             d.message,
-            "element 'push': unknown element kind 'Q'; expected one of Se, Sf, I, C, R, TF, GY, Friction, TensionOnly, FlowLimit, Zero, One"
+            "element 'push': unknown element kind 'Q'; expected one of Se, Sf, I, C, R, TF, GY, Friction, TensionOnly, FlowLimit, Submodel, Zero, One"
         );
         assert_eq!((line, column), (10, 17));
         assert_eq!(d.element.as_deref(), Some("push"));

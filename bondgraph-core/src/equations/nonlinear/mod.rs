@@ -35,6 +35,7 @@ use crate::equations::elimination::{effort, flow, two_port_bonds};
 use crate::equations::{Note, Options, OutputSpec, StateVariable, Variables};
 use crate::laws::Law;
 use crate::linear::{LinearForm, Var};
+use crate::model::AtElement;
 use crate::model::{BondId, ElementId, Model, NonlinearLaw};
 use crate::symbolic::expr::{Atom, Sym};
 use crate::symbolic::{RatFunc, SymbolTable};
@@ -169,7 +170,7 @@ fn derive_with_checking(
                 "co-energy states are not available: '{name}' has a nonlinear law, and its co-energy variable would need the law's inverse"
             ),
         )
-        .at_location(model.locate_element(element))
+        .at_element(model, element)
         .element(name.clone())
         .note("derive in energy variables (the default) instead")
         .into());
@@ -244,7 +245,7 @@ fn derive_with_checking(
                 "the equation of '{name}' would need the time derivative of an input: storage driven directly by an input reaches it through a nonlinear law"
             ),
         )
-        .at_location(model.locate_element(element))
+        .at_element(model, element)
         .element(name.clone())
         .note("put a compliance or resistor between the source and the storage element")
         .into());
@@ -572,7 +573,7 @@ pub(crate) fn not_linear(model: &Model, element: ElementId) -> Diagnostics {
             e.name
         ),
     )
-    .at_location(model.locate_element(element))
+    .at_element(model, element)
     .element(e.name.clone())
     .note("derive it with equations::nonlinear::derive; for matrices, linearise at an operating point (--at)")
     .into()
@@ -586,7 +587,7 @@ fn nonlinear_dependent(model: &Model, element: ElementId) -> Diagnostics {
             "'{name}' has a nonlinear law and is in derivative causality: its state is fixed by others, and merging it would need its law's inverse"
         ),
     )
-    .at_location(model.locate_element(element))
+    .at_element(model, element)
     .element(name.clone())
     .note("add a compliance or resistor next to it so that it can keep its own state")
     .into()
@@ -611,7 +612,7 @@ pub(crate) fn dependent_through_law(
             through.join(", ")
         ),
     )
-    .at_location(model.locate_element(element))
+    .at_element(model, element)
     .element(name.clone());
     // A resistor whose law could not be turned round is the usual cause: it must be given
     // its flow, so the storage next to it cannot give it an effort from its own state.
@@ -646,7 +647,7 @@ fn nonlinear_loop(model: &Model, laws: &[Law], elements: &[ElementId]) -> Diagno
             names.join(", ")
         ),
     )
-    .at_location(model.locate_element(first))
+    .at_element(model, first)
     .element(model.element(first).name.clone())
     .note("the loop's equations are not affine in its unknowns; break it with a storage element (a small mass or compliance) or combine the laws into one")
     .into()
@@ -658,7 +659,7 @@ fn one_way(model: &Model, element: ElementId, given: &str) -> Diagnostics {
         DiagnosticKind::CausalConflict,
         format!("resistor '{name}' is given its {given}, but its law cannot be solved for the other port variable"),
     )
-    .at_location(model.locate_element(element))
+    .at_element(model, element)
     .element(name.clone())
     .into()
 }

@@ -132,6 +132,22 @@ impl Validator<'_> {
                     self.coefficient(name, index, "ratio", ratio, scope, Sign::NonZero)?;
                 ElementKind::Gyrator(reciprocal(coefficient))
             }
+            ElementSpec::Submodel { .. } => {
+                // Files are read, and sub-models flattened, by a reader (`bondgraph-ron`).
+                self.problems.push(
+                    Diagnostic::new(
+                        DiagnosticKind::UnknownElementKind,
+                        format!(
+                            "element '{name}': a sub-model must be flattened into its elements \
+                             before validation"
+                        ),
+                    )
+                    .at(&self.file, self.entry_span(&self.map.elements, index))
+                    .element(name)
+                    .note("load the model with bondgraph_ron::model::load_source, which reads sub-model files"),
+                );
+                return None;
+            }
             ElementSpec::Zero => ElementKind::ZeroJunction,
             ElementSpec::One => ElementKind::OneJunction,
         })

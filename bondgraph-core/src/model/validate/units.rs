@@ -373,7 +373,7 @@ fn element_laws(
         ElementSpec::FlowLimit { max_flow, .. } => {
             laws.push(("max_flow", Some(max_flow.clone()), value(f, false), true));
         }
-        ElementSpec::Zero | ElementSpec::One => {}
+        ElementSpec::Submodel { .. } | ElementSpec::Zero | ElementSpec::One => {}
     }
     laws
 }
@@ -416,9 +416,10 @@ fn words(
                 field
             },
         ),
-        ElementSpec::FlowLimit { .. } | ElementSpec::Zero | ElementSpec::One => {
-            (kind.description(), field)
-        }
+        ElementSpec::FlowLimit { .. }
+        | ElementSpec::Submodel { .. }
+        | ElementSpec::Zero
+        | ElementSpec::One => (kind.description(), field),
     };
     (branch, branch, field_word)
 }

@@ -79,6 +79,19 @@ use format::RawLinearGraph;
 /// pointing at its branch in `source`.
 pub fn load(source: &Arc<SourceFile>) -> Result<Model> {
     let (raw, map) = parse_file::<RawLinearGraph>(source, FileKind::LinearGraph)?;
+    use crate::model::compose::names_of as names;
+    let dotted = crate::model::compose::dotted_names(
+        source,
+        &map,
+        [
+            ("parameter", names(&raw.parameters), &map.parameters[..]),
+            ("input", names(&raw.inputs), &map.inputs[..]),
+            ("branch", names(&raw.branches), &map.branches[..]),
+        ],
+    );
+    if !dotted.is_empty() {
+        return Err(bondgraph_core::diagnostics::Diagnostics(dotted));
+    }
     let topology = check::check(source, &raw, &map)?;
     let translated = translate::translate(&raw, &map, &topology);
     let names: Vec<String> = translated
@@ -130,6 +143,8 @@ pub(crate) fn editable(
             .map(|(name, _)| (name, bondgraph_core::model::spec::ElementSpec::One))
             .collect(),
         bonds: Vec::new(),
+        ports: Vec::new(),
+        parts: Vec::new(),
     };
     let map = bondgraph_core::model::source_map::SourceMap {
         elements: map.branches.clone(),

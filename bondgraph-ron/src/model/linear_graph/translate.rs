@@ -133,6 +133,8 @@ pub(crate) fn translate(raw: &RawLinearGraph, map: &SourceMap, topology: &Topolo
             inputs: raw.inputs.clone(),
             elements: emitted.raw_elements,
             bonds: emitted.raw_bonds,
+            ports: Vec::new(),
+            parts: Vec::new(),
         },
         map: SourceMap {
             root: map.root,
@@ -745,6 +747,7 @@ fn raw_keyword(raw: &ElementSpec) -> &'static str {
         ElementSpec::Friction { .. } => "Friction",
         ElementSpec::TensionOnly { .. } => "TensionOnly",
         ElementSpec::FlowLimit { .. } => "FlowLimit",
+        ElementSpec::Submodel { .. } => "Submodel",
         ElementSpec::Zero => "Zero",
         ElementSpec::One => "One",
     }

@@ -648,6 +648,7 @@ fn type_problem(
                         Section::Parameters => "a parameter",
                         Section::Elements | Section::InitialState => "an element",
                         Section::Branches => "a branch",
+                        Section::Ports => "a port",
                     }
                 ),
                 Place::Item(List::Bonds, ..) => {
