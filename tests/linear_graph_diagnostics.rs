@@ -195,7 +195,7 @@ fn unknown_branch_kind() {
             column: 17,
             element: Some("mass"),
             underlined: "Mass",
-            message: "branch 'mass': unknown branch kind 'Mass'; expected one of A, T, D, AcrossSource, ThroughSource, Transformer, Gyrator, Friction, TensionOnly",
+            message: "branch 'mass': unknown branch kind 'Mass'; expected one of A, T, D, AcrossSource, ThroughSource, Transformer, Gyrator, Friction, TensionOnly, Subgraph",
         },
     );
 }

@@ -221,6 +221,7 @@ impl<'a> Walker<'a> {
             Section::InitialState => &mut self.map.initial_state,
             Section::Branches => &mut self.map.branches,
             Section::Ports => &mut self.map.ports,
+            Section::Terminals => &mut self.map.terminals,
         }
     }
 

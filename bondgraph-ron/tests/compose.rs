@@ -576,3 +576,116 @@ fn a_sub_models_parameter_is_set_in_its_use() {
         "cannot set parameter 'suspension.b': model 'quarter_car' has no parameter 'suspension.b'"
     );
 }
+
+#[test]
+fn the_wall_as_a_linear_graph_of_sub_graphs_is_the_wall_of_sub_models() {
+    let graph = load("examples/composed/wall.lg.ron");
+    let bond_graph = load("examples/composed/wall.ron");
+    let parts: Vec<&str> = graph.parts().iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(parts, ["brick", "insulation", "plaster"]);
+    let energy = |model: &Model| {
+        equations::derive(
+            model,
+            &laws::plain_laws(model),
+            &equations::Options {
+                variables: equations::Variables::Energy,
+            },
+        )
+        .unwrap()
+    };
+    // Each layer's heat: an A-type's integral of its through variable in the linear graph,
+    // a C's displacement in the bond graph.
+    let (a, b) = numeric(
+        &energy(&graph),
+        &[
+            "p_air_capacity",
+            "plaster.p_capacity",
+            "brick.p_capacity",
+            "insulation.p_capacity",
+        ],
+    );
+    let (a_bg, b_bg) = numeric(
+        &energy(&bond_graph),
+        &[
+            "q_air_capacity",
+            "plaster.q_capacity",
+            "brick.q_capacity",
+            "insulation.q_capacity",
+        ],
+    );
+    assert_close(&a, &a_bg);
+    assert_close(&b, &b_bg);
+    // By hand, the insulation's heat leaks to the outside through half its resistance and
+    // to the brick through the two halves between the cores: -(2/R_i + 2/(R_b + R_i))/C_i.
+    let (r_b, r_i, c_i) = (0.02, 0.1, 2.0e5);
+    let expected = -(2.0 / r_i + 2.0 / (r_b + r_i)) / c_i;
+    assert!((a[3][3] - expected).abs() < 1e-12 * expected.abs());
+}
+
+#[test]
+fn a_sub_graphs_terminals_are_joined_or_named_and_checked() {
+    let layer = std::fs::read_to_string(models().join("parts/wall_layer.lg.ron")).unwrap();
+    let user = |use_fields: &str, outside: &str| {
+        format!(
+            r#"LinearGraph(
+    name: "room",
+    inputs: {{"P": (unit: "W"), "T_out": (unit: "K")}},
+    ground: "g",
+    branches: {{
+        "heater": ThroughSource(value: "P", from: "g", to: "air"),
+        "wall": Subgraph(file: "layer.lg.ron"{use_fields}),
+        "outside": AcrossSource(value: "T_out", from: "{outside}", to: "g"),
+    }},
+)"#
+        )
+    };
+    let folder = Folder::new(
+        "terminals",
+        &[
+            ("layer.lg.ron", &layer),
+            (
+                "good.lg.ron",
+                &user(r#", terminals: {"inside": "air"}"#, "wall.outside"),
+            ),
+            (
+                "typo.lg.ron",
+                &user(r#", terminals: {"inside": "air"}"#, "wall.outsde"),
+            ),
+            ("open.lg.ron", &user("", "wall.outside")),
+            (
+                "wrong.lg.ron",
+                &user(r#", terminals: {"inner": "air"}"#, "wall.outside"),
+            ),
+        ],
+    );
+    let model = folder.load("good.lg.ron");
+    let states: Vec<String> = derive(&model)
+        .states
+        .iter()
+        .map(|s| s.name.clone())
+        .collect();
+    assert_eq!(states, ["wall.p_capacity"]);
+
+    let d = folder.errors("typo.lg.ron");
+    assert_eq!(d[0].kind, DiagnosticKind::Submodel);
+    assert!(
+        d[0].message
+            .starts_with("branch 'outside': 'outsde' is not a terminal of sub-graph 'wall'")
+    );
+    assert_eq!(d[0].notes, ["did you mean 'wall.outside'?"]);
+    assert_eq!(place(&d[0]), ("typo.lg.ron".into(), 8, 55));
+
+    let d = folder.errors("open.lg.ron");
+    assert_eq!(
+        d[0].message,
+        "sub-graph 'wall': terminal 'inside' is not connected"
+    );
+    assert_eq!(place(&d[0]), ("open.lg.ron".into(), 7, 9));
+
+    let d = folder.errors("wrong.lg.ron");
+    assert!(
+        d[0].message
+            .starts_with("sub-graph 'wall': 'inner' is not a terminal of '")
+    );
+    assert_eq!(d[0].notes, ["its terminals: 'inside', 'outside'"]);
+}

@@ -59,6 +59,8 @@ pub fn summary(model: &Model, source: &Arc<SourceFile>) -> Result<String, Failur
     };
     let composed = match model.parts().len() {
         0 => String::new(),
+        1 if model.linear_graph().is_some() => ", composed from 1 sub-graph".to_string(),
+        n if model.linear_graph().is_some() => format!(", composed from {n} sub-graphs"),
         n => format!(", composed from {}", count(n, "sub-model")),
     };
     Ok(format!(
@@ -84,15 +86,31 @@ fn part_summary(model: &Model, source: &Arc<SourceFile>) -> String {
             None => format!("'{}'", port.name),
         })
         .collect();
+    let (size, port) = match model.linear_graph() {
+        Some(graph) => (
+            [
+                count(graph.nodes.len(), "node"),
+                count(graph.branches.len(), "branch"),
+            ],
+            "terminal",
+        ),
+        None => (
+            [
+                count(model.elements().len(), "element"),
+                count(model.bonds().len(), "bond"),
+            ],
+            "port",
+        ),
+    };
     format!(
         "{}: ok: part '{}' with {}, {}, {}, {} and {}: {}",
         source.name(),
         model.name(),
-        count(model.elements().len(), "element"),
-        count(model.bonds().len(), "bond"),
+        size[0],
+        size[1],
         count(model.parameters().len(), "parameter"),
         count(model.inputs().len(), "input"),
-        count(ports.len(), "port"),
+        count(ports.len(), port),
         ports.join(", ")
     )
 }

@@ -29,7 +29,7 @@ use crate::causality::{self, Causality};
 use crate::diagnostics::Result;
 use crate::laws::Law;
 use crate::linear::{LinearForm, Var};
-use crate::model::{BondId, ElementId, Model};
+use crate::model::{BondId, ElementId, ElementKind, Model, NonlinearLaw};
 use crate::symbolic::{RatFunc, SymbolTable};
 
 pub use elimination::AlgebraicLoop;
@@ -54,9 +54,17 @@ pub enum Variables {
 impl Variables {
     /// The variables a model is best read in: co-energy for a linear graph (Rowell &
     /// Wormley's states are across variables of A-types and through variables of T-types),
-    /// energy for a bond graph.
+    /// energy for a bond graph, and for a linear graph with a nonlinear A- or T-type, whose
+    /// co-energy variable would need its law's inverse.
     pub fn preferred(model: &Model) -> Self {
-        if model.linear_graph.is_some() {
+        let nonlinear_storage = model.elements.iter().any(|e| {
+            matches!(
+                &e.kind,
+                ElementKind::Nonlinear(n)
+                    if matches!(n.law, NonlinearLaw::Inertia(_) | NonlinearLaw::Compliance(_))
+            )
+        });
+        if model.linear_graph.is_some() && !nonlinear_storage {
             Variables::CoEnergy
         } else {
             Variables::Energy

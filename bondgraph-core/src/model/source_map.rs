@@ -37,6 +37,9 @@ pub struct SourceMap {
     pub initial_state: Vec<EntrySpans>,
     /// The entries of the `ports` map (model files), in file order, duplicates kept.
     pub ports: Vec<EntrySpans>,
+    /// The entries of the `terminals` map (linear-graph files), in file order, duplicates
+    /// kept.
+    pub terminals: Vec<EntrySpans>,
     /// The items of the `bonds` list (model files), in file order.
     pub bonds: Vec<ItemSpans>,
     /// The items of the `remove` list (scenario files), in file order.
@@ -103,6 +106,8 @@ pub enum Section {
     Branches,
     /// `ports: {...}`, in model files used as sub-models.
     Ports,
+    /// `terminals: {...}`, in linear-graph files used as sub-graphs.
+    Terminals,
 }
 
 /// Which list section an item is in.
@@ -118,13 +123,14 @@ pub enum List {
 
 impl Section {
     /// Every section, in the order lookups try them.
-    pub const ALL: [Section; 6] = [
+    pub const ALL: [Section; 7] = [
         Section::Parameters,
         Section::Inputs,
         Section::Elements,
         Section::InitialState,
         Section::Branches,
         Section::Ports,
+        Section::Terminals,
     ];
 
     /// What one entry of the section is called in messages: "parameter", "input",
@@ -137,6 +143,7 @@ impl Section {
             Section::InitialState => "initial state",
             Section::Branches => "branch",
             Section::Ports => "port",
+            Section::Terminals => "terminal",
         }
     }
 
@@ -149,6 +156,7 @@ impl Section {
             Section::InitialState => "initial_state",
             Section::Branches => "branches",
             Section::Ports => "ports",
+            Section::Terminals => "terminals",
         }
     }
 
@@ -234,6 +242,7 @@ impl SourceMap {
             Section::InitialState => &self.initial_state,
             Section::Branches => &self.branches,
             Section::Ports => &self.ports,
+            Section::Terminals => &self.terminals,
         }
     }
 

@@ -113,8 +113,9 @@ struct Part {
 
 #[derive(Default)]
 struct Composer {
-    /// Parts read so far, by path, so that a file used often is read once.
-    parts: HashMap<PathBuf, Arc<Part>>,
+    /// Parts read so far, by path, so that a file used often is read once; `None` for one
+    /// whose problems were reported at its first use.
+    parts: HashMap<PathBuf, Option<Arc<Part>>>,
     /// The files being composed, outermost first: a file met again is a cycle.
     stack: Vec<PathBuf>,
 }
@@ -270,8 +271,10 @@ impl Composer {
                 format!("sub-models are nested deeper than the limit of {MAX_DEPTH}"),
             ));
         }
-        if let Some(part) = self.parts.get(&key) {
-            return Ok(Arc::clone(part));
+        match self.parts.get(&key) {
+            Some(Some(part)) => return Ok(Arc::clone(part)),
+            Some(None) => return Err(Diagnostics(Vec::new())),
+            None => {}
         }
         let text = crate::read::read_text(&path, "sub-model file")
             .map_err(|message| fail(DiagnosticKind::Io, message))?;
@@ -298,23 +301,24 @@ impl Composer {
         self.stack.push(key.clone());
         let composed = self.flatten(&part_source, spec, map);
         self.stack.pop();
-        let composed = composed?;
-        validate::validate(&part_source, composed.spec.clone(), &composed.map)
-            .map_err(|d| with_origins(d, &composed.origins))?;
-        let part = Arc::new(Part {
-            file: part_source,
-            spec: composed.spec,
-            origins: composed.origins,
+        let part = composed.and_then(|composed| {
+            validate::validate(&part_source, composed.spec.clone(), &composed.map)
+                .map_err(|d| with_origins(d, &composed.origins))?;
+            Ok(Arc::new(Part {
+                file: Arc::clone(&part_source),
+                spec: composed.spec,
+                origins: composed.origins,
+            }))
         });
-        self.parts.insert(key, Arc::clone(&part));
-        Ok(part)
+        self.parts.insert(key, part.as_ref().ok().cloned());
+        part
     }
 }
 
 /// `path` with each `dir/..` taken out, as a person would write it
 /// (`models/examples/composed/../../parts/motor.ron` is `models/parts/motor.ron`); a `..`
 /// with nothing before it to take out stays.
-fn tidy_path(path: &Path) -> PathBuf {
+pub(crate) fn tidy_path(path: &Path) -> PathBuf {
     use std::path::Component;
     let mut out: Vec<Component<'_>> = Vec::new();
     for component in path.components() {
@@ -494,7 +498,7 @@ impl Given<'_> {
 }
 
 /// Names quoted and joined, or "none".
-fn list(names: &[&str]) -> String {
+pub(crate) fn list(names: &[&str]) -> String {
     if names.is_empty() {
         return "none".into();
     }
@@ -506,7 +510,7 @@ fn list(names: &[&str]) -> String {
 }
 
 /// The span of `"key"` inside field `field` of `entry`, or the field, or the entry's key.
-fn key_span(source: &SourceFile, entry: &EntrySpans, field: &str, key: &str) -> Span {
+pub(crate) fn key_span(source: &SourceFile, entry: &EntrySpans, field: &str, key: &str) -> Span {
     let Some(field) = entry.field(field) else {
         return entry.key_span;
     };

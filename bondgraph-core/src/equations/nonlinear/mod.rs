@@ -172,7 +172,7 @@ fn derive_with_checking(
         )
         .at_element(model, element)
         .element(name.clone())
-        .note("derive in energy variables (the default) instead")
+        .note("derive in energy variables instead (`--states energy`)")
         .into());
     }
 

@@ -134,12 +134,18 @@ impl NonlinearEquations {
         if !self.states.is_empty() {
             out.push_str("\nstates:\n");
             let width = self.states.iter().map(|s| s.name.len()).max().unwrap_or(0);
+            // A linear graph's across variable is the bond graph's flow, its through the effort.
+            let (flow, effort) = if self.linear_graph {
+                ("across", "through")
+            } else {
+                ("flow", "effort")
+            };
             for (state, law) in self.states.iter().zip(&self.storage_laws) {
                 let detail = match (law, state.quantity) {
                     (Some(law), crate::equations::Quantity::Momentum) => {
-                        format!(", flow = {}", self.sym_text(law))
+                        format!(", {flow} = {}", self.sym_text(law))
                     }
-                    (Some(law), _) => format!(", effort = {}", self.sym_text(law)),
+                    (Some(law), _) => format!(", {effort} = {}", self.sym_text(law)),
                     (None, _) if !state.merged.is_empty() => format!(
                         ", with {} merged (storage {})",
                         state

@@ -392,16 +392,20 @@ fn words(
         return (kind.description(), kind.keyword(), field);
     }
     let (branch, field_word) = match raw {
+        // A linear graph's across variable is the bond graph's flow, its through the effort.
+        ElementSpec::I { .. } if field == "flow" => ("A-type", "across law"),
         ElementSpec::I { .. } => ("A-type", "capacitance"),
         ElementSpec::C { .. } => (
             "T-type",
-            if field == "compliance" {
-                "inductance"
-            } else {
-                field
+            match field {
+                "compliance" => "inductance",
+                "effort" => "through law",
+                other => other,
             },
         ),
         ElementSpec::Conductance { .. } => ("D-type", "resistance"),
+        ElementSpec::R { .. } if field == "effort" => ("D-type", "through law"),
+        ElementSpec::R { .. } if field == "flow" => ("D-type", "across law"),
         ElementSpec::R { .. } => ("D-type", "conductance"),
         ElementSpec::Sf { .. } => ("across source", "value"),
         ElementSpec::Se { .. } => ("through source", "value"),

@@ -27,10 +27,16 @@ pub(super) fn part_values(
         .elements
         .iter()
         .any(|(_, e)| matches!(e, ElementSpec::Submodel { .. }));
+    let linear = crate::model::Format::of(source.text()) == crate::model::Format::LinearGraph;
     let composed = has_parts
-        .then(|| crate::model::compose::compose(source, raw.clone(), map.clone()).ok())
+        .then(|| match linear {
+            true => crate::model::linear_graph::composed_parameters(source),
+            false => crate::model::compose::compose(source, raw.clone(), map.clone())
+                .ok()
+                .map(|c| c.spec.parameters),
+        })
         .flatten();
-    let Some(composed) = composed else {
+    let Some(parameters) = composed else {
         return (Vec::new(), values.iter().map(|(i, _, _)| *i).collect());
     };
     // Each use's values, in the part's own names and the part's units.
@@ -42,7 +48,7 @@ pub(super) fn part_values(
                 .elements
                 .iter()
                 .position(|(n, e)| n == use_name && matches!(e, ElementSpec::Submodel { .. }))?;
-            let (_, parameter) = composed.spec.parameters.iter().find(|(n, _)| n == name)?;
+            let (_, parameter) = parameters.iter().find(|(n, _)| n == name)?;
             let text = in_file_unit(value, parameter.unit.as_deref());
             Some((element, rest.to_string(), text))
         });

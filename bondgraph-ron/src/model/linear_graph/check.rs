@@ -203,6 +203,14 @@ fn check_touches(
         let [(branch, span)] = touches[n][..] else {
             continue;
         };
+        // A terminal's other branch is outside, where the graph is used as a sub-graph, and
+        // so may be the ground's (one ground for the whole model).
+        let is_ground = n == ground.index();
+        if raw.terminals.iter().any(|(_, t)| t.node == node.name)
+            || (is_ground && !raw.terminals.is_empty())
+        {
+            continue;
+        }
         let branch_name = &raw.branches[branch].0;
         let others: Vec<&str> = nodes
             .iter()
@@ -291,6 +299,43 @@ fn check_fields(
     problems: &mut Vec<Diagnostic>,
 ) {
     let (a, b, what) = match branch {
+        RawBranch::A {
+            capacitance,
+            across,
+            ..
+        } => (
+            ("capacitance", capacitance.is_some()),
+            ("across", across.is_some()),
+            branch.keyword(),
+        ),
+        RawBranch::T {
+            inductance,
+            stiffness,
+            through: Some(_),
+            ..
+        } if inductance.is_some() || stiffness.is_some() => {
+            let second = if inductance.is_some() {
+                "inductance"
+            } else {
+                "stiffness"
+            };
+            let at = entry
+                .and_then(|e| e.field(second))
+                .map_or(span, |f| f.name_span);
+            problems.push(
+                Diagnostic::new(
+                    DiagnosticKind::ConflictingFields,
+                    format!("branch '{name}' gives both through and {second}; give one"),
+                )
+                .at(file, at)
+                .element(name)
+                .note("write inductance: \"...\" or stiffness: \"...\", or a law: through: \"EXPR of q_NAME\""),
+            );
+            return;
+        }
+        RawBranch::T {
+            through: Some(_), ..
+        } => return,
         RawBranch::T {
             inductance,
             stiffness,
@@ -362,7 +407,14 @@ fn check_fields(
         ),
         (false, false) => (
             DiagnosticKind::MissingField,
-            format!("{what} branch '{name}' needs a {} or a {}", a.0, b.0),
+            format!(
+                "{what} branch '{name}' needs a {} or {}",
+                a.0,
+                match b.0 {
+                    "across" => "an across law".to_string(),
+                    other => format!("a {other}"),
+                }
+            ),
             span,
         ),
         _ => return,

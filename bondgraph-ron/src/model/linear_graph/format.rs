@@ -47,16 +47,36 @@ pub struct RawLinearGraph {
     /// Named branches, in file order, duplicates kept.
     #[serde(default, deserialize_with = "entries")]
     pub branches: Vec<(String, RawBranch)>,
+    /// Named terminals, in file order: the nodes that branches from outside join when the
+    /// graph is used as a sub-graph of another ([`RawBranch::Subgraph`]).
+    #[serde(default, deserialize_with = "entries")]
+    pub terminals: Vec<(String, RawTerminal)>,
+}
+
+/// A terminal of a graph used as a sub-graph: one of its nodes.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(rename = "Terminal", deny_unknown_fields)]
+pub struct RawTerminal {
+    /// The node (in a graph with sub-graphs of its own, possibly a sub-graph's terminal,
+    /// `"wall.outside"`).
+    pub node: String,
+    /// A description for people.
+    pub description: Option<String>,
 }
 
 /// A branch, tagged with its kind; coefficients are unparsed expressions.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(rename = "Branch", deny_unknown_fields)]
 pub enum RawBranch {
-    /// A-type (mass, electrical capacitor, fluid or thermal capacitance): `f = C dv/dt`.
+    /// A-type (mass, electrical capacitor, fluid or thermal capacitance): `f = C dv/dt`,
+    /// given by exactly one of capacitance or a nonlinear law.
     A {
         /// The capacitance `C` (a mass, for a mechanical A-type).
-        capacitance: String,
+        capacitance: Option<String>,
+        /// A nonlinear law: the across variable as an expression of `p_NAME`, the time
+        /// integral of the through variable (a momentum, a charge, a volume, a heat): a tank
+        /// whose cross-section changes with its level (the bond graph's `I(flow: ...)`).
+        across: Option<String>,
         /// The node the branch starts at.
         from: String,
         /// The node the branch ends at.
@@ -69,6 +89,10 @@ pub enum RawBranch {
         inductance: Option<String>,
         /// The stiffness `k = 1/L`.
         stiffness: Option<String>,
+        /// A nonlinear law: the through variable as an expression of `q_NAME`, the time
+        /// integral of the across variable (a displacement, a flux linkage): a hardening
+        /// spring `k*q_spring + k_3*q_spring^3` (the bond graph's `C(effort: ...)`).
+        through: Option<String>,
         /// The node the branch starts at.
         from: String,
         /// The node the branch ends at.
@@ -164,6 +188,23 @@ pub enum RawBranch {
         /// The node the branch ends at.
         to: String,
     },
+    /// A sub-graph: another linear-graph file used here, its terminals joined by this
+    /// graph's branches as nodes (`"wall.outside"`), its ground this graph's ground. Read
+    /// and flattened into its branches (`wall.capacity`) before the graph is checked.
+    Subgraph {
+        /// The linear-graph file, relative to the file that uses it.
+        file: String,
+        /// Values for the sub-graph's parameters in this use, by its names.
+        #[serde(default, deserialize_with = "entries")]
+        parameters: Vec<(String, bondgraph_core::model::ParameterValue)>,
+        /// Signals for its inputs in this use, by its names.
+        #[serde(default, deserialize_with = "entries")]
+        inputs: Vec<(String, String)>,
+        /// Nodes of this graph its terminals are, by terminal (`{"inside": "air"}`); a
+        /// terminal not given here is named `"use.terminal"` by this graph's branches.
+        #[serde(default, deserialize_with = "entries")]
+        terminals: Vec<(String, String)>,
+    },
 }
 
 impl RawBranch {
@@ -187,7 +228,87 @@ impl RawBranch {
             | RawBranch::ThroughSource { from, to, .. }
             | RawBranch::Friction { from, to, .. }
             | RawBranch::TensionOnly { from, to, .. } => vec![(from.as_str(), to.as_str())],
+            RawBranch::Subgraph { .. } => Vec::new(),
         }
+    }
+
+    /// The branch's node names, to rename them.
+    pub fn nodes_mut(&mut self) -> Vec<&mut String> {
+        match self {
+            RawBranch::Transformer {
+                primary, secondary, ..
+            }
+            | RawBranch::Gyrator {
+                primary, secondary, ..
+            } => vec![
+                &mut primary.0,
+                &mut primary.1,
+                &mut secondary.0,
+                &mut secondary.1,
+            ],
+            RawBranch::A { from, to, .. }
+            | RawBranch::T { from, to, .. }
+            | RawBranch::D { from, to, .. }
+            | RawBranch::AcrossSource { from, to, .. }
+            | RawBranch::ThroughSource { from, to, .. }
+            | RawBranch::Friction { from, to, .. }
+            | RawBranch::TensionOnly { from, to, .. } => vec![from, to],
+            RawBranch::Subgraph { .. } => Vec::new(),
+        }
+    }
+
+    /// The branch's expressions (coefficients, laws, values), to rename their symbols.
+    pub fn expressions_mut(&mut self) -> Vec<&mut String> {
+        let mut out: Vec<&mut String> = Vec::new();
+        match self {
+            RawBranch::A {
+                capacitance,
+                across,
+                ..
+            } => out.extend([capacitance, across].into_iter().flatten()),
+            RawBranch::T {
+                inductance,
+                stiffness,
+                through,
+                ..
+            } => out.extend([inductance, stiffness, through].into_iter().flatten()),
+            RawBranch::D {
+                resistance,
+                conductance,
+                through,
+                across,
+                ..
+            } => out.extend(
+                [resistance, conductance, through, across]
+                    .into_iter()
+                    .flatten(),
+            ),
+            RawBranch::AcrossSource { value, .. } | RawBranch::ThroughSource { value, .. } => {
+                out.push(value);
+            }
+            RawBranch::Transformer { ratio, .. } | RawBranch::Gyrator { ratio, .. } => {
+                out.push(ratio);
+            }
+            RawBranch::Friction {
+                breakaway,
+                coulomb,
+                viscous,
+                dead_band,
+                stribeck,
+                ..
+            } => {
+                out.push(breakaway);
+                out.push(coulomb);
+                out.extend([viscous, dead_band, stribeck].into_iter().flatten());
+            }
+            RawBranch::TensionOnly {
+                inductance,
+                stiffness,
+                ..
+            } => out.extend([inductance, stiffness].into_iter().flatten()),
+            RawBranch::Subgraph { .. } => {}
+        }
+        out
     }
 
     /// The kind as written in files (`A`, `ThroughSource`, ...).
@@ -202,6 +323,7 @@ impl RawBranch {
             RawBranch::Gyrator { .. } => "Gyrator",
             RawBranch::Friction { .. } => "Friction",
             RawBranch::TensionOnly { .. } => "TensionOnly",
+            RawBranch::Subgraph { .. } => "Subgraph",
         }
     }
 }

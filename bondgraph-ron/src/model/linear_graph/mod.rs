@@ -57,6 +57,7 @@
 //! ```
 
 mod check;
+mod compose;
 pub mod format;
 pub mod translate;
 
@@ -87,13 +88,29 @@ pub fn load(source: &Arc<SourceFile>) -> Result<Model> {
             ("parameter", names(&raw.parameters), &map.parameters[..]),
             ("input", names(&raw.inputs), &map.inputs[..]),
             ("branch", names(&raw.branches), &map.branches[..]),
+            ("terminal", names(&raw.terminals), &map.terminals[..]),
         ],
     );
     if !dotted.is_empty() {
         return Err(bondgraph_core::diagnostics::Diagnostics(dotted));
     }
-    let topology = check::check(source, &raw, &map)?;
-    let translated = translate::translate(&raw, &map, &topology);
+    let (raw, map, parts) = compose::compose(source, raw, map)?;
+    check_and_validate(source, raw, &map, parts)
+}
+
+/// Checks the (flat) graph `raw`, translates it and validates the bond graph it becomes.
+///
+/// # Errors
+/// The graph's problems (see `check`), or the validator's, each pointing at its branch.
+pub(crate) fn check_and_validate(
+    source: &Arc<SourceFile>,
+    raw: RawLinearGraph,
+    map: &bondgraph_core::model::source_map::SourceMap,
+    parts: Vec<bondgraph_core::model::PartSpec>,
+) -> Result<Model> {
+    let topology = check::check(source, &raw, map)?;
+    let mut translated = translate::translate(&raw, map, &topology);
+    translated.raw.parts = parts;
     let names: Vec<String> = translated
         .raw
         .elements
@@ -119,6 +136,16 @@ pub fn load(source: &Arc<SourceFile>) -> Result<Model> {
     .map_err(|d| words.apply(d))
 }
 
+/// The parameters of the linear graph in `source` with its sub-graphs flattened (a
+/// sub-graph's named `wall.R_w`), or `None` if it does not compose.
+pub(crate) fn composed_parameters(
+    source: &SourceFile,
+) -> Option<Vec<(String, bondgraph_core::model::ParameterSpec)>> {
+    let (raw, map) = parse_file::<RawLinearGraph>(source, FileKind::LinearGraph).ok()?;
+    let (raw, _, _) = compose::compose(source, raw, map).ok()?;
+    Some(raw.parameters)
+}
+
 /// The linear graph in `source` in the shape [`edit`](crate::model::edit) edits: a raw
 /// model whose elements are the branches (their kinds left out) and has no bonds, with the
 /// source map of the branches as its elements.
@@ -140,7 +167,23 @@ pub(crate) fn editable(
         elements: raw
             .branches
             .into_iter()
-            .map(|(name, _)| (name, bondgraph_core::model::spec::ElementSpec::One))
+            .map(|(name, branch)| {
+                // A sub-graph's use is edited like a sub-model's (its parameters set in it).
+                let element = match branch {
+                    format::RawBranch::Subgraph {
+                        file,
+                        parameters,
+                        inputs,
+                        ..
+                    } => bondgraph_core::model::spec::ElementSpec::Submodel {
+                        file,
+                        parameters,
+                        inputs,
+                    },
+                    _ => bondgraph_core::model::spec::ElementSpec::One,
+                };
+                (name, element)
+            })
             .collect(),
         bonds: Vec::new(),
         ports: Vec::new(),

@@ -78,6 +78,8 @@ struct DraftElement {
     name: String,
     raw: ElementSpec,
     alive: bool,
+    /// Kept by the simplification however few its bonds (a terminal's node).
+    keep: bool,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -98,7 +100,37 @@ pub(crate) fn translate(raw: &RawLinearGraph, map: &SourceMap, topology: &Topolo
         element_of_branch,
         fields,
     } = draft(raw, topology);
+    // A terminal's node keeps its junction: it is the port the outside's branches join.
+    let terminal_node = |name: &str| topology.nodes.iter().position(|n| n.name == name);
+    let terminals: Vec<(String, usize)> = raw
+        .terminals
+        .iter()
+        .filter_map(|(terminal, t)| Some((terminal.clone(), terminal_node(&t.node)?)))
+        .filter(|(_, n)| *n != topology.ground.index())
+        .collect();
+    for element in &mut elements {
+        if let Draft::Node(n) = element.what
+            && terminals.iter().any(|(_, t)| *t == n.index())
+        {
+            element.keep = true;
+        }
+    }
     simplify(&mut elements, &mut bonds);
+    let ports = terminals
+        .iter()
+        .filter_map(|(terminal, n)| {
+            let junction = elements
+                .iter()
+                .find(|e| e.alive && matches!(e.what, Draft::Node(m) if m.index() == *n))?;
+            Some((
+                terminal.clone(),
+                bondgraph_core::model::PortSpec {
+                    element: junction.name.clone(),
+                    description: None,
+                },
+            ))
+        })
+        .collect();
     let emitted = emit(&elements, &bonds, map, topology, &fields);
     let new_index = &emitted.new_index;
     let branches = branches(raw, map, topology, &bonds, &element_of_branch, &emitted);
@@ -133,7 +165,7 @@ pub(crate) fn translate(raw: &RawLinearGraph, map: &SourceMap, topology: &Topolo
             inputs: raw.inputs.clone(),
             elements: emitted.raw_elements,
             bonds: emitted.raw_bonds,
-            ports: Vec::new(),
+            ports,
             parts: Vec::new(),
         },
         map: SourceMap {
@@ -199,6 +231,7 @@ fn draft(raw: &RawLinearGraph, topology: &Topology) -> Drafted {
             name: fresh(identifier(&node.name, "node")),
             raw: ElementSpec::One,
             alive: true,
+            keep: false,
         });
     }
     let mut bonds: Vec<DraftBond> = Vec::new();
@@ -219,6 +252,7 @@ fn draft(raw: &RawLinearGraph, topology: &Topology) -> Drafted {
                 name: fresh(identifier(&format!("{name}_{suffix}"), "branch")),
                 raw: ElementSpec::Zero,
                 alive: true,
+                keep: false,
             });
         }
         let (element, element_fields) = element_of(branch);
@@ -230,6 +264,7 @@ fn draft(raw: &RawLinearGraph, topology: &Topology) -> Drafted {
             name: name.clone(),
             raw: element,
             alive: true,
+            keep: false,
         });
         for (p, port) in ports.iter().enumerate() {
             let j = junctions[p];
@@ -415,7 +450,10 @@ fn simplify(elements: &mut [DraftElement], bonds: &mut [DraftBond]) {
     loop {
         let mut changed = false;
         for j in 0..elements.len() {
-            if !elements[j].alive || matches!(elements[j].what, Draft::Element(_)) {
+            if !elements[j].alive
+                || elements[j].keep
+                || matches!(elements[j].what, Draft::Element(_))
+            {
                 continue;
             }
             let at: Vec<usize> = (0..bonds.len())
@@ -473,9 +511,17 @@ fn simplify(elements: &mut [DraftElement], bonds: &mut [DraftBond]) {
     }
 }
 
-/// A valid element name: `name` if it is an identifier, else a readable transliteration
-/// (node `1` becomes `node_1`).
+/// A valid element name: `name` if it is an identifier (or identifiers joined by `.`, a
+/// sub-graph's qualified name), else a readable transliteration (node `1` becomes `node_1`,
+/// `front.1` becomes `front.node_1`).
 fn identifier(name: &str, prefix: &str) -> String {
+    if name.contains('.') {
+        return name
+            .split('.')
+            .map(|part| identifier(part, prefix))
+            .collect::<Vec<_>>()
+            .join(".");
+    }
     let cleaned: String = name
         .chars()
         .map(|c| {
@@ -495,24 +541,34 @@ fn identifier(name: &str, prefix: &str) -> String {
 /// The bond-graph element of a branch, and which of its fields are which branch fields.
 fn element_of(branch: &RawBranch) -> (ElementSpec, Vec<(&'static str, &'static str)>) {
     match branch.clone() {
-        RawBranch::A { capacitance, .. } => (
+        // A law: the across variable is the bond graph's flow, the through its effort.
+        RawBranch::A {
+            capacitance,
+            across,
+            ..
+        } => (
             ElementSpec::I {
-                inertance: Some(capacitance),
-                flow: None,
+                inertance: capacitance,
+                flow: across,
             },
-            vec![("inertance", "capacitance")],
+            vec![("inertance", "capacitance"), ("flow", "across")],
         ),
         RawBranch::T {
             inductance,
             stiffness,
+            through,
             ..
         } => (
             ElementSpec::C {
                 compliance: inductance,
                 stiffness,
-                effort: None,
+                effort: through,
             },
-            vec![("compliance", "inductance"), ("stiffness", "stiffness")],
+            vec![
+                ("compliance", "inductance"),
+                ("stiffness", "stiffness"),
+                ("effort", "through"),
+            ],
         ),
         RawBranch::D {
             resistance,
@@ -604,6 +660,20 @@ fn element_of(branch: &RawBranch) -> (ElementSpec, Vec<(&'static str, &'static s
                 ("initial", "initial"),
             ],
         ),
+        // Flattened before translation (`compose_graph`); the validator refuses it otherwise.
+        RawBranch::Subgraph {
+            file,
+            parameters,
+            inputs,
+            ..
+        } => (
+            ElementSpec::Submodel {
+                file,
+                parameters,
+                inputs,
+            },
+            Vec::new(),
+        ),
     }
 }
 
@@ -641,6 +711,8 @@ fn kind_of(branch: &RawBranch) -> BranchKind {
         RawBranch::Gyrator { .. } => BranchKind::Gyrator,
         RawBranch::Friction { .. } => BranchKind::Friction,
         RawBranch::TensionOnly { .. } => BranchKind::TensionOnly,
+        // Flattened before translation (`compose_graph`); a two-terminal element otherwise.
+        RawBranch::Subgraph { .. } => BranchKind::D,
     }
 }
 
@@ -652,7 +724,14 @@ fn value_of(branch: &RawBranch) -> String {
         _ => String::new(),
     };
     match branch {
-        RawBranch::A { capacitance, .. } => format!("capacitance {capacitance}"),
+        RawBranch::A {
+            capacitance,
+            across,
+            ..
+        } => either(capacitance, "capacitance", across, "across"),
+        RawBranch::T {
+            through: Some(law), ..
+        } => format!("through {law}"),
         RawBranch::T {
             inductance,
             stiffness,
@@ -677,6 +756,7 @@ fn value_of(branch: &RawBranch) -> String {
         RawBranch::AcrossSource { value, .. } | RawBranch::ThroughSource { value, .. } => {
             value.clone()
         }
+        RawBranch::Subgraph { file, .. } => format!("file {file}"),
         RawBranch::Transformer { ratio, .. } | RawBranch::Gyrator { ratio, .. } => {
             format!("ratio {ratio}")
         }

@@ -454,6 +454,17 @@ fn name_problem(
                 }
                 _ => format!("unknown field '{found}' in the {noun}; expected {expected}"),
             };
+            // A bond graph's words in a linear graph's branch.
+            if matches!(place, Place::Entry(Section::Branches, _))
+                && matches!(found.as_str(), "flow" | "effort")
+            {
+                said.notes.push(
+                    "a linear graph's laws are written in its own variables: a D-type's \
+                     through: \"EXPR of across\" or across: \"EXPR of through\", an A-type's \
+                     across: \"EXPR of p_NAME\", a T-type's through: \"EXPR of q_NAME\""
+                        .to_string(),
+                );
+            }
             (K::UnknownField, message)
         }
         E::NoSuchEnumVariant {
@@ -649,6 +660,7 @@ fn type_problem(
                         Section::Elements | Section::InitialState => "an element",
                         Section::Branches => "a branch",
                         Section::Ports => "a port",
+                        Section::Terminals => "a terminal",
                     }
                 ),
                 Place::Item(List::Bonds, ..) => {
