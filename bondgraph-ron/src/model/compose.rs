@@ -234,43 +234,9 @@ impl Composer {
         name: &str,
         file: &str,
     ) -> Result<Arc<Part>> {
-        let at = entry
-            .field("file")
-            .map_or(entry.key_span, |f| f.text_span());
-        let fail = |kind, message: String| -> Diagnostics {
-            Diagnostic::new(kind, format!("sub-model '{name}': {message}"))
-                .at(parent, at)
-                .element(name.to_string())
-                .into()
-        };
-        let directory = Path::new(parent.name()).parent().unwrap_or(Path::new(""));
-        let path = tidy_path(&directory.join(file));
-        let key = path.canonicalize().unwrap_or_else(|_| path.clone());
-        if self.stack.contains(&key) {
-            let chain: Vec<String> = self
-                .stack
-                .iter()
-                .skip_while(|p| **p != key)
-                .chain([&key])
-                .map(|p| {
-                    p.file_name()
-                        .map_or_else(String::new, |n| n.to_string_lossy().into())
-                })
-                .collect();
-            return Err(fail(
-                DiagnosticKind::Submodel,
-                format!(
-                    "'{file}' uses itself ({}); a model cannot contain itself",
-                    chain.join(" -> ")
-                ),
-            ));
-        }
-        if self.stack.len() >= MAX_DEPTH {
-            return Err(fail(
-                DiagnosticKind::TooLarge,
-                format!("sub-models are nested deeper than the limit of {MAX_DEPTH}"),
-            ));
-        }
+        let fail =
+            |kind, message: String| use_error(parent, entry, ("sub-model", name), kind, message);
+        let (path, key) = part_path(parent, entry, ("sub-model", name), file, &self.stack)?;
         match self.parts.get(&key) {
             Some(Some(part)) => return Ok(Arc::clone(part)),
             Some(None) => return Err(Diagnostics(Vec::new())),
@@ -313,6 +279,65 @@ impl Composer {
         self.parts.insert(key, part.as_ref().ok().cloned());
         part
     }
+}
+
+/// A problem with the use `name` (a `noun`: "sub-model", "sub-graph") written at `entry`,
+/// pointed at its `file` field.
+pub(crate) fn use_error(
+    parent: &SourceFile,
+    entry: &EntrySpans,
+    (noun, name): (&str, &str),
+    kind: DiagnosticKind,
+    message: String,
+) -> Diagnostics {
+    let at = entry
+        .field("file")
+        .map_or(entry.key_span, |f| f.text_span());
+    Diagnostic::new(kind, format!("{noun} '{name}': {message}"))
+        .at(parent, at)
+        .element(name.to_string())
+        .into()
+}
+
+/// The path of the file a use names, relative to the using file, and the key it is known
+/// by (its canonical path); a cycle through the files being composed (`stack`, outermost
+/// first) or nesting deeper than [`MAX_DEPTH`] is an error at the use.
+pub(crate) fn part_path(
+    parent: &SourceFile,
+    entry: &EntrySpans,
+    (noun, name): (&str, &str),
+    file: &str,
+    stack: &[PathBuf],
+) -> Result<(PathBuf, PathBuf)> {
+    let fail = |kind, message: String| use_error(parent, entry, (noun, name), kind, message);
+    let directory = Path::new(parent.name()).parent().unwrap_or(Path::new(""));
+    let path = tidy_path(&directory.join(file));
+    let key = path.canonicalize().unwrap_or_else(|_| path.clone());
+    if stack.contains(&key) {
+        let chain: Vec<String> = stack
+            .iter()
+            .skip_while(|p| **p != key)
+            .chain([&key])
+            .map(|p| {
+                p.file_name()
+                    .map_or_else(String::new, |n| n.to_string_lossy().into())
+            })
+            .collect();
+        return Err(fail(
+            DiagnosticKind::Submodel,
+            format!(
+                "'{file}' uses itself ({}); a model cannot contain itself",
+                chain.join(" -> ")
+            ),
+        ));
+    }
+    if stack.len() >= MAX_DEPTH {
+        return Err(fail(
+            DiagnosticKind::TooLarge,
+            format!("{noun}s are nested deeper than the limit of {MAX_DEPTH}"),
+        ));
+    }
+    Ok((path, key))
 }
 
 /// `path` with each `dir/..` taken out, as a person would write it

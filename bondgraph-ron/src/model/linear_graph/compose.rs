@@ -11,7 +11,7 @@
 //! terminal it does not have or one left unconnected are reported in the file that uses it.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use bondgraph_core::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result, suggest};
 use bondgraph_core::expr::rename_symbols;
@@ -20,7 +20,7 @@ use bondgraph_core::model::{ParameterValue, PartSpec, state_element};
 use bondgraph_core::source::SourceFile;
 
 use super::format::{RawBranch, RawLinearGraph};
-use crate::model::compose::{MAX_DEPTH, MAX_ELEMENTS, key_span, list, tidy_path};
+use crate::model::compose::{MAX_ELEMENTS, key_span, list, part_path, use_error};
 use crate::model::parse::{FileKind, parse_file};
 
 /// Flattens the sub-graphs of `raw` (read from `source`, spans in `map`).
@@ -174,30 +174,9 @@ impl Composer {
         name: &str,
         file: &str,
     ) -> Result<(String, RawLinearGraph)> {
-        let at = entry
-            .field("file")
-            .map_or(entry.key_span, |f| f.text_span());
-        let fail = |kind, message: String| -> Diagnostics {
-            Diagnostic::new(kind, format!("sub-graph '{name}': {message}"))
-                .at(parent, at)
-                .element(name.to_string())
-                .into()
-        };
-        let directory = Path::new(parent.name()).parent().unwrap_or(Path::new(""));
-        let path = tidy_path(&directory.join(file));
-        let key = path.canonicalize().unwrap_or_else(|_| path.clone());
-        if self.stack.contains(&key) {
-            return Err(fail(
-                DiagnosticKind::Submodel,
-                format!("'{file}' uses itself; a graph cannot contain itself"),
-            ));
-        }
-        if self.stack.len() >= MAX_DEPTH {
-            return Err(fail(
-                DiagnosticKind::TooLarge,
-                format!("sub-graphs are nested deeper than the limit of {MAX_DEPTH}"),
-            ));
-        }
+        let fail =
+            |kind, message: String| use_error(parent, entry, ("sub-graph", name), kind, message);
+        let (path, key) = part_path(parent, entry, ("sub-graph", name), file, &self.stack)?;
         match self.parts.get(&key) {
             Some(Some(part)) => return Ok(part.clone()),
             Some(None) => return Err(Diagnostics(Vec::new())),
