@@ -66,6 +66,10 @@ pub(crate) enum Command {
         /// Output format: text, dot (render with `dot -Tsvg`), or svg (drawn by the program).
         #[arg(long, value_enum, default_value_t = GraphArg::Text)]
         format: GraphArg,
+        /// Draw each sub-model as one box, its bonds labelled with their ports (with
+        /// --format dot); without it, each sub-model's elements are grouped in a box.
+        #[arg(long)]
+        collapse: bool,
     },
     /// Walk through the derivation as a teacher would on the board (a linear graph: the
     /// normal tree's construction, its primary and secondary variables, and the cut-set and

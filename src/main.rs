@@ -18,7 +18,7 @@ use bondgraph_view::{
 };
 use clap::Parser;
 
-use args::{Cli, Command, Format, ModesFormat, ReproduceFormat, StatesArg};
+use args::{Cli, Command, Format, GraphArg, ModesFormat, ReproduceFormat, StatesArg};
 
 /// Fits evaluate thousands of steady states, each a handful of short-lived vectors: a
 /// thread-caching allocator takes a fifth off their time.
@@ -99,10 +99,11 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
             model,
             mode,
             format,
+            collapse,
         } => {
             let (model, source) = load(&model)?;
             let mode = parse_mode(&model, mode.as_deref(), &source)?;
-            print(&graph::render(&model, &mode, &source, format.into())?);
+            print(&drawing(&model, &mode, &source, format, collapse)?);
             Ok(())
         }
         Command::Equations {
@@ -234,5 +235,24 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
             )?);
             Ok(())
         }
+    }
+}
+
+/// `bondgraph graph`: the drawing in `format`, each sub-model collapsed to a box if asked
+/// (DOT only).
+fn drawing(
+    model: &bondgraph_core::model::Model,
+    mode: &bondgraph_core::modes::Mode,
+    source: &std::sync::Arc<bondgraph_core::source::SourceFile>,
+    format: GraphArg,
+    collapse: bool,
+) -> Result<String, Failure> {
+    match (collapse, format) {
+        (false, _) => graph::render(model, mode, source, format.into()),
+        (true, GraphArg::Dot) => graph::render_collapsed(model, mode, source),
+        (true, _) => Err(Failure::message(
+            DiagnosticKind::Submodel,
+            "--collapse draws with --format dot",
+        )),
     }
 }

@@ -165,16 +165,7 @@ pub fn to_dot_titled(model: &Model, causality: Option<&Causality>, title: Option
         );
     }
     let _ = writeln!(out, "  node [shape=plaintext];");
-    for element in model.element_ids() {
-        let name = &model.element(element).name;
-        let _ = writeln!(
-            out,
-            "  \"{}\" [label=\"{}\\n{}\"];",
-            escape(name),
-            escape(&element_label(model, element)),
-            escape(name)
-        );
-    }
+    element_nodes(model, &mut out);
     for bond in model.bond_ids() {
         let b = model.bond(bond);
         let (head, tail) = match causality.map(|c| c.strokes[bond.index()]) {
@@ -193,6 +184,154 @@ pub fn to_dot_titled(model: &Model, causality: Option<&Causality>, title: Option
             "  \"{}\" -> \"{}\" [dir=both, arrowhead={head}, arrowtail={tail}, label=\"{}\"{colour}];",
             escape(&model.element(b.from).name),
             escape(&model.element(b.to).name),
+            bond.index() + 1
+        );
+    }
+    out.push_str("}\n");
+    out
+}
+
+/// The sub-model use element `name` belongs to, most nested first: `front.suspension` for
+/// `front.suspension.spring`; `None` for an element of the model's own file.
+fn part_of<'m>(model: &'m Model, name: &str) -> Option<&'m crate::model::PartSpec> {
+    model
+        .parts()
+        .iter()
+        .filter(|p| name.starts_with(&format!("{}.", p.name)))
+        .max_by_key(|p| p.name.len())
+}
+
+/// The element declarations of `to_dot`, each sub-model's inside a cluster labelled with its
+/// use and model (nested uses nested), so that a drawing shows what came from which part.
+fn element_nodes(model: &Model, out: &mut String) {
+    let declare = |out: &mut String, element: ElementId, indent: &str| {
+        let name = &model.element(element).name;
+        let _ = writeln!(
+            out,
+            "{indent}\"{}\" [label=\"{}\\n{}\"];",
+            escape(name),
+            escape(&element_label(model, element)),
+            escape(name)
+        );
+    };
+    fn cluster(
+        model: &Model,
+        out: &mut String,
+        part: Option<&str>,
+        depth: usize,
+        declare: &dyn Fn(&mut String, ElementId, &str),
+    ) {
+        let indent = "  ".repeat(depth + 1);
+        for element in model.element_ids() {
+            let owner = part_of(model, &model.element(element).name).map(|p| p.name.as_str());
+            if owner == part {
+                declare(out, element, &indent);
+            }
+        }
+        let children = model.parts().iter().filter(|p| match part {
+            None => !p.name.contains('.'),
+            Some(parent) => p
+                .name
+                .strip_prefix(&format!("{parent}."))
+                .is_some_and(|rest| !rest.contains('.')),
+        });
+        for child in children {
+            let _ = writeln!(
+                out,
+                "{indent}subgraph \"cluster_{}\" {{ label=\"{}: {}\"; style=rounded;",
+                escape(&child.name),
+                escape(&child.name),
+                escape(&child.model)
+            );
+            cluster(model, out, Some(&child.name), depth + 1, declare);
+            let _ = writeln!(out, "{indent}}}");
+        }
+    }
+    cluster(model, out, None, 0, &declare);
+}
+
+/// The bond graph in Graphviz DOT with each sub-model drawn as one box: its elements and
+/// the bonds between them hidden, the bonds to it ending at the box, labelled with the port
+/// they join. The model's own elements are drawn as in [`to_dot_titled`].
+pub fn to_dot_collapsed(
+    model: &Model,
+    causality: Option<&Causality>,
+    title: Option<&str>,
+) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "digraph \"{}\" {{", escape(&model.name));
+    let _ = writeln!(out, "  rankdir=LR;");
+    if let Some(title) = title {
+        let _ = writeln!(
+            out,
+            "  labelloc=t; label=\"{}\\nsub-models collapsed, their ports at the bonds' ends; bond numbers on the bonds\";",
+            escape(title)
+        );
+    }
+    let _ = writeln!(out, "  node [shape=plaintext];");
+    // Each element's box: its own, or its outermost sub-model's.
+    let outermost = |name: &str| -> Option<&crate::model::PartSpec> {
+        model
+            .parts()
+            .iter()
+            .filter(|p| !p.name.contains('.'))
+            .find(|p| name.starts_with(&format!("{}.", p.name)))
+    };
+    for part in model.parts().iter().filter(|p| !p.name.contains('.')) {
+        let _ = writeln!(
+            out,
+            "  \"{}\" [shape=box, style=rounded, label=\"{}\\n{}\"];",
+            escape(&part.name),
+            escape(&part.name),
+            escape(&part.model)
+        );
+    }
+    for element in model.element_ids() {
+        let name = &model.element(element).name;
+        if outermost(name).is_none() {
+            let _ = writeln!(
+                out,
+                "  \"{}\" [label=\"{}\\n{}\"];",
+                escape(name),
+                escape(&element_label(model, element)),
+                escape(name)
+            );
+        }
+    }
+    let end = |element: ElementId| -> (String, Option<String>) {
+        let name = &model.element(element).name;
+        match outermost(name) {
+            Some(part) => {
+                let port = part
+                    .ports
+                    .iter()
+                    .find(|(_, junction)| junction == name)
+                    .map(|(port, _)| port.clone());
+                (part.name.clone(), port)
+            }
+            None => (name.clone(), None),
+        }
+    };
+    for bond in model.bond_ids() {
+        let b = model.bond(bond);
+        let ((from, from_port), (to, to_port)) = (end(b.from), end(b.to));
+        if from == to {
+            continue;
+        }
+        let port_labels = [("taillabel", from_port), ("headlabel", to_port)]
+            .into_iter()
+            .filter_map(|(key, port)| port.map(|p| format!(", {key}=\"{}\"", escape(&p))))
+            .collect::<String>();
+        let (head, tail) = match causality.map(|c| c.strokes[bond.index()]) {
+            Some(Stroke::AtTo) => ("teelvee", "none"),
+            Some(Stroke::AtFrom) => ("lvee", "tee"),
+            None => ("lvee", "none"),
+        };
+        let _ = writeln!(
+            out,
+            "  \"{}\" -> \"{}\" [dir=both, arrowhead={head}, arrowtail={tail}, label=\"{}\"{port_labels}];",
+            escape(&from),
+            escape(&to),
             bond.index() + 1
         );
     }

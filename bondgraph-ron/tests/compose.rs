@@ -689,3 +689,34 @@ fn a_sub_graphs_terminals_are_joined_or_named_and_checked() {
     );
     assert_eq!(d[0].notes, ["its terminals: 'inside', 'outside'"]);
 }
+
+#[test]
+fn drawings_group_each_sub_model_or_collapse_it_to_a_box() {
+    let model = load("examples/composed/half_car.ron");
+    let expanded = bondgraph_core::graph::to_dot_titled(&model, None, None);
+    // Nested clusters: the corner's box holds its own elements and its suspension's box.
+    let front = expanded.find("subgraph \"cluster_front\"").unwrap();
+    let nested = expanded
+        .find("subgraph \"cluster_front.suspension\"")
+        .unwrap();
+    let wheel = expanded.find("\"front.wheel\" [").unwrap();
+    let spring = expanded.find("\"front.suspension.spring\" [").unwrap();
+    assert!(
+        front < wheel && wheel < nested && nested < spring,
+        "{expanded}"
+    );
+    // Every element is declared once, every bond drawn.
+    assert_eq!(expanded.matches(" [label=").count(), model.elements().len());
+    assert_eq!(expanded.matches(" -> ").count(), model.bonds().len());
+
+    let collapsed = bondgraph_core::graph::to_dot_collapsed(&model, None, None);
+    assert!(collapsed.contains("\"front\" [shape=box, style=rounded, label=\"front\\ncorner\"];"));
+    // The bonds into and out of a corner end at its box, at the port they join; the bonds
+    // inside it are hidden: 12 bonds of the half car's own file remain.
+    assert!(collapsed.contains(
+        "\"front_road\" -> \"front\" [dir=both, arrowhead=lvee, arrowtail=none, label=\"1\", headlabel=\"road\"];"
+    ));
+    assert!(collapsed.contains("\"rear\" -> \"rear_point\" [dir=both, arrowhead=lvee, arrowtail=none, label=\"7\", taillabel=\"body\"];"));
+    assert_eq!(collapsed.matches(" -> ").count(), 12);
+    assert!(!collapsed.contains("front.suspension.spring"));
+}

@@ -51,3 +51,38 @@ pub fn render(
         GraphFormat::Svg => bg_svg::draw(model, mode, &causality),
     })
 }
+
+/// The bond graph of `model` in Graphviz DOT with each sub-model drawn as one box, the bonds
+/// to it labelled with the ports they join ([`graph::to_dot_collapsed`]).
+///
+/// # Errors
+/// A failure for a linear graph (its sub-graphs are drawn expanded), for a model with no
+/// sub-models to collapse, or when the mode's causality conflicts.
+pub fn render_collapsed(
+    model: &Model,
+    mode: &Mode,
+    source: &Arc<SourceFile>,
+) -> Result<String, Failure> {
+    if model.linear_graph().is_some() {
+        return Err(Failure::message(
+            bondgraph_core::diagnostics::DiagnosticKind::Submodel,
+            "a linear graph is drawn with its sub-graphs expanded; leave out --collapse",
+        ));
+    }
+    if model.parts().is_empty() {
+        return Err(Failure::message(
+            bondgraph_core::diagnostics::DiagnosticKind::Submodel,
+            format!(
+                "model '{}' has no sub-models to collapse; leave out --collapse",
+                model.name()
+            ),
+        ));
+    }
+    let laws = laws::for_mode(model, mode);
+    let causality = causality::assign(model, &laws).map_err(|d| with_source(d, source))?;
+    Ok(graph::to_dot_collapsed(
+        model,
+        Some(&causality),
+        Some(&bg_svg::title(model, &mode.spec(model))),
+    ))
+}

@@ -7,7 +7,12 @@ import pytest
 import bondgraph
 from conftest import EVERSION, EXAMPLES, rel
 
-MODELS = sorted(EXAMPLES.glob("*.ron")) + sorted((EXAMPLES / "nonlinear").glob("*.ron"))
+MODELS = (
+    sorted(EXAMPLES.glob("*.ron"))
+    + sorted((EXAMPLES / "nonlinear").glob("*.ron"))
+    # Models built from parts: the bindings read sub-model files as the command line does.
+    + sorted((EXAMPLES / "composed").glob("*.ron"))
+)
 
 
 @pytest.mark.parametrize("path", MODELS, ids=lambda p: p.name)

@@ -454,6 +454,18 @@ fn name_problem(
                 }
                 _ => format!("unknown field '{found}' in the {noun}; expected {expected}"),
             };
+            // Parts written as other tools write them (BondGraphTools' `models`).
+            if !matches!(place, Place::Entry(..) | Place::Item(..))
+                && file_kind == FileKind::Model
+                && matches!(found.as_str(), "models" | "submodels" | "components")
+            {
+                said.notes.push(
+                    "a model built from parts uses each part as an element, \
+                     \"front\": Submodel(file: \"part.ron\"), and bonds to its ports, \
+                     \"front.port\""
+                        .to_string(),
+                );
+            }
             // A bond graph's words in a linear graph's branch.
             if matches!(place, Place::Entry(Section::Branches, _))
                 && matches!(found.as_str(), "flow" | "effort")
