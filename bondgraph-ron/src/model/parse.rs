@@ -255,6 +255,24 @@ Model(
     }
 
     #[test]
+    fn another_tools_parts_field_is_told_how_parts_are_written_here() {
+        let text = with(
+            "    name: \"oscillator\",",
+            "    name: \"oscillator\",\n    models: {},",
+        );
+        let (d, line, _) = diagnose(&text);
+        assert_eq!(d.kind, DiagnosticKind::UnknownField);
+        assert_eq!(line, 4);
+        assert_eq!(
+            d.notes,
+            [
+                "a model built from parts uses each part as an element, \"front\": \
+              Submodel(file: \"part.ron\"), and bonds to its ports, \"front.port\""
+            ]
+        );
+    }
+
+    #[test]
     fn unknown_element_kind() {
         let text = with("Se(effort: \"F\")", "Q(effort: \"F\")");
         let (d, line, column) = diagnose(&text);
