@@ -720,3 +720,74 @@ fn drawings_group_each_sub_model_or_collapse_it_to_a_box() {
     assert_eq!(collapsed.matches(" -> ").count(), 12);
     assert!(!collapsed.contains("front.suspension.spring"));
 }
+
+#[test]
+fn composition_is_bounded_in_depth_and_in_size() {
+    // Seventeen files, each using the next: one more than the nesting limit.
+    let mut files: Vec<(String, String)> = Vec::new();
+    for level in 0..=bondgraph_ron::model::compose::MAX_DEPTH {
+        let inner = if level == bondgraph_ron::model::compose::MAX_DEPTH {
+            String::new()
+        } else {
+            format!(r#", "inner": Submodel(file: "level{}.ron")"#, level + 1)
+        };
+        let bond = if inner.is_empty() {
+            String::new()
+        } else {
+            r#", ("j", "inner.p")"#.to_string()
+        };
+        files.push((
+            format!("level{level}.ron"),
+            format!(
+                r#"Model(name: "level{level}", ports: {{"p": (element: "j")}},
+    elements: {{"j": One, "m": I(inertance: "1"){inner}}}, bonds: [("j", "m"){bond}])"#
+            ),
+        ));
+    }
+    files.push((
+        "user.ron".into(),
+        user("", r#"("push", "cart.p")"#).replace("mass.ron", "level0.ron"),
+    ));
+    let borrowed: Vec<(&str, &str)> = files
+        .iter()
+        .map(|(n, t)| (n.as_str(), t.as_str()))
+        .collect();
+    let folder = Folder::new("deep", &borrowed);
+    let d = folder.errors("user.ron");
+    assert_eq!(d[0].kind, DiagnosticKind::TooLarge);
+    assert_eq!(
+        d[0].message,
+        "sub-model 'inner': sub-models are nested deeper than the limit of 16"
+    );
+
+    // A part of 101 elements used 200 times: the 199th use takes the model's two elements
+    // and the uses' to 2 + 199 * 101 = 20 101, over the limit of 20 000, and stops there.
+    let chain: String = (0..100)
+        .map(|i| format!(r#", "m{i}": I(inertance: "1")"#))
+        .collect();
+    let chain_bonds: String = (0..100).map(|i| format!(r#", ("j", "m{i}")"#)).collect();
+    let big = format!(
+        r#"Model(name: "big", ports: {{"p": (element: "j")}}, elements: {{"j": One{chain}}},
+    bonds: [{}])"#,
+        &chain_bonds[2..]
+    );
+    let uses: String = (0..200)
+        .map(|i| format!(r#""u{i}": Submodel(file: "big.ron"), "#))
+        .collect();
+    let use_bonds: String = (0..200).map(|i| format!(r#", ("j", "u{i}.p")"#)).collect();
+    let many = format!(
+        r#"Model(name: "many", inputs: {{"F": (unit: "N")}},
+    elements: {{"push": Se(effort: "F"), "j": One, {uses}}},
+    bonds: [("push", "j"){use_bonds}])"#
+    );
+    let folder = Folder::new("size", &[("big.ron", &big), ("many.ron", &many)]);
+    let d = folder.errors("many.ron");
+    assert_eq!(d[0].kind, DiagnosticKind::TooLarge);
+    assert!(
+        d[0].message.starts_with(
+            "sub-model 'u198': the composed model has 20101 elements, over the limit of 20000"
+        ),
+        "{}",
+        d[0].message
+    );
+}
