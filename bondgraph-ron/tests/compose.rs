@@ -575,6 +575,22 @@ fn a_sub_models_parameter_is_set_in_its_use() {
         error.first().message,
         "cannot set parameter 'suspension.b': model 'quarter_car' has no parameter 'suspension.b'"
     );
+    // A part is used whole: its elements are not removed one by one.
+    let error = edit::apply(
+        &source,
+        &Edit {
+            remove: vec!["suspension.damper".into()],
+            parameters: Vec::new(),
+        },
+    )
+    .unwrap_err();
+    assert_eq!(
+        error.first().notes,
+        [
+            "'suspension.damper' is inside sub-model 'suspension' ('../../parts/suspension.ron'), \
+          which is used whole: remove 'suspension', or use a part without it"
+        ]
+    );
 }
 
 #[test]

@@ -290,7 +290,22 @@ pub(crate) fn apply_located(
             )
             .at_location(place(item, section))
             .element(name.clone());
-            if let Some(suggestion) = suggest(name, raw.elements.iter().map(|(n, _)| n.as_str())) {
+            let part = name.split_once('.').and_then(|(use_name, _)| {
+                raw.elements.iter().find_map(|(n, e)| match e {
+                    bondgraph_core::model::ElementSpec::Submodel { file, .. } if n == use_name => {
+                        Some((use_name, file))
+                    }
+                    _ => None,
+                })
+            });
+            if let Some((use_name, file)) = part {
+                diagnostic = diagnostic.note(format!(
+                    "'{name}' is inside sub-model '{use_name}' ('{file}'), which is used whole: \
+                     remove '{use_name}', or use a part without it"
+                ));
+            } else if let Some(suggestion) =
+                suggest(name, raw.elements.iter().map(|(n, _)| n.as_str()))
+            {
                 diagnostic = diagnostic.note(format!("did you mean '{suggestion}'?"));
             }
             problems.push(diagnostic);
