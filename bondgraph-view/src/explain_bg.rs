@@ -200,10 +200,19 @@ impl Explainer<'_> {
                 .parts()
                 .iter()
                 .map(|part| {
+                    // Each port's domain, where the composed model's units tell it.
+                    let domain = |junction: &str| {
+                        model
+                            .element_named(junction)
+                            .and_then(|id| model.element_domain(id))
+                            .map_or(String::new(), |d| format!(" ({})", d.name))
+                    };
                     let ports: Vec<String> = part
                         .ports
                         .iter()
-                        .map(|(port, junction)| format!("{}.{port} is '{junction}'", part.name))
+                        .map(|(port, junction)| {
+                            format!("{}.{port} is '{junction}'{}", part.name, domain(junction))
+                        })
                         .collect();
                     format!(
                         "{}: '{}' from {}; {}",
