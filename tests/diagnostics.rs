@@ -217,7 +217,7 @@ fn unknown_field() {
             column: 19,
             element: Some("mass"),
             underlined: "mass",
-            message: "element 'mass': unknown field 'mass'; expected 'inertance' or 'flow'",
+            message: "element 'mass': unknown field 'mass'; expected one of 'inertance', 'flow', 'symbol'",
         },
     );
 }

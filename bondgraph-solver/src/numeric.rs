@@ -74,9 +74,10 @@ impl Storage {
                 _ => continue,
             };
             storage.elements.push(id);
-            storage
-                .names
-                .push(bondgraph_core::model::state_symbol(letter, &element.name));
+            storage.names.push(match &element.symbol {
+                Some(symbol) => symbol.clone(),
+                None => bondgraph_core::model::state_symbol(letter, &element.name),
+            });
             storage.coefficients.push(coefficient);
             storage
                 .laws

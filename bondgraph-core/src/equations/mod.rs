@@ -380,7 +380,11 @@ pub(crate) fn derive_parts(
             let name = &model.element(element).name;
             let (block, position) = place[k];
             StateVariable {
-                name: crate::model::state_symbol(quantity.letter(), name),
+                // A name given with `symbol:` names the energy variable.
+                name: match (&model.element(element).symbol, quantity) {
+                    (Some(symbol), Quantity::Momentum | Quantity::Displacement) => symbol.clone(),
+                    _ => crate::model::state_symbol(quantity.letter(), name),
+                },
                 element: name.clone(),
                 quantity,
                 merged: merged.merged_into[k]

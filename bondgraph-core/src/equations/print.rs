@@ -552,6 +552,10 @@ impl StateEquations {
 /// by the rule parameters follow ([`latex_name`]): `q_{\mathrm{tyre}}`,
 /// `p_{\mathrm{load\_inertia}}`, `q_{c}`.
 pub(crate) fn state_latex(state: &crate::equations::StateVariable) -> String {
+    // A state named with `symbol:` is written as any symbol is.
+    if state.name != crate::model::state_symbol(state.quantity.letter(), &state.element) {
+        return latex_name(&state.name);
+    }
     // A sub-model's state (`front.q_spring`): its prefix upright, as for its parameters.
     let (prefix, element) = match state.element.rsplit_once('.') {
         Some((prefix, leaf)) => (format!("\\mathrm{{{}}}.", prefix.replace('_', "\\_")), leaf),

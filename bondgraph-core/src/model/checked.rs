@@ -164,6 +164,8 @@ pub struct Element {
     pub span: Span,
     /// Its bonds, in file order.
     pub bonds: Vec<BondId>,
+    /// The name its state is given in the file (`symbol:`), in place of `p_NAME`/`q_NAME`.
+    pub symbol: Option<String>,
 }
 
 /// A coefficient written as a parameter expression (`1/k_ge`), with its text and place.
@@ -787,7 +789,10 @@ impl Model {
             },
             _ => return None,
         };
-        Some(super::state_symbol(letter, &element.name))
+        Some(match &element.symbol {
+            Some(symbol) => symbol.clone(),
+            None => super::state_symbol(letter, &element.name),
+        })
     }
 
     /// The energy domain of element `id`'s (first) bond, if its units tell it: a capacitor's

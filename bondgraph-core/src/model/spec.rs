@@ -188,6 +188,8 @@ pub enum ElementSpec {
         inertance: Option<String>,
         /// A nonlinear law: the flow as an expression of the momentum `p_NAME`.
         flow: Option<String>,
+        /// The name of its state, its momentum, in place of `p_NAME` (`"L_w"`, `"h"`).
+        symbol: Option<String>,
     },
     /// Capacitance (spring, capacitor), given by exactly one of compliance, stiffness or a
     /// nonlinear law; the validator checks that exactly one is given.
@@ -198,6 +200,8 @@ pub enum ElementSpec {
         stiffness: Option<String>,
         /// A nonlinear law: the effort as an expression of the displacement `q_NAME`.
         effort: Option<String>,
+        /// The name of its state, its displacement, in place of `q_NAME` (`"V_tank"`, `"x"`).
+        symbol: Option<String>,
     },
     /// Resistance (damper, resistor), given by exactly one of resistance, an effort law or
     /// a flow law.
@@ -250,6 +254,8 @@ pub enum ElementSpec {
         stiffness: Option<String>,
         /// The mode at the start: `"taut"` (default) or `"slack"`.
         initial: Option<String>,
+        /// The name of its state, its stretch, in place of `q_NAME`.
+        symbol: Option<String>,
     },
     /// A one-sided limit on the flow through its bond: `open` it carries no effort, and
     /// when the flow into it reaches `max_flow` it is `limiting`, holding the flow there
@@ -334,7 +340,9 @@ impl ElementSpec {
         match self {
             Self::Se { effort } => out.push(("effort", effort)),
             Self::Sf { flow } => out.push(("flow", flow)),
-            Self::I { inertance, flow } => {
+            Self::I {
+                inertance, flow, ..
+            } => {
                 out.extend(inertance.as_mut().map(|e| ("inertance", e)));
                 out.extend(flow.as_mut().map(|e| ("flow", e)));
             }
@@ -342,6 +350,7 @@ impl ElementSpec {
                 compliance,
                 stiffness,
                 effort,
+                ..
             } => {
                 out.extend(compliance.as_mut().map(|e| ("compliance", e)));
                 out.extend(stiffness.as_mut().map(|e| ("stiffness", e)));
@@ -376,7 +385,7 @@ impl ElementSpec {
             Self::TensionOnly {
                 compliance,
                 stiffness,
-                initial: _,
+                ..
             } => {
                 out.extend(compliance.as_mut().map(|e| ("compliance", e)));
                 out.extend(stiffness.as_mut().map(|e| ("stiffness", e)));
@@ -389,6 +398,26 @@ impl ElementSpec {
             Self::Submodel { .. } | Self::Zero | Self::One => {}
         }
         out
+    }
+
+    /// The state name the element gives itself (`symbol:`), if it is storage that does.
+    pub fn symbol(&self) -> Option<&str> {
+        match self {
+            Self::I { symbol, .. } | Self::C { symbol, .. } | Self::TensionOnly { symbol, .. } => {
+                symbol.as_deref()
+            }
+            _ => None,
+        }
+    }
+
+    /// The state name the element gives itself, to rename it (a sub-model's, qualified).
+    pub fn symbol_mut(&mut self) -> Option<&mut String> {
+        match self {
+            Self::I { symbol, .. } | Self::C { symbol, .. } | Self::TensionOnly { symbol, .. } => {
+                symbol.as_mut()
+            }
+            _ => None,
+        }
     }
 
     /// An effort source `Se(effort: ...)`.
@@ -408,6 +437,7 @@ impl ElementSpec {
         Self::I {
             inertance: Some(inertance.into()),
             flow: None,
+            symbol: None,
         }
     }
 
@@ -417,6 +447,7 @@ impl ElementSpec {
             compliance: None,
             stiffness: Some(stiffness.into()),
             effort: None,
+            symbol: None,
         }
     }
 
@@ -426,6 +457,7 @@ impl ElementSpec {
             compliance: Some(compliance.into()),
             stiffness: None,
             effort: None,
+            symbol: None,
         }
     }
 

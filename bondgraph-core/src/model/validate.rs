@@ -158,6 +158,7 @@ fn validate_as(
         .enumerate()
         .map(|(i, input)| (input.name.as_str(), i as u32))
         .collect();
+    v.check_symbols(&raw, &seen);
     let states = energy_variables(&raw);
     let scope = Scope {
         symbols: &symbols,
@@ -226,7 +227,11 @@ fn energy_variables(raw: &ModelSpec) -> HashMap<String, u32> {
                 ElementSpec::C { .. } | ElementSpec::TensionOnly { .. } => "q",
                 _ => return None,
             };
-            Some((super::state_symbol(letter, name), index as u32))
+            let state = match element.symbol() {
+                Some(symbol) => symbol.to_string(),
+                None => super::state_symbol(letter, name),
+            };
+            Some((state, index as u32))
         })
         .collect()
 }
@@ -337,6 +342,51 @@ impl Validator<'_> {
         );
     }
 
+    /// A state's name given with `symbol:` is a valid name that names nothing else: no
+    /// parameter, input or other state.
+    fn check_symbols(&mut self, raw: &ModelSpec, seen: &HashMap<String, (Span, &'static str)>) {
+        let mut states: HashMap<String, &str> = HashMap::new();
+        for (name, element) in &raw.elements {
+            let letter = match element {
+                ElementSpec::I { .. } => "p",
+                ElementSpec::C { .. } | ElementSpec::TensionOnly { .. } => "q",
+                _ => continue,
+            };
+            if element.symbol().is_none() {
+                states.insert(super::state_symbol(letter, name), name);
+            }
+        }
+        for (index, (name, element)) in raw.elements.iter().enumerate() {
+            let Some(symbol) = element.symbol() else {
+                continue;
+            };
+            let span = self
+                .field_value_span(&self.map.elements, index, "symbol")
+                .unwrap_or_else(|| self.entry_span(&self.map.elements, index));
+            if !self.check_name(symbol, "state symbol", span) {
+                continue;
+            }
+            let clash = match (seen.get(symbol), states.get(symbol)) {
+                (Some((_, what)), _) => Some(format!("the {what} '{symbol}'")),
+                (None, Some(other)) => Some(format!("the state of '{other}'")),
+                (None, None) => None,
+            };
+            match clash {
+                Some(clash) => self.problems.push(
+                    Diagnostic::new(
+                        DiagnosticKind::DuplicateName,
+                        format!("element '{name}': symbol '{symbol}' is already {clash}"),
+                    )
+                    .at(&self.file, span)
+                    .element(name.clone()),
+                ),
+                None => {
+                    states.insert(symbol.to_string(), name);
+                }
+            }
+        }
+    }
+
     /// The elements that check, and every element name that does (an element rejected for
     /// its fields keeps its name, at an id of `u32::MAX`, so bonds to it are not reported
     /// as undefined).
@@ -360,6 +410,7 @@ impl Validator<'_> {
                     kind,
                     span,
                     bonds: Vec::new(),
+                    symbol: raw_element.symbol().map(str::to_string),
                 });
             } else if named_ok {
                 // Keep the name known so bonds to it are not reported as undefined.

@@ -360,7 +360,17 @@ pub(crate) fn tidy_path(path: &Path) -> PathBuf {
 
 /// Names written in a file may not contain `.`, which joins a use's name to its part's.
 fn written_names(source: &SourceFile, spec: &ModelSpec, map: &SourceMap) -> Problems {
-    dotted_names(
+    let symbols: Vec<(&str, Vec<&str>, &[EntrySpans])> = spec
+        .elements
+        .iter()
+        .zip(&map.elements)
+        .filter_map(|((_, element), entry)| {
+            let symbol = element.symbol()?;
+            Some(("state symbol", vec![symbol], std::slice::from_ref(entry)))
+        })
+        .collect();
+    let mut problems = dotted_names(source, map, symbols);
+    problems.extend(dotted_names(
         source,
         map,
         [
@@ -369,7 +379,8 @@ fn written_names(source: &SourceFile, spec: &ModelSpec, map: &SourceMap) -> Prob
             ("element", names_of(&spec.elements), &map.elements[..]),
             ("port", names_of(&spec.ports), &map.ports[..]),
         ],
-    )
+    ));
+    problems
 }
 
 /// The names of a section's entries.
@@ -643,9 +654,19 @@ impl Flat {
             .iter()
             .map(|(n, _)| (n.as_str(), ()))
             .collect();
+        // States named with `symbol:` keep their names, qualified.
+        let symbols: Vec<&str> = part
+            .spec
+            .elements
+            .iter()
+            .filter_map(|(_, e)| e.symbol())
+            .collect();
         let rename = |symbol: &str| -> Option<String> {
             if let Some(new) = renames.get(symbol) {
                 return Some(new.clone());
+            }
+            if symbols.contains(&symbol) {
+                return Some(qualified(symbol));
             }
             // A state of the part (`q_spring`, `rear.q_spring`) keeps its form, qualified.
             let (_, element) = state_element(symbol)?;
@@ -658,6 +679,9 @@ impl Flat {
             let mut element = element.clone();
             for (_, expression) in element.expressions_mut() {
                 *expression = rename_symbols(expression, rename);
+            }
+            if let Some(symbol) = element.symbol_mut() {
+                *symbol = qualified(symbol);
             }
             let flat_name = qualified(element_name);
             if let Some(origin) = part.origins.get(element_name) {

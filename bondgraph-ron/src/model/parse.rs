@@ -221,7 +221,7 @@ Model(
         assert_eq!(d.kind, DiagnosticKind::UnknownField);
         assert_eq!(
             d.message,
-            "element 'mass': unknown field 'inertia'; expected 'inertance' or 'flow'"
+            "element 'mass': unknown field 'inertia'; expected one of 'inertance', 'flow', 'symbol'"
         );
         assert_eq!((line, column), (12, 19));
         assert_eq!(d.element.as_deref(), Some("mass"));

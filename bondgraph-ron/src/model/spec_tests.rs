@@ -67,6 +67,7 @@ fn reads_a_whole_model_in_file_order() {
                 &ElementSpec::I {
                     inertance: Some("m".into()),
                     flow: None,
+                    symbol: None,
                 }
             ),
             (
@@ -75,6 +76,7 @@ fn reads_a_whole_model_in_file_order() {
                     compliance: None,
                     stiffness: Some("k".into()),
                     effort: None,
+                    symbol: None,
                 }
             ),
             (
@@ -134,6 +136,7 @@ fn explicit_some_and_every_element_kind_are_accepted() {
             compliance: Some("1/k".into()),
             stiffness: None,
             effort: None,
+            symbol: None,
         }
     );
     // Neither or both of compliance and stiffness is the validator's business.
@@ -143,6 +146,7 @@ fn explicit_some_and_every_element_kind_are_accepted() {
             compliance: None,
             stiffness: None,
             effort: None,
+            symbol: None,
         }
     );
 }

@@ -31,13 +31,14 @@ impl Validator<'_> {
             ElementSpec::Sf { flow } => {
                 ElementKind::FlowSource(self.source_value(name, index, "flow", flow, scope, true)?)
             }
-            ElementSpec::I { inertance, flow } => {
-                self.inertia(name, index, (inertance, flow), scope)?
-            }
+            ElementSpec::I {
+                inertance, flow, ..
+            } => self.inertia(name, index, (inertance, flow), scope)?,
             ElementSpec::C {
                 compliance,
                 stiffness,
                 effort,
+                ..
             } => self.compliance_kind(name, index, (compliance, stiffness, effort), scope)?,
             ElementSpec::Friction {
                 breakaway,
@@ -55,6 +56,7 @@ impl Validator<'_> {
                 compliance,
                 stiffness,
                 initial,
+                ..
             } => self.tension_only(name, index, (compliance, stiffness, initial), scope)?,
             ElementSpec::FlowLimit { max_flow, initial } => {
                 self.flow_limit(name, index, (max_flow, initial), scope)?

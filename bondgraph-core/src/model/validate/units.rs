@@ -122,11 +122,15 @@ pub(crate) fn check(
         .map(|id| (model.element(id).name.as_str(), id))
         .collect();
     let constraints = constraints(model, raw, map, &names, convention);
+    let states: HashMap<String, ElementId> = model
+        .element_ids()
+        .filter_map(|id| Some((model.storage_name(id)?, id)))
+        .collect();
     let run_with = |without: Option<Field>, schedule: Schedule| {
         let mut checker = Checker {
             model,
             units: &units,
-            names: &names,
+            states: &states,
             solver: Solver::new(2 * model.bonds.len()),
             problems: Vec::new(),
             blamed: Vec::new(),
@@ -281,6 +285,7 @@ fn element_laws(
         ElementSpec::I {
             inertance,
             flow: law,
+            ..
         } => {
             laws.push(("inertance", inertance.clone(), ratio(1, per_s), false));
             laws.push(("flow", law.clone(), value(f, false), false));
@@ -289,6 +294,7 @@ fn element_laws(
             compliance,
             stiffness,
             effort: law,
+            ..
         } => {
             laws.push((
                 "compliance",
@@ -480,8 +486,8 @@ enum Schedule {
 struct Checker<'a> {
     model: &'a Model,
     units: &'a HashMap<&'a str, (Dim, &'a str)>,
-    /// Each element by name.
-    names: &'a HashMap<&'a str, ElementId>,
+    /// Each storage element by its state's name (`q_spring`, or its `symbol:`).
+    states: &'a HashMap<String, ElementId>,
     solver: Solver,
     problems: Vec<Diagnostic>,
     /// The field each problem of a law blames, in order: at most one problem per field.
@@ -508,8 +514,16 @@ impl Symbols for Scope<'_, '_> {
             _ => {}
         }
         let model = self.checker.model;
-        let (letter, element) = crate::model::state_element(name)?;
-        let id = *self.checker.names.get(element.as_str())?;
+        let id = *self.checker.states.get(name)?;
+        let letter = match model.element(id).kind {
+            ElementKind::Inertia(_) => "p",
+            ElementKind::Nonlinear(ref n)
+                if matches!(n.law, crate::model::NonlinearLaw::Inertia(_)) =>
+            {
+                "p"
+            }
+            _ => "q",
+        };
         let bond = model.element(id).bonds.first()?.index();
         match (letter, model.storage_name(id)) {
             ("q", Some(state)) if state == name => {

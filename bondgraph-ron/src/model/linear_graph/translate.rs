@@ -550,6 +550,7 @@ fn element_of(branch: &RawBranch) -> (ElementSpec, Vec<(&'static str, &'static s
             ElementSpec::I {
                 inertance: capacitance,
                 flow: across,
+                symbol: None,
             },
             vec![("inertance", "capacitance"), ("flow", "across")],
         ),
@@ -563,6 +564,7 @@ fn element_of(branch: &RawBranch) -> (ElementSpec, Vec<(&'static str, &'static s
                 compliance: inductance,
                 stiffness,
                 effort: through,
+                symbol: None,
             },
             vec![
                 ("compliance", "inductance"),
@@ -653,6 +655,7 @@ fn element_of(branch: &RawBranch) -> (ElementSpec, Vec<(&'static str, &'static s
                 compliance: inductance,
                 stiffness,
                 initial,
+                symbol: None,
             },
             vec![
                 ("compliance", "inductance"),
