@@ -807,3 +807,28 @@ fn composition_is_bounded_in_depth_and_in_size() {
         d[0].message
     );
 }
+
+#[test]
+fn a_value_outside_the_parts_bounds_is_refused_at_the_use() {
+    let bounded = MASS.replace(
+        r#""m": (value: 2.0, unit: "kg")"#,
+        r#""m": (value: 2.0, unit: "kg", bounds: (1.0, 10.0))"#,
+    );
+    let folder = Folder::new(
+        "bounds",
+        &[
+            ("mass.ron", &bounded),
+            (
+                "user.ron",
+                &user(r#", parameters: {"m": 30.0}"#, r#"("push", "cart.hub")"#),
+            ),
+        ],
+    );
+    let d = folder.errors("user.ron");
+    assert_eq!(d[0].kind, DiagnosticKind::InvalidValue);
+    assert_eq!(
+        d[0].message,
+        "parameter 'cart.m' has value 30, outside its bounds (1, 10)"
+    );
+    assert_eq!(place(&d[0]), ("user.ron".into(), 6, 9));
+}

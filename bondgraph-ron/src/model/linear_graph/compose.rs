@@ -260,7 +260,7 @@ impl Flat {
                     let mut spec = spec.clone();
                     if let Some((_, ParameterValue::Value(v))) = value {
                         spec.value = *v;
-                        spec.bounds = spec.bounds.filter(|(lo, hi)| (*lo..=*hi).contains(v));
+                        // The part's bounds stay: a value outside them is refused at the use.
                     }
                     renames.insert(parameter.clone(), qualified(parameter));
                     self.raw.parameters.push((qualified(parameter), spec));
