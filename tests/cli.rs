@@ -931,3 +931,46 @@ fn a_scenario_names_a_sub_models_parameters_and_elements() {
     assert!(first[2].abs() < 1e-12, "{csv}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A linear graph built from sub-graphs is explained in its own words, every branch
+/// variable qualified as its state is; a nonlinear linear graph is summarised as a graph.
+#[test]
+fn a_composed_linear_graph_is_explained_with_qualified_variables() {
+    let text = succeed(&["explain", "models/examples/composed/wall.lg.ron"]);
+    assert!(
+        text.contains("  plaster: 'wall_layer' from models/parts/wall_layer.lg.ron; plaster.inside is node 'surface', plaster.outside is node 'p_b'"),
+        "{text}"
+    );
+    assert!(text.contains("its across variable plaster.v_capacity is a state"));
+    assert!(text.contains(
+        "States: v_air_capacity, plaster.v_capacity, brick.v_capacity, insulation.v_capacity"
+    ));
+    assert!(!text.contains("v_plaster."), "{text}");
+
+    let dir = scratch("nonlinear-graph");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("duffing.lg.ron");
+    std::fs::write(
+        &path,
+        r#"LinearGraph(name: "duffing",
+    parameters: {"m": (value: 1.0, unit: "kg"), "k": (value: 100.0, unit: "N/m"),
+        "k_3": (value: 1.0e4, unit: "N/m^3")},
+    inputs: {"F": (unit: "N")},
+    ground: "g",
+    branches: {
+        "force": ThroughSource(value: "F", from: "g", to: "v1"),
+        "mass": A(capacitance: "m", from: "v1", to: "g"),
+        "spring": T(through: "k*q_spring + k_3*q_spring^3", from: "v1", to: "g"),
+    },
+)"#,
+    )
+    .unwrap();
+    let summary = succeed(&["check", &path.to_string_lossy()]);
+    assert!(
+        summary.ends_with(
+            ": ok: nonlinear linear graph 'duffing' with 2 nodes, 3 branches, 3 parameters, 1 input and 2 states\n"
+        ),
+        "{summary}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -33,8 +33,12 @@ pub fn summary(model: &Model, source: &Arc<SourceFile>) -> Result<String, Failur
         (states, reachable.modes.len(), !reachable.initial.is_empty())
     };
     let (kind, parts) = match (&model.linear_graph(), model.is_nonlinear()) {
-        (Some(graph), false) => (
-            "linear graph",
+        (Some(graph), nonlinear) => (
+            if nonlinear {
+                "nonlinear linear graph"
+            } else {
+                "linear graph"
+            },
             [
                 (graph.nodes.len(), "node"),
                 (graph.branches.len(), "branch"),

@@ -5,6 +5,7 @@
 //!
 //! A bond-graph model is explained by `explain_bg`, which also dispatches here.
 
+use bondgraph_core::model::state_symbol;
 use std::sync::Arc;
 
 use bondgraph_core::causality;
@@ -162,6 +163,31 @@ fn explain(
          T-types among the links are the independent storage: their across and through \
          variables are the states.\n",
     );
+    if !model.parts().is_empty() {
+        writer.heading(
+            &mut out,
+            "Sub-graphs, flattened: each branch and node named with its use's name in front",
+        );
+        let lines: Vec<String> = model
+            .parts()
+            .iter()
+            .map(|part| {
+                let terminals: Vec<String> = part
+                    .ports
+                    .iter()
+                    .map(|(terminal, node)| format!("{}.{terminal} is node '{node}'", part.name))
+                    .collect();
+                format!(
+                    "{}: '{}' from {}; {}",
+                    part.name,
+                    part.model,
+                    part.file,
+                    terminals.join(", ")
+                )
+            })
+            .collect();
+        writer.block(&mut out, &lines);
+    }
     two_ports(writer, graph, tree, &mut out);
     writer.heading(&mut out, "Construction");
     construction(writer, graph, tree, &mut out);
@@ -187,8 +213,8 @@ fn explain(
             names.join(", ")
         )
     });
-    let across = |b: usize, p: usize| format!("v_{}", variable(graph, b, p));
-    let through = |b: usize, p: usize| format!("f_{}", variable(graph, b, p));
+    let across = |b: usize, p: usize| state_symbol("v", &variable(graph, b, p));
+    let through = |b: usize, p: usize| state_symbol("f", &variable(graph, b, p));
     let primary = format!(
         "Primary variables: the across variables of the tree, {}; the through variables of the links, {}.",
         list(codes(
@@ -330,7 +356,7 @@ fn construction(writer: &Writer, graph: &LinearGraph, tree: &NormalTree, out: &m
                     if step.role == Role::A {
                         s.push_str(&format!(
                             "; its across variable {} is a state",
-                            writer.code(&format!("v_{}", graph.branches[step.branch].name))
+                            writer.code(&state_symbol("v", &graph.branches[step.branch].name))
                         ));
                     }
                     if step.role == Role::T {
@@ -352,7 +378,7 @@ fn construction(writer: &Writer, graph: &LinearGraph, tree: &NormalTree, out: &m
                         ),
                         Role::T => s.push_str(&format!(
                             "; its through variable {} is a state",
-                            writer.code(&format!("f_{}", graph.branches[step.branch].name))
+                            writer.code(&state_symbol("f", &graph.branches[step.branch].name))
                         )),
                         Role::AcrossSource => s.push_str(
                             "; across sources in a loop contradict each other, so this mode cannot be entered",
@@ -430,27 +456,32 @@ fn elemental(model: &Model, graph: &LinearGraph, b: usize, law: &Law) -> String 
             format!("{}*{v}", parenthesised(&text(r)))
         }
     };
+    // A sub-graph's branch keeps its prefix in front: `wall.v_capacity`.
+    let v = |n: &str| state_symbol("v", n);
+    let f = |n: &str| state_symbol("f", n);
     match law {
-        Law::Inertia(c) => format!("f_{name} = {}", times(c, &format!("dv_{name}/dt"))),
-        Law::Compliance(l) => format!("v_{name} = {}", times(l, &format!("df_{name}/dt"))),
+        Law::Inertia(c) => format!("{} = {}", f(&name), times(c, &format!("d{}/dt", v(&name)))),
+        Law::Compliance(l) => format!("{} = {}", v(&name), times(l, &format!("d{}/dt", f(&name)))),
         Law::Resistor { resistance, offset } => {
             let mut form = LinearForm::term(Var::State(0), resistance.clone());
             form.add(offset);
-            format!(
-                "f_{name} = {}",
-                form_text(model, &form, &format!("v_{name}"))
-            )
+            format!("{} = {}", f(&name), form_text(model, &form, &v(&name)))
         }
-        Law::EffortSource(value) => format!("f_{name} = {}", form_text(model, value, "")),
-        Law::FlowSource(value) => format!("v_{name} = {}", form_text(model, value, "")),
-        Law::SlackStorage => {
-            format!("f_{name} = 0 (slack: it stretches at v_{name} carrying nothing)")
-        }
+        Law::EffortSource(value) => format!("{} = {}", f(&name), form_text(model, value, "")),
+        Law::FlowSource(value) => format!("{} = {}", v(&name), form_text(model, value, "")),
+        Law::SlackStorage => format!(
+            "{} = 0 (slack: it stretches at {} carrying nothing)",
+            f(&name),
+            v(&name)
+        ),
         Law::Transformer(n) => {
             let (one, two) = (variable(graph, b, 0), variable(graph, b, 1));
             format!(
-                "v_{one} = {}, f_{one} = -f_{two}/{}",
-                times(n, &format!("v_{two}")),
+                "{} = {}, {} = -{}/{}",
+                v(&one),
+                times(n, &v(&two)),
+                f(&one),
+                f(&two),
                 parenthesised(&text(n))
             )
         }
@@ -458,8 +489,11 @@ fn elemental(model: &Model, graph: &LinearGraph, b: usize, law: &Law) -> String 
             let (one, two) = (variable(graph, b, 0), variable(graph, b, 1));
             let g = r.inv().unwrap_or_else(RatFunc::zero);
             format!(
-                "v_{one} = {}, f_{one} = -v_{two}/{}",
-                times(&g, &format!("f_{two}")),
+                "{} = {}, {} = -{}/{}",
+                v(&one),
+                times(&g, &f(&two)),
+                f(&one),
+                v(&two),
                 parenthesised(&text(&g))
             )
         }
