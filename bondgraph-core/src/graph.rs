@@ -154,25 +154,15 @@ pub fn to_dot(model: &Model, causality: Option<&Causality>) -> String {
 /// storage in derivative causality in red, and `title` (naming the mode, say) as the
 /// graph's label with a legend for the red bonds.
 pub fn to_dot_titled(model: &Model, causality: Option<&Causality>, title: Option<&str>) -> String {
-    let mut out = String::new();
-    let _ = writeln!(out, "digraph \"{}\" {{", escape(&model.name));
-    let _ = writeln!(out, "  rankdir=LR;");
-    if let Some(title) = title {
-        let _ = writeln!(
-            out,
-            "  labelloc=t; label=\"{}\\nbond numbers on the bonds; red: derivative causality\";",
-            escape(title)
-        );
-    }
-    let _ = writeln!(out, "  node [shape=plaintext];");
+    let mut out = dot_header(
+        model,
+        title,
+        "bond numbers on the bonds; red: derivative causality",
+    );
     element_nodes(model, &mut out);
     for bond in model.bond_ids() {
         let b = model.bond(bond);
-        let (head, tail) = match causality.map(|c| c.strokes[bond.index()]) {
-            Some(Stroke::AtTo) => ("teelvee", "none"),
-            Some(Stroke::AtFrom) => ("lvee", "tee"),
-            None => ("lvee", "none"),
-        };
+        let (head, tail) = arrows(causality, bond);
         let derivative = causality.is_some_and(|c| is_derivative_bond(model, c, bond));
         let colour = if derivative {
             ", color=red, fontcolor=red, penwidth=2"
@@ -204,16 +194,8 @@ fn part_of<'m>(model: &'m Model, name: &str) -> Option<&'m crate::model::PartSpe
 /// The element declarations of `to_dot`, each sub-model's inside a cluster labelled with its
 /// use and model (nested uses nested), so that a drawing shows what came from which part.
 fn element_nodes(model: &Model, out: &mut String) {
-    let declare = |out: &mut String, element: ElementId, indent: &str| {
-        let name = &model.element(element).name;
-        let _ = writeln!(
-            out,
-            "{indent}\"{}\" [label=\"{}\\n{}\"];",
-            escape(name),
-            escape(&element_label(model, element)),
-            escape(name)
-        );
-    };
+    let declare =
+        |out: &mut String, element: ElementId, indent: &str| declare(model, element, indent, out);
     fn cluster(
         model: &Model,
         out: &mut String,
@@ -258,17 +240,11 @@ pub fn to_dot_collapsed(
     causality: Option<&Causality>,
     title: Option<&str>,
 ) -> String {
-    let mut out = String::new();
-    let _ = writeln!(out, "digraph \"{}\" {{", escape(&model.name));
-    let _ = writeln!(out, "  rankdir=LR;");
-    if let Some(title) = title {
-        let _ = writeln!(
-            out,
-            "  labelloc=t; label=\"{}\\nsub-models collapsed, their ports at the bonds' ends; bond numbers on the bonds\";",
-            escape(title)
-        );
-    }
-    let _ = writeln!(out, "  node [shape=plaintext];");
+    let mut out = dot_header(
+        model,
+        title,
+        "sub-models collapsed, their ports at the bonds' ends; bond numbers on the bonds",
+    );
     // Each element's box: its own, or its outermost sub-model's.
     let outermost = |name: &str| -> Option<&crate::model::PartSpec> {
         model
@@ -289,13 +265,7 @@ pub fn to_dot_collapsed(
     for element in model.element_ids() {
         let name = &model.element(element).name;
         if outermost(name).is_none() {
-            let _ = writeln!(
-                out,
-                "  \"{}\" [label=\"{}\\n{}\"];",
-                escape(name),
-                escape(&element_label(model, element)),
-                escape(name)
-            );
+            declare(model, element, "  ", &mut out);
         }
     }
     let end = |element: ElementId| -> (String, Option<String>) {
@@ -322,11 +292,7 @@ pub fn to_dot_collapsed(
             .into_iter()
             .filter_map(|(key, port)| port.map(|p| format!(", {key}=\"{}\"", escape(&p))))
             .collect::<String>();
-        let (head, tail) = match causality.map(|c| c.strokes[bond.index()]) {
-            Some(Stroke::AtTo) => ("teelvee", "none"),
-            Some(Stroke::AtFrom) => ("lvee", "tee"),
-            None => ("lvee", "none"),
-        };
+        let (head, tail) = arrows(causality, bond);
         let _ = writeln!(
             out,
             "  \"{}\" -> \"{}\" [dir=both, arrowhead={head}, arrowtail={tail}, label=\"{}\"{port_labels}];",
@@ -337,6 +303,40 @@ pub fn to_dot_collapsed(
     }
     out.push_str("}\n");
     out
+}
+
+/// The opening of a DOT drawing of `model`: its name, left to right, `title` and `legend`
+/// as its label, plain-text nodes.
+fn dot_header(model: &Model, title: Option<&str>, legend: &str) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "digraph \"{}\" {{", escape(&model.name));
+    let _ = writeln!(out, "  rankdir=LR;");
+    if let Some(title) = title {
+        let _ = writeln!(out, "  labelloc=t; label=\"{}\\n{legend}\";", escape(title));
+    }
+    let _ = writeln!(out, "  node [shape=plaintext];");
+    out
+}
+
+/// The arrow head and tail of `bond`: its causal stroke, where causality is given.
+fn arrows(causality: Option<&Causality>, bond: BondId) -> (&'static str, &'static str) {
+    match causality.map(|c| c.strokes[bond.index()]) {
+        Some(Stroke::AtTo) => ("teelvee", "none"),
+        Some(Stroke::AtFrom) => ("lvee", "tee"),
+        None => ("lvee", "none"),
+    }
+}
+
+/// Declares `element` as a DOT node labelled with its law and its name.
+fn declare(model: &Model, element: ElementId, indent: &str, out: &mut String) {
+    let name = &model.element(element).name;
+    let _ = writeln!(
+        out,
+        "{indent}\"{}\" [label=\"{}\\n{}\"];",
+        escape(name),
+        escape(&element_label(model, element)),
+        escape(name)
+    );
 }
 
 fn escape(text: &str) -> String {

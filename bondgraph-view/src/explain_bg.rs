@@ -196,33 +196,14 @@ impl Explainer<'_> {
                 &mut out,
                 "Sub-models, flattened: each element named with its use's name in front",
             );
-            let lines: Vec<String> = model
-                .parts()
-                .iter()
-                .map(|part| {
-                    // Each port's domain, where the composed model's units tell it.
-                    let domain = |junction: &str| {
-                        model
-                            .element_named(junction)
-                            .and_then(|id| model.element_domain(id))
-                            .map_or(String::new(), |d| format!(" ({})", d.name))
-                    };
-                    let ports: Vec<String> = part
-                        .ports
-                        .iter()
-                        .map(|(port, junction)| {
-                            format!("{}.{port} is '{junction}'{}", part.name, domain(junction))
-                        })
-                        .collect();
-                    format!(
-                        "{}: '{}' from {}; {}",
-                        part.name,
-                        part.model,
-                        part.file,
-                        ports.join(", ")
-                    )
-                })
-                .collect();
+            // Each port's domain, where the composed model's units tell it.
+            let lines = crate::parts::part_lines(model, &|junction| {
+                let domain = model
+                    .element_named(junction)
+                    .and_then(|id| model.element_domain(id))
+                    .map_or(String::new(), |d| format!(" ({})", d.name));
+                format!("'{junction}'{domain}")
+            });
             self.block(&mut out, &lines);
         }
         self.heading(

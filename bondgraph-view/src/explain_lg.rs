@@ -168,24 +168,7 @@ fn explain(
             &mut out,
             "Sub-graphs, flattened: each branch and node named with its use's name in front",
         );
-        let lines: Vec<String> = model
-            .parts()
-            .iter()
-            .map(|part| {
-                let terminals: Vec<String> = part
-                    .ports
-                    .iter()
-                    .map(|(terminal, node)| format!("{}.{terminal} is node '{node}'", part.name))
-                    .collect();
-                format!(
-                    "{}: '{}' from {}; {}",
-                    part.name,
-                    part.model,
-                    part.file,
-                    terminals.join(", ")
-                )
-            })
-            .collect();
+        let lines = crate::parts::part_lines(model, &|node| format!("node '{node}'"));
         writer.block(&mut out, &lines);
     }
     two_ports(writer, graph, tree, &mut out);

@@ -43,6 +43,7 @@ pub mod lg_graph;
 pub mod lg_svg;
 pub mod measured;
 pub mod output;
+mod parts;
 pub mod plot;
 pub mod residual_plot;
 pub mod simulate;

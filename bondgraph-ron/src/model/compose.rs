@@ -169,7 +169,16 @@ impl Composer {
                 }
             };
             let given = Given { parameters, inputs };
-            if let Err(found) = given.check(source, &entry, name, &part) {
+            let found = given.check(
+                source,
+                &entry,
+                ("sub-model", name),
+                (
+                    part.file.name(),
+                    [names_of(&part.spec.parameters), names_of(&part.spec.inputs)],
+                ),
+            );
+            if !found.is_empty() {
                 problems.extend(found);
                 continue;
             }
@@ -461,75 +470,119 @@ struct Use {
     entry: EntrySpans,
 }
 
-/// The values a use gives its sub-model.
-struct Given<'a> {
-    parameters: &'a [(String, ParameterValue)],
-    inputs: &'a [(String, String)],
+/// The values a use gives its sub-model (or sub-graph): parameters and inputs by the
+/// part's names.
+pub(crate) struct Given<'a> {
+    pub(crate) parameters: &'a [(String, ParameterValue)],
+    pub(crate) inputs: &'a [(String, String)],
+}
+
+/// A part's parameters and inputs as one use gives them.
+pub(crate) struct Values {
+    /// What each of the part's parameters and inputs is written as in the flat model: its
+    /// qualified name, or the expression given for it.
+    pub(crate) renames: HashMap<String, String>,
+    /// The parameters the use keeps (qualified), with the values given.
+    pub(crate) parameters: Vec<(String, ParameterSpec)>,
+    /// The inputs the use leaves to the whole model (qualified).
+    pub(crate) inputs: Vec<(String, InputSpec)>,
 }
 
 impl Given<'_> {
-    /// Every name given must be the part's parameter (or input), given once.
-    fn check(
+    /// Every name given must be one of the part's (`known`: its parameters and its
+    /// inputs), given once; each problem located at the name in the use's entry.
+    pub(crate) fn check(
         &self,
         source: &SourceFile,
         entry: &EntrySpans,
-        name: &str,
-        part: &Part,
-    ) -> std::result::Result<(), Problems> {
+        (noun, name): (&str, &str),
+        (file, known): (&str, [Vec<&str>; 2]),
+    ) -> Problems {
         let mut problems = Vec::new();
-        let lists: [(&str, Vec<&String>, Vec<&str>); 2] = [
-            (
-                "parameters",
-                self.parameters.iter().map(|(n, _)| n).collect(),
-                part.spec
-                    .parameters
-                    .iter()
-                    .map(|(n, _)| n.as_str())
-                    .collect(),
-            ),
-            (
-                "inputs",
-                self.inputs.iter().map(|(n, _)| n).collect(),
-                part.spec.inputs.iter().map(|(n, _)| n.as_str()).collect(),
-            ),
+        let [known_parameters, known_inputs] = known;
+        let lists = [
+            ("parameters", names_of(self.parameters), known_parameters),
+            ("inputs", names_of(self.inputs), known_inputs),
         ];
         for (field, given, known) in lists {
-            let what = &field[..field.len() - 1];
+            let (what, article) = match field {
+                "inputs" => ("input", "an"),
+                _ => ("parameter", "a"),
+            };
             for (index, key) in given.iter().enumerate() {
                 let at = key_span(source, entry, field, key);
-                if given[..index].contains(key) {
-                    problems.push(
-                        Diagnostic::new(
-                            DiagnosticKind::DuplicateName,
-                            format!("sub-model '{name}': {what} '{key}' is given twice"),
-                        )
-                        .at(source, at)
-                        .element(name.to_string()),
-                    );
-                } else if !known.contains(&key.as_str()) {
-                    let mut diagnostic = Diagnostic::new(
-                        DiagnosticKind::Submodel,
-                        format!(
-                            "sub-model '{name}': '{key}' is not {} {what} of '{}'",
-                            if what == "input" { "an" } else { "a" },
-                            part.file.name()
-                        ),
+                let diagnostic = if given[..index].contains(key) {
+                    Diagnostic::new(
+                        DiagnosticKind::DuplicateName,
+                        format!("{noun} '{name}': {what} '{key}' is given twice"),
                     )
-                    .at(source, at)
-                    .element(name.to_string());
-                    diagnostic = match suggest(key, known.iter().copied()) {
-                        Some(near) => diagnostic.note(format!("did you mean '{near}'?")),
-                        None => diagnostic.note(format!("its {field}: {}", list(&known))),
-                    };
-                    problems.push(diagnostic);
+                } else if !known.contains(key) {
+                    let d = Diagnostic::new(
+                        DiagnosticKind::Submodel,
+                        format!("{noun} '{name}': '{key}' is not {article} {what} of '{file}'"),
+                    );
+                    match suggest(key, known.iter().copied()) {
+                        Some(near) => d.note(format!("did you mean '{near}'?")),
+                        None => d.note(format!("its {field}: {}", list(&known))),
+                    }
+                } else {
+                    continue;
+                };
+                problems.push(diagnostic.at(source, at).element(name.to_string()));
+            }
+        }
+        problems
+    }
+
+    /// The part's `parameters` and `inputs` as this use, `name`, gives them: a number keeps
+    /// the parameter (qualified) with that value in the part's unit, and its bounds; an
+    /// expression replaces a parameter or an input; an input not given stays one, qualified.
+    pub(crate) fn values(
+        &self,
+        name: &str,
+        parameters: &[(String, ParameterSpec)],
+        inputs: &[(String, InputSpec)],
+    ) -> Values {
+        let qualified = |n: &str| format!("{name}.{n}");
+        let mut values = Values {
+            renames: HashMap::new(),
+            parameters: Vec::new(),
+            inputs: Vec::new(),
+        };
+        for (parameter, spec) in parameters {
+            match self.parameters.iter().find(|(n, _)| n == parameter) {
+                Some((_, ParameterValue::Expression(expression))) => {
+                    values
+                        .renames
+                        .insert(parameter.clone(), format!("({expression})"));
+                }
+                given => {
+                    let mut spec = spec.clone();
+                    // The part's bounds stay: a value outside them is refused at the use.
+                    if let Some((_, ParameterValue::Value(v))) = given {
+                        spec.value = *v;
+                    }
+                    values
+                        .renames
+                        .insert(parameter.clone(), qualified(parameter));
+                    values.parameters.push((qualified(parameter), spec));
                 }
             }
         }
-        if problems.is_empty() {
-            Ok(())
-        } else {
-            Err(problems)
+        for (input, spec) in inputs {
+            match self.inputs.iter().find(|(n, _)| n == input) {
+                Some((_, expression)) => {
+                    values
+                        .renames
+                        .insert(input.clone(), format!("({expression})"));
+                }
+                None => {
+                    values.renames.insert(input.clone(), qualified(input));
+                    values.inputs.push((qualified(input), spec.clone()));
+                }
+            }
         }
+        values
     }
 }
 
@@ -617,36 +670,16 @@ impl Flat {
             key,
             ..entry.clone()
         };
-        let mut renames: HashMap<String, String> = HashMap::new();
-        for (parameter, spec) in &part.spec.parameters {
-            match given.parameters.iter().find(|(n, _)| n == parameter) {
-                Some((_, ParameterValue::Expression(expression))) => {
-                    renames.insert(parameter.clone(), format!("({expression})"));
-                }
-                value => {
-                    let mut spec = spec.clone();
-                    if let Some((_, ParameterValue::Value(v))) = value {
-                        spec.value = *v;
-                        // The part's bounds stay: a value outside them is refused at the use.
-                    }
-                    renames.insert(parameter.clone(), qualified(parameter));
-                    self.parameters.push((qualified(parameter), spec));
-                    self.parameter_spans.push(at_use(qualified(parameter)));
-                }
-            }
+        let values = given.values(name, &part.spec.parameters, &part.spec.inputs);
+        for (parameter, spec) in values.parameters {
+            self.parameter_spans.push(at_use(parameter.clone()));
+            self.parameters.push((parameter, spec));
         }
-        for (input, spec) in &part.spec.inputs {
-            match given.inputs.iter().find(|(n, _)| n == input) {
-                Some((_, expression)) => {
-                    renames.insert(input.clone(), format!("({expression})"));
-                }
-                None => {
-                    renames.insert(input.clone(), qualified(input));
-                    self.inputs.push((qualified(input), spec.clone()));
-                    self.input_spans.push(at_use(qualified(input)));
-                }
-            }
+        for (input, spec) in values.inputs {
+            self.input_spans.push(at_use(input.clone()));
+            self.inputs.push((input, spec));
         }
+        let renames = values.renames;
         let elements: HashMap<&str, ()> = part
             .spec
             .elements

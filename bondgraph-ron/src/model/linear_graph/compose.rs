@@ -16,11 +16,11 @@ use std::path::PathBuf;
 use bondgraph_core::diagnostics::{Diagnostic, DiagnosticKind, Diagnostics, Result, suggest};
 use bondgraph_core::expr::rename_symbols;
 use bondgraph_core::model::source_map::{EntrySpans, SourceMap};
-use bondgraph_core::model::{ParameterValue, PartSpec, state_element};
+use bondgraph_core::model::{PartSpec, state_element};
 use bondgraph_core::source::SourceFile;
 
 use super::format::{RawBranch, RawLinearGraph};
-use crate::model::compose::{MAX_ELEMENTS, key_span, list, part_path, use_error};
+use crate::model::compose::{Given, MAX_ELEMENTS, key_span, list, names_of, part_path, use_error};
 use crate::model::parse::{FileKind, parse_file};
 
 /// Flattens the sub-graphs of `raw` (read from `source`, spans in `map`).
@@ -111,34 +111,29 @@ impl Composer {
                     continue;
                 }
             };
-            let given_ok = check_given(
-                source,
-                &entry,
-                &name,
-                &file_name,
-                [
-                    (
-                        "parameters",
-                        parameters.iter().map(|(n, _)| n).collect(),
-                        crate::model::compose::names_of(&part.parameters),
-                    ),
-                    (
-                        "inputs",
-                        inputs.iter().map(|(n, _)| n).collect(),
-                        crate::model::compose::names_of(&part.inputs),
-                    ),
-                ],
-                &mut flat.problems,
-            );
-            if !given_ok {
-                continue;
-            }
             let given = Given {
                 parameters: &parameters,
                 inputs: &inputs,
-                joined: &joined,
             };
-            let used = flat.instantiate(source, (&name, &entry), (file_name, &part), &given);
+            let found = given.check(
+                source,
+                &entry,
+                ("sub-graph", &name),
+                (
+                    &file_name,
+                    [names_of(&part.parameters), names_of(&part.inputs)],
+                ),
+            );
+            if !found.is_empty() {
+                flat.problems.extend(found);
+                continue;
+            }
+            let used = flat.instantiate(
+                source,
+                (&name, &entry),
+                (file_name, &part),
+                (&given, &joined),
+            );
             flat.uses.insert(name.clone(), used);
             if flat.branches.len() > MAX_ELEMENTS {
                 flat.problems.push(
@@ -213,13 +208,6 @@ impl Composer {
     }
 }
 
-/// What a use gives its sub-graph.
-struct Given<'a> {
-    parameters: &'a [(String, ParameterValue)],
-    inputs: &'a [(String, String)],
-    joined: &'a [(String, String)],
-}
-
 /// The flat graph being built, its source map in step.
 struct Flat {
     /// The graph's own name, ground, terminals, and parameters and inputs (its sub-graphs'
@@ -243,43 +231,23 @@ impl Flat {
         source: &SourceFile,
         (name, entry): (&str, &EntrySpans),
         (file_name, part): (String, &RawLinearGraph),
-        given: &Given<'_>,
+        (given, joined): (&Given<'_>, &[(String, String)]),
     ) -> Use {
         let qualified = |n: &str| format!("{name}.{n}");
         let at_use = |key: String| EntrySpans {
             key,
             ..entry.clone()
         };
-        let mut renames: HashMap<String, String> = HashMap::new();
-        for (parameter, spec) in &part.parameters {
-            match given.parameters.iter().find(|(n, _)| n == parameter) {
-                Some((_, ParameterValue::Expression(e))) => {
-                    renames.insert(parameter.clone(), format!("({e})"));
-                }
-                value => {
-                    let mut spec = spec.clone();
-                    if let Some((_, ParameterValue::Value(v))) = value {
-                        spec.value = *v;
-                        // The part's bounds stay: a value outside them is refused at the use.
-                    }
-                    renames.insert(parameter.clone(), qualified(parameter));
-                    self.raw.parameters.push((qualified(parameter), spec));
-                    self.parameter_spans.push(at_use(qualified(parameter)));
-                }
-            }
+        let values = given.values(name, &part.parameters, &part.inputs);
+        for (parameter, spec) in values.parameters {
+            self.parameter_spans.push(at_use(parameter.clone()));
+            self.raw.parameters.push((parameter, spec));
         }
-        for (input, spec) in &part.inputs {
-            match given.inputs.iter().find(|(n, _)| n == input) {
-                Some((_, e)) => {
-                    renames.insert(input.clone(), format!("({e})"));
-                }
-                None => {
-                    renames.insert(input.clone(), qualified(input));
-                    self.raw.inputs.push((qualified(input), spec.clone()));
-                    self.input_spans.push(at_use(qualified(input)));
-                }
-            }
+        for (input, spec) in values.inputs {
+            self.input_spans.push(at_use(input.clone()));
+            self.raw.inputs.push((input, spec));
         }
+        let renames = values.renames;
         let part_branches: Vec<&str> = part.branches.iter().map(|(n, _)| n.as_str()).collect();
         let rename = |symbol: &str| -> Option<String> {
             if let Some(new) = renames.get(symbol) {
@@ -293,7 +261,7 @@ impl Flat {
         // The terminals this use joins to its graph's nodes.
         let mut joined_nodes: HashMap<&str, &str> = HashMap::new();
         let mut connected = Vec::new();
-        for (terminal, parent_node) in given.joined {
+        for (terminal, parent_node) in joined {
             match part.terminals.iter().find(|(t, _)| t == terminal) {
                 Some((_, spec)) => {
                     joined_nodes.insert(spec.node.as_str(), parent_node.as_str());
@@ -471,46 +439,4 @@ fn node_fields(branch: &RawBranch) -> &'static [&'static str] {
         }
         _ => &["from", "to"],
     }
-}
-
-/// Every name a use gives must be the sub-graph's parameter (or input), given once.
-fn check_given<'a>(
-    source: &SourceFile,
-    entry: &EntrySpans,
-    name: &str,
-    file: &str,
-    lists: [(&str, Vec<&'a String>, Vec<&'a str>); 2],
-    problems: &mut Vec<Diagnostic>,
-) -> bool {
-    let before = problems.len();
-    for (field, given, known) in lists {
-        let what = &field[..field.len() - 1];
-        for (index, key) in given.iter().enumerate() {
-            let at = key_span(source, entry, field, key);
-            let problem = if given[..index].contains(key) {
-                Some((
-                    DiagnosticKind::DuplicateName,
-                    format!("{what} '{key}' is given twice"),
-                ))
-            } else if !known.contains(&key.as_str()) {
-                Some((
-                    DiagnosticKind::Submodel,
-                    format!("'{key}' is not {what} of '{file}'")
-                        .replace("not input", "not an input")
-                        .replace("not parameter", "not a parameter"),
-                ))
-            } else {
-                None
-            };
-            if let Some((kind, message)) = problem {
-                problems.push(
-                    Diagnostic::new(kind, format!("sub-graph '{name}': {message}"))
-                        .at(source, at)
-                        .element(name.to_string())
-                        .note(format!("its {field}: {}", list(&known))),
-                );
-            }
-        }
-    }
-    problems.len() == before
 }
